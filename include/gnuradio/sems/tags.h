@@ -37,6 +37,7 @@ constexpr const char* frames_skipped = "frames_skipped";
 constexpr const char* accuracy = "accuracy";
 constexpr const char* mae_index = "mae_index";
 constexpr const char* mae_m = "mae_m";
+constexpr const char* confusion = "confusion"; // rows: truth class, columns: predicted class
 
 // Message ports.
 constexpr const char* result_port = "result";
