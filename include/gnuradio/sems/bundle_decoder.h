@@ -29,6 +29,11 @@ public:
     std::vector<float> classify(const gr_complex* obs, int batch) const;
     // obs: batch x N_p. Returns the delay of the target of interest, in seconds.
     std::vector<double> estimate_delay(const gr_complex* obs, int batch) const;
+    // obs: batch x N_p. The same estimate as a delay index (τ·B).
+    std::vector<double> estimate_delay_index(const gr_complex* obs, int batch) const;
+    // obs: batch x N_p. Classifier only: batch x feature_size() embeddings (for t-SNE).
+    std::vector<float> features(const gr_complex* obs, int batch) const;
+    int feature_size() const;
 
 private:
     struct impl;

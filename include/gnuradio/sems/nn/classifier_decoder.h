@@ -1,0 +1,50 @@
+/* gr-sems: the classifier decoder (DESIGN §5, the paper's ResNet classifier).
+ *
+ *   sparse 2 x N x M grid -> per-frame normalisation -> 3x3 stem -> `depth` residual
+ *   stages (each: stride-2 basic block, channels doubling from `width`) -> flatten ->
+ *   MLP (hidden) -> 16-d features -> C logits.
+ *
+ * The 16-d features are exposed for the evaluation's t-SNE.
+ */
+#ifndef INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H
+#define INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H
+
+#include <gnuradio/sems/nn/decoder_factory.h>
+#include <gnuradio/sems/nn/settings.h>
+
+namespace gr {
+namespace sems {
+namespace nn {
+
+// Basic residual block: conv3x3-BN-ReLU-conv3x3-BN + (projected) shortcut, ReLU.
+struct SEMS_API residual_block2d_impl : torch::nn::Module {
+    residual_block2d_impl(int in, int out, int stride);
+    torch::Tensor forward(const torch::Tensor& x);
+    torch::nn::Conv2d conv1{ nullptr }, conv2{ nullptr }, shortcut{ nullptr };
+    torch::nn::BatchNorm2d bn1{ nullptr }, bn2{ nullptr }, bn_sc{ nullptr };
+};
+TORCH_MODULE_IMPL(residual_block2d, residual_block2d_impl);
+
+class SEMS_API classifier_decoder_impl : public task_decoder_impl
+{
+public:
+    classifier_decoder_impl(int n_symbols, int n_subcarriers, int n_pilots, classifier_settings s);
+    decoder_output forward(const torch::Tensor& grid) override;
+    std::string kind() const override { return "classifier_resnet"; }
+    nlohmann::json describe() const override;
+    const classifier_settings& settings() const { return d_s; }
+
+private:
+    int d_n, d_m, d_np;
+    classifier_settings d_s;
+    torch::nn::Conv2d d_stem{ nullptr };
+    torch::nn::BatchNorm2d d_stem_bn{ nullptr };
+    torch::nn::Sequential d_stages{ nullptr };
+    torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr };
+};
+
+} // namespace nn
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H */

@@ -1,0 +1,83 @@
+/* gr-sems: the ResNet classifier decoder (see nn/classifier_decoder.h). */
+#include <gnuradio/sems/nn/classifier_decoder.h>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+namespace nn {
+
+namespace {
+torch::nn::Conv2dOptions conv3(int in, int out, int stride)
+{
+    return torch::nn::Conv2dOptions(in, out, 3).stride(stride).padding(1).bias(false);
+}
+int shrink(int size, int stages)
+{
+    for (int i = 0; i < stages; ++i)
+        size = (size + 1) / 2; // stride-2, padding-1, kernel-3 conv
+    return size;
+}
+} // namespace
+
+residual_block2d_impl::residual_block2d_impl(int in, int out, int stride)
+{
+    conv1 = register_module("conv1", torch::nn::Conv2d(conv3(in, out, stride)));
+    bn1 = register_module("bn1", torch::nn::BatchNorm2d(out));
+    conv2 = register_module("conv2", torch::nn::Conv2d(conv3(out, out, 1)));
+    bn2 = register_module("bn2", torch::nn::BatchNorm2d(out));
+    if (in != out || stride != 1) {
+        shortcut = register_module(
+            "shortcut", torch::nn::Conv2d(torch::nn::Conv2dOptions(in, out, 1).stride(stride).bias(false)));
+        bn_sc = register_module("bn_sc", torch::nn::BatchNorm2d(out));
+    }
+}
+
+torch::Tensor residual_block2d_impl::forward(const torch::Tensor& x)
+{
+    auto y = torch::relu(bn1->forward(conv1->forward(x)));
+    y = bn2->forward(conv2->forward(y));
+    auto s = shortcut ? bn_sc->forward(shortcut->forward(x)) : x;
+    return torch::relu(y + s);
+}
+
+classifier_decoder_impl::classifier_decoder_impl(int n, int m, int np, classifier_settings s)
+    : d_n(n), d_m(m), d_np(np), d_s(s)
+{
+    if (s.n_classes < 2)
+        throw std::invalid_argument("classifier decoder: n_classes must be >= 2");
+    d_stem = register_module("stem", torch::nn::Conv2d(conv3(2, s.width, 1)));
+    d_stem_bn = register_module("stem_bn", torch::nn::BatchNorm2d(s.width));
+    d_stages = register_module("stages", torch::nn::Sequential());
+    int ch = s.width;
+    for (int i = 0; i < s.depth; ++i) {
+        const int out = (i == 0) ? ch : ch * 2;
+        d_stages->push_back(residual_block2d(ch, out, 2));
+        ch = out;
+    }
+    const int flat = ch * shrink(n, s.depth) * shrink(m, s.depth);
+    d_fc1 = register_module("fc1", torch::nn::Linear(flat, s.hidden));
+    d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden, s.features));
+    d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
+}
+
+decoder_output classifier_decoder_impl::forward(const torch::Tensor& grid)
+{
+    auto x = normalise_frames(grid, d_np);
+    x = torch::relu(d_stem_bn->forward(d_stem->forward(x)));
+    if (!d_stages->is_empty())
+        x = d_stages->forward(x);
+    x = torch::relu(d_fc1->forward(x.flatten(1)));
+    decoder_output out;
+    out.features = d_fc2->forward(x);
+    out.logits = d_out->forward(torch::relu(out.features));
+    return out;
+}
+
+nlohmann::json classifier_decoder_impl::describe() const
+{
+    return { { "kind", kind() }, { "settings", d_s.to_json() } };
+}
+
+} // namespace nn
+} // namespace sems
+} // namespace gr
