@@ -1,0 +1,159 @@
+/* sems_bench_sinks: frames per second of the sinks' inference, at several batch sizes.
+ *
+ * For each bundle and batch size it measures
+ *   decoder  bundle_decoder::classify / estimate_delay called directly, batch by batch;
+ *   sink     the block in a flowgraph (vector_source -> sink), whole-run wall time,
+ *            so stream bookkeeping, tags and one result message per frame are included.
+ * The frames are complex Gaussian pilot observations with a fixed seed: the decoders'
+ * cost does not depend on the values.
+ *
+ *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
+ */
+#include <gnuradio/blocks/vector_source.h>
+#include <gnuradio/sems/bundle_decoder.h>
+#include <gnuradio/sems/classifier_sink.h>
+#include <gnuradio/sems/delay_estimator_sink.h>
+#include <gnuradio/sems/model_bundle.h>
+#include <gnuradio/top_block.h>
+#include <boost/program_options.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace po = boost::program_options;
+using namespace gr::sems;
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+double seconds_since(clock_type::time_point t0)
+{
+    return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+std::vector<gr_complex> gaussian_frames(size_t frames, int n_pilots, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g(0.0f, std::sqrt(0.5f));
+    std::vector<gr_complex> x(frames * n_pilots);
+    for (auto& v : x)
+        v = gr_complex(g(rng), g(rng));
+    return x;
+}
+
+// Frames to time for one batch size: at least `min_frames`, a whole number of batches.
+size_t frames_for(int batch, size_t min_frames)
+{
+    const size_t b = static_cast<size_t>(batch);
+    return std::max<size_t>(b, (min_frames + b - 1) / b * b);
+}
+
+double decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
+{
+    const int np = dec.n_pilots();
+    auto run_batch = [&](size_t first) {
+        if (dec.bundle().task == task_kind::classify)
+            (void)dec.classify(obs.data() + first * np, batch);
+        else
+            (void)dec.estimate_delay(obs.data() + first * np, batch);
+    };
+    run_batch(0); // warm-up: first-call allocations
+    const auto t0 = clock_type::now();
+    for (size_t f = 0; f < frames; f += batch)
+        run_batch(f);
+    return frames / seconds_since(t0);
+}
+
+double sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t frames, int batch, int threads)
+{
+    const int np = b.mask.size();
+    gr::block_sptr sink;
+    if (b.task == task_kind::classify)
+        sink = classifier_sink::make(b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
+    else
+        sink = delay_estimator_sink::make(
+            b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
+    const std::vector<gr_complex> data(obs.begin(), obs.begin() + frames * np);
+    auto src = gr::blocks::vector_source<gr_complex>::make(data, false, np);
+    auto tb = gr::make_top_block("sems_bench_sinks");
+    tb->connect(src, 0, sink, 0);
+    const auto t0 = clock_type::now();
+    tb->run();
+    return frames / seconds_since(t0);
+}
+
+std::vector<int> parse_batches(const std::string& s)
+{
+    std::vector<int> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        const int b = std::stoi(item);
+        if (b < 1)
+            throw std::invalid_argument("--batches: batch sizes must be >= 1, got " + item);
+        out.push_back(b);
+    }
+    if (out.empty())
+        throw std::invalid_argument("--batches: no batch size given");
+    return out;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    std::string classifier_dir, delay_dir, batches_text;
+    size_t min_frames = 0;
+    int threads = 1;
+    po::options_description opts("sems_bench_sinks: frames per second of the sinks at several batch sizes");
+    opts.add_options()("help,h", "this help")(
+        "classifier", po::value(&classifier_dir), "classifier bundle directory (e.g. models/classifier)")(
+        "delay", po::value(&delay_dir), "delay bundle directory (e.g. models/delay_single)")(
+        "batches", po::value(&batches_text)->default_value("1,32,256"), "comma-separated batch sizes")(
+        "frames", po::value(&min_frames)->default_value(1024), "frames timed per measurement (at least)")(
+        "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads");
+    try {
+        po::variables_map vm;
+        po::store(po::parse_command_line(argc, argv, opts), vm);
+        if (vm.count("help")) {
+            std::cout << opts << std::endl;
+            return 0;
+        }
+        po::notify(vm);
+        if (classifier_dir.empty() && delay_dir.empty())
+            throw std::invalid_argument("give --classifier and/or --delay bundle directories");
+        if (min_frames < 1)
+            throw std::invalid_argument("--frames must be >= 1");
+        if (threads < 1)
+            throw std::invalid_argument("--threads must be >= 1");
+        const std::vector<int> batches = parse_batches(batches_text);
+
+        std::printf("%-28s %6s %8s %14s %14s\n", "bundle", "batch", "frames", "decoder fps", "sink fps");
+        for (const std::string& dir : { classifier_dir, delay_dir }) {
+            if (dir.empty())
+                continue;
+            const model_bundle b = model_bundle::load(dir);
+            const bundle_decoder dec(b, threads);
+            const int np = b.mask.size();
+            const size_t max_frames = frames_for(*std::max_element(batches.begin(), batches.end()), min_frames);
+            const std::vector<gr_complex> obs = gaussian_frames(max_frames, np, 1);
+            for (int batch : batches) {
+                const size_t frames = frames_for(batch, min_frames);
+                const double dfps = decoder_fps(dec, obs, frames, batch);
+                const double sfps = sink_fps(b, obs, frames, batch, threads);
+                std::printf("%-28s %6d %8zu %14.0f %14.0f\n", dir.c_str(), batch, frames, dfps, sfps);
+                std::fflush(stdout);
+            }
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "sems_bench_sinks: " << e.what() << std::endl;
+        return 1;
+    }
+    return 0;
+}
