@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Configures and builds gr-sems into ./build (Release). GNU Radio's Python is /usr/bin/python3.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${SEMS_BUILD_DIR:-$root/build}"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
+cmake --build "$build" -j"$(nproc)"

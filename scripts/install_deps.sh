@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages gr-sems builds, tests and runs with. Needs root.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config git
+  gnuradio gnuradio-dev libvolk2-dev libspdlog-dev libfmt-dev libgmp-dev
+  libtorch-dev
+  libcppunit-dev pybind11-dev python3-pybind11
+  nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
+  python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "install_deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
