@@ -91,9 +91,11 @@ std::vector<double> doppler_features::extract(const gr_complex* obs) const
     const double sd = std::sqrt(m2);
     out[0] = mean;
     out[1] = sd;
-    // A spectrum narrower than round-off has no shape: skewness and kurtosis are 0.
-    const double scale = std::max(1.0, std::abs(mean));
-    if (sd > 1e-9 * scale) {
+    // A spectrum narrower than a thousandth of a Doppler bin is a line (what is left is
+    // the single-precision leakage of the input): it has no shape, skewness and
+    // kurtosis are 0 rather than ratios of round-off.
+    const double bin = f > 1 ? d_freq[1] - d_freq[0] : 1.0;
+    if (sd > 1e-3 * bin) {
         out[2] = m3 / (sd * sd * sd);
         out[3] = m4 / (m2 * m2);
     }
