@@ -1,0 +1,50 @@
+/* gr-sems: target_channel implementation (see target_channel.h). */
+#ifndef INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
+#define INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
+
+#include <gnuradio/sems/channel_model.h>
+#include <gnuradio/sems/target_channel.h>
+#include <pmt/pmt.h>
+#include <optional>
+
+namespace gr {
+namespace sems {
+
+class target_channel_impl : public target_channel
+{
+public:
+    target_channel_impl(channel_model model, double snr_db);
+
+    void set_snr_db(double snr_db) override;
+    double snr_db() const override;
+    const frame_settings& settings() const override { return d_model.settings(); }
+    std::string scene_json() const override { return d_model.scene_spec().to_json_string(); }
+    uint64_t frames() const override { return d_frames; }
+    uint64_t nonfinite_symbols() const override { return d_nonfinite; }
+
+    int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star& output_items) override;
+
+private:
+    void start_frame(uint64_t frame, uint64_t out_offset);
+
+    channel_model d_model;
+    const int d_n, d_m;
+    double d_snr_db;       // requested (setter, under d_setlock)
+    double d_frame_snr_db; // the current frame's
+
+    std::optional<frame_channel> d_channel; // the current frame's factors
+    int d_row = 0;                           // next row of the current frame
+    uint64_t d_frame = 0;
+    bool d_started = false;
+
+    uint64_t d_frames = 0;
+    uint64_t d_nonfinite = 0;
+
+    const pmt::pmt_t d_frame_key, d_truth_key;
+    std::vector<gr::tag_t> d_tags;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H */
