@@ -43,7 +43,13 @@ inline pilot_mask block_mask(const std::string& who,
         throw std::invalid_argument(who + ": no pilots: give mask_file or pilot_positions");
 
     if (!mask_file.empty()) {
-        pilot_mask mask = pilot_mask::load(mask_file);
+        pilot_mask mask = [&] {
+            try {
+                return pilot_mask::load(mask_file);
+            } catch (const std::invalid_argument& e) { // the reader names the file and the problem
+                throw std::invalid_argument(who + ": mask_file: " + e.what());
+            }
+        }();
         mask.check_frame(fs, who + " (mask_file '" + mask_file + "')");
         // The file carries its own pilot symbol; a different one on the block would make
         // the two ends of the chain disagree, so it is refused rather than overridden.

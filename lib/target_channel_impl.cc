@@ -96,6 +96,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.bandwidth_hz = bandwidth_hz;
     fs.carrier_hz = carrier_hz;
     fs.symbol_interval_s = symbol_interval_s;
+    fs.cp_len = 0; // the frequency-domain emulator has no cyclic prefix (ofdm_tx/rx add it)
     fs.validate();
     auto sc = build_scene(scene_text, classes, n_targets, paths_per_target, micro_doppler, clutter_paths,
                           clutter_csr_db);

@@ -1,0 +1,253 @@
+#!/usr/bin/env python3
+"""gr-sems: pilot_extractor, alone and at the end of the noiseless chain
+pilot_mapper -> target_channel -> pilot_extractor (DESIGN §2, §3)."""
+import os
+import tempfile
+
+import numpy as np
+import pmt
+from gnuradio import blocks, gr, gr_unittest, sems
+
+N, M = 4, 8
+B = M * 468.75e3  # keeps the default subcarrier spacing (and so the 320 m unambiguous range)
+POS = [0, 3, 9, 17, 31]  # flat n*M+m, deliberately not sorted by row inside the frame
+SP = 0.6 - 0.8j
+EP, ED = 2.5, 0.5
+SEED = 11
+
+
+def settings():
+    return sems.frame_settings(n_symbols=N, n_subcarriers=M, bandwidth_hz=B, cp_len=0)
+
+
+def expected_h(frames, seed=SEED, scene=None):
+    """Noiseless H of `frames` consecutive frames from a same-seed channel model."""
+    cm = sems.channel_model(settings(), scene if scene is not None else sems.scene.random(), seed)
+    return cm.generate(frames)
+
+
+class drip(gr.basic_block):
+    """Passes at most `chunk` vectors per call, so the next block sees small pieces."""
+
+    def __init__(self, vlen, chunk):
+        gr.basic_block.__init__(self, "drip", in_sig=[(np.complex64, vlen)], out_sig=[(np.complex64, vlen)])
+        self.chunk = chunk
+
+    def general_work(self, input_items, output_items):
+        n = min(self.chunk, len(input_items[0]), len(output_items[0]))
+        output_items[0][:n] = input_items[0][:n]
+        self.consume(0, n)
+        return n
+
+
+def tags_by_key(sink):
+    out = {}
+    for t in sink.tags():
+        out.setdefault(pmt.symbol_to_string(t.key), []).append((t.offset, pmt.to_python(t.value)))
+    return out
+
+
+def random_data(count, seed=1, scale=1.0):
+    rng = np.random.default_rng(seed)
+    return (scale * (rng.standard_normal(count) + 1j * rng.standard_normal(count))).astype(np.complex64)
+
+
+class qa_pilot_extractor(gr_unittest.TestCase):
+
+    def chain(self, frames, chunk=None, skip_before_channel=0, skip_before_extractor=0, pos=POS,
+              pilot_power=EP, data_power=ED, snr_db=float("inf"), data_scale=1.0):
+        """Runs the chain and returns (observations, tags, extractor, channel)."""
+        tb = gr.top_block()
+        n_data = frames * (N * M - len(pos))
+        mapper = sems.pilot_mapper(pilot_positions=pos, n_symbols=N, n_subcarriers=M, pilot_symbol=SP,
+                                   pilot_power=pilot_power, data_power=data_power)
+        channel = sems.target_channel(snr_db=snr_db, seed=SEED, n_symbols=N, n_subcarriers=M, bandwidth_hz=B)
+        extractor = sems.pilot_extractor(pilot_positions=pos, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+        sink = blocks.vector_sink_c(len(pos))
+        chain = []
+        if n_data:
+            chain = [blocks.vector_source_c(random_data(n_data, scale=data_scale).tolist())]
+        else:  # pilots only: the mapper is a source
+            chain = []
+        chain.append(mapper)
+        if not n_data:
+            chain.append(blocks.head(gr.sizeof_gr_complex * M, frames * N))
+        if skip_before_channel:
+            chain.append(blocks.skiphead(gr.sizeof_gr_complex * M, skip_before_channel))
+        chain.append(channel)
+        if skip_before_extractor:
+            chain.append(blocks.skiphead(gr.sizeof_gr_complex * M, skip_before_extractor))
+        if chunk:
+            chain.append(drip(M, chunk))
+            for b in (mapper, channel, chain[-1]):
+                b.set_max_noutput_items(chunk)
+        chain += [extractor, sink]
+        tb.connect(*chain)
+        tb.run()
+        obs = np.array(sink.data(), dtype=np.complex64).reshape(-1, len(pos))
+        return obs, tags_by_key(sink), extractor, channel
+
+    def check_frames(self, obs, tags, first_frame, frames, h=None, truths=None, pos=POS, ep=EP):
+        if h is None:
+            h, truths = expected_h(frames)
+        want = np.sqrt(ep) * h.reshape(frames, -1)[first_frame:, sorted(pos)]
+        self.assertEqual(obs.shape, want.shape)
+        np.testing.assert_allclose(obs, want, rtol=1e-5, atol=1e-6 * np.sqrt(ep))
+        # One frame tag and one truth tag per output item, with the exact frame index.
+        n_out = frames - first_frame
+        self.assertEqual(tags[sems.keys.frame_tag], [(i, first_frame + i) for i in range(n_out)])
+        truth = tags[sems.keys.truth_tag]
+        self.assertEqual([o for o, _ in truth], list(range(n_out)))
+        for i, (_, d) in enumerate(truth):
+            want_t = truths[first_frame + i]
+            self.assertEqual(d[sems.keys.frame], first_frame + i)
+            self.assertEqual(d[sems.keys.class_name], want_t[sems.keys.class_name])
+            self.assertEqual(d[sems.keys.class_id], want_t[sems.keys.class_id])
+            self.assertAlmostEqual(d[sems.keys.delay_s], want_t[sems.keys.delay_s], delta=1e-15)
+            self.assertAlmostEqual(d[sems.keys.velocity_mps], want_t[sems.keys.velocity_mps], delta=1e-12)
+
+    def test_001_noiseless_chain_exact(self):
+        frames = 6
+        obs, tags, ex, ch = self.chain(frames)
+        self.check_frames(obs, tags, 0, frames)
+        self.assertEqual((ex.frames_out(), ex.frames_dropped_partial(), ex.frames_skipped_nonfinite()),
+                         (frames, 0, 0))
+        self.assertEqual(ch.frames(), frames)
+
+    def test_002_any_chunk_size(self):
+        frames = 5
+        h, truths = expected_h(frames)
+        for chunk in (1, 2, 3, N - 1, N + 1, 2 * N + 1, 1000):
+            with self.subTest(chunk=chunk):
+                obs, tags, ex, _ = self.chain(frames, chunk=chunk)
+                self.check_frames(obs, tags, 0, frames, h, truths)
+                self.assertEqual(ex.frames_dropped_partial(), 0)
+
+    def test_003_stream_starts_mid_frame_at_extractor(self):
+        # The extractor's stream begins 1.5 frames in: the half frame is dropped and
+        # counted, frames 2.. come out exactly.
+        frames = 6
+        h, truths = expected_h(frames)
+        for chunk in (None, 1, 3):
+            with self.subTest(chunk=chunk):
+                obs, tags, ex, _ = self.chain(frames, chunk=chunk, skip_before_extractor=N + N // 2)
+                self.check_frames(obs, tags, 2, frames, h, truths)
+                self.assertEqual(ex.frames_dropped_partial(), 1)
+                self.assertEqual(ex.frames_out(), frames - 2)
+
+    def test_004_stream_starts_mid_frame_at_channel(self):
+        # The channel sees a partial frame 0 (it draws a realization for it, as
+        # generate() does for frame 0), then aligns to the tag of frame 1.
+        frames = 5
+        h, truths = expected_h(frames)
+        for chunk in (None, 1):
+            with self.subTest(chunk=chunk):
+                obs, tags, ex, ch = self.chain(frames, chunk=chunk, skip_before_channel=1)
+                self.check_frames(obs, tags, 1, frames, h, truths)
+                self.assertEqual(ex.frames_dropped_partial(), 1)
+                self.assertEqual(ch.frames(), frames)
+
+    def test_005_one_pilot_and_all_pilots(self):
+        for pos in ([13], list(range(N * M))):
+            with self.subTest(n_pilots=len(pos)):
+                frames = 3
+                obs, tags, ex, _ = self.chain(frames, pos=pos)
+                self.check_frames(obs, tags, 0, frames, pos=pos)
+
+    def test_006_amplitude_extremes(self):
+        # Pilot amplitudes sqrt(E_p) of 1e-20 and 1e20, data of the same scale.
+        frames = 3
+        h, truths = expected_h(frames)
+        for amp in (1e-20, 1e20):
+            with self.subTest(amplitude=amp):
+                obs, tags, _, _ = self.chain(frames, pilot_power=amp * amp, data_scale=amp)
+                self.assertTrue(np.all(np.isfinite(obs)))
+                want = amp * h.reshape(frames, -1)[:, sorted(POS)]
+                np.testing.assert_allclose(obs / amp, want / amp, rtol=1e-5, atol=1e-6)
+
+    def test_007_snr_extremes(self):
+        frames = 4
+        h, _ = expected_h(frames)
+        clean = np.sqrt(EP) * h.reshape(frames, -1)[:, sorted(POS)]
+        obs, _, _, _ = self.chain(frames, snr_db=300.0)
+        np.testing.assert_allclose(obs, clean, rtol=1e-5, atol=1e-6)
+        obs, _, ex, _ = self.chain(frames, snr_db=-50.0)
+        self.assertTrue(np.all(np.isfinite(obs)))
+        self.assertEqual(ex.frames_out(), frames)
+        noise = obs - clean  # sigma^2 = 1e5: far above the signal, and finite
+        self.assertGreater(np.mean(np.abs(noise) ** 2), 1e4)
+
+    def test_008_untagged_stream_is_counted(self):
+        frames = 3
+        x = random_data(frames * N * M, seed=3).reshape(-1, M)
+        src = blocks.vector_source_c(x.ravel().tolist(), vlen=M)
+        ex = sems.pilot_extractor(pilot_positions=POS, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+        sink = blocks.vector_sink_c(len(POS))
+        tb = gr.top_block()
+        tb.connect(src, ex, sink)
+        tb.run()
+        obs = np.array(sink.data()).reshape(-1, len(POS))
+        want = x.reshape(frames, -1)[:, sorted(POS)] / np.complex64(SP)
+        np.testing.assert_allclose(obs, want, rtol=1e-6)
+        self.assertEqual(tags_by_key(sink)[sems.keys.frame_tag], [(i, i) for i in range(frames)])
+
+    def test_009_nonfinite_frame_skipped(self):
+        frames = 4
+        x = random_data(frames * N * M, seed=4).reshape(frames, N, M)
+        x[1, 2, 5] = np.nan  # a data element, not a pilot: the frame is still bad
+        x[2, 0, 0] = np.inf
+        tags = [gr.tag_utils.python_to_tag((f * N, pmt.intern(sems.keys.frame_tag), pmt.from_uint64(10 + f)))
+                for f in range(frames)]
+        src = blocks.vector_source_c(x.ravel().tolist(), vlen=M, tags=tags)
+        ex = sems.pilot_extractor(pilot_positions=POS, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+        sink = blocks.vector_sink_c(len(POS))
+        tb = gr.top_block()
+        tb.connect(src, ex, sink)
+        tb.run()
+        self.assertEqual((ex.frames_out(), ex.frames_skipped_nonfinite()), (2, 2))
+        obs = np.array(sink.data()).reshape(-1, len(POS))
+        self.assertTrue(np.all(np.isfinite(obs)))
+        self.assertEqual(tags_by_key(sink)[sems.keys.frame_tag], [(0, 10), (1, 13)])
+
+    def test_010_short_frame_between_tags_dropped(self):
+        # Frame 1 is cut short by the tag of frame 2: dropped and counted.
+        lengths = [N, N - 1, N, N]
+        rows = sum(lengths)
+        x = random_data(rows * M, seed=5).reshape(rows, M)
+        tags, offset = [], 0
+        for f, n in enumerate(lengths):
+            tags.append(gr.tag_utils.python_to_tag((offset, pmt.intern(sems.keys.frame_tag), pmt.from_uint64(f))))
+            offset += n
+        src = blocks.vector_source_c(x.ravel().tolist(), vlen=M, tags=tags)
+        ex = sems.pilot_extractor(pilot_positions=POS, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+        sink = blocks.vector_sink_c(len(POS))
+        tb = gr.top_block()
+        tb.connect(src, ex, sink)
+        tb.run()
+        self.assertEqual((ex.frames_out(), ex.frames_dropped_partial()), (3, 1))
+        self.assertEqual([v for _, v in tags_by_key(sink)[sems.keys.frame_tag]], [0, 2, 3])
+
+    def test_011_bad_masks_refused(self):
+        def refuses(text, **kw):
+            args = dict(pilot_positions=POS, n_symbols=N, n_subcarriers=M)
+            args.update(kw)
+            with self.assertRaises(ValueError) as cm:
+                sems.pilot_extractor(**args)
+            self.assertIn(text, str(cm.exception))
+            self.assertIn("pilot_extractor", str(cm.exception))
+
+        refuses("duplicate", pilot_positions=[1, 5, 1])
+        refuses("outside", pilot_positions=[0, N * M])
+        refuses("outside", pilot_positions=[-1])
+        refuses("no pilots", pilot_positions=[])
+        refuses("pilot_symbol", pilot_symbol=0j)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "mask.json")
+            sems.pilot_mask(N + 1, M, [(0, 1), (2, 3)]).save(path)
+            refuses("is 5 x 8 but the frame is 4 x 8", pilot_positions=[], mask_file=path)
+            refuses("not both", mask_file=path)
+            refuses("mask.json", pilot_positions=[], mask_file=os.path.join(d, "missing", "mask.json"))
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_pilot_extractor)

@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""gr-sems: target_channel, the frequency-domain emulator block (DESIGN §1, §3).
+The channel physics is tested in C++ (lib/qa_*.cc); here: the block's adapter work —
+same frames as channel_model, frame alignment, truth tags, SNR, counters, bad input."""
+import math
+import os
+import tempfile
+
+import numpy as np
+import pmt
+from gnuradio import blocks, gr, gr_unittest, sems
+
+N, M = 4, 8
+B = M * 468.75e3  # the default subcarrier spacing, so the class ranges fit
+SEED = 5
+FRAME = pmt.intern(sems.keys.frame_tag)
+
+
+def settings():
+    return sems.frame_settings(n_symbols=N, n_subcarriers=M, bandwidth_hz=B, cp_len=0)
+
+
+def fixed_scene():
+    """Three paths, micro-Doppler, two targets: every term of H at once."""
+    drone = sems.target_spec(sems.target_class.drone, 60.0, 7.0, sems.micro_doppler(100.0, 0.01, 0.3),
+                             1.0, [sems.path_spec(0.0, 1.0), sems.path_spec(12.0, 0.5)])
+    car = sems.target_spec(sems.target_class.car, 150.0, -15.0)
+    return sems.scene.fixed([drone, car], target_of_interest=0)
+
+
+def channel(scene="", **kw):
+    args = dict(seed=SEED, n_symbols=N, n_subcarriers=M, bandwidth_hz=B)
+    args.update(kw)
+    return sems.target_channel(scene, **args)
+
+
+def random_symbols(rows, seed=2, scale=1.0):
+    rng = np.random.default_rng(seed)
+    return (scale * (rng.standard_normal((rows, M)) + 1j * rng.standard_normal((rows, M)))).astype(np.complex64)
+
+
+def run(block, x, tags=()):
+    src = blocks.vector_source_c(x.ravel().tolist(), vlen=M, tags=list(tags))
+    sink = blocks.vector_sink_c(M)
+    tb = gr.top_block()
+    tb.connect(src, block, sink)
+    tb.run()
+    return np.array(sink.data(), dtype=np.complex64).reshape(-1, M), sink.tags()
+
+
+def truth_tags(tags):
+    return [(t.offset, pmt.to_python(t.value)) for t in tags if pmt.symbol_to_string(t.key) == sems.keys.truth_tag]
+
+
+def frame_tag(offset, frame):
+    return gr.tag_utils.python_to_tag((offset, FRAME, pmt.from_uint64(frame)))
+
+
+class qa_target_channel(gr_unittest.TestCase):
+
+    def test_001_fixed_scene_same_frames_as_model(self):
+        frames = 5
+        sc = fixed_scene()
+        x = random_symbols(frames * N)
+        y, tags = run(channel(sc.to_json_string()), x)
+        h, truths = sems.channel_model(settings(), sc, SEED).generate(frames)
+        np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+        truth = truth_tags(tags)
+        self.assertEqual([o for o, _ in truth], [f * N for f in range(frames)])
+        for f, (_, d) in enumerate(truth):
+            self.assertEqual(d[sems.keys.frame], f)
+            self.assertEqual(d[sems.keys.class_name], "drone")
+            self.assertEqual(d[sems.keys.n_paths], 3)
+            self.assertEqual(d[sems.keys.snr_db], math.inf)
+            for key in (sems.keys.delay_s, sems.keys.delay_index, sems.keys.range_m, sems.keys.velocity_mps):
+                self.assertAlmostEqual(d[key], truths[f][key], delta=1e-12 * max(1.0, abs(truths[f][key])))
+
+    def test_002_scene_file_equals_json(self):
+        frames = 2
+        x = random_symbols(frames * N)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "scene.json")
+            fixed_scene().save(path)
+            y_file, _ = run(channel(path), x)
+        y_json, _ = run(channel(fixed_scene().to_json_string()), x)
+        np.testing.assert_array_equal(y_file, y_json)
+
+    def test_003_frame_index_from_tags(self):
+        # Tags name frames 100, 101, ...: the slow time starts at 100·N and the truth
+        # says 100; the draws are the model's first two.
+        sc = fixed_scene()
+        x = random_symbols(2 * N)
+        y, tags = run(channel(sc.to_json_string()), x, [frame_tag(0, 100), frame_tag(N, 101)])
+        cm = sems.channel_model(settings(), sc, SEED)
+        h = np.concatenate([cm.channel(cm.draw(f), f * N) for f in (100, 101)])
+        np.testing.assert_allclose(y, h * x, rtol=1e-5, atol=1e-6)
+        self.assertEqual([d[sems.keys.frame] for _, d in truth_tags(tags)], [100, 101])
+        # A tag in mid-frame starts a new frame there.
+        y, tags = run(channel(sc.to_json_string()), random_symbols(2 * N), [frame_tag(0, 0), frame_tag(N - 1, 1)])
+        self.assertEqual([(o, d[sems.keys.frame]) for o, d in truth_tags(tags)], [(0, 0), (N - 1, 1), (2 * N - 1, 2)])
+
+    def test_004_random_scene_options(self):
+        frames = 6
+        _, tags = run(channel(classes=["car"], paths_per_target=3, clutter_paths=2, clutter_csr_db=-10.0),
+                      random_symbols(frames * N))
+        truth = truth_tags(tags)
+        self.assertEqual(len(truth), frames)
+        for _, d in truth:
+            self.assertEqual(d[sems.keys.class_name], "car")
+            self.assertEqual(d[sems.keys.n_paths], 5)
+        # Same seed, same frames as the model with the same random scene.
+        x = random_symbols(frames * N)
+        y, _ = run(channel(classes=["pedestrian", "drone"], micro_doppler=False), x)
+        spec = sems.random_spec(classes=[sems.target_class.pedestrian, sems.target_class.drone], micro_doppler=False)
+        h, _ = sems.channel_model(settings(), sems.scene.random(spec), SEED).generate(frames)
+        np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+
+    def test_005_snr_extremes(self):
+        frames = 50
+        sc = fixed_scene().to_json_string()
+        x = random_symbols(frames * N)
+        clean, _ = run(channel(sc), x)
+        y, tags = run(channel(sc, snr_db=300.0), x)
+        np.testing.assert_allclose(y, clean, rtol=1e-6, atol=1e-9)
+        self.assertEqual(truth_tags(tags)[0][1][sems.keys.snr_db], 300.0)
+        y, _ = run(channel(sc, snr_db=-50.0), x)
+        self.assertTrue(np.all(np.isfinite(y)))
+        var = np.mean(np.abs(y - clean) ** 2)  # 1600 draws: ±10 % is > 4 standard deviations
+        self.assertAlmostEqual(var / 1e5, 1.0, delta=0.1)
+
+    def test_006_set_snr(self):
+        ch = channel(fixed_scene().to_json_string(), snr_db=10.0)
+        ch.set_snr_db(math.inf)
+        self.assertEqual(ch.snr_db(), math.inf)
+        x = random_symbols(N)
+        y, tags = run(ch, x)
+        clean, _ = run(channel(fixed_scene().to_json_string()), x)
+        np.testing.assert_array_equal(y, clean)
+        self.assertEqual(truth_tags(tags)[0][1][sems.keys.snr_db], math.inf)
+        for bad in (math.nan, -math.inf):
+            with self.assertRaises(ValueError) as cm:
+                ch.set_snr_db(bad)
+            self.assertIn("snr_db", str(cm.exception))
+
+    def test_007_amplitude_extremes(self):
+        sc = fixed_scene().to_json_string()
+        x = random_symbols(2 * N)
+        clean, _ = run(channel(sc), x)
+        # Noiseless: the SNR is against unit channel power, so noise at any finite SNR
+        # would swamp a 1e-20 signal — as it should.
+        for amp in (1e-20, 1e20):
+            with self.subTest(amplitude=amp):
+                y, _ = run(channel(sc), x * np.float32(amp))
+                self.assertTrue(np.all(np.isfinite(y)))
+                np.testing.assert_allclose(y / amp, clean, rtol=1e-5, atol=1e-6)
+        y, _ = run(channel(sc, snr_db=20.0), x * np.float32(1e20))
+        self.assertTrue(np.all(np.isfinite(y)))
+
+    def test_008_nonfinite_input_counted(self):
+        x = random_symbols(3 * N)
+        x[1, 2] = np.nan
+        x[5, 0] = np.inf
+        x[5, 1] = np.nan
+        ch = channel(fixed_scene().to_json_string(), snr_db=20.0)
+        y, _ = run(ch, x)
+        self.assertEqual(ch.nonfinite_symbols(), 2)
+        self.assertEqual(ch.frames(), 3)
+        self.assertTrue(np.all(np.isfinite(np.delete(y, [1, 5], axis=0))))
+
+    def test_009_bad_input_refused(self):
+        def refuses(text, *args, **kw):
+            with self.assertRaises(ValueError) as cm:
+                channel(*args, **kw)
+            self.assertIn(text, str(cm.exception))
+
+        refuses("target_channel scene JSON", '{"format": "sems.scene", "targets": [')
+        refuses("target_channel scene JSON", '{"format": "sems.scene", "version": 1, "targets": []}')
+        refuses("no_such_scene.json", "/nonexistent/no_such_scene.json")
+        refuses("unknown target class \"tank\"", classes=["tank"])
+        refuses("random scenes", fixed_scene().to_json_string(), classes=["car"])
+        refuses("clutter_paths", clutter_paths=-1)
+        refuses("snr_db", snr_db=math.nan)
+        refuses("snr_db", snr_db=-math.inf)
+        refuses("n_symbols", n_symbols=0)
+        refuses("range", classes=["car"], bandwidth_hz=8 * 3.75e6)  # 40 m unambiguous range
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_target_channel)
