@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""gr-sems: compile an example flowgraph with grcc and run it headless.
+
+    run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [-- extra args for the flowgraph]
+
+The flowgraph is compiled into <outdir>/<name>/ and the generated Python runs with
+GNU Radio's interpreter (/usr/bin/python3). With --test, a flowgraph that has a
+`frames` parameter runs a smaller count (--frames, default 1000), and a printed
+"set_snr_db=X measured_snr_db=Y" must agree within ±0.5 dB. Exits non-zero on failure.
+"""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import yaml
+
+GR_PYTHON = "/usr/bin/python3"
+SNR_TOLERANCE_DB = 0.5
+SNR_LINE = re.compile(r"set_snr_db=(\S+)\s+measured_snr_db=(\S+)")
+
+
+def fail(message):
+    print(f"run_example: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def flowgraph_info(grc_path):
+    """(generated script name, parameter names) from the .grc file."""
+    try:
+        with open(grc_path) as f:
+            doc = yaml.safe_load(f)
+        script = doc["options"]["parameters"]["id"] + ".py"
+        params = {b["name"] for b in doc.get("blocks", []) if b.get("id") == "parameter"}
+    except (OSError, yaml.YAMLError, KeyError, TypeError) as e:
+        fail(f"{grc_path}: cannot read the flowgraph: {e}")
+    return script, params
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("grc")
+    parser.add_argument("outdir")
+    parser.add_argument("--test", action="store_true", help="short run with the example's checks")
+    parser.add_argument("--frames", type=int, default=1000, help="frames for --test (default 1000)")
+    parser.add_argument("--timeout", type=float, default=600.0, help="seconds before the run is abandoned")
+    parser.add_argument("extra", nargs="*", help="arguments passed to the flowgraph (after --)")
+    args = parser.parse_args()
+
+    if not os.path.isfile(args.grc):
+        fail(f"{args.grc}: no such flowgraph")
+    grcc = shutil.which("grcc") or "/usr/bin/grcc"
+    name = os.path.splitext(os.path.basename(args.grc))[0]
+    outdir = os.path.join(args.outdir, name)
+    os.makedirs(outdir, exist_ok=True)
+    script, params = flowgraph_info(args.grc)
+
+    compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True)
+    if compiled.returncode != 0 or not os.path.isfile(os.path.join(outdir, script)):
+        sys.stderr.write(compiled.stdout + compiled.stderr)
+        fail(f"grcc could not compile {args.grc}")
+
+    cmd = [GR_PYTHON, "-u", os.path.join(outdir, script)]
+    if args.test and "frames" in params:
+        cmd += ["--frames", str(args.frames)]
+    cmd += args.extra
+    print("run_example:", " ".join(cmd), flush=True)
+    try:
+        ran = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+    except subprocess.TimeoutExpired:
+        fail(f"{script} did not finish within {args.timeout:.0f} s")
+    sys.stdout.write(ran.stdout)
+    sys.stderr.write(ran.stderr)
+    if ran.returncode != 0:
+        fail(f"{script} exited with {ran.returncode}")
+
+    if args.test:
+        for set_db, measured_db in SNR_LINE.findall(ran.stdout):
+            if not abs(float(measured_db) - float(set_db)) <= SNR_TOLERANCE_DB:
+                fail(f"measured SNR {measured_db} dB is not within ±{SNR_TOLERANCE_DB} dB of the set {set_db} dB")
+            print(f"run_example: measured SNR {measured_db} dB matches the set {set_db} dB "
+                  f"(±{SNR_TOLERANCE_DB} dB)")
+
+
+if __name__ == "__main__":
+    main()
