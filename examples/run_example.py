@@ -46,8 +46,9 @@ def main():
     parser.add_argument("--test", action="store_true", help="short run with the example's checks")
     parser.add_argument("--frames", type=int, default=1000, help="frames for --test (default 1000)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds before the run is abandoned")
-    parser.add_argument("extra", nargs="*", help="arguments passed to the flowgraph (after --)")
-    args = parser.parse_args()
+    argv = sys.argv[1:]
+    extra = argv[argv.index("--") + 1:] if "--" in argv else []
+    args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
 
     if not os.path.isfile(args.grc):
         fail(f"{args.grc}: no such flowgraph")
@@ -65,7 +66,7 @@ def main():
     cmd = [GR_PYTHON, "-u", os.path.join(outdir, script)]
     if args.test and "frames" in params:
         cmd += ["--frames", str(args.frames)]
-    cmd += args.extra
+    cmd += extra
     print("run_example:", " ".join(cmd), flush=True)
     try:
         ran = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
