@@ -1,0 +1,172 @@
+/* gr-sems: throughput of the target_channel emulator in OFDM symbols/s, for fixed
+ * scenes of 1, 3 and 10 paths with noise, next to GNU Radio's multiply_const_vcc on
+ * the same vector size, all in the same harness and run:
+ *     vector_source (repeat) -> block -> head -> null_sink, top_block::run, wall time.
+ */
+#include <gnuradio/blocks/head.h>
+#include <gnuradio/blocks/multiply_const_v.h>
+#include <gnuradio/blocks/null_sink.h>
+#include <gnuradio/blocks/vector_source.h>
+#include <gnuradio/sems/scene.h>
+#include <gnuradio/sems/target_channel.h>
+#include <gnuradio/top_block.h>
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace po = boost::program_options;
+using namespace gr::sems;
+
+namespace {
+
+struct options {
+    double seconds = 2.0;
+    double snr_db = 20.0;
+    int n_symbols = frame_settings{}.n_symbols;
+    int n_subcarriers = frame_settings{}.n_subcarriers;
+};
+
+// One car with `paths` paths (excess ranges 0, 7, 14, ... m, 1 dB weaker each);
+// optionally a drone with micro-Doppler instead, to show what that term costs.
+std::string scene_json(int paths, bool micro_doppler)
+{
+    target_spec t;
+    if (micro_doppler) {
+        t.cls = target_class::drone;
+        t.velocity_mps = 7.0;
+        t.md = gr::sems::micro_doppler{ 100.0, 0.01, 0.0 };
+    } else {
+        t.cls = target_class::car;
+        t.velocity_mps = 15.0;
+    }
+    t.range_m = 60.0;
+    t.paths.clear();
+    for (int k = 0; k < paths; ++k)
+        t.paths.push_back(path_spec{ 7.0 * k, std::pow(10.0, -0.1 * k) });
+    return scene::fixed({ t }).to_json_string();
+}
+
+// Runs source -> block -> head(n) -> sink and returns the wall time in seconds.
+double time_run(const options& o, const std::vector<gr_complex>& data, gr::basic_block_sptr block, uint64_t n)
+{
+    const size_t item = sizeof(gr_complex) * o.n_subcarriers;
+    auto tb = gr::make_top_block("sems_bench_channel");
+    auto src = gr::blocks::vector_source_c::make(data, true, o.n_subcarriers);
+    auto head = gr::blocks::head::make(item, n);
+    auto sink = gr::blocks::null_sink::make(item);
+    tb->connect(src, 0, block, 0);
+    tb->connect(block, 0, head, 0);
+    tb->connect(head, 0, sink, 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    tb->run();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Symbols/s for a block made fresh per run: a short calibration run, then one of ~seconds.
+double symbols_per_second(const options& o,
+                          const std::vector<gr_complex>& data,
+                          const std::function<gr::basic_block_sptr()>& make)
+{
+    uint64_t n = 1 << 14;
+    double t = time_run(o, data, make(), n);
+    while (t < 0.05 && n < (uint64_t(1) << 40)) { // grow until the calibration is measurable
+        n *= 4;
+        t = time_run(o, data, make(), n);
+    }
+    const uint64_t target = static_cast<uint64_t>(std::max(1.0, o.seconds * n / t));
+    return target / time_run(o, data, make(), target);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    options o;
+    po::options_description desc(
+        "sems_bench_channel: target_channel throughput (OFDM symbols/s) for 1-, 3- and 10-path fixed\n"
+        "scenes next to blocks::multiply_const_vcc, same harness, same run. Options");
+    desc.add_options()("help,h", "this help")(
+        "seconds", po::value<double>(&o.seconds)->default_value(o.seconds), "wall time per measurement (s)")(
+        "snr", po::value<double>(&o.snr_db)->default_value(o.snr_db), "SNR in dB for the channel runs (inf = noiseless)")(
+        "symbols", po::value<int>(&o.n_symbols)->default_value(o.n_symbols), "N, symbols per frame")(
+        "subcarriers", po::value<int>(&o.n_subcarriers)->default_value(o.n_subcarriers), "M, vector size");
+    try {
+        po::variables_map vm;
+        po::store(po::parse_command_line(argc, argv, desc), vm);
+        po::notify(vm);
+        if (vm.count("help")) {
+            std::cout << desc << "\n";
+            return 0;
+        }
+        if (!(o.seconds > 0.0) || !std::isfinite(o.seconds))
+            throw std::invalid_argument("--seconds must be a finite number > 0");
+        if (std::isnan(o.snr_db) || o.snr_db == -std::numeric_limits<double>::infinity())
+            throw std::invalid_argument("--snr must be a number or inf");
+        if (o.n_symbols < 1 || o.n_subcarriers < 1)
+            throw std::invalid_argument("--symbols and --subcarriers must be >= 1");
+    } catch (const std::exception& e) {
+        std::cerr << "sems_bench_channel: " << e.what() << "\n";
+        return 2;
+    }
+
+    // Random input symbols, a few frames' worth, repeated.
+    std::mt19937 gen(1);
+    std::normal_distribution<float> g(0.0f, std::sqrt(0.5f));
+    std::vector<gr_complex> data(size_t(4) * o.n_symbols * o.n_subcarriers);
+    for (auto& x : data)
+        x = gr_complex(g(gen), g(gen));
+
+    // Frame settings: the defaults, with the bandwidth scaled to keep Δf if M changes.
+    const frame_settings d;
+    const double bandwidth = d.subcarrier_spacing_hz() * o.n_subcarriers;
+    auto channel = [&](int paths, bool md, double snr) {
+        return [=, &o]() -> gr::basic_block_sptr {
+            return target_channel::make(scene_json(paths, md), {}, 1, 1, true, 0, 0.0, snr, 1, o.n_symbols,
+                                        o.n_subcarriers, bandwidth);
+        };
+    };
+    struct row {
+        std::string name;
+        std::function<gr::basic_block_sptr()> make;
+    };
+    char snr_text[32];
+    std::snprintf(snr_text, sizeof snr_text, "SNR %g dB", o.snr_db);
+    const std::vector<row> rows = {
+        { "blocks.multiply_const_vcc",
+          [&]() -> gr::basic_block_sptr {
+              return gr::blocks::multiply_const_vcc::make(std::vector<gr_complex>(o.n_subcarriers, 0.5f));
+          } },
+        { "target_channel,  1 path,  " + std::string(snr_text), channel(1, false, o.snr_db) },
+        { "target_channel,  3 paths, " + std::string(snr_text), channel(3, false, o.snr_db) },
+        { "target_channel, 10 paths, " + std::string(snr_text), channel(10, false, o.snr_db) },
+        { "target_channel,  1 path + micro-Doppler, " + std::string(snr_text), channel(1, true, o.snr_db) },
+        { "target_channel, 10 paths, noiseless", channel(10, false, std::numeric_limits<double>::infinity()) },
+    };
+
+    std::printf("sems_bench_channel: M = %d subcarriers, N = %d symbols/frame, %.1f s per row\n",
+                o.n_subcarriers, o.n_symbols, o.seconds);
+    std::printf("harness: vector_source(repeat) -> block -> head -> null_sink, top_block::run, wall time\n\n");
+    std::printf("%-48s %14s %14s %10s\n", "block", "symbols/s", "samples/s", "vs mult.");
+    double reference = 0.0;
+    try {
+        for (const auto& r : rows) {
+            const double rate = symbols_per_second(o, data, r.make);
+            if (reference == 0.0)
+                reference = rate;
+            std::printf("%-48s %14.4g %14.4g %9.2fx\n", r.name.c_str(), rate, rate * o.n_subcarriers,
+                        rate / reference);
+            std::fflush(stdout);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "sems_bench_channel: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
