@@ -46,7 +46,35 @@ class qa_ofdm_tx_rx(gr_unittest.TestCase):
         got = [(t.offset, pmt.to_uint64(t.value)) for t in out_tags if pmt.eqv(t.key, key)]
         self.assertEqual(got, [(f * n, f) for f in range(3)])
 
-    def test_003_bad_parameters(self):
+    def test_003_sensing_chain_through_time_domain(self):
+        # mapper -> ofdm_tx -> ofdm_rx -> channel -> extractor: the same pilots, tags
+        # and frame indices as without the time-domain step (float tolerance).
+        n, m, cp, frames = 4, 16, 4, 3
+        pos = [1, 18, 40, 63]
+        b = m * 468.75e3
+
+        def run(time_domain):
+            mapper = sems.pilot_mapper(pilot_positions=pos, n_symbols=n, n_subcarriers=m, pilot_power=2.0)
+            src = blocks.vector_source_c(symbols(frames * (n * m - len(pos)), 1).ravel().tolist())
+            chain = [src, mapper]
+            if time_domain:
+                chain += [sems.ofdm_tx(m, cp), sems.ofdm_rx(m, cp)]
+            chain += [sems.target_channel(seed=3, n_symbols=n, n_subcarriers=m, bandwidth_hz=b),
+                      sems.pilot_extractor(pilot_positions=pos, n_symbols=n, n_subcarriers=m)]
+            sink = blocks.vector_sink_c(len(pos))
+            tb = gr.top_block()
+            tb.connect(*chain, sink)
+            tb.run()
+            tags = [(t.offset, pmt.symbol_to_string(t.key)) for t in sink.tags()]
+            return np.array(sink.data()).reshape(-1, len(pos)), sorted(tags)
+
+        direct, direct_tags = run(False)
+        looped, looped_tags = run(True)
+        self.assertEqual(direct.shape, (frames, len(pos)))
+        np.testing.assert_allclose(looped, direct, rtol=1e-5, atol=1e-5)
+        self.assertEqual(looped_tags, direct_tags)
+
+    def test_004_bad_parameters(self):
         with self.assertRaises(ValueError):
             sems.ofdm_tx(64, -1)
         with self.assertRaises(ValueError):
