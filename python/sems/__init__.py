@@ -6,8 +6,5 @@ pilot_mask, scene, channel_model (see the C++ headers in include/gnuradio/sems).
 """
 from .sems_python import *  # noqa: F401,F403
 
-try:
-    from .ofdm_tx import ofdm_tx  # noqa: F401
-    from .ofdm_rx import ofdm_rx  # noqa: F401
-except ImportError:  # hier blocks not present yet
-    pass
+from .ofdm_tx import ofdm_tx  # noqa: F401
+from .ofdm_rx import ofdm_rx  # noqa: F401
