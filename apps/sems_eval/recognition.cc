@@ -1,0 +1,207 @@
+/* sems_eval experiments 1 and 3: accuracy and macro-F1 against SNR for SemS and every
+ * recognition baseline, on the same test frames (default scene; without micro-Doppler;
+ * with strong clutter). */
+#include "eval.h"
+#include <gnuradio/sems/bundle_decoder.h>
+#include <gnuradio/sems/doppler_features.h>
+#include <gnuradio/sems/feature_svm.h>
+#include <gnuradio/sems/target_class.h>
+#include <algorithm>
+#include <limits>
+#include <memory>
+
+namespace sems_eval {
+
+namespace {
+
+const std::vector<std::string> header{ "experiment", "scenario",  "method",   "mask",          "n_pilots",
+                                       "snr_db",     "accuracy",  "macro_f1", "n_frames",      "seed",
+                                       "us_per_frame", "train_seconds", "model" };
+
+std::vector<int> truth_labels(const test_set& ts)
+{
+    std::vector<int> y;
+    for (const auto& t : ts.truth)
+        y.push_back(t.class_id);
+    return y;
+}
+
+// Class ids of a classifier bundle's outputs.
+std::vector<int> output_classes(const model_bundle& b)
+{
+    std::vector<int> ids;
+    for (const auto& n : b.class_names)
+        ids.push_back(static_cast<int>(class_from_name(n)));
+    return ids;
+}
+
+// Runs the decoder on count x N_p observations in batches; returns class ids.
+std::vector<int> classify_all(const bundle_decoder& dec,
+                              const std::vector<gr_complex>& obs,
+                              int count,
+                              const std::vector<int>& ids,
+                              double& us_per_frame)
+{
+    const int np = dec.n_pilots(), c = static_cast<int>(ids.size());
+    std::vector<int> pred(count);
+    dec.classify(obs.data(), std::min(count, 32)); // warm-up: first-call allocations are not per-frame cost
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f0 = 0; f0 < count; f0 += 256) {
+        const int b = std::min(256, count - f0);
+        const auto p = dec.classify(obs.data() + size_t(f0) * np, b);
+        for (int i = 0; i < b; ++i) {
+            const float* row = p.data() + size_t(i) * c;
+            pred[f0 + i] = ids[std::max_element(row, row + c) - row];
+        }
+    }
+    us_per_frame = 1e6 * seconds_between(t0, std::chrono::steady_clock::now()) / count;
+    return pred;
+}
+
+struct dl_method {
+    std::string method, model_name, mask_label;
+    training_settings settings;
+    bool noiseless_input = false;
+};
+
+} // namespace
+
+void run_recognition(const config& c, std::ostream& log)
+{
+    std::vector<std::string> scenarios;
+    if (c.experiments.count(1))
+        scenarios.push_back("default");
+    if (c.experiments.count(3)) {
+        scenarios.push_back("no_md");
+        scenarios.push_back("clutter");
+    }
+    if (scenarios.empty())
+        return;
+    std::unique_ptr<csv_file> csv1, csv3;
+    if (c.experiments.count(1))
+        csv1 = std::make_unique<csv_file>(c.out_dir + "/exp1_recognition.csv", header);
+    if (c.experiments.count(3))
+        csv3 = std::make_unique<csv_file>(c.out_dir + "/exp3_conditions.csv", header);
+    const int np = 32;
+    const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
+
+    for (const auto& scen : scenarios) {
+        const std::string exp = scen == "default" ? "1" : "3";
+        csv_file& csv = scen == "default" ? *csv1 : *csv3;
+        const scene sc = recognition_scene(scen, c);
+        const uint64_t test_seed = c.seed + 101;
+        log << "[" << now_utc() << "] exp " << exp << " (" << scen << "): " << c.test_frames
+            << " test frames, seed " << test_seed << std::endl;
+        const test_set ts = make_test_set(c.fs, sc, c.test_frames, test_seed);
+        const auto truth = truth_labels(ts);
+        const int n_classes = static_cast<int>(class_table().size());
+
+        auto write = [&](const std::string& method, const std::string& mask, int pilots, double snr,
+                         const class_score& s, double us, double train_s, const std::string& model) {
+            csv.row({ exp, scen, method, mask, std::to_string(pilots), num(snr), num(s.accuracy), num(s.macro_f1),
+                      std::to_string(ts.count), std::to_string(test_seed), num(us, 4), num(train_s, 4), model });
+            cost_rows().push_back({ exp, scen, method, pilots, snr, "accuracy", s.accuracy, us, ts.count, train_s });
+            log << "  " << scen << " " << method << " snr " << num(snr) << ": acc " << num(s.accuracy, 3) << " F1 "
+                << num(s.macro_f1, 3) << " (" << num(us, 3) << " us/frame)" << std::endl;
+        };
+
+        // Deep-learning methods: all trained by the same trainer, same data budget and seed.
+        std::vector<dl_method> dl;
+        {
+            dl_method m{ "SemS", "cls_" + scen + "_sems", "learned (task)",
+                         base_training(c, task_kind::classify, sc, "sems_eval " + scen), false };
+            m.settings.n_pilots = np;
+            dl.push_back(m);
+            dl_method mse = m;
+            mse.method = "MSE-DL";
+            mse.model_name = "cls_" + scen + "_mse";
+            mse.mask_label = "learned (MSE)";
+            mse.settings.objective = "mse";
+            dl.push_back(mse);
+            dl_method pcsi = m;
+            pcsi.method = "Perfect CSI (noiseless)";
+            pcsi.model_name = "cls_" + scen + "_pcsi_noiseless";
+            pcsi.mask_label = "full grid";
+            pcsi.settings.n_pilots = c.fs.grid_size();
+            pcsi.settings.mask_file = full_mask;
+            pcsi.settings.snr_min_db = pcsi.settings.snr_max_db = std::numeric_limits<double>::infinity();
+            pcsi.noiseless_input = true;
+            dl.push_back(pcsi);
+            if (scen == "default") {
+                dl_method pn = pcsi;
+                pn.method = "Perfect CSI (test SNR)";
+                pn.model_name = "cls_" + scen + "_pcsi_snr";
+                pn.settings.snr_min_db = c.train_snr_min_db;
+                pn.settings.snr_max_db = c.train_snr_max_db;
+                pn.noiseless_input = false;
+                dl.push_back(pn);
+            }
+        }
+        if (scen == "default" && !c.shipped_classifier.empty()) {
+            dl_method sh{ "SemS (shipped bundle)", "", "learned (task)", training_settings{}, false };
+            dl.push_back(sh);
+        }
+        for (auto& m : dl) {
+            decoder_source src;
+            if (m.model_name.empty()) {
+                src.bundle = model_bundle::load(c.shipped_classifier);
+                src.origin = c.shipped_classifier;
+                if (src.bundle.task != task_kind::classify || src.bundle.frame != c.fs) {
+                    log << "  shipped classifier " << c.shipped_classifier << " does not match: skipped" << std::endl;
+                    continue;
+                }
+            } else {
+                src = train_or_load(c, m.model_name, m.settings, log);
+            }
+            const bundle_decoder dec(src.bundle, c.threads);
+            const auto ids = output_classes(src.bundle);
+            const int p = dec.n_pilots();
+            if (m.noiseless_input) {
+                double us = 0.0;
+                const auto obs = ts.observe(src.bundle.mask, std::numeric_limits<double>::infinity());
+                const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
+                for (double snr : c.snrs) // the input does not depend on the test SNR
+                    write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin);
+                continue;
+            }
+            for (double snr : c.snrs) {
+                double us = 0.0;
+                const auto obs = ts.observe(src.bundle.mask, snr);
+                const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
+                write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin);
+            }
+        }
+
+        // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots,
+        // trained on their own frames over the same SNR range as the networks.
+        const train_set tr = make_train_set(c.fs, sc, c.svm_train_frames, c.seed + 202, c.train_snr_min_db,
+                                            c.train_snr_max_db);
+        for (const std::string pattern : { "uniform", "doppler" }) {
+            const auto mask = pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np);
+            const doppler_features fx(c.fs, mask);
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto tr_obs = gather(tr.y, c.svm_train_frames, c.fs, mask);
+            std::vector<std::vector<double>> x;
+            std::vector<int> y;
+            for (int f = 0; f < c.svm_train_frames; ++f) {
+                x.push_back(fx.extract(tr_obs.data() + size_t(f) * np));
+                y.push_back(tr.truth[f].class_id);
+            }
+            const feature_svm svm(x, y);
+            const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
+            const std::string method = "SVM (" + pattern + " pilots)";
+            for (double snr : c.snrs) {
+                const auto obs = ts.observe(mask, snr);
+                std::vector<int> pred(ts.count);
+                const auto t1 = std::chrono::steady_clock::now();
+                for (int f = 0; f < ts.count; ++f)
+                    pred[f] = svm.predict(fx.extract(obs.data() + size_t(f) * np));
+                const double us = 1e6 * seconds_between(t1, std::chrono::steady_clock::now()) / ts.count;
+                write(method, pattern, np, snr, score(pred, truth, n_classes), us, train_s,
+                      "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV");
+            }
+        }
+    }
+}
+
+} // namespace sems_eval

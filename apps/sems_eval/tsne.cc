@@ -1,0 +1,74 @@
+/* sems_eval experiment 2: the classifier decoder's 16-d features under uniform,
+ * Doppler-oriented, MSE-learned and SemS pilots, for the t-SNE in plot_results.py. */
+#include "eval.h"
+#include <gnuradio/sems/bundle_decoder.h>
+#include <gnuradio/sems/target_class.h>
+#include <algorithm>
+
+namespace sems_eval {
+
+void run_tsne(const config& c, std::ostream& log)
+{
+    if (!c.experiments.count(2))
+        return;
+    const scene sc = recognition_scene("default", c);
+    const uint64_t test_seed = c.seed + 101; // the first frames of experiment 1's test set
+    const test_set ts = make_test_set(c.fs, sc, c.tsne_frames, test_seed);
+    log << "[" << now_utc() << "] exp 2: features of " << ts.count << " frames at " << c.tsne_snr_db << " dB"
+        << std::endl;
+    const int np = 32;
+    struct item {
+        std::string method, model;
+        training_settings s;
+    };
+    std::vector<item> items;
+    auto base = base_training(c, task_kind::classify, sc, "sems_eval default");
+    base.n_pilots = np;
+    for (const std::string pattern : { "uniform", "doppler" }) {
+        auto s = base;
+        s.mask_file = write_mask(c, pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np), pattern);
+        items.push_back({ pattern == "uniform" ? "Uniform pilots" : "Doppler pilots", "cls_default_" + pattern, s });
+    }
+    auto mse = base;
+    mse.objective = "mse";
+    items.push_back({ "MSE-learned pilots", "cls_default_mse", mse });
+    items.push_back({ "SemS pilots", "cls_default_sems", base });
+
+    std::vector<std::string> header{ "method", "frame", "class_id", "class_name", "snr_db", "predicted", "seed" };
+    const int nf = nn::classifier_settings{}.features;
+    for (int i = 0; i < nf; ++i)
+        header.push_back("f" + std::to_string(i));
+    csv_file csv(c.out_dir + "/exp2_tsne_features.csv", header);
+    for (const auto& it : items) {
+        const auto src = train_or_load(c, it.model, it.s, log);
+        const bundle_decoder dec(src.bundle, c.threads);
+        const auto obs = ts.observe(src.bundle.mask, c.tsne_snr_db);
+        const int d = dec.feature_size(), p = dec.n_pilots(), nc = static_cast<int>(src.bundle.class_names.size());
+        if (d != nf)
+            throw std::runtime_error(it.model + ": feature size " + std::to_string(d) + ", expected " +
+                                     std::to_string(nf));
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto feats = dec.features(obs.data(), ts.count);
+        const auto probs = dec.classify(obs.data(), ts.count);
+        const double us = 1e6 * seconds_between(t0, std::chrono::steady_clock::now()) / ts.count;
+        int correct = 0;
+        for (int f = 0; f < ts.count; ++f) {
+            const float* pr = probs.data() + size_t(f) * nc;
+            const int pred =
+                static_cast<int>(class_from_name(src.bundle.class_names[std::max_element(pr, pr + nc) - pr]));
+            correct += pred == ts.truth[f].class_id;
+            std::vector<std::string> row{ it.method, std::to_string(f), std::to_string(ts.truth[f].class_id),
+                                          ts.truth[f].class_name, num(c.tsne_snr_db), std::to_string(pred),
+                                          std::to_string(test_seed) };
+            for (int i = 0; i < d; ++i)
+                row.push_back(num(feats[size_t(f) * d + i], 6));
+            csv.row(row);
+        }
+        const double acc = double(correct) / ts.count;
+        cost_rows().push_back({ "2", "default", it.method, p, c.tsne_snr_db, "accuracy", acc, us, ts.count,
+                                src.train_seconds });
+        log << "  " << it.method << ": accuracy " << num(acc, 3) << " at " << c.tsne_snr_db << " dB" << std::endl;
+    }
+}
+
+} // namespace sems_eval
