@@ -52,6 +52,15 @@ void pilot_extractor_impl::forecast(int noutput_items, gr_vector_int& ninput_ite
     ninput_items_required[0] = 1;
 }
 
+bool pilot_extractor_impl::stop()
+{
+    if (d_row > 0) { // the stream ended (or was stopped) inside a frame
+        ++d_dropped_partial;
+        d_row = 0;
+    }
+    return true;
+}
+
 void pilot_extractor_impl::begin_frame(bool tagged, uint64_t frame)
 {
     d_row = 0;

@@ -20,6 +20,7 @@ public:
     uint64_t frames_skipped_nonfinite() const override { return d_skipped_nonfinite; }
 
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
+    bool stop() override;
     int general_work(int noutput_items,
                      gr_vector_int& ninput_items,
                      gr_vector_const_void_star& input_items,
