@@ -84,10 +84,15 @@ double classifier_task::accuracy() const
 pmt::pmt_t classifier_task::add_metrics(pmt::pmt_t dict) const
 {
     dict = pmt::dict_add(dict, pmt::intern(keys::accuracy), pmt::from_double(accuracy()));
-    // confusion: a vector of rows (truth), each a u64vector over the predicted classes.
+    // confusion: a vector of rows (truth), each a vector of uint64 counts over the predicted
+    // classes; plain PMT vectors because pmt.to_python cannot convert a u64vector.
     pmt::pmt_t rows = pmt::make_vector(d_confusion.size(), pmt::PMT_NIL);
-    for (size_t i = 0; i < d_confusion.size(); i++)
-        pmt::vector_set(rows, i, pmt::init_u64vector(d_confusion[i].size(), d_confusion[i].data()));
+    for (size_t i = 0; i < d_confusion.size(); i++) {
+        pmt::pmt_t row = pmt::make_vector(d_confusion[i].size(), pmt::PMT_NIL);
+        for (size_t j = 0; j < d_confusion[i].size(); j++)
+            pmt::vector_set(row, j, pmt::from_uint64(d_confusion[i][j]));
+        pmt::vector_set(rows, i, row);
+    }
     return pmt::dict_add(dict, pmt::intern(keys::confusion), rows);
 }
 
@@ -143,7 +148,13 @@ int classifier_sink_impl::work(int noutput_items,
 
 bool classifier_sink_impl::stop()
 {
-    d_core.finish();
+    // stop() runs in the executor's destructor, also while a work() exception unwinds:
+    // throwing here would terminate the process.
+    try {
+        d_core.finish();
+    } catch (const std::exception& e) {
+        d_logger->error("end of stream: {}", e.what());
+    }
     return true;
 }
 

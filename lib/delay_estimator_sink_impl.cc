@@ -119,7 +119,13 @@ int delay_estimator_sink_impl::work(int noutput_items,
 
 bool delay_estimator_sink_impl::stop()
 {
-    d_core.finish();
+    // stop() runs in the executor's destructor, also while a work() exception unwinds:
+    // throwing here would terminate the process.
+    try {
+        d_core.finish();
+    } catch (const std::exception& e) {
+        d_logger->error("end of stream: {}", e.what());
+    }
     return true;
 }
 

@@ -19,7 +19,6 @@ std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
                                              int n_subcarriers,
                                              int threads)
 {
-    const std::string who = block + " (bundle '" + dir + "')";
     if (dir.empty())
         throw std::invalid_argument(block + ": bundle: no model bundle directory given");
     frame_settings fs;
@@ -37,11 +36,11 @@ std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
         // load() names the file; say which block was being built.
         throw std::invalid_argument(block + ": cannot load model bundle: " + e.what());
     }
-    bundle.check_compatible(fs, n_pilots, task, who);
+    bundle.check_compatible(fs, n_pilots, task, block); // names the bundle directory
     try {
         return std::make_unique<bundle_decoder>(bundle, threads);
     } catch (const std::exception& e) {
-        throw std::invalid_argument(who + ": cannot build the decoder: " + e.what());
+        throw std::invalid_argument(block + ": model bundle " + dir + ": cannot build the decoder: " + e.what());
     }
 }
 
@@ -102,6 +101,12 @@ bool tag_index(const pmt::pmt_t& v, uint64_t& out)
 
 } // namespace
 
+bool is_truth(const pmt::pmt_t& v)
+{
+    // PMT's is_dict() is true for nil (the empty dict): a frame without a truth tag.
+    return pmt::is_dict(v) && !pmt::is_null(v);
+}
+
 sink_core::sink_core(int n_pilots, int batch_size, int metrics_period, sink_task& task, publish_fn publish)
     : d_np(n_pilots),
       d_batch(batch_size),
@@ -130,7 +135,7 @@ void sink_core::push(const gr_complex* frames,
         uint64_t idx;
         if (pmt::eq(t.key, frame_key) && tag_index(t.value, idx))
             index[i] = static_cast<int64_t>(idx);
-        else if (pmt::eq(t.key, truth_key) && pmt::is_dict(t.value))
+        else if (pmt::eq(t.key, truth_key) && is_truth(t.value))
             truth[i] = t.value;
     }
 
@@ -201,7 +206,7 @@ void sink_core::emit_result(const pending_frame& f, pmt::pmt_t result)
     result = pmt::dict_add(result, pmt::intern(keys::frame), pmt::from_uint64(f.index));
     {
         std::lock_guard<std::mutex> lock(d_mutex);
-        if (pmt::is_dict(f.truth)) {
+        if (is_truth(f.truth)) {
             result = pmt::dict_add(result, pmt::intern(keys::truth), f.truth);
             if (d_task.score(result, f.truth))
                 d_scored++;

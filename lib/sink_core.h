@@ -136,8 +136,10 @@ private:
     uint64_t d_skipped = 0;
 };
 
-// Small PMT helpers for the tasks: a number from a dict entry, NaN/nullopt when absent.
+// A number (real or integer) from a dict entry into `out`; false when absent or not a number.
 bool dict_number(const pmt::pmt_t& dict, const char* key, double& out);
+// A non-empty PMT dict (PMT_NIL, the empty dict, marks a frame without truth).
+bool is_truth(const pmt::pmt_t& v);
 
 } // namespace detail
 } // namespace sems

@@ -32,11 +32,12 @@ BUILD_DIR = os.environ.get("SEMS_BUILD_DIR", "")
 
 # Tiny training settings: a few seconds on one core. Accuracy does not matter here,
 # only that a real bundle loads and decodes.
+_TINY_COMMON = ["--frames", "600", "--epochs", "1", "--decoder-epochs", "0", "--batch", "64", "--pilots", "8",
+                "--seed", "7", "--threads", "1", "--snr", "20", "--eval-snr", "20", "--width", "4", "--depth", "1",
+                "--quiet"]
 TINY_TRAIN_ARGS = {
-    "classify": ["--frames", "600", "--epochs", "1", "--batch", "64", "--pilots", "8", "--seed", "7",
-                 "--threads", "1", "--snr", "20"],
-    "delay": ["--frames", "600", "--epochs", "1", "--batch", "64", "--pilots", "8", "--seed", "7",
-              "--threads", "1", "--snr", "20"],
+    "classify": _TINY_COMMON + ["--hidden", "16"],
+    "delay": _TINY_COMMON,
 }
 
 
@@ -103,9 +104,17 @@ class collector(gr.sync_block):
         self.results, self.metrics = [], []
         self.n_results, self.n_metrics = n_results, n_metrics
         self.deadline = time.monotonic() + deadline_s
-        for port, store in ((sems.keys.result_port, self.results), (sems.keys.metrics_port, self.metrics)):
-            self.message_port_register_in(pmt.intern(port))
-            self.set_msg_handler(pmt.intern(port), lambda msg, store=store: store.append(pmt.to_python(msg)))
+        # GNU Radio's Python gateway dispatches to handlers by method name: no lambdas.
+        self.message_port_register_in(pmt.intern(sems.keys.result_port))
+        self.set_msg_handler(pmt.intern(sems.keys.result_port), self.on_result)
+        self.message_port_register_in(pmt.intern(sems.keys.metrics_port))
+        self.set_msg_handler(pmt.intern(sems.keys.metrics_port), self.on_metrics)
+
+    def on_result(self, msg):
+        self.results.append(pmt.to_python(msg))
+
+    def on_metrics(self, msg):
+        self.metrics.append(pmt.to_python(msg))
 
     def work(self, input_items, output_items):
         if (len(self.results) >= self.n_results and len(self.metrics) >= self.n_metrics) \
