@@ -63,12 +63,12 @@ void apply_size(config& c)
         c.np_sweep = { 2, 8 };
         c.classic_oversample = 4;
     } else if (c.size == "full") {
-        // Sized for 2 shared cores in about an hour (see docs/RESULTS.md); the paper used
-        // 30 000 frames and 3 000 test frames per point.
+        // Sized for 2 shared cores in about an hour (19 networks of ~3 min each, see
+        // docs/RESULTS.md); the paper used 30 000 frames and 3 000 test frames per point.
         c.test_frames = 1000;
-        c.train_frames = 2000;
+        c.train_frames = 4000;
         c.epochs = 3;
-        c.decoder_epochs = 2;
+        c.decoder_epochs = 3;
         c.batch = 64;
         c.svm_train_frames = 3000;
         c.tsne_frames = 600;

@@ -1,0 +1,314 @@
+#!/usr/bin/python3
+"""Draw one PNG per sems_eval experiment from its CSVs.
+
+    /usr/bin/python3 apps/plot_results.py docs/results            # PNGs next to the CSVs
+    /usr/bin/python3 apps/plot_results.py /tmp/eval --out /tmp/png --tsne-iter 250
+
+Missing CSVs are skipped (a partial run still plots what it has). The t-SNE of
+experiment 2 is an exact t-SNE in numpy (perplexity 30, early exaggeration), so no
+scikit-learn is needed.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+from collections import OrderedDict, defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+CLASS_COLOURS = {"pedestrian": "tab:blue", "car": "tab:orange", "drone": "tab:green"}
+
+
+def read_csv(path):
+    if not os.path.exists(path):
+        return None
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def fnum(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def series(rows, key_fields, x="snr_db", y="accuracy"):
+    """{key: (xs, ys)} sorted by x, key = tuple of key_fields."""
+    out = OrderedDict()
+    for r in rows:
+        k = tuple(r[f] for f in key_fields)
+        out.setdefault(k, []).append((fnum(r[x]), fnum(r[y])))
+    return OrderedDict((k, tuple(zip(*sorted(v)))) for k, v in out.items())
+
+
+def style(method):
+    if method.startswith("Perfect CSI"):
+        return dict(linestyle="--", marker="s")
+    if method.startswith("SVM"):
+        return dict(linestyle=":", marker="^")
+    if method.startswith("MSE"):
+        return dict(linestyle="-.", marker="v")
+    if method.startswith("CRB"):
+        return dict(linestyle="--", color="black", marker=None)
+    if method.startswith("SemS"):
+        return dict(linestyle="-", marker="o", linewidth=2)
+    return dict(linestyle="-", marker="x")
+
+
+def footer(fig, rows):
+    if rows:
+        r = rows[0]
+        fig.text(0.01, 0.005, "test frames per point: %s, seed %s" % (r.get("n_frames", "?"), r.get("seed", "?")),
+                 fontsize=7, color="grey")
+
+
+def plot_accuracy(rows, scenario, axes, title):
+    rs = [r for r in rows if r["scenario"] == scenario]
+    for metric, ax in zip(("accuracy", "macro_f1"), axes):
+        for (method,), (xs, ys) in series(rs, ["method"], y=metric).items():
+            ax.plot(xs, ys, label=method, **style(method))
+        ax.set_xlabel("SNR (dB)")
+        ax.set_ylabel("accuracy" if metric == "accuracy" else "macro-F1")
+        ax.set_ylim(0, 1.02)
+        ax.grid(alpha=0.3)
+        ax.set_title("%s: %s" % (title, "accuracy" if metric == "accuracy" else "macro-F1"), fontsize=10)
+    axes[0].legend(fontsize=7, loc="lower right")
+
+
+def exp1(d, out):
+    rows = read_csv(os.path.join(d, "exp1_recognition.csv"))
+    if not rows:
+        return None
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    plot_accuracy(rows, "default", axes, "Recognition")
+    footer(fig, rows)
+    fig.tight_layout()
+    path = os.path.join(out, "exp1_recognition.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def exp3(d, out):
+    rows = read_csv(os.path.join(d, "exp3_conditions.csv"))
+    if not rows:
+        return None
+    scen = [s for s in ("no_md", "clutter") if any(r["scenario"] == s for r in rows)]
+    fig, axes = plt.subplots(1, len(scen), figsize=(5.5 * len(scen), 4.2), squeeze=False)
+    for ax, s in zip(axes[0], scen):
+        rs = [r for r in rows if r["scenario"] == s]
+        for (method,), (xs, ys) in series(rs, ["method"]).items():
+            ax.plot(xs, ys, label=method, **style(method))
+        ax.set_title({"no_md": "without micro-Doppler", "clutter": "strong clutter"}[s], fontsize=10)
+        ax.set_xlabel("SNR (dB)")
+        ax.set_ylabel("accuracy")
+        ax.set_ylim(0, 1.02)
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7, loc="lower right")
+    footer(fig, rows)
+    fig.tight_layout()
+    path = os.path.join(out, "exp3_conditions.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def exp4(d, out):
+    rows = read_csv(os.path.join(d, "exp4_delay.csv"))
+    if not rows:
+        return None
+    scen = [s for s in ("single", "multipath") if any(r["scenario"] == s for r in rows)]
+    fig, axes = plt.subplots(1, len(scen), figsize=(5.5 * len(scen), 4.2), squeeze=False)
+    for ax, s in zip(axes[0], scen):
+        rs = [r for r in rows if r["scenario"] == s]
+        for (method,), (xs, ys) in series(rs, ["method"], y="mae_index").items():
+            ys = [y if y > 0 else float("nan") for y in ys]
+            label = method + (" (single-path bound)" if method.startswith("CRB") and s != "single" else "")
+            ax.semilogy(xs, ys, label=label, **style(method))
+        ax.set_title("delay MAE, %s" % ("single path" if s == "single" else "multipath"), fontsize=10)
+        ax.set_xlabel("SNR (dB)")
+        ax.set_ylabel("MAE (delay index, 1 = 5 m)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].legend(fontsize=7, loc="lower left")
+    footer(fig, rows)
+    fig.tight_layout()
+    path = os.path.join(out, "exp4_delay.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def exp5(d, out):
+    rows = read_csv(os.path.join(d, "exp5_pilot_budget.csv"))
+    if not rows:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    by_np = series(rows, ["n_pilots"], y="mae_index")
+    for (np_,), (xs, ys) in sorted(by_np.items(), key=lambda kv: int(kv[0][0])):
+        ax.semilogy(xs, ys, marker="o", label="N_p = %s" % np_)
+    ax.set_title("SemS delay MAE vs pilot budget (multipath)", fontsize=10)
+    ax.set_xlabel("SNR (dB)")
+    ax.set_ylabel("MAE (delay index)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    footer(fig, rows)
+    fig.tight_layout()
+    path = os.path.join(out, "exp5_pilot_budget.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def exp6(d, out):
+    rows = read_csv(os.path.join(d, "exp6_cost.csv"))
+    if not rows:
+        return None
+    acc = [r for r in rows if r["metric"] == "accuracy" and r["experiment"] == "1"]
+    mae = [r for r in rows if r["metric"] == "mae_index" and r["experiment"] == "4" and r["scenario"] == "multipath"]
+
+    def at(rs, snr):
+        avail = sorted({fnum(r["snr_db"]) for r in rs})
+        if not avail:
+            return [], None
+        s = min(avail, key=lambda v: abs(v - snr))
+        return [r for r in rs if fnum(r["snr_db"]) == s], s
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, (rs, snr), ylab, logy in ((axes[0], at(acc, 10.0), "accuracy", False),
+                                      (axes[1], at(mae, 30.0), "MAE (delay index)", True)):
+        for r in rs:
+            x, y = fnum(r["us_per_frame"]), fnum(r["value"])
+            if not (x > 0) or math.isnan(y):
+                continue
+            ax.scatter([x], [y], s=40, marker=style(r["method"]).get("marker") or "o")
+            ax.annotate(r["method"], (x, y), fontsize=7, xytext=(4, 2), textcoords="offset points")
+        ax.set_xscale("log")
+        if logy:
+            ax.set_yscale("log")
+        ax.set_xlabel("inference time per frame (us, this machine)")
+        ax.set_ylabel(ylab)
+        ax.grid(alpha=0.3, which="both")
+        ax.set_title("%s at %s dB" % ("recognition" if not logy else "delay, multipath", snr), fontsize=10)
+    footer(fig, rows)
+    fig.tight_layout()
+    path = os.path.join(out, "exp6_cost.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def tsne(x, perplexity=30.0, iters=500, seed=0):
+    """Exact t-SNE (van der Maaten & Hinton 2008): binary-searched Gaussian affinities,
+    symmetrised; Student-t similarities; gradient descent with momentum and gains;
+    early exaggeration 12 for the first 100 iterations."""
+    x = np.asarray(x, dtype=np.float64)
+    n = x.shape[0]
+    x = (x - x.mean(0)) / (x.std(0) + 1e-12)
+    d2 = np.sum(x * x, 1)[:, None] + np.sum(x * x, 1)[None, :] - 2 * x @ x.T
+    np.fill_diagonal(d2, 0.0)
+    d2 = np.maximum(d2, 0.0)
+    perplexity = min(perplexity, (n - 1) / 3.0)
+    target = math.log(perplexity)
+    p = np.zeros((n, n))
+    for i in range(n):
+        lo, hi, beta = 0.0, np.inf, 1.0
+        di = np.delete(d2[i], i)
+        for _ in range(60):
+            w = np.exp(-(di - di.min()) * beta)
+            s = w.sum()
+            h = math.log(s) + beta * np.sum((di - di.min()) * w) / s
+            if abs(h - target) < 1e-5:
+                break
+            if h > target:
+                lo = beta
+                beta = beta * 2 if hi == np.inf else (beta + hi) / 2
+            else:
+                hi = beta
+                beta = (beta + lo) / 2
+        p[i, np.arange(n) != i] = w / s
+    p = (p + p.T) / (2 * n)
+    p = np.maximum(p, 1e-12)
+    rng = np.random.default_rng(seed)
+    y = rng.normal(0, 1e-4, (n, 2))
+    vel = np.zeros_like(y)
+    gains = np.ones_like(y)
+    for it in range(iters):
+        exag = 12.0 if it < 100 else 1.0
+        sy = np.sum(y * y, 1)
+        num = 1.0 / (1.0 + sy[:, None] + sy[None, :] - 2 * y @ y.T)
+        np.fill_diagonal(num, 0.0)
+        q = np.maximum(num / num.sum(), 1e-12)
+        pq = (exag * p - q) * num
+        grad = 4 * ((np.diag(pq.sum(1)) - pq) @ y)
+        mom = 0.5 if it < 250 else 0.8
+        gains = np.where(np.sign(grad) != np.sign(vel), gains + 0.2, gains * 0.8)
+        gains = np.maximum(gains, 0.01)
+        vel = mom * vel - 200.0 * gains * grad
+        y = y + vel
+        y = y - y.mean(0)
+    return y
+
+
+def exp2(d, out, iters):
+    rows = read_csv(os.path.join(d, "exp2_tsne_features.csv"))
+    if not rows:
+        return None
+    feats = sorted((k for k in rows[0] if k.startswith("f") and k[1:].isdigit()), key=lambda k: int(k[1:]))
+    by_method = OrderedDict()
+    for r in rows:
+        by_method.setdefault(r["method"], []).append(r)
+    n = len(by_method)
+    cols = 2 if n > 1 else 1
+    nrows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(nrows, cols, figsize=(5.2 * cols, 4.6 * nrows), squeeze=False)
+    for ax, (method, rs) in zip(axes.flat, by_method.items()):
+        x = np.array([[fnum(r[f]) for f in feats] for r in rs])
+        y = tsne(x, iters=iters)
+        labels = [r["class_name"] for r in rs]
+        for cls, colour in CLASS_COLOURS.items():
+            sel = [i for i, l in enumerate(labels) if l == cls]
+            if sel:
+                ax.scatter(y[sel, 0], y[sel, 1], s=6, c=colour, label=cls)
+        acc = np.mean([r["predicted"] == r["class_id"] for r in rs])
+        ax.set_title("%s (accuracy %.2f at %s dB)" % (method, acc, rs[0]["snr_db"]), fontsize=10)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    axes[0][0].legend(fontsize=8, markerscale=2)
+    fig.tight_layout()
+    path = os.path.join(out, "exp2_tsne.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("results", help="directory with sems_eval's CSVs")
+    ap.add_argument("--out", help="where to write the PNGs (default: the results directory)")
+    ap.add_argument("--tsne-iter", type=int, default=500, help="t-SNE iterations")
+    a = ap.parse_args(argv)
+    if not os.path.isdir(a.results):
+        print("plot_results: %s is not a directory" % a.results, file=sys.stderr)
+        return 1
+    out = a.out or a.results
+    os.makedirs(out, exist_ok=True)
+    made = [p for p in (exp1(a.results, out), exp2(a.results, out, a.tsne_iter), exp3(a.results, out),
+                        exp4(a.results, out), exp5(a.results, out), exp6(a.results, out)) if p]
+    if not made:
+        print("plot_results: no sems_eval CSVs in %s" % a.results, file=sys.stderr)
+        return 1
+    for p in made:
+        print("wrote", p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
