@@ -1,0 +1,97 @@
+#!/usr/bin/python3
+"""End-to-end: sems_eval --size test writes the six experiment CSVs, and
+plot_results.py draws one PNG per experiment from them; bad options fail clearly."""
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+
+from gnuradio import gr_unittest
+
+BUILD = os.environ.get("SEMS_BUILD_DIR", "")
+SOURCE = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+EVAL = os.path.join(BUILD, "apps", "sems_eval")
+PLOT = os.path.join(SOURCE, "apps", "plot_results.py")
+
+CSVS = {
+    "exp1_recognition.csv": ["method", "snr_db", "accuracy", "macro_f1", "n_frames", "seed", "us_per_frame"],
+    "exp2_tsne_features.csv": ["method", "class_id", "f0", "f15"],
+    "exp3_conditions.csv": ["scenario", "method", "snr_db", "accuracy", "n_frames", "seed", "us_per_frame"],
+    "exp4_delay.csv": ["scenario", "method", "snr_db", "mae_index", "crb_mae_index", "n_frames", "seed",
+                       "us_per_frame"],
+    "exp5_pilot_budget.csv": ["n_pilots", "snr_db", "mae_index", "n_frames", "seed", "us_per_frame"],
+    "exp6_cost.csv": ["method", "snr_db", "metric", "value", "us_per_frame", "n_frames", "seed"],
+}
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+class qa_sems_eval(gr_unittest.TestCase):
+    def test_001_test_size_end_to_end(self):
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--out", out, "--threads", "1"], capture_output=True,
+                               text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
+            for name, cols in CSVS.items():
+                path = os.path.join(out, name)
+                self.assertTrue(os.path.exists(path), name)
+                rs = rows(path)
+                self.assertGreater(len(rs), 0, name)
+                for c in cols:
+                    self.assertIn(c, rs[0], "%s lacks column %s" % (name, c))
+            # Every method and operating point, on the same number of frames with one seed per scene.
+            e1 = rows(os.path.join(out, "exp1_recognition.csv"))
+            methods = {r["method"] for r in e1}
+            for m in ("SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)",
+                      "SVM (uniform pilots)", "SVM (doppler pilots)"):
+                self.assertIn(m, methods)
+            self.assertEqual(len(e1), 6 * 3)  # 6 methods x 3 SNR points at test size
+            self.assertEqual({r["n_frames"] for r in e1}, {"24"})
+            self.assertEqual(len({r["seed"] for r in e1}), 1)
+            for r in e1:
+                self.assertTrue(0.0 <= float(r["accuracy"]) <= 1.0)
+                self.assertTrue(0.0 <= float(r["macro_f1"]) <= 1.0)
+            # The noiseless upper bound does not depend on the test SNR.
+            pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)"}
+            self.assertEqual(len(pc), 1)
+            e4 = rows(os.path.join(out, "exp4_delay.csv"))
+            for scen in ("single", "multipath"):
+                ms = {r["method"] for r in e4 if r["scenario"] == scen}
+                for m in ("SemS", "OMP", "Periodogram", "UP-MUSIC", "RP-MUSIC", "OP-MUSIC", "CRB (random pilots)"):
+                    self.assertIn(m, ms, "%s: %s missing" % (scen, m))
+            # The CRB falls by 10x in variance per 10 dB: its MAE by sqrt(1000) from 0 to 30 dB.
+            crb = {float(r["snr_db"]): float(r["mae_index"]) for r in e4
+                   if r["method"] == "CRB (random pilots)" and r["scenario"] == "single"}
+            self.assertAlmostEqual(crb[0.0] / crb[30.0], 1000 ** 0.5, delta=1e-3)  # CSV keeps 6 digits
+            e5 = rows(os.path.join(out, "exp5_pilot_budget.csv"))
+            self.assertEqual(sorted({int(r["n_pilots"]) for r in e5}), [2, 8])
+
+            png = os.path.join(out, "png")
+            r = subprocess.run(["/usr/bin/python3", PLOT, out, "--out", png, "--tsne-iter", "60"],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("exp1_recognition", "exp2_tsne", "exp3_conditions", "exp4_delay", "exp5_pilot_budget",
+                         "exp6_cost"):
+                p = os.path.join(png, name + ".png")
+                self.assertTrue(os.path.exists(p) and os.path.getsize(p) > 1000, name)
+
+    def test_002_bad_options_fail_clearly(self):
+        with tempfile.TemporaryDirectory() as out:
+            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "7"], "--experiments"),
+                               (["--np-sweep", "0"], "--np-sweep")):
+                r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
+                self.assertNotEqual(r.returncode, 0)
+                self.assertIn(word, r.stderr)
+            r = subprocess.run([EVAL], capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("out", r.stderr)
+        r = subprocess.run(["/usr/bin/python3", PLOT, "/nonexistent/dir"], capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_sems_eval)
