@@ -149,6 +149,8 @@ double music_delay_estimator::estimate_index(const gr_complex* obs) const
     return d.grid[*std::min_element(peaks.begin(), peaks.end())];
 }
 
+int music_delay_estimator::n_pilots() const { return d_impl->np; }
+
 double music_delay_estimator::estimate_delay_s(const gr_complex* obs) const
 {
     return estimate_index(obs) / d_impl->fs.bandwidth_hz;

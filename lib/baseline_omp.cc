@@ -112,6 +112,8 @@ double omp_delay_estimator::estimate_index(const gr_complex* obs) const
     return best;
 }
 
+int omp_delay_estimator::n_pilots() const { return d_impl->np; }
+
 double omp_delay_estimator::estimate_delay_s(const gr_complex* obs) const
 {
     return estimate_index(obs) / d_impl->fs.bandwidth_hz;

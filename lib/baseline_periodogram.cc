@@ -102,6 +102,8 @@ double periodogram_delay_estimator::estimate_index(const gr_complex* obs) const
     return idx;
 }
 
+int periodogram_delay_estimator::n_pilots() const { return d_impl->np; }
+
 double periodogram_delay_estimator::estimate_delay_s(const gr_complex* obs) const
 {
     return estimate_index(obs) / d_impl->fs.bandwidth_hz;

@@ -47,6 +47,7 @@ public:
     ~music_delay_estimator();
     music_delay_estimator(music_delay_estimator&&) noexcept;
 
+    int n_pilots() const; // N_p, the observations per frame
     double estimate_index(const gr_complex* obs) const;
     double estimate_delay_s(const gr_complex* obs) const;
     std::vector<double> pseudo_spectrum(const gr_complex* obs) const;

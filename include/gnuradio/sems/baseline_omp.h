@@ -48,6 +48,7 @@ public:
     ~omp_delay_estimator();
     omp_delay_estimator(omp_delay_estimator&&) noexcept;
 
+    int n_pilots() const; // N_p, the observations per frame
     double estimate_index(const gr_complex* obs) const;
     double estimate_delay_s(const gr_complex* obs) const;
     // The atoms in the order they were chosen, with least-squares gains.

@@ -44,6 +44,7 @@ public:
     periodogram_delay_estimator(periodogram_delay_estimator&&) noexcept;
 
     // obs: N_p observations in mask order. Throws std::invalid_argument on non-finite input.
+    int n_pilots() const; // N_p, the observations per frame
     double estimate_index(const gr_complex* obs) const;
     double estimate_delay_s(const gr_complex* obs) const;
     // P(τ) on the grid (for plots and tests).

@@ -42,6 +42,7 @@ public:
 
     doppler_features(const frame_settings& fs, const pilot_mask& mask, int oversample = 1);
 
+    int n_pilots() const { return d_np; }
     // The Doppler grid f_q in Hz.
     const std::vector<double>& frequencies_hz() const { return d_freq; }
     // S(f) on the grid. Throws std::invalid_argument on non-finite input.
