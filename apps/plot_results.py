@@ -289,11 +289,63 @@ def exp2(d, out, iters):
     return path
 
 
+def pivot(rows, row_key, value, fmt="%.3f"):
+    """Markdown table: one line per row_key value, one column per SNR."""
+    snrs = sorted({fnum(r["snr_db"]) for r in rows})
+    table = OrderedDict()
+    for r in rows:
+        table.setdefault(r[row_key], {})[fnum(r["snr_db"])] = fnum(r[value])
+    head = "| %s | %s |" % (row_key, " | ".join("%g dB" % s for s in snrs))
+    lines = [head, "|" + "---|" * (len(snrs) + 1)]
+    for k, vals in table.items():
+        lines.append("| %s | %s |" % (k, " | ".join(
+            (fmt % vals[s]) if s in vals and not math.isnan(vals[s]) else "–" for s in snrs)))
+    return "\n".join(lines)
+
+
+def tables(d):
+    """All result tables as markdown (what docs/RESULTS.md quotes)."""
+    out = []
+    e1 = read_csv(os.path.join(d, "exp1_recognition.csv"))
+    if e1:
+        out += ["### Experiment 1: accuracy", "", pivot(e1, "method", "accuracy"), "",
+                "### Experiment 1: macro-F1", "", pivot(e1, "method", "macro_f1"), ""]
+    e3 = read_csv(os.path.join(d, "exp3_conditions.csv"))
+    if e3:
+        for s in ("no_md", "clutter"):
+            rs = [r for r in e3 if r["scenario"] == s]
+            if rs:
+                out += ["### Experiment 3 (%s): accuracy" % s, "", pivot(rs, "method", "accuracy"), ""]
+    e4 = read_csv(os.path.join(d, "exp4_delay.csv"))
+    if e4:
+        for s in ("single", "multipath"):
+            rs = [r for r in e4 if r["scenario"] == s]
+            if rs:
+                out += ["### Experiment 4 (%s): delay-index MAE" % s, "", pivot(rs, "method", "mae_index", "%.3g"), ""]
+    e5 = read_csv(os.path.join(d, "exp5_pilot_budget.csv"))
+    if e5:
+        out += ["### Experiment 5: SemS delay-index MAE by pilot budget (multipath)", "",
+                pivot(e5, "n_pilots", "mae_index", "%.3g"), ""]
+    e6 = read_csv(os.path.join(d, "exp6_cost.csv"))
+    if e6:
+        out += ["### Experiment 6: cost (inference time per frame, this machine) next to the result", "",
+                "| experiment | scenario | method | N_p | SNR (dB) | metric | value | us/frame | training (s) |",
+                "|---|---|---|---|---|---|---|---|---|"]
+        for r in e6:
+            if fnum(r["snr_db"]) in (10.0, 30.0):
+                out.append("| %s | %s | %s | %s | %s | %s | %.3g | %.3g | %.3g |" % (
+                    r["experiment"], r["scenario"], r["method"], r["n_pilots"], r["snr_db"], r["metric"],
+                    fnum(r["value"]), fnum(r["us_per_frame"]), fnum(r["train_seconds"])))
+        out.append("")
+    return "\n".join(out)
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results", help="directory with sems_eval's CSVs")
     ap.add_argument("--out", help="where to write the PNGs (default: the results directory)")
     ap.add_argument("--tsne-iter", type=int, default=500, help="t-SNE iterations")
+    ap.add_argument("--tables", help="also write the result tables as markdown to this file")
     a = ap.parse_args(argv)
     if not os.path.isdir(a.results):
         print("plot_results: %s is not a directory" % a.results, file=sys.stderr)
@@ -307,6 +359,10 @@ def main(argv):
         return 1
     for p in made:
         print("wrote", p)
+    if a.tables:
+        with open(a.tables, "w") as f:
+            f.write(tables(a.results))
+        print("wrote", a.tables)
     return 0
 
 
