@@ -163,7 +163,15 @@ void sink_core::finish()
     if (d_n_obs > 0)
         decode_pending();
     emit_ready_skips();
-    d_publish(pmt::intern(keys::metrics_port), metrics());
+    // The final numbers, unless the last periodic message already carried them.
+    pmt::pmt_t msg = pmt::PMT_NIL;
+    {
+        std::lock_guard<std::mutex> lock(d_mutex);
+        if (!d_published || d_frames != d_published_frames)
+            msg = publish_metrics_locked();
+    }
+    if (msg != pmt::PMT_NIL)
+        d_publish(pmt::intern(keys::metrics_port), msg);
 }
 
 void sink_core::decode_pending()
@@ -223,7 +231,7 @@ void sink_core::count_frame()
         std::lock_guard<std::mutex> lock(d_mutex);
         d_frames++;
         if (d_metrics_period > 0 && d_frames % static_cast<uint64_t>(d_metrics_period) == 0)
-            msg = metrics_locked();
+            msg = publish_metrics_locked();
     }
     if (msg != pmt::PMT_NIL)
         d_publish(pmt::intern(keys::metrics_port), msg);
@@ -276,10 +284,18 @@ pmt::pmt_t sink_core::metrics_locked() const
     return d_task.add_metrics(d);
 }
 
+pmt::pmt_t sink_core::publish_metrics_locked()
+{
+    d_published = true;
+    d_published_frames = d_frames;
+    return metrics_locked();
+}
+
 void sink_core::reset_metrics()
 {
     std::lock_guard<std::mutex> lock(d_mutex);
     d_frames = d_scored = d_skipped = 0;
+    d_published = false;
     d_task.reset_metrics();
 }
 

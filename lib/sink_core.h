@@ -9,7 +9,8 @@
  *   - frames are grouped into consecutive batches of exactly `batch_size` valid frames,
  *     whatever the sizes of the work() calls, so the decoder sees the same batches (and
  *     gives bit-identical answers) on every run; finish() decodes the partial last batch;
- *   - the running counters and a metrics message every `metrics_period` frames.
+ *   - the running counters and a metrics message every `metrics_period` frames, and
+ *     one at the end of the stream unless the last periodic one already holds its numbers.
  * What differs between the sinks (decoding, the answer keys, scoring, task metrics)
  * is a sink_task.
  *
@@ -80,7 +81,8 @@ public:
     // `count` frames (count x N_p, row-major); the first is absolute item `first_item`
     // and `tags` are the stream tags on them (others are ignored).
     void push(const gr_complex* frames, int count, uint64_t first_item, const std::vector<gr::tag_t>& tags);
-    // Decodes the partial batch, if any, and publishes the final metrics.
+    // Decodes the partial batch, if any, and publishes the final metrics (unless the
+    // last periodic message already holds them).
     void finish();
 
     void set_metrics_period(int k); // 0: metrics only at the end of the stream
@@ -116,6 +118,7 @@ private:
     void emit_result(const pending_frame& f, pmt::pmt_t result);
     void count_frame();             // one frame handled; metrics message every K
     pmt::pmt_t metrics_locked() const;
+    pmt::pmt_t publish_metrics_locked(); // metrics_locked(), remembering what went out
 
     const int d_np;
     const int d_batch;
@@ -134,6 +137,8 @@ private:
     uint64_t d_frames = 0;
     uint64_t d_scored = 0;
     uint64_t d_skipped = 0;
+    bool d_published = false;        // a metrics message went out since the last reset
+    uint64_t d_published_frames = 0; // d_frames in that message
 };
 
 // A number (real or integer) from a dict entry into `out`; false when absent or not a number.

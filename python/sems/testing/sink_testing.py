@@ -12,8 +12,9 @@ Why the collector has a stream input: GNU Radio calls a block's stop() only afte
 has told its message subscribers it is done, and a subscriber without stream inputs
 (message_debug) exits on that notice - so it would miss what the sink sends from
 stop() (the partial last batch, the final metrics). The collector is kept alive by a
-null source and ends itself once it holds every message the test expects (or after a
-deadline, so a missing message fails the test instead of hanging it).
+null source and ends itself a moment after it holds every message the test expects (so
+an extra message is seen too), or at a deadline, so a missing one fails the test instead
+of hanging it.
 """
 import json
 import os
@@ -99,11 +100,13 @@ class collector(gr.sync_block):
     """Stores result and metrics messages; ends the flowgraph once it has `n_results`
     results and `n_metrics` metrics messages, or at the deadline."""
 
-    def __init__(self, n_results, n_metrics, deadline_s=120.0):
+    def __init__(self, n_results, n_metrics, deadline_s=120.0, grace_s=0.1):
         gr.sync_block.__init__(self, "sems_test_collector", in_sig=[np.uint8], out_sig=None)
         self.results, self.metrics = [], []
         self.n_results, self.n_metrics = n_results, n_metrics
         self.deadline = time.monotonic() + deadline_s
+        self.grace_s = grace_s  # keeps listening this long after the expected count: extras show up
+        self.complete_at = None
         # GNU Radio's Python gateway dispatches to handlers by method name: no lambdas.
         self.message_port_register_in(pmt.intern(sems.keys.result_port))
         self.set_msg_handler(pmt.intern(sems.keys.result_port), self.on_result)
@@ -117,8 +120,10 @@ class collector(gr.sync_block):
         self.metrics.append(pmt.to_python(msg))
 
     def work(self, input_items, output_items):
-        if (len(self.results) >= self.n_results and len(self.metrics) >= self.n_metrics) \
-                or time.monotonic() > self.deadline:
+        now = time.monotonic()
+        if self.complete_at is None and len(self.results) >= self.n_results and len(self.metrics) >= self.n_metrics:
+            self.complete_at = now
+        if (self.complete_at is not None and now - self.complete_at > self.grace_s) or now > self.deadline:
             return -1
         time.sleep(0.002)  # messages are handled between work calls
         return len(input_items[0])
