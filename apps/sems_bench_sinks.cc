@@ -134,7 +134,7 @@ int main(int argc, char** argv)
             throw std::invalid_argument("--threads must be >= 1");
         const std::vector<int> batches = parse_batches(batches_text);
 
-        std::printf("%-28s %6s %8s %14s %14s\n", "bundle", "batch", "frames", "decoder fps", "sink fps");
+        std::printf("%-40s %6s %8s %14s %14s\n", "bundle", "batch", "frames", "decoder fps", "sink fps");
         for (const std::string& dir : { classifier_dir, delay_dir }) {
             if (dir.empty())
                 continue;
@@ -147,7 +147,7 @@ int main(int argc, char** argv)
                 const size_t frames = frames_for(batch, min_frames);
                 const double dfps = decoder_fps(dec, obs, frames, batch);
                 const double sfps = sink_fps(b, obs, frames, batch, threads);
-                std::printf("%-28s %6d %8zu %14.0f %14.0f\n", dir.c_str(), batch, frames, dfps, sfps);
+                std::printf("%-40s %6d %8zu %14.0f %14.0f\n", dir.c_str(), batch, frames, dfps, sfps);
                 std::fflush(stdout);
             }
         }
