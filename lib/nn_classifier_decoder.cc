@@ -7,15 +7,10 @@ namespace sems {
 namespace nn {
 
 namespace {
+// 3 x 1 convolution along slow time.
 torch::nn::Conv2dOptions conv3(int in, int out, int stride)
 {
-    return torch::nn::Conv2dOptions(in, out, 3).stride(stride).padding(1).bias(false);
-}
-int shrink(int size, int stages)
-{
-    for (int i = 0; i < stages; ++i)
-        size = (size + 1) / 2; // stride-2, padding-1, kernel-3 conv
-    return size;
+    return torch::nn::Conv2dOptions(in, out, { 3, 1 }).stride({ stride, 1 }).padding({ 1, 0 }).bias(false);
 }
 } // namespace
 
@@ -27,7 +22,7 @@ residual_block2d_impl::residual_block2d_impl(int in, int out, int stride)
     bn2 = register_module("bn2", torch::nn::BatchNorm2d(out));
     if (in != out || stride != 1) {
         shortcut = register_module(
-            "shortcut", torch::nn::Conv2d(torch::nn::Conv2dOptions(in, out, 1).stride(stride).bias(false)));
+            "shortcut", torch::nn::Conv2d(torch::nn::Conv2dOptions(in, out, 1).stride({ stride, 1 }).bias(false)));
         bn_sc = register_module("bn_sc", torch::nn::BatchNorm2d(out));
     }
 }
@@ -45,16 +40,13 @@ classifier_decoder_impl::classifier_decoder_impl(int n, int m, int np, classifie
 {
     if (s.n_classes < 2)
         throw std::invalid_argument("classifier decoder: n_classes must be >= 2");
-    d_stem = register_module("stem", torch::nn::Conv2d(conv3(2, s.width, 1)));
+    d_stem = register_module(
+        "stem", torch::nn::Conv2d(torch::nn::Conv2dOptions(2, s.width, { 3, m }).padding({ 1, 0 }).bias(false)));
     d_stem_bn = register_module("stem_bn", torch::nn::BatchNorm2d(s.width));
     d_stages = register_module("stages", torch::nn::Sequential());
-    int ch = s.width;
-    for (int i = 0; i < s.depth; ++i) {
-        const int out = (i == 0) ? ch : ch * 2;
-        d_stages->push_back(residual_block2d(ch, out, 2));
-        ch = out;
-    }
-    const int flat = ch * shrink(n, s.depth) * shrink(m, s.depth);
+    for (int i = 0; i < s.depth; ++i)
+        d_stages->push_back(residual_block2d(s.width, s.width, 1));
+    const int flat = s.width * n;
     d_fc1 = register_module("fc1", torch::nn::Linear(flat, s.hidden));
     d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden, s.features));
     d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
@@ -66,10 +58,11 @@ decoder_output classifier_decoder_impl::forward(const torch::Tensor& grid)
     x = torch::relu(d_stem_bn->forward(d_stem->forward(x)));
     if (!d_stages->is_empty())
         x = d_stages->forward(x);
-    x = torch::relu(d_fc1->forward(x.flatten(1)));
+    // Leaky in the MLP head: a unit pushed negative by an early bad mask can come back.
+    x = torch::leaky_relu(d_fc1->forward(x.flatten(1)), 0.1);
     decoder_output out;
     out.features = d_fc2->forward(x);
-    out.logits = d_out->forward(torch::relu(out.features));
+    out.logits = d_out->forward(torch::leaky_relu(out.features, 0.1));
     return out;
 }
 

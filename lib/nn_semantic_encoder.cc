@@ -12,7 +12,10 @@ namespace {
 constexpr double uniform_eps = 1e-6;
 }
 
-torch::Tensor gumbel_softmax_st(const torch::Tensor& scores, double temperature, const torch::Tensor& uniform)
+torch::Tensor gumbel_softmax_st(const torch::Tensor& scores,
+                                double temperature,
+                                const torch::Tensor& uniform,
+                                bool hard_forward)
 {
     if (!(temperature > 0.0))
         throw std::invalid_argument("gumbel_softmax_st: temperature must be positive");
@@ -21,6 +24,8 @@ torch::Tensor gumbel_softmax_st(const torch::Tensor& scores, double temperature,
     const auto g = -torch::log(-torch::log(u));
     const auto log_soft = torch::log_softmax((scores + g) / temperature, -1);
     const auto soft = torch::exp(log_soft);
+    if (!hard_forward)
+        return soft;
     const auto hard = torch::zeros_like(soft).scatter_(-1, log_soft.argmax(-1, true), 1.0);
     // hard + exact zero in the forward pass; the soft gradient in the backward pass.
     return hard + (soft - soft.detach());
@@ -60,17 +65,24 @@ semantic_encoder_impl::semantic_encoder_impl(int n_pilots, int n_symbols, int n_
                                     std::to_string(n_pilots));
     d_embedding = register_parameter("embedding", torch::randn({ n_pilots, s.embedding }));
     d_fc1 = register_module("fc1", torch::nn::Linear(s.embedding, s.hidden));
-    d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden, n_symbols * n_subcarriers));
+    d_fc2 = register_module(
+        "fc2", torch::nn::Linear(s.hidden, s.factorized ? n_symbols + n_subcarriers : n_symbols * n_subcarriers));
 }
 
 torch::Tensor semantic_encoder_impl::scores()
 {
-    return d_fc2->forward(torch::relu(d_fc1->forward(d_embedding)));
+    auto z = d_fc2->forward(torch::relu(d_fc1->forward(d_embedding)));
+    if (!d_s.factorized)
+        return z;
+    // Z_r[n,m] = a_r[n] + b_r[m]
+    auto a = z.slice(1, 0, d_n).unsqueeze(2);
+    auto b = z.slice(1, d_n, d_n + d_m).unsqueeze(1);
+    return (a + b).view({ d_np, d_n * d_m });
 }
 
 torch::Tensor semantic_encoder_impl::sample(double temperature)
 {
-    return gumbel_softmax_st(scores(), temperature);
+    return gumbel_softmax_st(scores(), temperature, {}, temperature <= d_s.soft_above);
 }
 
 torch::Tensor semantic_encoder_impl::mask_from_selection(const torch::Tensor& selection, int n, int m)

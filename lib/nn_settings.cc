@@ -43,6 +43,8 @@ json encoder_settings::to_json() const
              { "temperature_start", temperature_start },
              { "temperature_floor", temperature_floor },
              { "temperature_decay", temperature_decay },
+             { "soft_above", soft_above },
+             { "factorized", factorized },
              { "collision_weight", collision_weight },
              { "lr_scale", lr_scale } };
 }
@@ -56,6 +58,12 @@ encoder_settings encoder_settings::from_json(const json& j, const std::string& s
     s.temperature_start = positive_or(j, "temperature_start", s.temperature_start, source);
     s.temperature_floor = positive_or(j, "temperature_floor", s.temperature_floor, source);
     s.temperature_decay = positive_or(j, "temperature_decay", s.temperature_decay, source);
+    if (j.contains("factorized")) {
+        if (!j["factorized"].is_boolean())
+            json_read::fail(source, "factorized", "expected true or false");
+        s.factorized = j["factorized"].get<bool>();
+    }
+    s.soft_above = json_read::number_or(j, "soft_above", s.soft_above, source);
     s.collision_weight = json_read::number_or(j, "collision_weight", s.collision_weight, source);
     s.lr_scale = positive_or(j, "lr_scale", s.lr_scale, source);
     return s;

@@ -1,11 +1,15 @@
 /* gr-sems: the semantic encoder, N_p Gumbel-Softmax pilot heads (DESIGN §5).
  *
  * Each head r has a learned embedding e_r; a small MLP maps it to a score matrix
- * Z_r over the N x M grid. Training draws a relaxed one-hot
+ * Z_r over the N x M grid (by default factorised, Z_r[n,m] = a_r[n] + b_r[m]; see
+ * encoder_settings::factorized). Training draws a relaxed one-hot
  *     S_r = softmax((Z_r + g_r) / τ),   g_r ~ Gumbel(0, 1),
  * and uses the straight-through estimator: the forward value is the exact hard one-hot
  * of argmax S_r (hard + (soft - soft.detach()), which adds an exact zero), the
- * gradient is that of the soft S_r. τ is annealed per epoch down to a floor.
+ * gradient is that of the soft S_r. τ is annealed per epoch down to a floor. While
+ * τ is above `soft_above` the forward pass uses the soft S_r itself (a warm-up: the
+ * decoder first learns from a dense, weighted grid, and the scores learn which
+ * elements it uses); from then on the forward pass is the exact one-hot.
  *
  * Numerics: the uniform draw is clamped to [1e-6, 1 - 1e-6] before g = -log(-log u),
  * so g is finite; the softmax is computed as exp(log_softmax(.)), which subtracts the
@@ -33,10 +37,11 @@ namespace nn {
 
 // The Gumbel-Softmax straight-through sample of score rows (R x K): exact one-hot
 // forward, soft gradient. `uniform` (R x K, values in [0,1]) may be given for tests;
-// it is clamped to [1e-6, 1-1e-6].
+// it is clamped to [1e-6, 1-1e-6]. hard = false returns the relaxed (soft) sample.
 SEMS_API torch::Tensor gumbel_softmax_st(const torch::Tensor& scores,
                                          double temperature,
-                                         const torch::Tensor& uniform = {});
+                                         const torch::Tensor& uniform = {},
+                                         bool hard = true);
 
 class SEMS_API semantic_encoder_impl : public torch::nn::Module
 {
@@ -45,7 +50,8 @@ public:
 
     // Z: N_p x (N*M) scores.
     torch::Tensor scores();
-    // One straight-through selection S (N_p x N*M, exact one-hot rows) at temperature τ.
+    // One selection S (N_p x N*M) at temperature τ: straight-through exact one-hot rows,
+    // or the soft sample while τ > settings().soft_above.
     torch::Tensor sample(double temperature);
     // The 0/1 (or, on a collision, >1) mask N x M seen by the decoder: Σ_r S_r.
     static torch::Tensor mask_from_selection(const torch::Tensor& selection, int n_symbols, int n_subcarriers);

@@ -21,8 +21,16 @@ struct SEMS_API encoder_settings {
     int hidden = 64;             // MLP hidden width (embedding -> hidden -> N*M scores)
     double temperature_start = 2.0;
     double temperature_floor = 0.1; // annealing never goes below this
-    double temperature_decay = 0.85; // per epoch: tau <- max(floor, tau * decay)
-    double collision_weight = 1.0;   // penalty on two heads wanting the same element
+    double temperature_decay = 0.8;  // per epoch: tau <- max(floor, tau * decay)
+    double soft_above = 1.0;         // while tau > this the forward pass uses the soft selection
+                                     // (a dense weighted grid the decoder can learn from first);
+                                     // at or below it, the straight-through exact one-hot
+    double collision_weight = 5.0;   // penalty on two heads wanting the same element
+    bool factorized = true;          // Z_r[n,m] = a_r[n] + b_r[m] (the MLP emits N + M scores per
+                                     // head): a head's symbol and subcarrier preferences each
+                                     // gather gradient over a whole row/column, which learns
+                                     // structured patterns (shared subcarriers or symbols) in
+                                     // few epochs; false: a free N*M score matrix
     double lr_scale = 1.0;           // encoder learning rate = lr * lr_scale
 
     nlohmann::json to_json() const;
@@ -32,8 +40,8 @@ struct SEMS_API encoder_settings {
 // Classifier decoder: sparse 2 x N x M grid -> 2-D ResNet -> MLP -> 16 -> C.
 struct SEMS_API classifier_settings {
     int n_classes = 3;
-    int width = 16;      // channels of the first residual stage (doubles per stage)
-    int depth = 2;       // residual stages (each halves the grid)
+    int width = 16;      // channels of the stem and the residual blocks
+    int depth = 2;       // residual blocks (3 x 1 along slow time)
     int hidden = 64;     // MLP hidden width
     int features = 16;   // the embedding the t-SNE looks at
 
@@ -47,8 +55,8 @@ struct SEMS_API delay_settings {
     double tau_max_index = 50.0;
     int q = 417;                  // grid points; spacing = (max - min) / (q - 1)
     int projections = 2;          // complex time projections (2 -> the 4 x M of the paper)
-    int width = 16;               // 1-D CNN channels
-    int depth = 3;                // residual blocks
+    int width = 8;                // 1-D CNN channels
+    int depth = 2;                // residual blocks
     int kernel = 5;               // 1-D kernel
     int window = 8;               // local soft-argmax half-window (grid points); 0 = global
 

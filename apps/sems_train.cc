@@ -1,0 +1,173 @@
+/* sems_train: learn a pilot mask and a task decoder, write a model bundle.
+ *
+ *   sems_train --task classify --out models/classifier --snr-min 0 --snr-max 20 --threads 2
+ *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
+ *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
+ *
+ * See include/gnuradio/sems/trainer.h for what the phases do.
+ */
+#include <gnuradio/sems/scene.h>
+#include <gnuradio/sems/target_class.h>
+#include <gnuradio/sems/trainer.h>
+#include <boost/program_options.hpp>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+namespace po = boost::program_options;
+using namespace gr::sems;
+
+namespace {
+std::vector<std::string> split_list(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+double parse_snr(const std::string& s)
+{
+    if (s == "inf" || s == "+inf")
+        return std::numeric_limits<double>::infinity();
+    size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size())
+        throw std::invalid_argument("not a number: " + s);
+    return v;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+    training_settings s;
+    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr;
+    int paths = 1;
+    double clutter_csr = std::numeric_limits<double>::quiet_NaN();
+    bool no_md = false;
+
+    po::options_description opts("sems_train: learn pilots and a task decoder, write a model bundle");
+    // clang-format off
+    opts.add_options()
+        ("help,h", "this help")
+        ("task", po::value(&task)->required(), "classify | delay")
+        ("objective", po::value(&s.objective)->default_value(s.objective), "task (SemS) | mse (reconstruction baseline)")
+        ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
+        ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
+        ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler): train the decoder only")
+        ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
+        ("classes", po::value(&classes)->default_value("pedestrian,car,drone"), "random scene: comma-separated classes")
+        ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
+        ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
+        ("no-micro-doppler", po::bool_switch(&no_md), "random scene: no micro-Doppler")
+        ("snr", po::value(&snr), "fixed SNR in dB ('inf' = noiseless)")
+        ("snr-min", po::value(&snr_min), "SNR range, low end (dB)")
+        ("snr-max", po::value(&snr_max), "SNR range, high end (dB)")
+        ("frames", po::value(&s.frames)->default_value(s.frames), "frames, split 8:1:1 train/val/test")
+        ("epochs", po::value(&s.epochs)->default_value(s.epochs), "mask-learning epochs (decoder epochs with --mask)")
+        ("decoder-epochs", po::value(&s.decoder_epochs)->default_value(s.decoder_epochs), "decoder epochs on the final learned mask")
+        ("batch", po::value(&s.batch)->default_value(s.batch), "batch size")
+        ("lr", po::value(&s.lr)->default_value(s.lr), "Adam learning rate")
+        ("lr-final", po::value(&s.lr_final_scale)->default_value(s.lr_final_scale), "cosine schedule ends at lr * this")
+        ("patience", po::value(&s.patience)->default_value(s.patience), "early stop after this many epochs without improvement")
+        ("threads", po::value(&s.threads)->default_value(2), "LibTorch threads")
+        ("seed", po::value(&s.seed)->default_value(s.seed), "seed (data, noise, initial weights)")
+        ("eval-snr", po::value(&eval_snr)->default_value("0,10,20,30"), "test SNR points (dB), comma-separated")
+        ("eval-frames", po::value(&s.eval_frames)->default_value(s.eval_frames), "test frames per SNR point (0 = all)")
+        ("out", po::value(&s.out_dir)->required(), "bundle directory to write")
+        // Network sizes (defaults: include/gnuradio/sems/nn/settings.h).
+        ("width", po::value<int>(), "decoder width (classifier: first-stage channels; delay: 1-D CNN channels)")
+        ("depth", po::value<int>(), "decoder depth (classifier: residual stages; delay: residual blocks)")
+        ("hidden", po::value(&s.classifier.hidden)->default_value(s.classifier.hidden), "classifier MLP width")
+        ("projections", po::value(&s.delay.projections)->default_value(s.delay.projections), "delay: complex time projections")
+        ("kernel", po::value(&s.delay.kernel)->default_value(s.delay.kernel), "delay: 1-D kernel size (odd)")
+        ("window", po::value(&s.delay.window)->default_value(s.delay.window), "delay: local soft-argmax half-window (0 = global)")
+        ("delay-spacing", po::value(&s.delay_spacing)->default_value(s.delay_spacing), "delay: dictionary spacing (delay index)")
+        ("temp-start", po::value(&s.encoder.temperature_start)->default_value(s.encoder.temperature_start), "Gumbel temperature at the start")
+        ("temp-floor", po::value(&s.encoder.temperature_floor)->default_value(s.encoder.temperature_floor), "Gumbel temperature floor")
+        ("temp-decay", po::value(&s.encoder.temperature_decay)->default_value(s.encoder.temperature_decay), "temperature factor per epoch")
+        ("soft-above", po::value(&s.encoder.soft_above)->default_value(s.encoder.soft_above), "soft (relaxed) forward while the temperature is above this")
+        ("embedding", po::value(&s.encoder.embedding)->default_value(s.encoder.embedding), "encoder: head embedding size")
+        ("encoder-hidden", po::value(&s.encoder.hidden)->default_value(s.encoder.hidden), "encoder: MLP width")
+        ("full-scores", "encoder: free N*M score matrix per head instead of the factorised a[n] + b[m]")
+        ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "head collision penalty")
+        ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
+        ("quiet", "no per-epoch progress");
+    // clang-format on
+
+    try {
+        po::variables_map vm;
+        po::store(po::parse_command_line(argc, argv, opts), vm);
+        if (vm.count("help")) {
+            std::cout << opts << std::endl;
+            return 0;
+        }
+        po::notify(vm);
+        s.verbose = !vm.count("quiet");
+        if (vm.count("full-scores"))
+            s.encoder.factorized = false;
+        s.task = task_from_name(task);
+        if (vm.count("width")) {
+            s.classifier.width = vm["width"].as<int>();
+            s.delay.width = vm["width"].as<int>();
+        }
+        if (vm.count("depth")) {
+            s.classifier.depth = vm["depth"].as<int>();
+            s.delay.depth = vm["depth"].as<int>();
+        }
+        if (!snr.empty() && (!snr_min.empty() || !snr_max.empty()))
+            throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
+        if (!snr.empty()) {
+            s.snr_min_db = s.snr_max_db = parse_snr(snr);
+        } else if (!snr_min.empty() || !snr_max.empty()) {
+            if (snr_min.empty() || snr_max.empty())
+                throw std::invalid_argument("--snr-min and --snr-max go together");
+            s.snr_min_db = parse_snr(snr_min);
+            s.snr_max_db = parse_snr(snr_max);
+        }
+        s.eval_snr_db.clear();
+        for (const auto& v : split_list(eval_snr))
+            s.eval_snr_db.push_back(parse_snr(v));
+
+        if (!scene_file.empty()) {
+            s.scene_spec = scene::load(scene_file);
+            s.scene_source = scene_file;
+        } else {
+            random_spec r;
+            r.classes.clear();
+            for (const auto& c : split_list(classes))
+                r.classes.push_back(class_from_name(c));
+            r.paths_per_target = paths;
+            r.micro_doppler = !no_md;
+            std::optional<clutter_spec> clutter;
+            if (!std::isnan(clutter_csr)) {
+                clutter_spec c;
+                c.csr_db = clutter_csr;
+                clutter = c;
+            }
+            s.scene_spec = scene::random(r, clutter);
+            std::ostringstream src;
+            src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
+                << (no_md ? ", no micro-Doppler" : "")
+                << (clutter ? ", clutter CSR " + std::to_string(clutter_csr) + " dB" : "") << ")";
+            s.scene_source = src.str();
+        }
+        std::ostringstream cmd;
+        for (int i = 0; i < argc; ++i)
+            cmd << (i ? " " : "") << argv[i];
+        s.command_line = cmd.str();
+
+        const auto res = train(s, &std::cout);
+        std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;
+        return 0;
+    } catch (const po::error& e) {
+        std::cerr << "sems_train: " << e.what() << "\n\n" << opts << std::endl;
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "sems_train: " << e.what() << std::endl;
+        return 1;
+    }
+}
