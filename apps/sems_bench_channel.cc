@@ -153,14 +153,14 @@ int main(int argc, char** argv)
     std::printf("sems_bench_channel: M = %d subcarriers, N = %d symbols/frame, %.1f s per row\n",
                 o.n_subcarriers, o.n_symbols, o.seconds);
     std::printf("harness: vector_source(repeat) -> block -> head -> null_sink, top_block::run, wall time\n\n");
-    std::printf("%-48s %14s %14s %10s\n", "block", "symbols/s", "samples/s", "vs mult.");
+    std::printf("%-52s %14s %14s %10s\n", "block", "symbols/s", "samples/s", "vs mult.");
     double reference = 0.0;
     try {
         for (const auto& r : rows) {
             const double rate = symbols_per_second(o, data, r.make);
             if (reference == 0.0)
                 reference = rate;
-            std::printf("%-48s %14.4g %14.4g %9.2fx\n", r.name.c_str(), rate, rate * o.n_subcarriers,
+            std::printf("%-52s %14.4g %14.4g %9.2fx\n", r.name.c_str(), rate, rate * o.n_subcarriers,
                         rate / reference);
             std::fflush(stdout);
         }

@@ -4,6 +4,7 @@
 
 #include <gnuradio/sems/pilot_extractor.h>
 #include <pmt/pmt.h>
+#include <atomic>
 
 namespace gr {
 namespace sems {
@@ -44,7 +45,8 @@ private:
     uint64_t d_frame = 0;
     bool d_started = false;
 
-    uint64_t d_frames_out = 0, d_dropped_partial = 0, d_skipped_nonfinite = 0;
+    // Counters, read from other threads.
+    std::atomic<uint64_t> d_frames_out{ 0 }, d_dropped_partial{ 0 }, d_skipped_nonfinite{ 0 };
     const pmt::pmt_t d_frame_key;
     std::vector<gr::tag_t> d_tags;
 };

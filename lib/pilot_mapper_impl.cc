@@ -60,8 +60,7 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
 void pilot_mapper_impl::set_pilot_power(double energy)
 {
     check_power(who, "pilot_power", energy);
-    gr::thread::scoped_lock guard(d_setlock);
-    d_pilot_power = energy;
+    d_pilot_power = energy; // latched at the next frame start
 }
 
 double pilot_mapper_impl::pilot_power() const { return d_pilot_power; }
@@ -69,7 +68,6 @@ double pilot_mapper_impl::pilot_power() const { return d_pilot_power; }
 void pilot_mapper_impl::set_data_power(double energy)
 {
     check_power(who, "data_power", energy);
-    gr::thread::scoped_lock guard(d_setlock);
     d_data_power = energy;
 }
 
@@ -117,11 +115,8 @@ int pilot_mapper_impl::general_work(int noutput_items,
             break;
 
         if (d_row == 0) { // frame start: latch the powers for the whole frame, tag it
-            {
-                gr::thread::scoped_lock guard(d_setlock);
-                d_pilot_value = gr_complex(std::sqrt(d_pilot_power)) * d_mask.pilot_symbol();
-                d_data_amp = static_cast<float>(std::sqrt(d_data_power));
-            }
+            d_pilot_value = gr_complex(std::sqrt(d_pilot_power.load())) * d_mask.pilot_symbol();
+            d_data_amp = static_cast<float>(std::sqrt(d_data_power.load()));
             add_item_tag(0, nwritten + produced, d_frame_key, pmt::from_uint64(d_frame));
             ++d_frames;
         }

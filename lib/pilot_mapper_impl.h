@@ -4,6 +4,7 @@
 
 #include <gnuradio/sems/pilot_mapper.h>
 #include <pmt/pmt.h>
+#include <atomic>
 
 namespace gr {
 namespace sems {
@@ -38,14 +39,15 @@ private:
     std::vector<long> d_data_before_row; // data symbols in rows [0, n), n = 0..N
     int d_data_per_frame;
 
-    // Requested energies (setters, under d_setlock) and the amplitudes of the current frame.
-    double d_pilot_power, d_data_power;
+    // Requested energies (setters and getters run on other threads than work) and the
+    // amplitudes of the current frame.
+    std::atomic<double> d_pilot_power, d_data_power;
     gr_complex d_pilot_value; // sqrt(E_p)·s_p
     float d_data_amp;         // sqrt(E_d)
 
     int d_row = 0;          // next row of the current frame
     uint64_t d_frame = 0;   // index of the frame that row belongs to
-    uint64_t d_frames = 0;  // frames started
+    std::atomic<uint64_t> d_frames{ 0 }; // frames started (read from other threads)
     const pmt::pmt_t d_frame_key;
     std::vector<gr::tag_t> d_tags;
 };

@@ -121,18 +121,14 @@ target_channel_impl::target_channel_impl(channel_model model, double snr_db)
 void target_channel_impl::set_snr_db(double snr_db)
 {
     check_snr(snr_db);
-    gr::thread::scoped_lock guard(d_setlock);
-    d_snr_db = snr_db;
+    d_snr_db = snr_db; // latched at the next frame start
 }
 
 double target_channel_impl::snr_db() const { return d_snr_db; }
 
 void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
 {
-    {
-        gr::thread::scoped_lock guard(d_setlock);
-        d_frame_snr_db = d_snr_db;
-    }
+    d_frame_snr_db = d_snr_db.load();
     auto r = d_model.draw(frame);
     d_channel.emplace(d_model.factors(r, frame * static_cast<uint64_t>(d_n)));
     d_frame = frame;

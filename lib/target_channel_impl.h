@@ -5,6 +5,7 @@
 #include <gnuradio/sems/channel_model.h>
 #include <gnuradio/sems/target_channel.h>
 #include <pmt/pmt.h>
+#include <atomic>
 #include <optional>
 
 namespace gr {
@@ -29,7 +30,7 @@ private:
 
     channel_model d_model;
     const int d_n, d_m;
-    double d_snr_db;       // requested (setter, under d_setlock)
+    std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
     double d_frame_snr_db; // the current frame's
 
     std::optional<frame_channel> d_channel; // the current frame's factors
@@ -37,8 +38,8 @@ private:
     uint64_t d_frame = 0;
     bool d_started = false;
 
-    uint64_t d_frames = 0;
-    uint64_t d_nonfinite = 0;
+    std::atomic<uint64_t> d_frames{ 0 };    // counters, read from other threads
+    std::atomic<uint64_t> d_nonfinite{ 0 };
 
     const pmt::pmt_t d_frame_key, d_truth_key;
     std::vector<gr::tag_t> d_tags;
