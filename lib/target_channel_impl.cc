@@ -113,7 +113,16 @@ target_channel_impl::target_channel_impl(channel_model model, double snr_db)
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
       d_frame_key(pmt::intern(keys::frame_tag)),
-      d_truth_key(pmt::intern(keys::truth_tag))
+      d_truth_key(pmt::intern(keys::truth_tag)),
+      d_k_frame(pmt::intern(keys::frame)),
+      d_k_class(pmt::intern(keys::class_id)),
+      d_k_class_name(pmt::intern(keys::class_name)),
+      d_k_delay_s(pmt::intern(keys::delay_s)),
+      d_k_delay_index(pmt::intern(keys::delay_index)),
+      d_k_range_m(pmt::intern(keys::range_m)),
+      d_k_velocity_mps(pmt::intern(keys::velocity_mps)),
+      d_k_snr_db(pmt::intern(keys::snr_db)),
+      d_k_n_paths(pmt::intern(keys::n_paths))
 {
     d_tags.reserve(16);
 }
@@ -138,15 +147,15 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
 
     const auto& t = r.truth;
     pmt::pmt_t dict = pmt::make_dict();
-    dict = pmt::dict_add(dict, pmt::intern(keys::frame), pmt::from_uint64(frame));
-    dict = pmt::dict_add(dict, pmt::intern(keys::class_id), pmt::from_long(t.class_id));
-    dict = pmt::dict_add(dict, pmt::intern(keys::class_name), pmt::string_to_symbol(t.class_name));
-    dict = pmt::dict_add(dict, pmt::intern(keys::delay_s), pmt::from_double(t.delay_s));
-    dict = pmt::dict_add(dict, pmt::intern(keys::delay_index), pmt::from_double(t.delay_index));
-    dict = pmt::dict_add(dict, pmt::intern(keys::range_m), pmt::from_double(t.range_m));
-    dict = pmt::dict_add(dict, pmt::intern(keys::velocity_mps), pmt::from_double(t.velocity_mps));
-    dict = pmt::dict_add(dict, pmt::intern(keys::snr_db), pmt::from_double(d_frame_snr_db));
-    dict = pmt::dict_add(dict, pmt::intern(keys::n_paths), pmt::from_long(t.n_paths));
+    dict = pmt::dict_add(dict, d_k_frame, pmt::from_uint64(frame));
+    dict = pmt::dict_add(dict, d_k_class, pmt::from_long(t.class_id));
+    dict = pmt::dict_add(dict, d_k_class_name, pmt::string_to_symbol(t.class_name));
+    dict = pmt::dict_add(dict, d_k_delay_s, pmt::from_double(t.delay_s));
+    dict = pmt::dict_add(dict, d_k_delay_index, pmt::from_double(t.delay_index));
+    dict = pmt::dict_add(dict, d_k_range_m, pmt::from_double(t.range_m));
+    dict = pmt::dict_add(dict, d_k_velocity_mps, pmt::from_double(t.velocity_mps));
+    dict = pmt::dict_add(dict, d_k_snr_db, pmt::from_double(d_frame_snr_db));
+    dict = pmt::dict_add(dict, d_k_n_paths, pmt::from_long(t.n_paths));
     add_item_tag(0, out_offset, d_truth_key, dict, alias_pmt());
 }
 

@@ -42,6 +42,9 @@ private:
     std::atomic<uint64_t> d_nonfinite{ 0 };
 
     const pmt::pmt_t d_frame_key, d_truth_key;
+    // Truth-dict keys, interned once (keys.h order: frame, class, class_name, ...).
+    const pmt::pmt_t d_k_frame, d_k_class, d_k_class_name, d_k_delay_s, d_k_delay_index, d_k_range_m,
+        d_k_velocity_mps, d_k_snr_db, d_k_n_paths;
     std::vector<gr::tag_t> d_tags;
 };
 
