@@ -119,15 +119,19 @@ void run_delay(const config& c, std::ostream& log)
             decoder_source s;
             s.bundle = model_bundle::load(shipped);
             s.origin = shipped;
+            const std::string kind = s.bundle.mask.origin().value("kind", std::string("unknown"));
             if (s.bundle.task == task_kind::delay && s.bundle.frame == c.fs)
-                sems.emplace_back("SemS (shipped bundle)", s);
+                sems.emplace_back("Shipped bundle (" + kind + " pilots)", s);
+            else
+                log << "  shipped delay bundle " << shipped << " does not match the frame: skipped" << std::endl;
         }
         for (const auto& [method, src] : sems) {
             const bundle_decoder dec(src.bundle, c.threads);
             for (double snr : c.delay_snrs) {
                 double us = 0;
                 const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
-                write(method, "learned (task)", dec.n_pilots(), snr, delay_errors(est, ts), crb_of(src.bundle.mask, snr),
+                write(method, src.bundle.mask.origin().value("kind", std::string("unknown")), dec.n_pilots(), snr,
+                      delay_errors(est, ts), crb_of(src.bundle.mask, snr),
                       us, src.train_seconds, src.origin);
             }
         }

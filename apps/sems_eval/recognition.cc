@@ -138,7 +138,10 @@ void run_recognition(const config& c, std::ostream& log)
             }
         }
         if (scen == "default" && !c.shipped_classifier.empty()) {
-            dl_method sh{ "SemS (shipped bundle)", "", "learned (task)", training_settings{}, false };
+            // Labelled by what its mask is: a shipped classifier may sit on a fixed pattern.
+            const auto shipped = model_bundle::load(c.shipped_classifier);
+            const std::string kind = shipped.mask.origin().value("kind", std::string("unknown"));
+            dl_method sh{ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false };
             dl.push_back(sh);
         }
         for (auto& m : dl) {
