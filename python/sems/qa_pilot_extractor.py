@@ -27,14 +27,17 @@ def expected_h(frames, seed=SEED, scene=None):
 
 
 class drip(gr.basic_block):
-    """Passes at most `chunk` vectors per call, so the next block sees small pieces."""
+    """Passes at most `chunk` vectors per call (or a random 1..chunk with a seed), so
+    the next block sees small pieces."""
 
-    def __init__(self, vlen, chunk):
+    def __init__(self, vlen, chunk, seed=None):
         gr.basic_block.__init__(self, "drip", in_sig=[(np.complex64, vlen)], out_sig=[(np.complex64, vlen)])
         self.chunk = chunk
+        self.rng = np.random.default_rng(seed) if seed is not None else None
 
     def general_work(self, input_items, output_items):
-        n = min(self.chunk, len(input_items[0]), len(output_items[0]))
+        limit = self.chunk if self.rng is None else int(self.rng.integers(1, self.chunk + 1))
+        n = min(limit, len(input_items[0]), len(output_items[0]))
         output_items[0][:n] = input_items[0][:n]
         self.consume(0, n)
         return n
@@ -228,7 +231,63 @@ class qa_pilot_extractor(gr_unittest.TestCase):
         self.assertEqual((ex.frames_out(), ex.frames_dropped_partial()), (3, 2))
         self.assertEqual([v for _, v in tags_by_key(sink)[sems.keys.frame_tag]], [0, 2, 3])
 
-    def test_011_bad_masks_refused(self):
+    def test_011_random_segments_and_chunks(self):
+        # Frames of random length (short, whole, long), some untagged, NaNs here and
+        # there, delivered in random pieces: the counters and every output item must
+        # match a plain reference of the rules.
+        rng = np.random.default_rng(7)
+        lengths = rng.choice([1, N - 1, N, N, N, N + 2, 2 * N], size=40)
+        tagged = rng.random(40) < 0.8
+        rows = int(lengths.sum())
+        x = random_data(rows * M, seed=8).reshape(rows, M)
+        bad_rows = rng.choice(rows, size=4, replace=False)
+        x[bad_rows, rng.integers(0, M, size=4)] = np.nan
+        tags, starts, offset = [], {}, 0
+        for f, (n, t) in enumerate(zip(lengths, tagged)):
+            if t:
+                tags.append(gr.tag_utils.python_to_tag((offset, pmt.intern(sems.keys.frame_tag),
+                                                        pmt.from_uint64(1000 + f))))
+                starts[offset] = 1000 + f
+            offset += int(n)
+
+        # Reference: the rules of pilot_extractor.h, item by item.
+        want, want_frames, dropped, skipped = [], [], 0, 0
+        row, frame, started, bad, grid = 0, 0, False, False, []
+        for i in range(rows):
+            if i in starts:
+                dropped += row > 0
+                row, frame, started, bad, grid = 0, starts[i], True, False, []
+            elif row == 0:
+                frame, started, bad, grid = (frame + 1 if started else 0), True, False, []
+            bad |= not np.all(np.isfinite(x[i]))
+            grid.append(x[i])
+            row += 1
+            if row == N:
+                if bad:
+                    skipped += 1
+                else:
+                    want.append(np.concatenate(grid)[sorted(POS)] / np.complex64(SP))
+                    want_frames.append(frame)
+                row = 0
+        dropped += row > 0
+
+        for chunk in (1, 3, 2 * N + 1):
+            with self.subTest(chunk=chunk):
+                src = blocks.vector_source_c(x.ravel().tolist(), vlen=M, tags=tags)
+                pieces = drip(M, chunk, seed=chunk)
+                pieces.set_max_noutput_items(chunk)
+                ex = sems.pilot_extractor(pilot_positions=POS, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+                sink = blocks.vector_sink_c(len(POS))
+                tb = gr.top_block()
+                tb.connect(src, pieces, ex, sink)
+                tb.run()
+                obs = np.array(sink.data(), dtype=np.complex64).reshape(-1, len(POS))
+                np.testing.assert_allclose(obs, np.array(want), rtol=1e-6)
+                self.assertEqual([v for _, v in tags_by_key(sink)[sems.keys.frame_tag]], want_frames)
+                self.assertEqual((ex.frames_out(), ex.frames_dropped_partial(), ex.frames_skipped_nonfinite()),
+                                 (len(want), dropped, skipped))
+
+    def test_012_bad_masks_refused(self):
         def refuses(text, **kw):
             args = dict(pilot_positions=POS, n_symbols=N, n_subcarriers=M)
             args.update(kw)
