@@ -92,6 +92,7 @@ int main(int argc, char** argv)
         ("soft-above", po::value(&s.encoder.soft_above)->default_value(s.encoder.soft_above), "soft (relaxed) forward while the temperature is above this")
         ("embedding", po::value(&s.encoder.embedding)->default_value(s.encoder.embedding), "encoder: head embedding size")
         ("encoder-hidden", po::value(&s.encoder.hidden)->default_value(s.encoder.hidden), "encoder: MLP width")
+        ("shared-scores", "encoder: add a score matrix shared by all heads")
         ("full-scores", "encoder: free N*M score matrix per head instead of the factorised a[n] + b[m]")
         ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "head collision penalty")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
@@ -107,6 +108,8 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         s.verbose = !vm.count("quiet");
+        if (vm.count("shared-scores"))
+            s.encoder.shared = true;
         if (vm.count("full-scores"))
             s.encoder.factorized = false;
         s.task = task_from_name(task);

@@ -67,6 +67,12 @@ void load_module(const std::shared_ptr<torch::nn::Module>& module, const std::st
 {
     if (!std::ifstream(path))
         throw std::invalid_argument(path + ": weights file missing or unreadable");
+    // Module::load replaces tensors whatever their shape: check every shape ourselves.
+    std::vector<std::pair<std::string, std::vector<int64_t>>> shapes;
+    for (const auto& p : module->named_parameters())
+        shapes.emplace_back(p.key(), p.value().sizes().vec());
+    for (const auto& b : module->named_buffers())
+        shapes.emplace_back(b.key(), b.value().sizes().vec());
     try {
         torch::serialize::InputArchive archive;
         archive.load_from(path);
@@ -77,6 +83,17 @@ void load_module(const std::shared_ptr<torch::nn::Module>& module, const std::st
             what = what.substr(0, 300) + "...";
         throw std::invalid_argument(path + ": corrupt weights or weights that do not fit the decoder described "
                                            "in bundle.json (" + what + ")");
+    }
+    auto params = module->named_parameters();
+    auto buffers = module->named_buffers();
+    for (const auto& [name, shape] : shapes) {
+        const torch::Tensor* t = params.find(name);
+        if (!t)
+            t = buffers.find(name);
+        if (!t || t->sizes().vec() != shape)
+            throw std::invalid_argument(path + ": weights do not fit the decoder described in bundle.json (tensor \"" +
+                                        name + "\" has shape " + (t ? c10::str(t->sizes()) : std::string("none")) +
+                                        ", expected " + c10::str(c10::IntArrayRef(shape)) + ")");
     }
 }
 

@@ -63,7 +63,9 @@ semantic_encoder_impl::semantic_encoder_impl(int n_pilots, int n_symbols, int n_
     if (n_pilots < 1 || n_pilots > n_symbols * n_subcarriers)
         throw std::invalid_argument("semantic encoder: n_pilots must be in [1, N*M], got " +
                                     std::to_string(n_pilots));
-    d_embedding = register_parameter("embedding", torch::randn({ n_pilots, s.embedding }));
+    // One extra embedding row: its scores are added to every head's (a preference the
+    // heads share, e.g. for a subcarrier or a symbol), see encoder_settings::shared.
+    d_embedding = register_parameter("embedding", torch::randn({ n_pilots + (s.shared ? 1 : 0), s.embedding }));
     d_fc1 = register_module("fc1", torch::nn::Linear(s.embedding, s.hidden));
     d_fc2 = register_module(
         "fc2", torch::nn::Linear(s.hidden, s.factorized ? n_symbols + n_subcarriers : n_symbols * n_subcarriers));
@@ -72,6 +74,8 @@ semantic_encoder_impl::semantic_encoder_impl(int n_pilots, int n_symbols, int n_
 torch::Tensor semantic_encoder_impl::scores()
 {
     auto z = d_fc2->forward(torch::relu(d_fc1->forward(d_embedding)));
+    if (d_s.shared)
+        z = z.slice(0, 0, d_np) + z.slice(0, d_np, d_np + 1);
     if (!d_s.factorized)
         return z;
     // Z_r[n,m] = a_r[n] + b_r[m]

@@ -45,6 +45,7 @@ json encoder_settings::to_json() const
              { "temperature_decay", temperature_decay },
              { "soft_above", soft_above },
              { "factorized", factorized },
+             { "shared", shared },
              { "collision_weight", collision_weight },
              { "lr_scale", lr_scale } };
 }
@@ -62,6 +63,11 @@ encoder_settings encoder_settings::from_json(const json& j, const std::string& s
         if (!j["factorized"].is_boolean())
             json_read::fail(source, "factorized", "expected true or false");
         s.factorized = j["factorized"].get<bool>();
+    }
+    if (j.contains("shared")) {
+        if (!j["shared"].is_boolean())
+            json_read::fail(source, "shared", "expected true or false");
+        s.shared = j["shared"].get<bool>();
     }
     s.soft_above = json_read::number_or(j, "soft_above", s.soft_above, source);
     s.collision_weight = json_read::number_or(j, "collision_weight", s.collision_weight, source);

@@ -181,7 +181,11 @@ public:
 
         // Mask that does not match bundle.json: fewer pilots, another frame.
         copy_bundle(t.dir, d);
-        edit_json(d + "/mask.json", [](nlohmann::json& j) { j["pilots"].erase(j["pilots"].begin()); });
+        edit_json(d + "/mask.json", [](nlohmann::json& j) {
+            j["pilots"].erase(j["pilots"].begin());
+            if (j.contains("n_pilots"))
+                j["n_pilots"] = j["pilots"].size(); // a valid mask, just not this bundle's
+        });
         assert_error([&] { model_bundle::load(d); }, "mask.json", "n_pilots = 16");
         copy_bundle(t.dir, d);
         edit_json(d + "/mask.json", [](nlohmann::json& j) { j["n_symbols"] = 64; });

@@ -5,6 +5,7 @@
 #include <gnuradio/sems/nn/reconstruction_decoder.h>
 #include <gnuradio/sems/nn/semantic_encoder.h>
 #include <gnuradio/sems/trainer.h>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -298,6 +299,7 @@ training_result trainer::run()
             mask_idx = best_mask;
             restore(dec1, best_state);
         }
+        std::sort(mask_idx.begin(), mask_idx.end()); // mask order: row-major (n, m)
         mask_origin = { { "kind", "learned" },
                         { "objective", d_s.objective },
                         { "best_val", best },

@@ -31,6 +31,9 @@ struct SEMS_API encoder_settings {
                                      // gather gradient over a whole row/column, which learns
                                      // structured patterns (shared subcarriers or symbols) in
                                      // few epochs; false: a free N*M score matrix
+    bool shared = false;             // add one shared score matrix (from an extra embedding)
+                                     // to every head's: heads can agree on a subcarrier or
+                                     // symbol while the collision penalty keeps them apart
     double lr_scale = 1.0;           // encoder learning rate = lr * lr_scale
 
     nlohmann::json to_json() const;

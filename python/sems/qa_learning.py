@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""gr-sems: learning from Python — bundle loading, numpy inference, errors, a tiny train()."""
+import os
+import tempfile
+
+import numpy as np
+from gnuradio import gr_unittest
+from gnuradio import sems
+
+SRC = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+
+
+def fresh_obs(bundle, count, snr_db, seed=99):
+    """Pilot observations (count, N_p) from the bundle's frame, at its mask positions."""
+    model = sems.channel_model(bundle.frame, sems.scene.random(sems.random_spec()), seed)
+    h, truths = model.generate(count)
+    h = np.asarray(h).reshape(count, -1)
+    rng = np.random.default_rng(seed)
+    sigma2 = 10 ** (-snr_db / 10)
+    y = h + np.sqrt(sigma2 / 2) * (rng.standard_normal(h.shape) + 1j * rng.standard_normal(h.shape))
+    return y[:, bundle.mask.flat_indices()].astype(np.complex64), truths
+
+
+class qa_learning(gr_unittest.TestCase):
+    def test_shipped_classifier_from_numpy(self):
+        b = sems.model_bundle.load(os.path.join(SRC, "models", "classifier"))
+        self.assertEqual(b.task, sems.task_kind.classify)
+        self.assertEqual(b.n_pilots, 32)
+        dec = sems.bundle_decoder(b, 1)
+        obs, truths = fresh_obs(b, 64, 20.0)
+        p = dec.classify(obs)
+        self.assertEqual(p.shape, (64, len(b.class_names)))
+        np.testing.assert_allclose(p.sum(axis=1), 1.0, atol=1e-5)
+        self.assertEqual(dec.features(obs[:5]).shape, (5, dec.feature_size()))
+        with self.assertRaises(ValueError):
+            dec.classify(np.zeros((3, 31), np.complex64))
+        with self.assertRaises(ValueError):
+            dec.estimate_delay(obs)
+
+    def test_shipped_delay_from_numpy(self):
+        dec = sems.bundle_decoder(os.path.join(SRC, "models", "delay_single"), 1)
+        obs = np.zeros((2, 32), np.complex64)
+        d = dec.estimate_delay_index(obs)
+        self.assertEqual(d.shape, (2,))
+        self.assertTrue(np.all(np.isfinite(d)))
+        np.testing.assert_allclose(dec.estimate_delay(obs) * 30e6, d, rtol=1e-9)
+
+    def test_missing_bundle(self):
+        with self.assertRaisesRegex(ValueError, "does not exist"):
+            sems.model_bundle.load("/nonexistent/bundle")
+
+    def test_tiny_train(self):
+        s = sems.training_settings()
+        s.task = sems.task_kind.delay
+        s.mask_pattern = "random"
+        s.frames = 400
+        s.epochs = 2
+        s.batch = 64
+        s.n_pilots = 16
+        s.snr_min_db = s.snr_max_db = 30.0
+        s.threads = 1
+        s.verbose = False
+        with tempfile.TemporaryDirectory() as d:
+            s.out_dir = d
+            r = sems.train(s)
+            self.assertEqual(r.test_obs.shape, (40, 16))
+            dec = sems.bundle_decoder(d, 1)
+            np.testing.assert_allclose(dec.estimate_delay_index(r.test_obs), r.test_delay_index, atol=1e-4)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_learning)
