@@ -3,7 +3,6 @@
 
 #include <gnuradio/sems/tags.h>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -186,7 +185,7 @@ void sink_core::decode_pending()
         pending_frame f = std::move(d_pending.front());
         d_pending.pop_front();
         if (f.skipped)
-            emit_skip(f);
+            emit_skip();
         else
             emit_result(f, answers[next++]);
     }
@@ -195,12 +194,12 @@ void sink_core::decode_pending()
 void sink_core::emit_ready_skips()
 {
     while (!d_pending.empty() && d_pending.front().skipped) {
-        emit_skip(d_pending.front());
+        emit_skip();
         d_pending.pop_front();
     }
 }
 
-void sink_core::emit_skip(const pending_frame& f)
+void sink_core::emit_skip()
 {
     {
         std::lock_guard<std::mutex> lock(d_mutex);

@@ -114,7 +114,7 @@ private:
 
     void decode_pending();          // decodes the valid pending frames, then emits them
     void emit_ready_skips();        // skipped frames at the front of the queue go out now
-    void emit_skip(const pending_frame& f);
+    void emit_skip();
     void emit_result(const pending_frame& f, pmt::pmt_t result);
     void count_frame();             // one frame handled; metrics message every K
     pmt::pmt_t metrics_locked() const;
