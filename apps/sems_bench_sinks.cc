@@ -6,6 +6,8 @@
  *            so stream bookkeeping, tags and one result message per frame are included.
  * The frames are complex Gaussian pilot observations with a fixed seed: the decoders'
  * cost does not depend on the values.
+ * Each rate is given twice: per wall-clock second, and per second of the process's CPU
+ * time (std::clock), which stays meaningful when other jobs share the cores.
  *
  *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
  */
@@ -18,6 +20,7 @@
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <iostream>
 #include <random>
@@ -32,9 +35,22 @@ namespace {
 
 using clock_type = std::chrono::steady_clock;
 
-double seconds_since(clock_type::time_point t0)
+// Wall and CPU seconds since construction.
+struct stopwatch {
+    clock_type::time_point wall0 = clock_type::now();
+    std::clock_t cpu0 = std::clock();
+    double wall() const { return std::chrono::duration<double>(clock_type::now() - wall0).count(); }
+    double cpu() const { return double(std::clock() - cpu0) / CLOCKS_PER_SEC; }
+};
+
+struct rate {
+    double wall_fps, cpu_fps;
+};
+
+rate rate_of(size_t frames, const stopwatch& w)
 {
-    return std::chrono::duration<double>(clock_type::now() - t0).count();
+    const double cpu = w.cpu(), wall = w.wall();
+    return { frames / wall, cpu > 0 ? frames / cpu : 0.0 };
 }
 
 std::vector<gr_complex> gaussian_frames(size_t frames, int n_pilots, unsigned seed)
@@ -54,7 +70,7 @@ size_t frames_for(int batch, size_t min_frames)
     return std::max<size_t>(b, (min_frames + b - 1) / b * b);
 }
 
-double decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
+rate decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
 {
     const int np = dec.n_pilots();
     auto run_batch = [&](size_t first) {
@@ -64,13 +80,13 @@ double decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs
             (void)dec.estimate_delay(obs.data() + first * np, batch);
     };
     run_batch(0); // warm-up: first-call allocations
-    const auto t0 = clock_type::now();
+    const stopwatch w;
     for (size_t f = 0; f < frames; f += batch)
         run_batch(f);
-    return frames / seconds_since(t0);
+    return rate_of(frames, w);
 }
 
-double sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t frames, int batch, int threads)
+rate sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t frames, int batch, int threads)
 {
     const int np = b.mask.size();
     gr::block_sptr sink;
@@ -83,9 +99,9 @@ double sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_
     auto src = gr::blocks::vector_source<gr_complex>::make(data, false, np);
     auto tb = gr::make_top_block("sems_bench_sinks");
     tb->connect(src, 0, sink, 0);
-    const auto t0 = clock_type::now();
+    const stopwatch w;
     tb->run();
-    return frames / seconds_since(t0);
+    return rate_of(frames, w);
 }
 
 std::vector<int> parse_batches(const std::string& s)
@@ -134,7 +150,8 @@ int main(int argc, char** argv)
             throw std::invalid_argument("--threads must be >= 1");
         const std::vector<int> batches = parse_batches(batches_text);
 
-        std::printf("%-40s %6s %8s %14s %14s\n", "bundle", "batch", "frames", "decoder fps", "sink fps");
+        std::printf("%-28s %6s %7s %12s %12s %12s %12s\n", "bundle", "batch", "frames", "decoder fps",
+                    "sink fps", "decoder/cpu", "sink/cpu");
         for (const std::string& dir : { classifier_dir, delay_dir }) {
             if (dir.empty())
                 continue;
@@ -145,9 +162,10 @@ int main(int argc, char** argv)
             const std::vector<gr_complex> obs = gaussian_frames(max_frames, np, 1);
             for (int batch : batches) {
                 const size_t frames = frames_for(batch, min_frames);
-                const double dfps = decoder_fps(dec, obs, frames, batch);
-                const double sfps = sink_fps(b, obs, frames, batch, threads);
-                std::printf("%-40s %6d %8zu %14.0f %14.0f\n", dir.c_str(), batch, frames, dfps, sfps);
+                const rate d = decoder_fps(dec, obs, frames, batch);
+                const rate s = sink_fps(b, obs, frames, batch, threads);
+                std::printf("%-28s %6d %7zu %12.0f %12.0f %12.0f %12.0f\n", dir.c_str(), batch, frames, d.wall_fps,
+                            s.wall_fps, d.cpu_fps, s.cpu_fps);
                 std::fflush(stdout);
             }
         }
