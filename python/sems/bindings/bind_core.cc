@@ -58,6 +58,7 @@ void bind_keys(py::module& m)
     k.attr("accuracy") = keys::accuracy;
     k.attr("mae_index") = keys::mae_index;
     k.attr("mae_m") = keys::mae_m;
+    k.attr("confusion") = keys::confusion;
     k.attr("result_port") = keys::result_port;
     k.attr("metrics_port") = keys::metrics_port;
 }

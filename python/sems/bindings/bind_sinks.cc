@@ -17,10 +17,6 @@ void bind_sinks(py::module& m)
     using gr::sems::classifier_sink;
     using gr::sems::delay_estimator_sink;
 
-    // The one metrics key only the classifier sink publishes (bind_core made the submodule).
-    py::module_ keys = m.attr("keys");
-    keys.attr("confusion") = gr::sems::keys::confusion;
-
     py::class_<classifier_sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<classifier_sink>>(
         m, "classifier_sink", "Classifies the target of each frame of pilot observations with a model bundle.")
         .def(py::init(&classifier_sink::make),
