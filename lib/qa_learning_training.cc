@@ -138,7 +138,9 @@ public:
         const auto& t = shared_run();
         auto s = tiny("");
         const auto again = train(s, nullptr);
-        CPPUNIT_ASSERT(again.bundle.mask == t.result.bundle.mask);
+        CPPUNIT_ASSERT_MESSAGE(again.bundle.mask.to_json_string() + "\n vs \n" + t.result.bundle.mask.to_json_string() +
+                                   "\n" + again.history.dump() + "\n" + t.result.history.dump(),
+                               again.bundle.mask == t.result.bundle.mask);
         CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), again.bundle.metrics.at("test").dump());
     }
 
