@@ -109,7 +109,8 @@ int main(int argc, char** argv)
         ("multipath-paths", po::value(&c.multipath_paths)->default_value(c.multipath_paths), "paths per target in the multipath scene")
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
-        ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle");
+        ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
+        ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)");
     // clang-format on
     try {
         po::variables_map vm;

@@ -113,7 +113,8 @@ void run_delay(const config& c, std::ostream& log)
 
         // SemS (trained here; and the shipped bundle when given).
         std::vector<std::pair<std::string, decoder_source>> sems;
-        sems.emplace_back("SemS", train_or_load(c, model_name(scen, np), delay_training(c, scen, paths, np), log));
+        if (!c.only_shipped)
+            sems.emplace_back("SemS", train_or_load(c, model_name(scen, np), delay_training(c, scen, paths, np), log));
         const std::string& shipped = paths == 1 ? c.shipped_delay_single : c.shipped_delay_multi;
         if (!shipped.empty()) {
             decoder_source s;
@@ -136,6 +137,8 @@ void run_delay(const config& c, std::ostream& log)
             }
         }
 
+        if (c.only_shipped)
+            continue;
         // Classical estimators, model order = the scene's paths per target.
         const auto win = classic_window(c);
         const auto random = pilot_mask::random(c.fs.n_symbols, c.fs.n_subcarriers, np, 1);

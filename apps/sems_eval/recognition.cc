@@ -137,6 +137,8 @@ void run_recognition(const config& c, std::ostream& log)
                 dl.push_back(pn);
             }
         }
+        if (c.only_shipped)
+            dl.clear();
         if (scen == "default" && !c.shipped_classifier.empty()) {
             // Labelled by what its mask is: a shipped classifier may sit on a fixed pattern.
             const auto shipped = model_bundle::load(c.shipped_classifier);
@@ -175,6 +177,8 @@ void run_recognition(const config& c, std::ostream& log)
             }
         }
 
+        if (c.only_shipped)
+            continue;
         // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots,
         // trained on their own frames over the same SNR range as the networks.
         const train_set tr = make_train_set(c.fs, sc, c.svm_train_frames, c.seed + 202, c.train_snr_min_db,
