@@ -4,7 +4,8 @@
     /usr/bin/python3 apps/plot_results.py docs/results            # PNGs next to the CSVs
     /usr/bin/python3 apps/plot_results.py /tmp/eval --out /tmp/png --tsne-iter 250
 
-Missing CSVs are skipped (a partial run still plots what it has). The t-SNE of
+Missing CSVs are skipped (a partial run still plots what it has); rows in
+shipped_<csv> files (from `sems_eval --only-shipped`) are added to their experiment. The t-SNE of
 experiment 2 is an exact t-SNE in numpy (perplexity 30, early exaggeration), so no
 scikit-learn is needed.
 """
@@ -25,10 +26,17 @@ CLASS_COLOURS = {"pedestrian": "tab:blue", "car": "tab:orange", "drone": "tab:gr
 
 
 def read_csv(path):
+    """Rows of a sems_eval CSV, plus those of shipped_<name> beside it (the rows of
+    `sems_eval --only-shipped` for the same experiment), when present."""
     if not os.path.exists(path):
         return None
     with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+        rows = list(csv.DictReader(f))
+    extra = os.path.join(os.path.dirname(path), "shipped_" + os.path.basename(path))
+    if os.path.exists(extra):
+        with open(extra, newline="") as f:
+            rows += list(csv.DictReader(f))
+    return rows
 
 
 def fnum(s):
@@ -56,6 +64,8 @@ def style(method):
         return dict(linestyle="-.", marker="v")
     if method.startswith("CRB"):
         return dict(linestyle="--", color="black", marker=None)
+    if method.startswith("Shipped"):
+        return dict(linestyle="-", marker="D", markersize=4, alpha=0.8)
     if method.startswith("SemS"):
         return dict(linestyle="-", marker="o", linewidth=2)
     return dict(linestyle="-", marker="x")
