@@ -61,21 +61,27 @@ frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel
     for (int l = 0; l < d_l; ++l) {
         const auto& p = paths[l];
         const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
-        for (int n = 0; n < d_n; ++n) {
-            const double s = static_cast<double>(first_symbol + static_cast<uint64_t>(n));
-            std::complex<double> v = p.gain * cis_cycles(p.doppler_hz * T * s);
-            if (has_md) {
+        // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
+        // instead of N + M. The frame's first phase is anchored to the absolute symbol
+        // index, so the rounding of 32 or 64 products (~1e-14) never accumulates across frames.
+        std::complex<double> v = p.gain * cis_cycles(p.doppler_hz * T * static_cast<double>(first_symbol));
+        const std::complex<double> doppler_step = cis_cycles(p.doppler_hz * T);
+        for (int n = 0; n < d_n; ++n, v *= doppler_step) {
+            std::complex<double> slow = v;
+            if (has_md) { // only paths that have micro-Doppler pay for its sine
+                const double s = static_cast<double>(first_symbol + static_cast<uint64_t>(n));
                 const double wt = p.md_rate_hz * T * s;
                 const double arg = two_pi * (wt - std::floor(wt)) + p.md_phase_rad;
                 const double phase = md_scale * p.md_amplitude_m * std::sin(arg);
-                v *= std::complex<double>(std::cos(phase), std::sin(phase));
+                slow *= std::complex<double>(std::cos(phase), std::sin(phase));
             }
-            d_slow[size_t(l) * d_n + n] = gr_complex(v);
+            d_slow[size_t(l) * d_n + n] = gr_complex(slow);
         }
-        for (int m = 0; m < d_m; ++m) {
-            const auto d = gr_complex(cis_cycles(-double(m) * df * p.delay_s));
-            d_delay[size_t(l) * d_m + m] = d;
-            d_delay_conj[size_t(l) * d_m + m] = std::conj(d);
+        std::complex<double> d(1.0, 0.0);
+        const std::complex<double> delay_step = cis_cycles(-df * p.delay_s);
+        for (int m = 0; m < d_m; ++m, d *= delay_step) {
+            d_delay[size_t(l) * d_m + m] = gr_complex(d);
+            d_delay_conj[size_t(l) * d_m + m] = gr_complex(std::conj(d));
         }
     }
 }
