@@ -231,7 +231,9 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
             in >> stored;
         } catch (const std::exception&) {
         }
-        if (stored.value("key", nlohmann::json()) == key) {
+        // --reuse-bundles trusts the cache even when the trainer's settings schema changed
+        // since it was written (re-measuring times on the same networks).
+        if (c.reuse_bundles || stored.value("key", nlohmann::json()) == key) {
             out.bundle = model_bundle::load(dir.string());
             out.train_seconds = stored.value("train_seconds", 0.0);
             out.origin = "cached";
