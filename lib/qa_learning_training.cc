@@ -3,6 +3,7 @@
  * bad bundles give errors that name the file and the problem. */
 #include <gnuradio/sems/bundle_decoder.h>
 #include <gnuradio/sems/trainer.h>
+#include "qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cmath>
@@ -14,24 +15,10 @@
 #include <unistd.h>
 
 using namespace gr::sems;
+using gr::sems::qa::assert_error;
 namespace fs = std::filesystem;
 
 namespace {
-template <typename F>
-void assert_error(F f, const std::string& needle1, const std::string& needle2 = "")
-{
-    try {
-        f();
-    } catch (const std::invalid_argument& e) {
-        const std::string what = e.what();
-        CPPUNIT_ASSERT_MESSAGE("message \"" + what + "\" lacks \"" + needle1 + "\"",
-                               what.find(needle1) != std::string::npos);
-        CPPUNIT_ASSERT_MESSAGE("message \"" + what + "\" lacks \"" + needle2 + "\"",
-                               what.find(needle2) != std::string::npos);
-        return;
-    }
-    CPPUNIT_FAIL("expected std::invalid_argument mentioning \"" + needle1 + "\"");
-}
 
 std::string temp_dir(const std::string& name)
 {

@@ -1,5 +1,6 @@
 /* gr-sems: pilot masks — patterns, file round trip, validation. */
 #include <gnuradio/sems/pilot_mask.h>
+#include "qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cstdio>
@@ -8,22 +9,10 @@
 #include <string>
 
 using namespace gr::sems;
+using gr::sems::qa::assert_error;
 
 namespace {
 // Asserts that `f` throws std::invalid_argument whose message contains `needle`.
-template <typename F>
-void assert_error(F f, const std::string& needle)
-{
-    try {
-        f();
-    } catch (const std::invalid_argument& e) {
-        const std::string what = e.what();
-        CPPUNIT_ASSERT_MESSAGE("message \"" + what + "\" lacks \"" + needle + "\"",
-                               what.find(needle) != std::string::npos);
-        return;
-    }
-    CPPUNIT_FAIL("expected std::invalid_argument mentioning \"" + needle + "\"");
-}
 
 std::string mask_text(const std::string& pilots, int n = 4, int m = 8, const std::string& extra = "")
 {

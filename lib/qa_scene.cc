@@ -1,27 +1,16 @@
 /* gr-sems: scenes — file round trip, random draws from the class table, validation. */
 #include <gnuradio/sems/channel_model.h>
 #include <gnuradio/sems/scene.h>
+#include "qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cstdio>
 #include <string>
 
 using namespace gr::sems;
+using gr::sems::qa::assert_error;
 
 namespace {
-template <typename F>
-void assert_error(F f, const std::string& needle)
-{
-    try {
-        f();
-    } catch (const std::invalid_argument& e) {
-        const std::string what = e.what();
-        CPPUNIT_ASSERT_MESSAGE("message \"" + what + "\" lacks \"" + needle + "\"",
-                               what.find(needle) != std::string::npos);
-        return;
-    }
-    CPPUNIT_FAIL("expected std::invalid_argument mentioning \"" + needle + "\"");
-}
 const std::string head = R"({"format": "sems.scene", "version": 1, )";
 } // namespace
 
