@@ -3,6 +3,7 @@
 #ifndef INCLUDED_SEMS_CLASSIFIER_SINK_IMPL_H
 #define INCLUDED_SEMS_CLASSIFIER_SINK_IMPL_H
 
+#include "sink_block.h"
 #include "sink_core.h"
 #include <gnuradio/sems/classifier_sink.h>
 
@@ -34,7 +35,7 @@ private:
     std::vector<std::vector<uint64_t>> d_confusion;
 };
 
-class classifier_sink_impl : public classifier_sink
+class classifier_sink_impl : public detail::sink_block<classifier_sink, classifier_task>
 {
 public:
     classifier_sink_impl(const std::string& bundle_dir,
@@ -45,27 +46,9 @@ public:
                          int n_symbols,
                          int n_subcarriers);
 
-    int work(int noutput_items,
-             gr_vector_const_void_star& input_items,
-             gr_vector_void_star& output_items) override;
-    bool stop() override;
-
-    uint64_t frames() const override { return d_core.frames(); }
-    uint64_t frames_scored() const override { return d_core.frames_scored(); }
-    uint64_t frames_skipped() const override { return d_core.frames_skipped(); }
     double accuracy() const override;
     std::vector<std::vector<uint64_t>> confusion() const override;
     std::vector<std::string> class_names() const override { return d_task.class_names(); }
-    void reset_metrics() override { d_core.reset_metrics(); }
-
-    int batch_size() const override { return d_core.batch_size(); }
-    int metrics_period() const override { return d_core.metrics_period(); }
-    void set_metrics_period(int k) override { d_core.set_metrics_period(k); }
-
-private:
-    classifier_task d_task;
-    detail::sink_core d_core;
-    std::vector<gr::tag_t> d_tags;
 };
 
 } // namespace sems

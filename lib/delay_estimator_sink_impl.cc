@@ -97,36 +97,9 @@ delay_estimator_sink_impl::delay_estimator_sink_impl(const std::string& bundle_d
     : gr::sync_block(block_name,
                      detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
                      gr::io_signature::make(0, 0, 0)),
-      d_task(detail::load_decoder(
-          block_name, bundle_dir, task_kind::delay, n_pilots, n_symbols, n_subcarriers, threads)),
-      d_core(n_pilots, batch_size, metrics_period, d_task, [this](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
-          message_port_pub(port, msg);
-      })
+      sink_block(block_name, task_kind::delay, bundle_dir, n_pilots, batch_size, threads, metrics_period,
+                 n_symbols, n_subcarriers)
 {
-    message_port_register_out(pmt::intern(keys::result_port));
-    message_port_register_out(pmt::intern(keys::metrics_port));
-}
-
-int delay_estimator_sink_impl::work(int noutput_items,
-                                    gr_vector_const_void_star& input_items,
-                                    gr_vector_void_star& output_items)
-{
-    const uint64_t first = nitems_read(0);
-    get_tags_in_range(d_tags, 0, first, first + noutput_items);
-    d_core.push(static_cast<const gr_complex*>(input_items[0]), noutput_items, first, d_tags);
-    return noutput_items;
-}
-
-bool delay_estimator_sink_impl::stop()
-{
-    // stop() runs in the executor's destructor, also while a work() exception unwinds:
-    // throwing here would terminate the process.
-    try {
-        d_core.finish();
-    } catch (const std::exception& e) {
-        d_logger->error("end of stream: {}", e.what());
-    }
-    return true;
 }
 
 double delay_estimator_sink_impl::mae_index() const

@@ -3,6 +3,7 @@
 #ifndef INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_IMPL_H
 #define INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_IMPL_H
 
+#include "sink_block.h"
 #include "sink_core.h"
 #include <gnuradio/sems/delay_estimator_sink.h>
 
@@ -30,7 +31,7 @@ private:
     double d_sum_abs_index = 0.0;
 };
 
-class delay_estimator_sink_impl : public delay_estimator_sink
+class delay_estimator_sink_impl : public detail::sink_block<delay_estimator_sink, delay_task>
 {
 public:
     delay_estimator_sink_impl(const std::string& bundle_dir,
@@ -41,26 +42,8 @@ public:
                               int n_symbols,
                               int n_subcarriers);
 
-    int work(int noutput_items,
-             gr_vector_const_void_star& input_items,
-             gr_vector_void_star& output_items) override;
-    bool stop() override;
-
-    uint64_t frames() const override { return d_core.frames(); }
-    uint64_t frames_scored() const override { return d_core.frames_scored(); }
-    uint64_t frames_skipped() const override { return d_core.frames_skipped(); }
     double mae_index() const override;
     double mae_m() const override;
-    void reset_metrics() override { d_core.reset_metrics(); }
-
-    int batch_size() const override { return d_core.batch_size(); }
-    int metrics_period() const override { return d_core.metrics_period(); }
-    void set_metrics_period(int k) override { d_core.set_metrics_period(k); }
-
-private:
-    delay_task d_task;
-    detail::sink_core d_core;
-    std::vector<gr::tag_t> d_tags;
 };
 
 } // namespace sems
