@@ -18,6 +18,7 @@
 #define INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_H
 
 #include <gnuradio/sems/api.h>
+#include <gnuradio/sems/sink_defaults.h>
 #include <gnuradio/sems/frame_settings.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
@@ -43,9 +44,9 @@ public:
      */
     static sptr make(const std::string& bundle_dir,
                      int n_pilots,
-                     int batch_size = 32,
-                     int threads = 1,
-                     int metrics_period = 100,
+                     int batch_size = sink_defaults::batch_size,
+                     int threads = sink_defaults::threads,
+                     int metrics_period = sink_defaults::metrics_period,
                      int n_symbols = frame_settings().n_symbols,
                      int n_subcarriers = frame_settings().n_subcarriers);
 

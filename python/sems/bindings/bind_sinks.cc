@@ -4,63 +4,54 @@
 
 #include <gnuradio/sems/classifier_sink.h>
 #include <gnuradio/sems/delay_estimator_sink.h>
-#include <gnuradio/sems/tags.h>
+#include <gnuradio/sems/sink_defaults.h>
 
 namespace py = pybind11;
+using gr::sems::sink_defaults;
 
 namespace {
-const gr::sems::frame_settings default_frame;
+
+// The constructor and the getters both sinks share; each adds its own metrics.
+template <typename Sink>
+py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>
+bind_sink(py::module& m, const char* name, const char* doc)
+{
+    const gr::sems::frame_settings frame;
+    return py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>(m, name, doc)
+        .def(py::init(&Sink::make),
+             py::arg("bundle_dir"),
+             py::arg("n_pilots"),
+             py::arg("batch_size") = sink_defaults::batch_size,
+             py::arg("threads") = sink_defaults::threads,
+             py::arg("metrics_period") = sink_defaults::metrics_period,
+             py::arg("n_symbols") = frame.n_symbols,
+             py::arg("n_subcarriers") = frame.n_subcarriers)
+        .def("frames", &Sink::frames)
+        .def("frames_scored", &Sink::frames_scored)
+        .def("frames_skipped", &Sink::frames_skipped)
+        .def("reset_metrics", &Sink::reset_metrics)
+        .def("batch_size", &Sink::batch_size)
+        .def("metrics_period", &Sink::metrics_period)
+        .def("set_metrics_period", &Sink::set_metrics_period, py::arg("k"));
 }
+
+} // namespace
 
 void bind_sinks(py::module& m)
 {
     using gr::sems::classifier_sink;
     using gr::sems::delay_estimator_sink;
 
-    py::class_<classifier_sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<classifier_sink>>(
+    bind_sink<classifier_sink>(
         m, "classifier_sink", "Classifies the target of each frame of pilot observations with a model bundle.")
-        .def(py::init(&classifier_sink::make),
-             py::arg("bundle_dir"),
-             py::arg("n_pilots"),
-             py::arg("batch_size") = 32,
-             py::arg("threads") = 1,
-             py::arg("metrics_period") = 100,
-             py::arg("n_symbols") = default_frame.n_symbols,
-             py::arg("n_subcarriers") = default_frame.n_subcarriers)
-        .def("frames", &classifier_sink::frames)
-        .def("frames_scored", &classifier_sink::frames_scored)
-        .def("frames_skipped", &classifier_sink::frames_skipped)
         .def("accuracy", &classifier_sink::accuracy)
         .def("confusion", &classifier_sink::confusion, "confusion[truth][predicted] over class_names()")
-        .def("class_names", &classifier_sink::class_names)
-        .def("reset_metrics", &classifier_sink::reset_metrics)
-        .def("batch_size", &classifier_sink::batch_size)
-        .def("metrics_period", &classifier_sink::metrics_period)
-        .def("set_metrics_period", &classifier_sink::set_metrics_period, py::arg("k"));
+        .def("class_names", &classifier_sink::class_names);
 
-    py::class_<delay_estimator_sink,
-               gr::sync_block,
-               gr::block,
-               gr::basic_block,
-               std::shared_ptr<delay_estimator_sink>>(
+    bind_sink<delay_estimator_sink>(
         m,
         "delay_estimator_sink",
         "Estimates the delay of the target of interest of each frame of pilot observations with a model bundle.")
-        .def(py::init(&delay_estimator_sink::make),
-             py::arg("bundle_dir"),
-             py::arg("n_pilots"),
-             py::arg("batch_size") = 32,
-             py::arg("threads") = 1,
-             py::arg("metrics_period") = 100,
-             py::arg("n_symbols") = default_frame.n_symbols,
-             py::arg("n_subcarriers") = default_frame.n_subcarriers)
-        .def("frames", &delay_estimator_sink::frames)
-        .def("frames_scored", &delay_estimator_sink::frames_scored)
-        .def("frames_skipped", &delay_estimator_sink::frames_skipped)
         .def("mae_index", &delay_estimator_sink::mae_index)
-        .def("mae_m", &delay_estimator_sink::mae_m)
-        .def("reset_metrics", &delay_estimator_sink::reset_metrics)
-        .def("batch_size", &delay_estimator_sink::batch_size)
-        .def("metrics_period", &delay_estimator_sink::metrics_period)
-        .def("set_metrics_period", &delay_estimator_sink::set_metrics_period, py::arg("k"));
+        .def("mae_m", &delay_estimator_sink::mae_m);
 }
