@@ -1,6 +1,7 @@
 /* gr-sems: pilot_extractor implementation (see pilot_extractor.h). */
 #include "block_mask.h"
 #include "pilot_extractor_impl.h"
+#include "stream_values.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/tags.h>
 #include <cmath>
@@ -95,14 +96,9 @@ int pilot_extractor_impl::general_work(int noutput_items,
         for (; next_tag < d_tags.size() && d_tags[next_tag].offset == offset; ++next_tag) {
             if (!pmt::eqv(d_tags[next_tag].key, d_frame_key))
                 continue;
-            const auto& v = d_tags[next_tag].value;
+            const auto index = detail::frame_index_of(d_tags[next_tag].value);
             tagged = true;
-            if (pmt::is_uint64(v))
-                tagged_frame = pmt::to_uint64(v);
-            else if (pmt::is_integer(v) && pmt::to_long(v) >= 0)
-                tagged_frame = static_cast<uint64_t>(pmt::to_long(v));
-            else // unreadable index: keep counting
-                tagged_frame = d_started ? d_frame + 1 : 0;
+            tagged_frame = index ? *index : (d_started ? d_frame + 1 : 0); // unreadable: keep counting
         }
         if (tagged) {
             if (d_row > 0)
@@ -116,8 +112,7 @@ int pilot_extractor_impl::general_work(int noutput_items,
                 d_frame_tags.push_back(d_tags[t]);
 
         const gr_complex* y = in + static_cast<size_t>(consumed) * d_m;
-        for (int m = 0; m < d_m && !d_nonfinite; ++m)
-            d_nonfinite = !std::isfinite(y[m].real()) || !std::isfinite(y[m].imag());
+        d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
         for (int k = d_first_of_row[d_row]; k < d_first_of_row[d_row + 1]; ++k)
             d_obs[k] = y[d_cols[k]] / d_pilot_symbol;
         ++consumed;

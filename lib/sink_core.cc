@@ -1,5 +1,6 @@
 /* gr-sems: shared bookkeeping of the classifier and delay-estimator sinks. */
 #include "sink_core.h"
+#include "stream_values.h"
 
 #include <gnuradio/sems/tags.h>
 #include <cmath>
@@ -74,32 +75,6 @@ bool dict_number(const pmt::pmt_t& dict, const char* key, double& out)
     return false;
 }
 
-namespace {
-
-bool all_finite(const gr_complex* x, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!std::isfinite(x[i].real()) || !std::isfinite(x[i].imag()))
-            return false;
-    return true;
-}
-
-// A frame-index tag value: any non-negative integer PMT; nullopt-like false otherwise.
-bool tag_index(const pmt::pmt_t& v, uint64_t& out)
-{
-    if (pmt::is_uint64(v)) {
-        out = pmt::to_uint64(v);
-        return true;
-    }
-    if (pmt::is_integer(v) && pmt::to_long(v) >= 0) {
-        out = static_cast<uint64_t>(pmt::to_long(v));
-        return true;
-    }
-    return false;
-}
-
-} // namespace
-
 bool is_truth(const pmt::pmt_t& v)
 {
     // PMT's is_dict() is true for nil (the empty dict): a frame without a truth tag.
@@ -131,9 +106,9 @@ void sink_core::push(const gr_complex* frames,
         if (t.offset < first_item || t.offset >= first_item + static_cast<uint64_t>(count))
             continue;
         const size_t i = t.offset - first_item;
-        uint64_t idx;
-        if (pmt::eq(t.key, frame_key) && tag_index(t.value, idx))
-            index[i] = static_cast<int64_t>(idx);
+        const auto idx = pmt::eq(t.key, frame_key) ? frame_index_of(t.value) : std::optional<uint64_t>{};
+        if (idx)
+            index[i] = static_cast<int64_t>(*idx);
         else if (pmt::eq(t.key, truth_key) && is_truth(t.value))
             truth[i] = t.value;
     }

@@ -1,5 +1,6 @@
 /* gr-sems: target_channel implementation (see target_channel.h). */
 #include "target_channel_impl.h"
+#include "stream_values.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/tags.h>
 #include <cmath>
@@ -174,14 +175,9 @@ int target_channel_impl::work(int noutput_items,
         bool tagged = false;
         uint64_t tagged_frame = 0;
         for (; next_tag < d_tags.size() && d_tags[next_tag].offset == nread + i; ++next_tag) {
-            const auto& v = d_tags[next_tag].value;
+            const auto index = detail::frame_index_of(d_tags[next_tag].value);
             tagged = true;
-            if (pmt::is_uint64(v))
-                tagged_frame = pmt::to_uint64(v);
-            else if (pmt::is_integer(v) && pmt::to_long(v) >= 0)
-                tagged_frame = static_cast<uint64_t>(pmt::to_long(v));
-            else // a frame start with an unreadable index: keep counting
-                tagged_frame = d_started ? d_frame + 1 : 0;
+            tagged_frame = index ? *index : (d_started ? d_frame + 1 : 0); // unreadable: keep counting
         }
         if (tagged)
             start_frame(tagged_frame, nwritten + i);
@@ -190,11 +186,8 @@ int target_channel_impl::work(int noutput_items,
 
         const gr_complex* x = in + static_cast<size_t>(i) * d_m;
         gr_complex* y = out + static_cast<size_t>(i) * d_m;
-        for (int m = 0; m < d_m; ++m)
-            if (!std::isfinite(x[m].real()) || !std::isfinite(x[m].imag())) {
-                ++d_nonfinite;
-                break;
-            }
+        if (!detail::all_finite(x, d_m))
+            ++d_nonfinite;
         d_channel->apply_row(d_row, x, y);
         d_model.add_noise(y, static_cast<size_t>(d_m), d_frame_snr_db);
         ++d_row;
