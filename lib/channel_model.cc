@@ -48,14 +48,19 @@ void check_inside_frame(const frame_settings& fs, double range_m, double peak_do
 // --- frame_channel --------------------------------------------------------------
 
 frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
-    : d_n(fs.n_symbols),
-      d_m(fs.n_subcarriers),
-      d_l(static_cast<int>(paths.size())),
-      d_slow(size_t(d_l) * d_n),
-      d_delay(size_t(d_l) * d_m),
-      d_delay_conj(size_t(d_l) * d_m),
-      d_scratch(d_m)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(d_m)
 {
+    update(paths, first_symbol);
+}
+
+void frame_channel::update(const std::vector<channel_path>& paths, uint64_t first_symbol)
+{
+    // resize() keeps the capacity: once grown to the scene's path count, no allocation.
+    d_l = static_cast<int>(paths.size());
+    d_slow.resize(size_t(d_l) * d_n);
+    d_delay.resize(size_t(d_l) * d_m);
+    d_delay_conj.resize(size_t(d_l) * d_m);
+    const frame_settings& fs = d_fs;
     const double T = fs.symbol_interval_s, df = fs.subcarrier_spacing_hz();
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
     for (int l = 0; l < d_l; ++l) {

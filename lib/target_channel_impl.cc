@@ -140,7 +140,11 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
 {
     d_frame_snr_db = d_snr_db.load();
     auto r = d_model.draw(frame);
-    d_channel.emplace(d_model.factors(r, frame * static_cast<uint64_t>(d_n)));
+    const uint64_t first_symbol = frame * static_cast<uint64_t>(d_n);
+    if (d_channel)
+        d_channel->update(r.paths, first_symbol); // reuses the buffers
+    else
+        d_channel.emplace(d_model.factors(r, first_symbol));
     d_frame = frame;
     d_row = 0;
     d_started = true;

@@ -64,6 +64,9 @@ class SEMS_API frame_channel
 {
 public:
     frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol);
+    // The factors of another frame, computed in place in the same buffers: what a
+    // streaming block calls once per frame, allocation-free once the buffers have grown.
+    void update(const std::vector<channel_path>& paths, uint64_t first_symbol);
 
     int n_symbols() const { return d_n; }
     int n_subcarriers() const { return d_m; }
@@ -74,6 +77,7 @@ public:
     void fill(gr_complex* grid) const;                                 // row-major N x M
 
 private:
+    frame_settings d_fs;
     int d_n, d_m, d_l;
     std::vector<gr_complex> d_slow;  // L x N, gain included
     std::vector<gr_complex> d_delay; // L x M
