@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Draw one PNG per sems_eval experiment from its CSVs.
 
     /usr/bin/python3 apps/plot_results.py docs/results            # PNGs next to the CSVs

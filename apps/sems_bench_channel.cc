@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: throughput of the target_channel emulator in OFDM symbols/s, for fixed
  * scenes of 1, 3 and 10 paths with noise, next to GNU Radio's multiply_const_vcc on
  * the same vector size, all in the same harness and run:
@@ -9,8 +10,8 @@
 #include <gnuradio/blocks/multiply_const_v.h>
 #include <gnuradio/blocks/null_sink.h>
 #include <gnuradio/blocks/vector_source.h>
-#include <gnuradio/sems/scene.h>
-#include <gnuradio/sems/target_channel.h>
+#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/blocks/target_channel.h>
 #include <gnuradio/top_block.h>
 #include <boost/program_options.hpp>
 #include <algorithm>

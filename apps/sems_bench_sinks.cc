@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_bench_sinks: frames per second of the sinks' inference, at several batch sizes.
  *
  * For each bundle and batch size it measures
@@ -12,10 +13,10 @@
  *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
  */
 #include <gnuradio/blocks/vector_source.h>
-#include <gnuradio/sems/bundle_decoder.h>
-#include <gnuradio/sems/classifier_sink.h>
-#include <gnuradio/sems/delay_estimator_sink.h>
-#include <gnuradio/sems/model_bundle.h>
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/learning/classifier_sink.h>
+#include <gnuradio/sems/learning/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/top_block.h>
 #include <boost/program_options.hpp>
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval: the paper's experiments on the same test frames for every method.
  *
  *   sems_eval --size test --out /tmp/eval            (seconds; what CTest runs)

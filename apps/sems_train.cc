@@ -1,14 +1,15 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_train: learn a pilot mask and a task decoder, write a model bundle.
  *
  *   sems_train --task classify --out models/classifier --snr-min 0 --snr-max 20 --threads 2
  *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
  *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
  *
- * See include/gnuradio/sems/trainer.h for what the phases do.
+ * See include/gnuradio/sems/learning/trainer.h for what the phases do.
  */
-#include <gnuradio/sems/scene.h>
-#include <gnuradio/sems/target_class.h>
-#include <gnuradio/sems/trainer.h>
+#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/core/target_class.h>
+#include <gnuradio/sems/learning/trainer.h>
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <limits>
@@ -78,7 +79,7 @@ int main(int argc, char** argv)
         ("eval-snr", po::value(&eval_snr)->default_value("0,10,20,30"), "test SNR points (dB), comma-separated")
         ("eval-frames", po::value(&s.eval_frames)->default_value(s.eval_frames), "test frames per SNR point (0 = all)")
         ("out", po::value(&s.out_dir)->required(), "bundle directory to write")
-        // Network sizes (defaults: include/gnuradio/sems/nn/settings.h).
+        // Network sizes (defaults: include/gnuradio/sems/learning/network_settings.h).
         ("width", po::value<int>(), "decoder width (classifier: first-stage channels; delay: 1-D CNN channels)")
         ("depth", po::value<int>(), "decoder depth (classifier: residual stages; delay: residual blocks)")
         ("hidden", po::value(&s.classifier.hidden)->default_value(s.classifier.hidden), "classifier MLP width")

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: compile an example flowgraph with grcc and run it headless.
 
     run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [-- extra args for the flowgraph]

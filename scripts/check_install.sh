@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs a built tree into a throw-away prefix and checks that the installed module
 # imports and runs from there alone. Usage: check_install.sh BUILD_DIR PYTHON_DIR PYTHON
 set -euo pipefail
@@ -6,7 +7,7 @@ build="$1" pydir="$2" python="$3"
 prefix="$(mktemp -d)"
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" > /dev/null
-for f in include/gnuradio/sems/channel_model.h share/gnuradio/grc/blocks/sems_target_channel.block.yml; do
+for f in include/gnuradio/sems/core/channel_model.h include/gnuradio/sems/learning/network_settings.h lib/cmake/gnuradio-sems/gnuradio-semsConfig.cmake share/gnuradio/grc/blocks/sems_target_channel.block.yml; do
   [ -f "$prefix/$f" ] || { echo "check_install: $f was not installed"; exit 1; }
 done
 cd "$prefix"   # nothing from the source or build tree on the path

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Quick start, demo: installs the Debian packages, builds, and streams random scenes through
 # examples/sems_demo.grc — learned-pilot OFDM -> target channel -> pilot extractor ->
 # classifier and delay-estimator sinks on the shipped bundles (models/classifier,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs the Debian 12 packages gr-sems builds, tests and runs with. Needs root.
 set -euo pipefail
 packages=(

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Quick start, tests: installs the Debian packages, builds, and runs every test (CTest:
 # the C++ CppUnit suites, the gr_unittest QA of every block, the example flowgraphs).
 set -euo pipefail

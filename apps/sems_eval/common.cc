@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval: test frames, scenes, metrics, CSV output and the decoder cache. */
 #include "eval.h"
-#include <gnuradio/sems/target_class.h>
+#include <gnuradio/sems/core/target_class.h>
 #include <cmath>
 #include <ctime>
 #include <filesystem>

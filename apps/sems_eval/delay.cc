@@ -1,14 +1,15 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval experiments 4 and 5: delay-index MAE against SNR (single path and
  * multipath) for SemS and the classical estimators, with the CRB; and SemS against
  * the pilot budget N_p. */
 #include "eval.h"
-#include <gnuradio/sems/baseline_masks.h>
-#include <gnuradio/sems/baseline_music.h>
-#include <gnuradio/sems/baseline_omp.h>
-#include <gnuradio/sems/baseline_periodogram.h>
-#include <gnuradio/sems/bundle_decoder.h>
-#include <gnuradio/sems/delay_crb.h>
-#include <gnuradio/sems/nn/settings.h>
+#include <gnuradio/sems/baselines/subcarrier_masks.h>
+#include <gnuradio/sems/baselines/music_delay_estimator.h>
+#include <gnuradio/sems/baselines/omp_delay_estimator.h>
+#include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/baselines/delay_crb.h>
+#include <gnuradio/sems/learning/network_settings.h>
 #include <algorithm>
 #include <cmath>
 #include <functional>

@@ -1,14 +1,15 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval: shared pieces of the evaluation app (configuration, the common test
  * frames, CSV output, metrics, and training-or-reusing the decoders). */
 #ifndef SEMS_EVAL_EVAL_H
 #define SEMS_EVAL_EVAL_H
 
-#include <gnuradio/sems/channel_model.h>
-#include <gnuradio/sems/frame_settings.h>
-#include <gnuradio/sems/model_bundle.h>
-#include <gnuradio/sems/pilot_mask.h>
-#include <gnuradio/sems/scene.h>
-#include <gnuradio/sems/trainer.h>
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/learning/model_bundle.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/learning/trainer.h>
 #include <chrono>
 #include <cstdint>
 #include <fstream>

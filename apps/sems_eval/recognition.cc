@@ -1,11 +1,12 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval experiments 1 and 3: accuracy and macro-F1 against SNR for SemS and every
  * recognition baseline, on the same test frames (default scene; without micro-Doppler;
  * with strong clutter). */
 #include "eval.h"
-#include <gnuradio/sems/bundle_decoder.h>
-#include <gnuradio/sems/doppler_features.h>
-#include <gnuradio/sems/feature_svm.h>
-#include <gnuradio/sems/target_class.h>
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/baselines/doppler_features.h>
+#include <gnuradio/sems/baselines/feature_svm.h>
+#include <gnuradio/sems/core/target_class.h>
 #include <algorithm>
 #include <limits>
 #include <memory>

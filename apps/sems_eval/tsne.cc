@@ -1,8 +1,9 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval experiment 2: the classifier decoder's 16-d features under uniform,
  * Doppler-oriented, MSE-learned and SemS pilots, for the t-SNE in plot_results.py. */
 #include "eval.h"
-#include <gnuradio/sems/bundle_decoder.h>
-#include <gnuradio/sems/target_class.h>
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/core/target_class.h>
 #include <algorithm>
 
 namespace sems_eval {

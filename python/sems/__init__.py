@@ -1,10 +1,50 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
-Blocks: pilot_mapper, target_channel, pilot_extractor, classifier_sink,
-delay_estimator_sink; hier blocks ofdm_tx / ofdm_rx. Core: frame_settings,
-pilot_mask, scene, channel_model (see the C++ headers in include/gnuradio/sems).
+Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
+keys; blocks pilot_mapper, target_channel, pilot_extractor; hier blocks ofdm_tx / ofdm_rx.
+
+Learning (LibTorch, loaded on first use of one of these names): classifier_sink,
+delay_estimator_sink, model_bundle, bundle_decoder, training_settings, train, ...
+Baselines (loaded on first use): periodogram / OMP / MUSIC delay estimators, delay_crb,
+doppler_features, feature_svm, ...
+
+A flowgraph of mapper, channel and extractor therefore never maps LibTorch into the
+process; `import gnuradio.sems.learning_python` loads it explicitly.
 """
-from .sems_python import *  # noqa: F401,F403
+import importlib as _importlib
+
+from .core_python import *  # noqa: F401,F403
 
 from .ofdm_tx import ofdm_tx  # noqa: F401
 from .ofdm_rx import ofdm_rx  # noqa: F401
+
+# The names of the lazily loaded extensions (qa_lazy_import checks these lists against
+# the modules, so a name bound in C++ and missing here fails a test).
+_LAZY_MODULES = {
+    "learning_python": (
+        "task_kind", "task_name", "task_from_name", "model_bundle", "bundle_decoder",
+        "training_settings", "training_result", "train", "classifier_sink",
+        "delay_estimator_sink",
+    ),
+    "baselines_python": (
+        "delay_search", "slow_time_model", "periodogram_delay_estimator",
+        "omp_delay_estimator", "music_delay_estimator", "delay_crb", "doppler_features",
+        "feature_svm", "random_subcarrier_mask", "nested_subcarrier_mask",
+    ),
+}
+_LAZY_NAMES = {name: module for module, names in _LAZY_MODULES.items() for name in names}
+
+
+def __getattr__(name):
+    """PEP 562: import the extension that binds `name` on its first use."""
+    module = _LAZY_NAMES.get(name)
+    if module is None:
+        raise AttributeError("module 'gnuradio.sems' has no attribute %r" % (name,))
+    value = getattr(_importlib.import_module("." + module, __name__), name)
+    globals()[name] = value  # later look-ups do not come back here
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY_NAMES))

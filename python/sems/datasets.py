@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Batches of (H, truth) from the core channel model, for building data sets in Python.
 
 The frames are the ones the emulator block and the training app draw: the same C++
@@ -5,7 +6,7 @@ channel_model, the same seed, the same frames.
 """
 import numpy as np
 
-from .sems_python import channel_model, frame_settings
+from .core_python import channel_model, frame_settings
 
 
 def channel_batches(scene, batch_size, n_batches=None, seed=0, settings=None, snr_db=None,

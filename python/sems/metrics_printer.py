@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """metrics_printer: prints the running metrics of a SemS sink, one line per message.
 
 Connect a classifier_sink's or delay_estimator_sink's `metrics` port to its `metrics`
@@ -10,7 +11,7 @@ import sys
 import pmt
 from gnuradio import gr
 
-from .sems_python import keys
+from .core_python import keys
 
 
 def format_metrics(label, m):

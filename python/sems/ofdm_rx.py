@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: time-domain samples -> frequency-domain OFDM symbols (DESIGN §3)."""
 import math
 

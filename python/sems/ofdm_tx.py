@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: frequency-domain OFDM symbols -> time-domain samples (DESIGN §3)."""
 import math
 

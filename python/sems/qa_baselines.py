@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The classical baselines from Python: exact delay recovery on a noiseless on-grid
 path drawn by the channel model, the CRB's SNR scaling, Doppler features of a tone,
 the feature SVM, and clear errors on bad input."""

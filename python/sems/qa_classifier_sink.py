@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """classifier_sink: a tiny trained bundle streamed through the block (see testing/sink_contract.py
 for what both sinks promise) plus the classifier's own answer and metrics."""
 import os

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The core library from Python: frame settings, masks, scenes, channel model as numpy."""
 import json
 import math

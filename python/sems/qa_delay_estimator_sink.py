@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """delay_estimator_sink: a tiny trained bundle streamed through the block (see
 testing/sink_contract.py for what both sinks promise) plus the delay answer and its MAE."""
 import os

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: learning from Python — bundle loading, numpy inference, errors, a tiny train()."""
 import os
 import tempfile

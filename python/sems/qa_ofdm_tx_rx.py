@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: ofdm_tx -> ofdm_rx is the identity (inverse FFT + cyclic prefix, and back)."""
 import numpy as np
 import pmt

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """End-to-end: sems_eval --size test writes the six experiment CSVs, and
 plot_results.py draws one PNG per experiment from them; bad options fail clearly."""
 import csv

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: symbol visibility for the shared library. */
 #ifndef INCLUDED_SEMS_API_H
 #define INCLUDED_SEMS_API_H

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The behaviour both sinks promise (DESIGN §3), written once and run by
 qa_classifier_sink.py and qa_delay_estimator_sink.py.
 

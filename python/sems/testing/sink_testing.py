@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Test helpers shared by qa_classifier_sink.py and qa_delay_estimator_sink.py.
 
 Not part of the installed package: the qa files put this folder on sys.path.

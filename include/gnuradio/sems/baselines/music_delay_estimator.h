@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: MUSIC delay estimation from sparse pilots.
+ *
+ * How the covariance is formed from sparse pilots (the difference co-array over
+ * subcarriers, within symbols):
+ *   Two pilots of the SAME OFDM symbol share the slow-time phase (Doppler and
+ *   micro-Doppler included), so their product r_i r_j* = Σ |α_l|² exp(-j2π Δf τ_l (m_i - m_j))
+ *   (+ cross terms, + σ² when i = j) depends on the subcarrier lag d = m_i - m_j only.
+ *   Every same-symbol pair of every symbol is averaged into its lag, r̂[d] (with
+ *   r̂[-d] = r̂[d]*). Let g be the greatest common divisor of the observed lags and
+ *   L the length of the longest run 0, g, 2g, ..., (L-1)g of observed lags: the
+ *   covariance is the L x L Hermitian Toeplitz matrix R[a,b] = r̂[(a-b)g] of a virtual
+ *   uniform array with spacing g. Averaging many pairs of the same lag from different
+ *   subcarriers acts as spatial smoothing (it decorrelates coherent paths); the symbols
+ *   are the snapshots.
+ * The pseudo-spectrum 1/‖E_nᴴ a(τ)‖² (E_n: the L - K eigenvectors of the smallest
+ * eigenvalues, a(τ)[i] = exp(-j2π Δf τ i g)) is searched on the delay grid; it repeats
+ * every M/g delay indices, so a lattice with pilot spacing g > 1 (uniform pilots) aliases.
+ * The reported delay is the earliest of the K strongest local maxima.
+ *
+ * A mask whose co-array has L < K + 1 (e.g. one pilot per symbol) cannot be used:
+ * the constructor throws std::invalid_argument saying so.
+ */
+#ifndef INCLUDED_SEMS_BASELINE_MUSIC_H
+#define INCLUDED_SEMS_BASELINE_MUSIC_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/sems/baselines/api.h>
+#include <gnuradio/sems/baselines/delay_search.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <memory>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+class SEMS_BASELINES_API music_delay_estimator
+{
+public:
+    struct settings {
+        delay_search search{};
+        int n_paths = 1; // K, the signal-subspace dimension
+    };
+
+    music_delay_estimator(const frame_settings& fs, const pilot_mask& mask, settings s);
+    music_delay_estimator(const frame_settings& fs, const pilot_mask& mask);
+    ~music_delay_estimator();
+    music_delay_estimator(music_delay_estimator&&) noexcept;
+
+    int n_pilots() const; // N_p, the observations per frame
+    double estimate_index(const gr_complex* obs) const;
+    double estimate_delay_s(const gr_complex* obs) const;
+    std::vector<double> pseudo_spectrum(const gr_complex* obs) const;
+    const std::vector<double>& grid_index() const;
+
+    int coarray_spacing() const; // g
+    int coarray_length() const;  // L
+
+private:
+    struct impl;
+    std::unique_ptr<impl> d_impl;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_BASELINE_MUSIC_H */

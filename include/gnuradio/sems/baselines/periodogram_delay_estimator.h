@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the periodogram (matched-filter) delay estimator, the classical reference.
+ *
+ * Input: pilot observations r_k = Y/s_p at the mask positions (n_k, m_k), in mask order.
+ * A single path gives r_k = α · exp(-j2π m_k Δf τ) · (slow-time phase of symbol n_k) + noise.
+ * Two models of the slow-time phase:
+ *   joint_doppler:  a constant Doppler ν:  P(τ) = max_ν |Σ_k r_k a_τ*(m_k) b_ν*(n_k)|²
+ *                   with a_τ(m) = exp(-j2π m Δf τ), b_ν(n) = exp(j2π ν n T) on an
+ *                   oversampled Doppler grid over ±1/(2T). This is the maximum-likelihood
+ *                   estimator of (τ, ν) for one path with an unknown complex gain.
+ *   per_symbol:     an unknown phase per OFDM symbol (any Doppler or micro-Doppler):
+ *                   P(τ) = Σ_n |Σ_{k: n_k = n} r_k a_τ*(m_k)|², the non-coherent sum over
+ *                   symbols (needs several pilots per symbol to say anything).
+ * The peak of P on the delay grid is refined by a parabola through its neighbours.
+ */
+#ifndef INCLUDED_SEMS_BASELINE_PERIODOGRAM_H
+#define INCLUDED_SEMS_BASELINE_PERIODOGRAM_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/sems/baselines/api.h>
+#include <gnuradio/sems/baselines/delay_search.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <memory>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+enum class slow_time_model { joint_doppler, per_symbol };
+
+class SEMS_BASELINES_API periodogram_delay_estimator
+{
+public:
+    struct settings {
+        delay_search search{};
+        int doppler_oversample = 2; // Doppler grid points per 1/(N T)
+        slow_time_model slow_time = slow_time_model::joint_doppler;
+        bool refine = true;         // parabolic interpolation of the peak
+    };
+
+    periodogram_delay_estimator(const frame_settings& fs, const pilot_mask& mask, settings s);
+    periodogram_delay_estimator(const frame_settings& fs, const pilot_mask& mask);
+    ~periodogram_delay_estimator();
+    periodogram_delay_estimator(periodogram_delay_estimator&&) noexcept;
+
+    // obs: N_p observations in mask order. Throws std::invalid_argument on non-finite input.
+    int n_pilots() const; // N_p, the observations per frame
+    double estimate_index(const gr_complex* obs) const;
+    double estimate_delay_s(const gr_complex* obs) const;
+    // P(τ) on the grid (for plots and tests).
+    std::vector<double> profile(const gr_complex* obs) const;
+    const std::vector<double>& grid_index() const;
+
+private:
+    struct impl;
+    std::unique_ptr<impl> d_impl;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_BASELINE_PERIODOGRAM_H */

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the learned-pilot OFDM transmitter (DESIGN §2).
+ *
+ *   X_s[n,m] = sqrt(E_p) · s_p           at the pilot positions P
+ *            = sqrt(E_d) · data           elsewhere, data taken in row-major order
+ *
+ * Input: data symbols (gr_complex stream). Output: gr_complex[M], one OFDM symbol in
+ * the frequency domain, N per frame; a frame consumes N·M − N_p data symbols.
+ * Tag keys::frame_tag (uint64 frame index, counting from 0) on the first symbol of
+ * every frame. Tags on data symbols move to the output symbol that carries them.
+ *
+ * The mask comes from a mask file (pilot_mask::load) or from explicit flat positions
+ * n·M+m: exactly one of the two. With a file, pilot_symbol must equal the file's.
+ *
+ * N_p = N·M (pilots only): the frame carries no data, the block consumes no input and
+ * acts as a source of pilot-only frames; the input may then be left unconnected
+ * (bound the output with a head block). With data positions an input is required.
+ *
+ * Pilot and data power are energies per symbol (>= 0, finite), settable while running;
+ * a new value takes effect at the next frame, so a frame is never split between two powers.
+ */
+#ifndef INCLUDED_SEMS_PILOT_MAPPER_H
+#define INCLUDED_SEMS_PILOT_MAPPER_H
+
+#include <gnuradio/block.h>
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+class SEMS_API pilot_mapper : virtual public gr::block
+{
+public:
+    typedef std::shared_ptr<pilot_mapper> sptr;
+
+    /*!
+     * \param mask_file        pilot mask JSON (DESIGN §4); "" to use pilot_positions
+     * \param pilot_positions  flat pilot positions n·M+m (any order); empty to use mask_file
+     * \param n_symbols        N, OFDM symbols per frame
+     * \param n_subcarriers    M, subcarriers (output vector length)
+     * \param pilot_symbol     s_p (non-zero); must match the mask file's when a file is given
+     * \param pilot_power      E_p
+     * \param data_power       E_d
+     * Throws std::invalid_argument naming the parameter and the problem.
+     */
+    static sptr make(const std::string& mask_file = "",
+                     const std::vector<int>& pilot_positions = {},
+                     int n_symbols = frame_settings{}.n_symbols,
+                     int n_subcarriers = frame_settings{}.n_subcarriers,
+                     gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
+                     double pilot_power = 1.0,
+                     double data_power = 1.0);
+
+    virtual void set_pilot_power(double energy) = 0;
+    virtual double pilot_power() const = 0;
+    virtual void set_data_power(double energy) = 0;
+    virtual double data_power() const = 0;
+
+    virtual const pilot_mask& mask() const = 0;
+    virtual int n_pilots() const = 0;
+    // Data symbols consumed per frame: N·M − N_p.
+    virtual int data_per_frame() const = 0;
+    // Frames started so far.
+    virtual uint64_t frames() const = 0;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_PILOT_MAPPER_H */

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the frequency-domain target channel emulator (DESIGN §1, §3).
+ *
+ * gr_complex[M] in and out, one OFDM symbol per item: y = H[n,:] ⊙ x + V.
+ * A thin adapter over channel_model: per frame draw(frame) and factors(r, frame·N),
+ * per symbol apply_row and add_noise. Everything per frame happens at the frame
+ * start; nothing is allocated per item.
+ *
+ * Frames: aligned to keys::frame_tag tags when present (the frame index is the tag's
+ * value, a tag mid-frame starts a new frame), counted from 0 otherwise. Each frame
+ * draws the next realization of the model, so the same seed gives the same frames as
+ * channel_model::generate and, with any SNR, the same channels (noise has its own
+ * generator). keys::truth_tag (a PMT dict: class, class_name, delay_s, delay_index,
+ * range_m, velocity_mps, snr_db, n_paths, frame) goes on the first symbol of every frame.
+ *
+ * The scene: `scene` is a scene file path or scene JSON text (starts with '{'),
+ * or "" for random scenes drawn per frame from `classes` (empty = every class) with
+ * the random options (n_targets, paths_per_target, micro_doppler, clutter_*).
+ * The random options must keep their defaults with a fixed scene (a fixed scene
+ * carries its own targets and clutter), so nothing is silently ignored.
+ *
+ * SNR per resource element in dB against the unit mean channel power, +inf = noiseless;
+ * settable while running, effective from the next frame (the truth tag says which).
+ * Non-finite input symbols are passed through (the extractor skips their frame) and
+ * counted.
+ */
+#ifndef INCLUDED_SEMS_TARGET_CHANNEL_H
+#define INCLUDED_SEMS_TARGET_CHANNEL_H
+
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sync_block.h>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+class SEMS_API target_channel : virtual public gr::sync_block
+{
+public:
+    typedef std::shared_ptr<target_channel> sptr;
+
+    /*!
+     * \param scene            scene file path, scene JSON text, or "" for random scenes
+     * \param classes          random scenes: class names to draw from (empty = all)
+     * \param n_targets        random scenes: targets per frame (the first is the target of interest)
+     * \param paths_per_target random scenes: paths per target (1 = single path)
+     * \param micro_doppler    random scenes: micro-Doppler for the classes that have it
+     * \param clutter_paths    random scenes: static clutter scatterers (0 = no clutter)
+     * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
+     * \param snr_db           SNR per resource element, +inf = noiseless
+     * \param seed             seed of the model's draws (scene/gains and noise)
+     * Frame settings as in frame_settings (DESIGN §1).
+     * Throws std::invalid_argument naming the parameter (or scene file) and the problem.
+     */
+    static sptr make(const std::string& scene = "",
+                     const std::vector<std::string>& classes = {},
+                     int n_targets = 1,
+                     int paths_per_target = 1,
+                     bool micro_doppler = true,
+                     int clutter_paths = 0,
+                     double clutter_csr_db = 0.0,
+                     double snr_db = std::numeric_limits<double>::infinity(),
+                     uint64_t seed = 0,
+                     int n_symbols = frame_settings{}.n_symbols,
+                     int n_subcarriers = frame_settings{}.n_subcarriers,
+                     double bandwidth_hz = frame_settings{}.bandwidth_hz,
+                     double carrier_hz = frame_settings{}.carrier_hz,
+                     double symbol_interval_s = frame_settings{}.symbol_interval_s);
+
+    virtual void set_snr_db(double snr_db) = 0; // from the next frame; NaN and -inf refused
+    virtual double snr_db() const = 0;
+
+    virtual const frame_settings& settings() const = 0;
+    virtual std::string scene_json() const = 0;
+
+    virtual uint64_t frames() const = 0;            // frames started
+    virtual uint64_t nonfinite_symbols() const = 0; // input symbols with a NaN/Inf element
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TARGET_CHANNEL_H */

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: joint training of the pilot mask and a task decoder (DESIGN §5).
+ *
+ * Torch-free header: the training app, the evaluation and the Python bindings call
+ * train() with a settings struct. Data come from gr::sems::channel_model::generate
+ * (the emulator's own model): noiseless H per frame, split 8:1:1 into train /
+ * validation / test; noise CN(0, channel_model::noise_variance(snr)) is drawn fresh
+ * per training batch (per-frame SNR uniform in [snr_min, snr_max] dB) and once, from
+ * its own seeded generator, for the validation and test frames.
+ *
+ * Phases:
+ *  1. learned mask (no mask_file): the semantic encoder and the objective's decoder
+ *     (objective "task": the task decoder; "mse": the channel-reconstruction decoder)
+ *     train together; one Gumbel straight-through mask per batch; temperature
+ *     annealed per epoch down to its floor; validation on the final (greedy,
+ *     distinct) mask.
+ *  2. decoder on the fixed final mask (or on mask_file): the task decoder is trained
+ *     (objective "task": fine-tuned; "mse": trained from scratch, the paper's
+ *     reconstruction-DL baseline) with a cosine learning-rate schedule; the best
+ *     validation epoch is kept; early stop after `patience` epochs without improvement.
+ * Then the test frames are scored at the training SNR range and at each eval_snr_db.
+ *
+ * The same settings and seed give the same mask, weights and metrics (seeded data,
+ * torch::manual_seed, fixed thread count).
+ */
+#ifndef INCLUDED_SEMS_TRAINER_H
+#define INCLUDED_SEMS_TRAINER_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/learning/model_bundle.h>
+#include <gnuradio/sems/learning/network_settings.h>
+#include <gnuradio/sems/core/scene.h>
+#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+struct SEMS_LEARNING_API training_settings {
+    task_kind task = task_kind::classify;
+    std::string objective = "task"; // "task" (SemS) or "mse" (reconstruction baseline)
+    int n_pilots = 32;
+    std::string mask_file;          // empty: learn the mask; else train the decoder on it
+    std::string mask_pattern;       // or a standard pattern (uniform|random|doppler, seeded by seed)
+    frame_settings frame;
+    std::optional<scene> scene_spec; // empty: random scene, all classes, single path
+    std::string scene_source = "default random scene";
+
+    double snr_min_db = 10.0;
+    double snr_max_db = 10.0;
+    int frames = 30000;              // split 8:1:1
+    int epochs = 20;                 // phase 1 (learned mask) or the decoder epochs (fixed mask)
+    int decoder_epochs = 10;         // phase 2 after a learned mask
+    int batch = 256;
+    double lr = 0.01;                // Adam
+    double lr_final_scale = 0.02;    // cosine schedule of phase 2 ends at lr * this
+    int patience = 4;                // early stop (phase 2, and phase 1 once at the temperature floor)
+    int threads = 0;                 // <= 0: leave LibTorch's default
+    uint64_t seed = 1;
+    std::vector<double> eval_snr_db{ 0.0, 10.0, 20.0, 30.0 };
+    int eval_frames = 0;             // test frames scored per SNR point; 0 = the whole test split
+
+    // Delay dictionary: grid spacing (delay indices) and margin around the delays the
+    // training frames contain; the grid range comes from the data.
+    double delay_spacing = 0.125;
+    double delay_margin = 2.0;
+    double delay_ce_weight = 1.0;    // cross-entropy on the dictionary scores (finds the peak)
+    double delay_ce_weight_final = 0.05; // phase 2 ends on (almost) pure L1
+
+    nn::encoder_settings encoder;
+    nn::classifier_settings classifier;
+    nn::delay_settings delay;
+    nn::reconstruction_settings reconstruction;
+
+    std::string out_dir;             // empty: do not write a bundle
+    std::string command_line;        // recorded in bundle.json
+    bool verbose = true;
+
+    void validate() const;           // std::invalid_argument naming the setting
+    nlohmann::json to_json() const;  // what bundle.json records under "training"
+};
+
+struct SEMS_LEARNING_API training_result {
+    model_bundle bundle;             // directory set when written
+    nlohmann::json history;          // one object per epoch
+    double seconds = 0.0;
+
+    // The test frames at the training SNR range, as the app scored them: observations
+    // (n_test x N_p, mask order) and the trainer's own answers, so a loaded bundle can be
+    // checked against them.
+    int n_test = 0;
+    std::vector<gr_complex> test_obs;
+    std::vector<float> test_probs;       // classify: n_test x C
+    std::vector<int> test_labels;        // classify: label index into class_names
+    std::vector<double> test_delay_index; // delay: estimates
+    std::vector<double> test_truth_index; // delay: truth
+};
+
+// Trains, scores on the test split and (if out_dir is set) writes the bundle.
+// Progress goes to `log` (nullptr: silent).
+SEMS_LEARNING_API training_result train(const training_settings& settings, std::ostream* log);
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TRAINER_H */

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot_extractor implementation (see pilot_extractor.h). */
+#include "blocks/block_mask.h"
+#include "blocks/pilot_extractor_impl.h"
+#include "blocks/stream_values.h"
+#include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/tags.h>
+#include <cmath>
+
+namespace gr {
+namespace sems {
+
+static const char* const who = "pilot_extractor";
+
+pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
+                                            const std::vector<int>& pilot_positions,
+                                            int n_symbols,
+                                            int n_subcarriers,
+                                            gr_complex pilot_symbol)
+{
+    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    return gnuradio::make_block_sptr<pilot_extractor_impl>(mask);
+}
+
+pilot_extractor_impl::pilot_extractor_impl(const pilot_mask& mask)
+    : gr::block(who,
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.n_subcarriers()),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.size())),
+      d_mask(mask),
+      d_n(mask.n_symbols()),
+      d_m(mask.n_subcarriers()),
+      d_np(mask.size()),
+      d_pilot_symbol(mask.pilot_symbol()),
+      d_first_of_row(d_n + 1, 0),
+      d_obs(d_np),
+      d_frame_key(pmt::intern(keys::frame_tag))
+{
+    for (const auto& p : d_mask.positions()) { // mask order: sorted by (n, m)
+        d_cols.push_back(p.m);
+        ++d_first_of_row[p.n + 1];
+    }
+    for (int n = 0; n < d_n; ++n)
+        d_first_of_row[n + 1] += d_first_of_row[n];
+    set_relative_rate(1, static_cast<uint64_t>(d_n));
+    set_tag_propagation_policy(TPP_DONT); // tags are carried by hand, frame by frame
+    d_frame_tags.reserve(16);
+    d_tags.reserve(64);
+}
+
+void pilot_extractor_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
+{
+    // The frame state persists across calls, so any input is progress; asking for a
+    // whole frame could exceed a small upstream buffer.
+    ninput_items_required[0] = 1;
+}
+
+bool pilot_extractor_impl::stop()
+{
+    if (d_row > 0) { // the stream ended (or was stopped) inside a frame
+        ++d_dropped_partial;
+        d_row = 0;
+    }
+    return true;
+}
+
+void pilot_extractor_impl::begin_frame(bool tagged, uint64_t frame)
+{
+    d_row = 0;
+    d_tagged = tagged;
+    d_nonfinite = false;
+    d_frame = frame;
+    d_started = true;
+    d_frame_tags.clear();
+}
+
+int pilot_extractor_impl::general_work(int noutput_items,
+                                       gr_vector_int& ninput_items,
+                                       gr_vector_const_void_star& input_items,
+                                       gr_vector_void_star& output_items)
+{
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    const int avail = ninput_items[0];
+    const uint64_t nread = nitems_read(0), nwritten = nitems_written(0);
+
+    get_tags_in_range(d_tags, 0, nread, nread + static_cast<uint64_t>(avail));
+    size_t next_tag = 0;
+
+    int consumed = 0, produced = 0;
+    while (consumed < avail && produced < noutput_items) {
+        const uint64_t offset = nread + static_cast<uint64_t>(consumed);
+
+        // A frame tag on this symbol starts a frame; any other tag rides with the frame.
+        bool tagged = false;
+        uint64_t tagged_frame = 0;
+        const size_t first_tag = next_tag;
+        for (; next_tag < d_tags.size() && d_tags[next_tag].offset == offset; ++next_tag) {
+            if (!pmt::eqv(d_tags[next_tag].key, d_frame_key))
+                continue;
+            const auto index = detail::frame_index_of(d_tags[next_tag].value);
+            tagged = true;
+            tagged_frame = index ? *index : (d_started ? d_frame + 1 : 0); // unreadable: keep counting
+        }
+        if (tagged) {
+            if (d_row > 0)
+                ++d_dropped_partial; // the previous frame ended before N symbols
+            begin_frame(true, tagged_frame);
+        } else if (d_row == 0) {
+            begin_frame(false, d_started ? d_frame + 1 : 0);
+        }
+        for (size_t t = first_tag; t < next_tag; ++t)
+            if (!pmt::eqv(d_tags[t].key, d_frame_key))
+                d_frame_tags.push_back(d_tags[t]);
+
+        const gr_complex* y = in + static_cast<size_t>(consumed) * d_m;
+        d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
+        for (int k = d_first_of_row[d_row]; k < d_first_of_row[d_row + 1]; ++k)
+            d_obs[k] = y[d_cols[k]] / d_pilot_symbol;
+        ++consumed;
+
+        if (++d_row < d_n)
+            continue;
+        // A whole frame.
+        if (d_nonfinite) {
+            ++d_skipped_nonfinite;
+        } else {
+            const uint64_t out_offset = nwritten + static_cast<uint64_t>(produced);
+            std::copy(d_obs.begin(), d_obs.end(), out + static_cast<size_t>(produced) * d_np);
+            add_item_tag(0, out_offset, d_frame_key, pmt::from_uint64(d_frame), alias_pmt());
+            for (const auto& t : d_frame_tags)
+                add_item_tag(0, out_offset, t.key, t.value, t.srcid);
+            ++produced;
+            ++d_frames_out;
+        }
+        d_row = 0;
+        d_frame_tags.clear();
+    }
+    consume(0, consumed);
+    return produced;
+}
+
+} // namespace sems
+} // namespace gr

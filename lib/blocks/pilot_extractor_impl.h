@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot_extractor implementation (see pilot_extractor.h). */
+#ifndef INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H
+#define INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H
+
+#include <gnuradio/sems/blocks/pilot_extractor.h>
+#include <pmt/pmt.h>
+#include <atomic>
+
+namespace gr {
+namespace sems {
+
+class pilot_extractor_impl : public pilot_extractor
+{
+public:
+    explicit pilot_extractor_impl(const pilot_mask& mask);
+
+    const pilot_mask& mask() const override { return d_mask; }
+    int n_pilots() const override { return d_mask.size(); }
+    uint64_t frames_out() const override { return d_frames_out; }
+    uint64_t frames_dropped_partial() const override { return d_dropped_partial; }
+    uint64_t frames_skipped_nonfinite() const override { return d_skipped_nonfinite; }
+
+    void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
+    bool stop() override;
+    int general_work(int noutput_items,
+                     gr_vector_int& ninput_items,
+                     gr_vector_const_void_star& input_items,
+                     gr_vector_void_star& output_items) override;
+
+private:
+    void begin_frame(bool tagged, uint64_t frame);
+
+    const pilot_mask d_mask;
+    const int d_n, d_m, d_np;
+    const gr_complex d_pilot_symbol;
+    std::vector<int> d_cols;          // subcarrier of each pilot, mask order
+    std::vector<int> d_first_of_row;  // pilots of row n: [d_first_of_row[n], d_first_of_row[n+1])
+
+    // The frame being collected.
+    std::vector<gr_complex> d_obs; // N_p
+    std::vector<gr::tag_t> d_frame_tags;
+    int d_row = 0;           // symbols collected
+    bool d_tagged = false;   // started at a frame tag
+    bool d_nonfinite = false;
+    uint64_t d_frame = 0;
+    bool d_started = false;
+
+    // Counters, read from other threads.
+    std::atomic<uint64_t> d_frames_out{ 0 }, d_dropped_partial{ 0 }, d_skipped_nonfinite{ 0 };
+    const pmt::pmt_t d_frame_key;
+    std::vector<gr::tag_t> d_tags;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H */

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot_mapper implementation (see pilot_mapper.h). */
+#include "blocks/block_mask.h"
+#include "blocks/pilot_mapper_impl.h"
+#include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/tags.h>
+#include <cmath>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+static const char* const who = "pilot_mapper";
+
+pilot_mapper::sptr pilot_mapper::make(const std::string& mask_file,
+                                      const std::vector<int>& pilot_positions,
+                                      int n_symbols,
+                                      int n_subcarriers,
+                                      gr_complex pilot_symbol,
+                                      double pilot_power,
+                                      double data_power)
+{
+    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    return gnuradio::make_block_sptr<pilot_mapper_impl>(mask, pilot_power, data_power);
+}
+
+pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power, double data_power)
+    : gr::block(who,
+                // Optional input: a pilot-only mask (N_p = N·M) needs no data (check_topology).
+                gr::io_signature::make(0, 1, sizeof(gr_complex)),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.n_subcarriers())),
+      d_mask(mask),
+      d_n(mask.n_symbols()),
+      d_m(mask.n_subcarriers()),
+      d_pilot_cols(d_n),
+      d_data_cols(d_n),
+      d_data_before_row(d_n + 1, 0),
+      d_frame_key(pmt::intern(keys::frame_tag))
+{
+    check_power(who, "pilot_power", pilot_power);
+    check_power(who, "data_power", data_power);
+    d_pilot_power = pilot_power;
+    d_data_power = data_power;
+    d_pilot_value = gr_complex(std::sqrt(pilot_power)) * d_mask.pilot_symbol();
+    d_data_amp = static_cast<float>(std::sqrt(data_power));
+
+    const auto dense = d_mask.dense();
+    for (int n = 0; n < d_n; ++n) {
+        for (int m = 0; m < d_m; ++m)
+            (dense[size_t(n) * d_m + m] ? d_pilot_cols : d_data_cols)[n].push_back(m);
+        d_data_before_row[n + 1] = d_data_before_row[n] + static_cast<long>(d_data_cols[n].size());
+    }
+    d_data_per_frame = static_cast<int>(d_data_before_row[d_n]);
+    if (d_data_per_frame > 0)
+        set_relative_rate(static_cast<uint64_t>(d_n), static_cast<uint64_t>(d_data_per_frame));
+    // Data-symbol tags are moved by hand onto the OFDM symbol that carries them.
+    set_tag_propagation_policy(TPP_DONT);
+    d_tags.reserve(64);
+}
+
+void pilot_mapper_impl::set_pilot_power(double energy)
+{
+    check_power(who, "pilot_power", energy);
+    d_pilot_power = energy; // latched at the next frame start
+}
+
+double pilot_mapper_impl::pilot_power() const { return d_pilot_power; }
+
+void pilot_mapper_impl::set_data_power(double energy)
+{
+    check_power(who, "data_power", energy);
+    d_data_power = energy;
+}
+
+double pilot_mapper_impl::data_power() const { return d_data_power; }
+
+bool pilot_mapper_impl::check_topology(int ninputs, int noutputs)
+{
+    if (ninputs == 0 && d_data_per_frame > 0)
+        throw std::invalid_argument(std::string(who) + ": the mask leaves " + std::to_string(d_data_per_frame) +
+                                    " data positions per frame, so the data input must be connected");
+    return true;
+}
+
+void pilot_mapper_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
+{
+    if (ninput_items_required.empty())
+        return;
+    // Exactly the data the next noutput_items rows take, starting at the current row.
+    const long end = d_row + static_cast<long>(noutput_items);
+    const long need = (end / d_n) * d_data_per_frame + d_data_before_row[end % d_n] - d_data_before_row[d_row];
+    ninput_items_required[0] = static_cast<int>(need);
+}
+
+int pilot_mapper_impl::general_work(int noutput_items,
+                                    gr_vector_int& ninput_items,
+                                    gr_vector_const_void_star& input_items,
+                                    gr_vector_void_star& output_items)
+{
+    const bool has_input = !input_items.empty();
+    const auto* in = has_input ? static_cast<const gr_complex*>(input_items[0]) : nullptr;
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    const int avail = has_input ? ninput_items[0] : 0;
+    const uint64_t nread = has_input ? nitems_read(0) : 0;
+    const uint64_t nwritten = nitems_written(0);
+
+    if (has_input)
+        get_tags_in_range(d_tags, 0, nread, nread + static_cast<uint64_t>(avail));
+    size_t next_tag = 0;
+
+    int consumed = 0, produced = 0;
+    while (produced < noutput_items) {
+        const auto& data_cols = d_data_cols[d_row];
+        const int need = static_cast<int>(data_cols.size());
+        if (consumed + need > avail)
+            break;
+
+        if (d_row == 0) { // frame start: latch the powers for the whole frame, tag it
+            d_pilot_value = gr_complex(std::sqrt(d_pilot_power.load())) * d_mask.pilot_symbol();
+            d_data_amp = static_cast<float>(std::sqrt(d_data_power.load()));
+            add_item_tag(0, nwritten + produced, d_frame_key, pmt::from_uint64(d_frame));
+            ++d_frames;
+        }
+
+        gr_complex* row = out + static_cast<size_t>(produced) * d_m;
+        for (int m : d_pilot_cols[d_row])
+            row[m] = d_pilot_value;
+        const gr_complex* data = in + consumed;
+        for (int k = 0; k < need; ++k)
+            row[data_cols[k]] = d_data_amp * data[k];
+
+        // Tags of the data symbols just used go onto this OFDM symbol.
+        const uint64_t used_end = nread + static_cast<uint64_t>(consumed + need);
+        for (; next_tag < d_tags.size() && d_tags[next_tag].offset < used_end; ++next_tag)
+            if (!pmt::eqv(d_tags[next_tag].key, d_frame_key))
+                add_item_tag(0, nwritten + produced, d_tags[next_tag].key, d_tags[next_tag].value,
+                             d_tags[next_tag].srcid);
+
+        consumed += need;
+        ++produced;
+        if (++d_row == d_n) {
+            d_row = 0;
+            ++d_frame;
+        }
+    }
+    if (has_input)
+        consume(0, consumed);
+    return produced;
+}
+
+} // namespace sems
+} // namespace gr

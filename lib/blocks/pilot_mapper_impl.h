@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot_mapper implementation (see pilot_mapper.h). */
+#ifndef INCLUDED_SEMS_PILOT_MAPPER_IMPL_H
+#define INCLUDED_SEMS_PILOT_MAPPER_IMPL_H
+
+#include <gnuradio/sems/blocks/pilot_mapper.h>
+#include <pmt/pmt.h>
+#include <atomic>
+
+namespace gr {
+namespace sems {
+
+class pilot_mapper_impl : public pilot_mapper
+{
+public:
+    pilot_mapper_impl(const pilot_mask& mask, double pilot_power, double data_power);
+
+    void set_pilot_power(double energy) override;
+    double pilot_power() const override;
+    void set_data_power(double energy) override;
+    double data_power() const override;
+
+    const pilot_mask& mask() const override { return d_mask; }
+    int n_pilots() const override { return d_mask.size(); }
+    int data_per_frame() const override { return d_data_per_frame; }
+    uint64_t frames() const override { return d_frames; }
+
+    bool check_topology(int ninputs, int noutputs) override;
+    void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
+    int general_work(int noutput_items,
+                     gr_vector_int& ninput_items,
+                     gr_vector_const_void_star& input_items,
+                     gr_vector_void_star& output_items) override;
+
+private:
+    const pilot_mask d_mask;
+    const int d_n, d_m;
+    // Per row n: which subcarriers carry pilots and which carry data (ascending).
+    std::vector<std::vector<int>> d_pilot_cols, d_data_cols;
+    std::vector<long> d_data_before_row; // data symbols in rows [0, n), n = 0..N
+    int d_data_per_frame;
+
+    // Requested energies (setters and getters run on other threads than work) and the
+    // amplitudes of the current frame.
+    std::atomic<double> d_pilot_power, d_data_power;
+    gr_complex d_pilot_value; // sqrt(E_p)·s_p
+    float d_data_amp;         // sqrt(E_d)
+
+    int d_row = 0;          // next row of the current frame
+    uint64_t d_frame = 0;   // index of the frame that row belongs to
+    std::atomic<uint64_t> d_frames{ 0 }; // frames started (read from other threads)
+    const pmt::pmt_t d_frame_key;
+    std::vector<gr::tag_t> d_tags;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_PILOT_MAPPER_IMPL_H */

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: target_channel implementation (see target_channel.h). */
+#ifndef INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
+#define INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
+
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/blocks/target_channel.h>
+#include <pmt/pmt.h>
+#include <atomic>
+#include <optional>
+
+namespace gr {
+namespace sems {
+
+class target_channel_impl : public target_channel
+{
+public:
+    target_channel_impl(channel_model model, double snr_db);
+
+    void set_snr_db(double snr_db) override;
+    double snr_db() const override;
+    const frame_settings& settings() const override { return d_model.settings(); }
+    std::string scene_json() const override { return d_model.scene_spec().to_json_string(); }
+    uint64_t frames() const override { return d_frames; }
+    uint64_t nonfinite_symbols() const override { return d_nonfinite; }
+
+    int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star& output_items) override;
+
+private:
+    void start_frame(uint64_t frame, uint64_t out_offset);
+
+    channel_model d_model;
+    const int d_n, d_m;
+    std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
+    double d_frame_snr_db; // the current frame's
+
+    std::optional<frame_channel> d_channel; // the current frame's factors
+    int d_row = 0;                           // next row of the current frame
+    uint64_t d_frame = 0;
+    bool d_started = false;
+
+    std::atomic<uint64_t> d_frames{ 0 };    // counters, read from other threads
+    std::atomic<uint64_t> d_nonfinite{ 0 };
+
+    const pmt::pmt_t d_frame_key, d_truth_key;
+    // Truth-dict keys, interned once (keys.h order: frame, class, class_name, ...).
+    const pmt::pmt_t d_k_frame, d_k_class, d_k_class_name, d_k_delay_s, d_k_delay_index, d_k_range_m,
+        d_k_velocity_mps, d_k_snr_db, d_k_n_paths;
+    std::vector<gr::tag_t> d_tags;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H */

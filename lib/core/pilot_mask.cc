@@ -1,0 +1,266 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot mask validation, standard patterns and the JSON file format. */
+#include "core/json_read.h"
+#include "core/rng.h"
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+namespace {
+
+void check_dims(int n_symbols, int n_subcarriers, const std::string& source)
+{
+    if (n_symbols < 1)
+        json_read::fail(source, "n_symbols", "must be >= 1, got " + std::to_string(n_symbols));
+    if (n_subcarriers < 1)
+        json_read::fail(source, "n_subcarriers", "must be >= 1, got " + std::to_string(n_subcarriers));
+}
+
+void check_count(int n_symbols, int n_subcarriers, int count, const std::string& source)
+{
+    check_dims(n_symbols, n_subcarriers, source);
+    if (count < 1 || count > n_symbols * n_subcarriers)
+        json_read::fail(source, "pilots", "count must be in [1, N*M = " + std::to_string(n_symbols * n_subcarriers) +
+                                              "], got " + std::to_string(count));
+}
+
+// `k` indices spread evenly over [0, n): the centres of k equal cells.
+std::vector<int> spread(int k, int n)
+{
+    std::vector<int> out(k);
+    for (int i = 0; i < k; ++i)
+        out[i] = static_cast<int>(std::floor((i + 0.5) * n / k));
+    return out;
+}
+
+} // namespace
+
+pilot_mask::pilot_mask(int n_symbols,
+                       int n_subcarriers,
+                       std::vector<pilot_position> pilots,
+                       gr_complex pilot_symbol,
+                       nlohmann::json origin,
+                       const std::string& source)
+    : d_n_symbols(n_symbols),
+      d_n_subcarriers(n_subcarriers),
+      d_pilots(std::move(pilots)),
+      d_pilot_symbol(pilot_symbol),
+      d_origin(std::move(origin))
+{
+    check_dims(n_symbols, n_subcarriers, source);
+    if (d_pilots.empty())
+        json_read::fail(source, "pilots", "a mask needs at least one pilot");
+    for (const auto& p : d_pilots)
+        if (p.n < 0 || p.n >= n_symbols || p.m < 0 || p.m >= n_subcarriers)
+            json_read::fail(source, "pilots",
+                            "position [" + std::to_string(p.n) + ", " + std::to_string(p.m) +
+                                "] is outside the " + std::to_string(n_symbols) + " x " +
+                                std::to_string(n_subcarriers) + " grid");
+    std::sort(d_pilots.begin(), d_pilots.end());
+    auto dup = std::adjacent_find(d_pilots.begin(), d_pilots.end());
+    if (dup != d_pilots.end())
+        json_read::fail(source, "pilots",
+                        "duplicate position [" + std::to_string(dup->n) + ", " + std::to_string(dup->m) + "]");
+    if (!std::isfinite(pilot_symbol.real()) || !std::isfinite(pilot_symbol.imag()) ||
+        std::norm(pilot_symbol) == 0.0f)
+        json_read::fail(source, "pilot_symbol", "must be finite and non-zero (observations are divided by it)");
+    if (!d_origin.is_object())
+        json_read::fail(source, "origin", "expected a JSON object");
+}
+
+pilot_mask pilot_mask::uniform(int n_symbols, int n_subcarriers, int count)
+{
+    check_count(n_symbols, n_subcarriers, count, "uniform pilot mask");
+    // Pick a rows x b columns (a·b >= count, the last row possibly partial) whose
+    // spacings N/a and M/b are as equal as possible, preferring no spare cells.
+    int best_a = 1;
+    double best_score = std::numeric_limits<double>::infinity();
+    for (int a = 1; a <= std::min(n_symbols, count); ++a) {
+        const int b = (count + a - 1) / a;
+        if (b > n_subcarriers)
+            continue;
+        const double aspect = std::fabs(std::log((double(n_symbols) / a) / (double(n_subcarriers) / b)));
+        const double spare = double(a * b - count) / count;
+        const double score = aspect + spare;
+        if (score < best_score - 1e-12) {
+            best_score = score;
+            best_a = a;
+        }
+    }
+    const int a = best_a, b = (count + a - 1) / a;
+    std::vector<pilot_position> pilots;
+    const auto rows = spread(a, n_symbols);
+    for (int i = 0; i < a; ++i) {
+        const int in_row = std::min(b, count - i * b);
+        for (int c : spread(in_row, n_subcarriers))
+            pilots.push_back({ rows[i], c });
+    }
+    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+                      { { "kind", "uniform" }, { "rows", a }, { "columns", b } }, "uniform pilot mask");
+}
+
+pilot_mask pilot_mask::random(int n_symbols, int n_subcarriers, int count, uint64_t seed)
+{
+    check_count(n_symbols, n_subcarriers, count, "random pilot mask");
+    // Partial Fisher–Yates over the flat grid with the project's portable generator.
+    std::vector<int> cells(n_symbols * n_subcarriers);
+    std::iota(cells.begin(), cells.end(), 0);
+    rng gen(seed);
+    for (int i = 0; i < count; ++i)
+        std::swap(cells[i], cells[i + gen.below(cells.size() - i)]);
+    std::vector<pilot_position> pilots;
+    for (int i = 0; i < count; ++i)
+        pilots.push_back({ cells[i] / n_subcarriers, cells[i] % n_subcarriers });
+    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+                      { { "kind", "random" }, { "seed", seed } }, "random pilot mask");
+}
+
+pilot_mask pilot_mask::doppler(int n_symbols, int n_subcarriers, int count)
+{
+    check_count(n_symbols, n_subcarriers, count, "doppler pilot mask");
+    // As few subcarriers as the count allows, each sampled over (nearly) every symbol:
+    // the longest slow-time runs give the finest Doppler resolution.
+    const int k = (count + n_symbols - 1) / n_symbols;
+    std::vector<pilot_position> pilots;
+    const auto cols = spread(k, n_subcarriers);
+    for (int j = 0; j < k; ++j) {
+        const int in_col = count / k + (j < count % k ? 1 : 0);
+        for (int r : spread(in_col, n_symbols))
+            pilots.push_back({ r, cols[j] });
+    }
+    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+                      { { "kind", "doppler" }, { "subcarriers", k } }, "doppler pilot mask");
+}
+
+pilot_mask pilot_mask::from_pattern(
+    const std::string& pattern, int n_symbols, int n_subcarriers, int count, uint64_t seed)
+{
+    if (pattern == "uniform")
+        return uniform(n_symbols, n_subcarriers, count);
+    if (pattern == "random")
+        return random(n_symbols, n_subcarriers, count, seed);
+    if (pattern == "doppler")
+        return doppler(n_symbols, n_subcarriers, count);
+    throw std::invalid_argument("unknown pilot pattern \"" + pattern + "\" (known: uniform, random, doppler)");
+}
+
+pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& source)
+{
+    using namespace json_read;
+    check_format(j, format_name, format_version, source);
+    const int n_sym = static_cast<int>(integer(require(j, "n_symbols", source), "n_symbols", source));
+    const int n_sub = static_cast<int>(integer(require(j, "n_subcarriers", source), "n_subcarriers", source));
+    check_dims(n_sym, n_sub, source);
+
+    gr_complex symbol(1.0f, 0.0f);
+    if (j.contains("pilot_symbol")) {
+        const auto& ps = j["pilot_symbol"];
+        if (!ps.is_array() || ps.size() != 2)
+            fail(source, "pilot_symbol", "expected [re, im]");
+        symbol = gr_complex(static_cast<float>(finite_number(ps[0], "pilot_symbol", source)),
+                            static_cast<float>(finite_number(ps[1], "pilot_symbol", source)));
+    }
+
+    const auto& list = require(j, "pilots", source);
+    if (!list.is_array())
+        fail(source, "pilots", "expected a list of [n, m] pairs");
+    std::vector<pilot_position> pilots;
+    for (size_t i = 0; i < list.size(); ++i) {
+        const auto& p = list[i];
+        const std::string field = "pilots[" + std::to_string(i) + "]";
+        if (!p.is_array() || p.size() != 2)
+            fail(source, field, "expected [n, m], got " + p.dump());
+        pilots.push_back({ static_cast<int>(integer(p[0], field, source)),
+                           static_cast<int>(integer(p[1], field, source)) });
+    }
+    if (j.contains("n_pilots")) {
+        const auto declared = integer(j["n_pilots"], "n_pilots", source);
+        if (declared != static_cast<long long>(pilots.size()))
+            fail(source, "n_pilots",
+                 "declares " + std::to_string(declared) + " pilots but the list has " + std::to_string(pilots.size()));
+    }
+    nlohmann::json origin = j.value("origin", nlohmann::json{ { "kind", "explicit" } });
+    return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source);
+}
+
+pilot_mask pilot_mask::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
+
+pilot_mask pilot_mask::parse(const std::string& json_text, const std::string& source)
+{
+    return from_json(json_read::parse_text(json_text, source), source);
+}
+
+nlohmann::json pilot_mask::to_json() const
+{
+    nlohmann::json pilots = nlohmann::json::array();
+    for (const auto& p : d_pilots)
+        pilots.push_back({ p.n, p.m });
+    return { { "format", format_name },
+             { "version", format_version },
+             { "n_symbols", d_n_symbols },
+             { "n_subcarriers", d_n_subcarriers },
+             { "n_pilots", size() },
+             { "pilot_symbol", { d_pilot_symbol.real(), d_pilot_symbol.imag() } },
+             { "pilots", pilots },
+             { "origin", d_origin } };
+}
+
+std::string pilot_mask::to_json_string() const { return to_json().dump(); }
+
+void pilot_mask::save(const std::string& path) const { json_read::write_file(path, to_json()); }
+
+std::vector<int> pilot_mask::flat_indices() const
+{
+    std::vector<int> out;
+    out.reserve(d_pilots.size());
+    for (const auto& p : d_pilots)
+        out.push_back(p.n * d_n_subcarriers + p.m);
+    return out;
+}
+
+std::vector<uint8_t> pilot_mask::dense() const
+{
+    std::vector<uint8_t> grid(size_t(d_n_symbols) * d_n_subcarriers, 0);
+    for (int idx : flat_indices())
+        grid[idx] = 1;
+    return grid;
+}
+
+std::vector<std::vector<int>> pilot_mask::carrier_lists() const
+{
+    std::vector<std::vector<int>> lists(d_n_symbols);
+    for (const auto& p : d_pilots)
+        lists[p.n].push_back(p.m);
+    return lists;
+}
+
+std::vector<std::vector<gr_complex>> pilot_mask::pilot_symbol_lists() const
+{
+    std::vector<std::vector<gr_complex>> lists(d_n_symbols);
+    for (const auto& p : d_pilots)
+        lists[p.n].push_back(d_pilot_symbol);
+    return lists;
+}
+
+void pilot_mask::check_frame(const frame_settings& fs, const std::string& who) const
+{
+    if (fs.n_symbols != d_n_symbols || fs.n_subcarriers != d_n_subcarriers)
+        throw std::invalid_argument(who + ": the pilot mask is " + std::to_string(d_n_symbols) + " x " +
+                                    std::to_string(d_n_subcarriers) + " but the frame is " +
+                                    std::to_string(fs.n_symbols) + " x " + std::to_string(fs.n_subcarriers));
+}
+
+bool pilot_mask::operator==(const pilot_mask& o) const
+{
+    return d_n_symbols == o.d_n_symbols && d_n_subcarriers == o.d_n_subcarriers && d_pilots == o.d_pilots &&
+           d_pilot_symbol == o.d_pilot_symbol;
+}
+
+} // namespace sems
+} // namespace gr

@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: pilot masks — patterns, file round trip, validation. */
+#include <gnuradio/sems/core/pilot_mask.h>
+#include "qa/qa_assert.h"
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cstdio>
+#include <numeric>
+#include <set>
+#include <string>
+
+using namespace gr::sems;
+using gr::sems::qa::assert_error;
+
+namespace {
+// Asserts that `f` throws std::invalid_argument whose message contains `needle`.
+
+std::string mask_text(const std::string& pilots, int n = 4, int m = 8, const std::string& extra = "")
+{
+    return R"({"format": "sems.pilot_mask", "version": 1, "n_symbols": )" + std::to_string(n) +
+           R"(, "n_subcarriers": )" + std::to_string(m) + R"(, "pilot_symbol": [1.0, 0.0], "pilots": )" + pilots +
+           extra + "}";
+}
+} // namespace
+
+class qa_pilot_mask : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_pilot_mask);
+    CPPUNIT_TEST(uniform_lattice);
+    CPPUNIT_TEST(doppler_pattern);
+    CPPUNIT_TEST(random_is_seeded);
+    CPPUNIT_TEST(count_extremes);
+    CPPUNIT_TEST(mask_order_and_exports);
+    CPPUNIT_TEST(file_round_trip);
+    CPPUNIT_TEST(bad_masks_are_refused);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void uniform_lattice()
+    {
+        auto mk = pilot_mask::uniform(32, 64, 32); // 4 rows x 8 columns, spacing 8 x 8
+        CPPUNIT_ASSERT_EQUAL(32, mk.size());
+        std::set<int> rows, cols;
+        for (const auto& p : mk.positions()) {
+            rows.insert(p.n);
+            cols.insert(p.m);
+        }
+        CPPUNIT_ASSERT(rows == (std::set<int>{ 4, 12, 20, 28 }));
+        CPPUNIT_ASSERT(cols == (std::set<int>{ 4, 12, 20, 28, 36, 44, 52, 60 }));
+        CPPUNIT_ASSERT_EQUAL(std::string("uniform"), mk.origin()["kind"].get<std::string>());
+    }
+
+    void doppler_pattern()
+    {
+        auto mk = pilot_mask::doppler(32, 64, 32); // one subcarrier over every symbol
+        std::set<int> cols;
+        for (const auto& p : mk.positions())
+            cols.insert(p.m);
+        CPPUNIT_ASSERT_EQUAL(size_t(1), cols.size());
+        auto two = pilot_mask::doppler(32, 64, 48); // two subcarriers, 24 symbols each
+        std::set<int> cols2;
+        for (const auto& p : two.positions())
+            cols2.insert(p.m);
+        CPPUNIT_ASSERT_EQUAL(size_t(2), cols2.size());
+    }
+
+    void random_is_seeded()
+    {
+        CPPUNIT_ASSERT(pilot_mask::random(32, 64, 32, 7) == pilot_mask::random(32, 64, 32, 7));
+        CPPUNIT_ASSERT(!(pilot_mask::random(32, 64, 32, 7) == pilot_mask::random(32, 64, 32, 8)));
+    }
+
+    void count_extremes()
+    {
+        for (const char* pattern : { "uniform", "random", "doppler" }) {
+            CPPUNIT_ASSERT_EQUAL(1, pilot_mask::from_pattern(pattern, 32, 64, 1, 3).size());
+            auto all = pilot_mask::from_pattern(pattern, 32, 64, 32 * 64, 3);
+            CPPUNIT_ASSERT_EQUAL(32 * 64, all.size()); // every resource element, no duplicates
+            for (int c : { 0, 32 * 64 + 1 })
+                assert_error([&] { pilot_mask::from_pattern(pattern, 32, 64, c, 3); }, "count must be in");
+        }
+        for (int c : { 2, 7, 31, 33, 100, 1000, 2047 }) // awkward counts still exact
+            CPPUNIT_ASSERT_EQUAL(c, pilot_mask::uniform(32, 64, c).size());
+    }
+
+    void mask_order_and_exports()
+    {
+        pilot_mask mk(4, 8, { { 3, 1 }, { 0, 7 }, { 0, 2 }, { 2, 5 } }, gr_complex(0.0f, 2.0f));
+        const std::vector<int> flat = { 2, 7, 21, 25 }; // sorted by (n, m)
+        CPPUNIT_ASSERT(mk.flat_indices() == flat);
+        auto lists = mk.carrier_lists();
+        CPPUNIT_ASSERT_EQUAL(size_t(4), lists.size());
+        CPPUNIT_ASSERT(lists[0] == (std::vector<int>{ 2, 7 }));
+        CPPUNIT_ASSERT(lists[1].empty());
+        CPPUNIT_ASSERT(lists[3] == (std::vector<int>{ 1 }));
+        CPPUNIT_ASSERT(mk.pilot_symbol_lists()[0][1] == gr_complex(0.0f, 2.0f));
+        auto dense = mk.dense();
+        CPPUNIT_ASSERT_EQUAL(4, std::accumulate(dense.begin(), dense.end(), 0));
+    }
+
+    void file_round_trip()
+    {
+        auto mk = pilot_mask::random(32, 64, 32, 11);
+        const std::string path = "qa_pilot_mask_roundtrip.json";
+        mk.save(path);
+        auto back = pilot_mask::load(path);
+        std::remove(path.c_str());
+        CPPUNIT_ASSERT(mk == back);
+        CPPUNIT_ASSERT_EQUAL(std::string("random"), back.origin()["kind"].get<std::string>());
+        CPPUNIT_ASSERT(pilot_mask::parse(mk.to_json_string()) == mk);
+    }
+
+    void bad_masks_are_refused()
+    {
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1], [0, 1]]"), "dup.json"); }, "dup.json: pilots: duplicate");
+        assert_error([] { pilot_mask::parse(mask_text("[[4, 1]]"), "oob.json"); }, "outside the 4 x 8 grid");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, -1]]"), "neg.json"); }, "outside");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1]]", 0, 8), "dims.json"); }, "n_symbols: must be >= 1");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1]]", 4, 8, R"(, "n_pilots": 2)"), "cnt.json"); },
+                     "declares 2 pilots but the list has 1");
+        assert_error([] { pilot_mask::parse(mask_text("[]"), "empty.json"); }, "at least one pilot");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1.5]]"), "frac.json"); }, "expected an integer");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1, 2]]"), "tri.json"); }, "expected [n, m]");
+        assert_error([] { pilot_mask::parse("{not json", "broken.json"); }, "broken.json: not valid JSON");
+        assert_error([] { pilot_mask::parse(R"({"format": "other", "version": 1})", "fmt.json"); }, "format");
+        assert_error([] { pilot_mask::load("/nonexistent/mask.json"); }, "/nonexistent/mask.json: cannot open");
+        assert_error([] { pilot_mask(2, 2, { { 0, 0 } }, gr_complex(0, 0)); }, "pilot_symbol");
+        frame_settings fs;
+        assert_error([&] { pilot_mask::uniform(16, 64, 8).check_frame(fs, "pilot_extractor"); },
+                     "pilot_extractor: the pilot mask is 16 x 64 but the frame is 32 x 64");
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_pilot_mask);

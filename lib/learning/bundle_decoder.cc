@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include "learning/task_decoder.h"
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+struct bundle_decoder::impl {
+    model_bundle bundle;
+    nn::task_decoder net;
+    std::vector<int64_t> indices;
+
+    torch::Tensor grid(const gr_complex* obs, int batch) const
+    {
+        if (batch < 0)
+            throw std::invalid_argument("bundle_decoder: batch must be >= 0");
+        const int np = bundle.mask.size();
+        // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
+        auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
+        return nn::scatter_pilots(o, indices, bundle.frame.n_symbols, bundle.frame.n_subcarriers);
+    }
+
+    nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
+    {
+        if (bundle.task != need)
+            throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
+                                        " is a \"" + task_name(bundle.task) + "\" model");
+        torch::NoGradGuard ng;
+        return net->forward(grid(obs, batch));
+    }
+};
+
+bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl(std::make_unique<impl>())
+{
+    if (threads > 0)
+        torch::set_num_threads(threads);
+    d_impl->bundle = bundle;
+    const std::string source = bundle.directory + "/" + model_bundle::bundle_file;
+    d_impl->net = nn::make_decoder(bundle.decoder, bundle.frame.n_symbols, bundle.frame.n_subcarriers,
+                                   bundle.mask.size(), source);
+    nn::load_module(d_impl->net, bundle.directory + "/" + model_bundle::weights_file);
+    d_impl->net->eval();
+    for (int i : bundle.mask.flat_indices())
+        d_impl->indices.push_back(i);
+}
+
+bundle_decoder::~bundle_decoder() = default;
+
+const model_bundle& bundle_decoder::bundle() const { return d_impl->bundle; }
+int bundle_decoder::n_pilots() const { return d_impl->bundle.mask.size(); }
+
+std::vector<float> bundle_decoder::classify(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::classify, "classify");
+    auto p = torch::softmax(out.logits, -1).contiguous();
+    return std::vector<float>(p.data_ptr<float>(), p.data_ptr<float>() + p.numel());
+}
+
+std::vector<double> bundle_decoder::estimate_delay_index(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::delay, "estimate_delay");
+    auto d = out.delay_index.to(torch::kDouble).contiguous();
+    return std::vector<double>(d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
+}
+
+std::vector<double> bundle_decoder::estimate_delay(const gr_complex* obs, int batch) const
+{
+    auto d = estimate_delay_index(obs, batch);
+    for (auto& x : d)
+        x /= d_impl->bundle.frame.bandwidth_hz; // index = τ·B
+    return d;
+}
+
+std::vector<float> bundle_decoder::features(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::classify, "features");
+    auto f = out.features.contiguous();
+    return std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel());
+}
+
+int bundle_decoder::feature_size() const
+{
+    if (d_impl->bundle.task != task_kind::classify)
+        return 0;
+    return d_impl->bundle.decoder.at("settings").value("features", 16);
+}
+
+} // namespace sems
+} // namespace gr

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: model bundle directory (bundle.json + mask.json; weights via bundle_decoder). */
+#include "core/json_read.h"
+#include <gnuradio/sems/learning/model_bundle.h>
+#include <sys/stat.h>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+namespace {
+std::string join(const std::string& dir, const std::string& file)
+{
+    if (dir.empty())
+        return file;
+    return dir.back() == '/' ? dir + file : dir + "/" + file;
+}
+
+bool is_directory(const std::string& path)
+{
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+// The decoder kind each task needs.
+const char* decoder_kind_for(task_kind t) { return t == task_kind::classify ? "classifier_resnet" : "delay_correlation"; }
+} // namespace
+
+std::string task_name(task_kind t) { return t == task_kind::classify ? "classify" : "delay"; }
+
+task_kind task_from_name(const std::string& name)
+{
+    if (name == "classify")
+        return task_kind::classify;
+    if (name == "delay")
+        return task_kind::delay;
+    throw std::invalid_argument("unknown task \"" + name + "\" (known: classify, delay)");
+}
+
+nlohmann::json model_bundle::to_json() const
+{
+    nlohmann::json j = { { "format", format_name },
+                         { "version", format_version },
+                         { "task", task_name(task) },
+                         { "class_names", class_names },
+                         { "decoder", decoder },
+                         { "frame", frame.to_json() },
+                         { "n_pilots", mask.size() },
+                         { "mask_file", mask_file },
+                         { "weights_file", weights_file },
+                         { "training", training.is_null() ? nlohmann::json::object() : training },
+                         { "metrics", metrics.is_null() ? nlohmann::json::object() : metrics } };
+    return j;
+}
+
+void model_bundle::save(const std::string& dir) const
+{
+    ::mkdir(dir.c_str(), 0755);
+    if (!is_directory(dir))
+        throw std::invalid_argument(dir + ": cannot create the bundle directory");
+    mask.save(join(dir, mask_file));
+    json_read::write_file(join(dir, bundle_file), to_json());
+}
+
+model_bundle model_bundle::load(const std::string& dir)
+{
+    if (!is_directory(dir))
+        throw std::invalid_argument(dir + ": model bundle directory does not exist");
+    const std::string path = join(dir, bundle_file);
+    const auto j = json_read::parse_file(path); // names the file when missing or malformed
+    json_read::check_format(j, format_name, format_version, path);
+
+    model_bundle b;
+    b.directory = dir;
+    const auto task = json_read::string(json_read::require(j, "task", path), "task", path);
+    try {
+        b.task = task_from_name(task);
+    } catch (const std::invalid_argument& e) {
+        json_read::fail(path, "task", e.what());
+    }
+    b.frame = frame_settings::from_json(json_read::require(j, "frame", path), path + ": frame");
+    b.decoder = json_read::require(j, "decoder", path);
+    const auto kind = json_read::string(json_read::require(b.decoder, "kind", path), "decoder.kind", path);
+    if (kind != decoder_kind_for(b.task))
+        json_read::fail(path, "decoder.kind",
+                        "task \"" + task + "\" needs a \"" + decoder_kind_for(b.task) + "\" decoder, got \"" + kind + "\"");
+    if (b.task == task_kind::classify) {
+        const auto& names = json_read::require(j, "class_names", path);
+        if (!names.is_array() || names.size() < 2)
+            json_read::fail(path, "class_names", "a classifier needs at least two class names");
+        for (const auto& n : names)
+            b.class_names.push_back(json_read::string(n, "class_names", path));
+        const auto s = b.decoder.find("settings");
+        if (s != b.decoder.end() && s->contains("n_classes") &&
+            json_read::integer((*s)["n_classes"], "decoder.settings.n_classes", path) !=
+                static_cast<long long>(b.class_names.size()))
+            json_read::fail(path, "class_names", "has " + std::to_string(b.class_names.size()) +
+                                                     " names but the decoder has " + s->at("n_classes").dump() +
+                                                     " classes");
+    }
+    const auto mask_name = j.contains("mask_file") ? json_read::string(j["mask_file"], "mask_file", path)
+                                                   : std::string(mask_file);
+    b.mask = pilot_mask::load(join(dir, mask_name)); // names mask.json in its errors
+    try {
+        b.mask.check_frame(b.frame, path);
+    } catch (const std::invalid_argument& e) {
+        json_read::fail(join(dir, mask_name), "", std::string("does not match bundle.json: ") + e.what());
+    }
+    const auto np = json_read::integer(json_read::require(j, "n_pilots", path), "n_pilots", path);
+    if (np != b.mask.size())
+        json_read::fail(join(dir, mask_name), "pilots",
+                        "holds " + std::to_string(b.mask.size()) + " pilots but bundle.json says n_pilots = " +
+                            std::to_string(np));
+    b.training = j.value("training", nlohmann::json::object());
+    b.metrics = j.value("metrics", nlohmann::json::object());
+    return b;
+}
+
+void model_bundle::check_compatible(const frame_settings& fs,
+                                    int n_pilots,
+                                    task_kind expected,
+                                    const std::string& who) const
+{
+    const std::string what = who + ": model bundle " + (directory.empty() ? std::string("(in memory)") : directory);
+    if (task != expected)
+        throw std::invalid_argument(what + " is a \"" + task_name(task) + "\" model, this block needs \"" +
+                                    task_name(expected) + "\"");
+    if (n_pilots != mask.size())
+        throw std::invalid_argument(what + " expects N_p = " + std::to_string(mask.size()) +
+                                    " pilots per frame, the stream carries " + std::to_string(n_pilots));
+    if (fs != frame)
+        throw std::invalid_argument(what + " was trained for frame " + frame.to_json().dump() +
+                                    ", the stream uses " + fs.to_json().dump());
+}
+
+} // namespace sems
+} // namespace gr

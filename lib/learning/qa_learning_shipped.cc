@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the shipped model bundles (models/) meet their bars on fresh frames:
+ * classifier >= 95 % accuracy at 10 dB, single-path delay MAE <= 0.05 delay index at
+ * 30 dB. Frames are drawn from each bundle's own training scene with a seed the
+ * trainer never used, noise from channel_model::add_noise. */
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/core/channel_model.h>
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+using namespace gr::sems;
+
+namespace {
+constexpr uint64_t fresh_seed = 0x5e5f00d; // not a training seed
+constexpr int fresh_frames = 3000;
+
+std::string models_dir()
+{
+    const char* src = std::getenv("SEMS_SOURCE_DIR");
+    return std::string(src ? src : ".") + "/models/";
+}
+
+// Pilot observations (frames x N_p, mask order) of fresh frames at `snr_db`, with truths.
+std::vector<gr_complex> fresh_obs(const model_bundle& b, double snr_db, std::vector<frame_truth>& truths)
+{
+    const auto sc = scene::from_json(b.training.at("scene"), b.directory + "/bundle.json: training.scene");
+    channel_model model(b.frame, sc, fresh_seed);
+    const int g = b.frame.grid_size();
+    std::vector<gr_complex> h(static_cast<size_t>(fresh_frames) * g);
+    truths = model.generate(fresh_frames, h.data());
+    model.add_noise(h.data(), h.size(), snr_db);
+    const auto idx = b.mask.flat_indices();
+    std::vector<gr_complex> obs;
+    obs.reserve(static_cast<size_t>(fresh_frames) * idx.size());
+    for (int f = 0; f < fresh_frames; ++f)
+        for (int i : idx)
+            obs.push_back(h[static_cast<size_t>(f) * g + i]);
+    return obs;
+}
+} // namespace
+
+class qa_learning_shipped : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_learning_shipped);
+    CPPUNIT_TEST(classifier_bar);
+    CPPUNIT_TEST(delay_single_bar);
+    CPPUNIT_TEST(delay_multipath_loads);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void classifier_bar()
+    {
+        const auto b = model_bundle::load(models_dir() + "classifier");
+        CPPUNIT_ASSERT_EQUAL(32, b.mask.size());
+        bundle_decoder dec(b, 2);
+        std::vector<frame_truth> truths;
+        const auto obs = fresh_obs(b, 10.0, truths);
+        const auto probs = dec.classify(obs.data(), fresh_frames);
+        const int c = static_cast<int>(b.class_names.size());
+        int correct = 0;
+        for (int f = 0; f < fresh_frames; ++f) {
+            const int pred = static_cast<int>(
+                std::max_element(probs.begin() + f * c, probs.begin() + (f + 1) * c) - (probs.begin() + f * c));
+            correct += (b.class_names[pred] == truths[f].class_name);
+        }
+        const double acc = static_cast<double>(correct) / fresh_frames;
+        std::cout << "\n  shipped classifier: accuracy " << acc << " at 10 dB on " << fresh_frames << " fresh frames"
+                  << std::endl;
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(acc) + " < 0.95", acc >= 0.95);
+    }
+
+    void delay_single_bar()
+    {
+        const auto b = model_bundle::load(models_dir() + "delay_single");
+        CPPUNIT_ASSERT_EQUAL(32, b.mask.size());
+        bundle_decoder dec(b, 2);
+        std::vector<frame_truth> truths;
+        const auto obs = fresh_obs(b, 30.0, truths);
+        const auto est = dec.estimate_delay_index(obs.data(), fresh_frames);
+        double sum = 0.0;
+        for (int f = 0; f < fresh_frames; ++f)
+            sum += std::abs(est[f] - truths[f].delay_index);
+        const double mae = sum / fresh_frames;
+        std::cout << "\n  shipped single-path delay: MAE " << mae << " delay index at 30 dB on " << fresh_frames
+                  << " fresh frames" << std::endl;
+        CPPUNIT_ASSERT_MESSAGE("MAE " + std::to_string(mae) + " > 0.05", mae <= 0.05);
+    }
+
+    void delay_multipath_loads()
+    {
+        // No bar in the issue: it must load, be N_p = 32, and give finite in-grid answers.
+        const auto b = model_bundle::load(models_dir() + "delay_multipath");
+        CPPUNIT_ASSERT_EQUAL(32, b.mask.size());
+        bundle_decoder dec(b, 2);
+        std::vector<frame_truth> truths;
+        const auto obs = fresh_obs(b, 30.0, truths);
+        const auto est = dec.estimate_delay_index(obs.data(), 200);
+        double sum = 0.0;
+        for (int f = 0; f < 200; ++f) {
+            CPPUNIT_ASSERT(std::isfinite(est[f]));
+            sum += std::abs(est[f] - truths[f].delay_index);
+        }
+        std::cout << "\n  shipped multipath delay: MAE " << sum / 200 << " delay index at 30 dB (200 frames)"
+                  << std::endl;
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_learning_shipped);

@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: a tiny, seeded training run — beats chance on held-out frames, is
+ * reproducible, and its bundle loads back into bundle_decoder with the same answers;
+ * bad bundles give errors that name the file and the problem. */
+#include <gnuradio/sems/learning/bundle_decoder.h>
+#include <gnuradio/sems/learning/trainer.h>
+#include "qa/qa_assert.h"
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <unistd.h>
+
+using namespace gr::sems;
+using gr::sems::qa::assert_error;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string temp_dir(const std::string& name)
+{
+    auto d = fs::temp_directory_path() / ("sems_qa_learning_" + std::to_string(::getpid()) + "_" + name);
+    fs::remove_all(d);
+    return d.string();
+}
+
+// Tiny: pedestrian vs car, learned mask, seconds on two cores.
+training_settings tiny(const std::string& out)
+{
+    training_settings s;
+    s.task = task_kind::classify;
+    random_spec r;
+    r.classes = { target_class::pedestrian, target_class::car };
+    s.scene_spec = scene::random(r);
+    s.snr_min_db = s.snr_max_db = 20.0;
+    s.frames = 1500;
+    s.epochs = 4;
+    s.decoder_epochs = 3;
+    s.batch = 64;
+    s.n_pilots = 16;
+    s.threads = 1;
+    s.seed = 7;
+    s.eval_snr_db = { 20.0 };
+    s.out_dir = out;
+    s.verbose = false;
+    return s;
+}
+
+struct trained {
+    std::string dir;
+    training_result result;
+};
+// One run shared by the tests of this suite.
+const trained& shared_run()
+{
+    static std::unique_ptr<trained> t;
+    if (!t) {
+        t = std::make_unique<trained>();
+        t->dir = temp_dir("tiny");
+        t->result = train(tiny(t->dir), nullptr);
+    }
+    return *t;
+}
+
+void copy_bundle(const std::string& from, const std::string& to)
+{
+    fs::remove_all(to);
+    fs::copy(from, to, fs::copy_options::recursive);
+}
+
+void edit_json(const std::string& path, const std::function<void(nlohmann::json&)>& f)
+{
+    nlohmann::json j;
+    std::ifstream(path) >> j;
+    f(j);
+    std::ofstream(path) << j.dump(2);
+}
+} // namespace
+
+class qa_learning_training : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_learning_training);
+    CPPUNIT_TEST(tiny_run_beats_chance);
+    CPPUNIT_TEST(bundle_reproduces_trainer_answers);
+    CPPUNIT_TEST(same_seed_same_mask_and_metrics);
+    CPPUNIT_TEST(bad_bundles_are_refused);
+    CPPUNIT_TEST(bad_settings_are_refused);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void tiny_run_beats_chance()
+    {
+        const auto& r = shared_run().result;
+        const double acc = r.bundle.metrics.at("test").at("accuracy").get<double>();
+        CPPUNIT_ASSERT_EQUAL(150, r.n_test);
+        // Chance is 0.5 for two balanced classes.
+        CPPUNIT_ASSERT_MESSAGE("held-out accuracy " + std::to_string(acc), acc >= 0.8);
+        CPPUNIT_ASSERT_EQUAL(16, r.bundle.mask.size());
+        CPPUNIT_ASSERT_EQUAL(std::string("learned"), r.bundle.mask.origin().at("kind").get<std::string>());
+    }
+
+    void bundle_reproduces_trainer_answers()
+    {
+        const auto& t = shared_run();
+        const auto b = model_bundle::load(t.dir);
+        CPPUNIT_ASSERT(b.mask == t.result.bundle.mask);
+        CPPUNIT_ASSERT_EQUAL(size_t(2), b.class_names.size());
+        bundle_decoder dec(b, 1);
+        const auto probs = dec.classify(t.result.test_obs.data(), t.result.n_test);
+        CPPUNIT_ASSERT_EQUAL(t.result.test_probs.size(), probs.size());
+        for (size_t i = 0; i < probs.size(); ++i)
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(t.result.test_probs[i], probs[i], 1e-5);
+        // Features: 16 per frame, finite.
+        const auto f = dec.features(t.result.test_obs.data(), 3);
+        CPPUNIT_ASSERT_EQUAL(size_t(3 * dec.feature_size()), f.size());
+        // A classifier bundle refuses delay estimation.
+        assert_error([&] { dec.estimate_delay(t.result.test_obs.data(), 1); }, "classify");
+    }
+
+    void same_seed_same_mask_and_metrics()
+    {
+        const auto& t = shared_run();
+        auto s = tiny("");
+        const auto again = train(s, nullptr);
+        CPPUNIT_ASSERT_MESSAGE(again.bundle.mask.to_json_string() + "\n vs \n" + t.result.bundle.mask.to_json_string() +
+                                   "\n" + again.history.dump() + "\n" + t.result.history.dump(),
+                               again.bundle.mask == t.result.bundle.mask);
+        CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), again.bundle.metrics.at("test").dump());
+    }
+
+    void bad_bundles_are_refused()
+    {
+        const auto& t = shared_run();
+        assert_error([] { model_bundle::load("/nonexistent/sems/bundle"); }, "/nonexistent/sems/bundle",
+                     "does not exist");
+
+        const auto d = temp_dir("bad");
+        copy_bundle(t.dir, d);
+        fs::remove(d + "/bundle.json");
+        assert_error([&] { model_bundle::load(d); }, "bundle.json", "cannot open");
+
+        copy_bundle(t.dir, d);
+        edit_json(d + "/bundle.json", [](nlohmann::json& j) { j["task"] = "delay"; });
+        assert_error([&] { model_bundle::load(d); }, "bundle.json", "task");
+        edit_json(d + "/bundle.json", [](nlohmann::json& j) { j["task"] = "juggle"; });
+        assert_error([&] { model_bundle::load(d); }, "bundle.json", "juggle");
+
+        copy_bundle(t.dir, d);
+        const auto good = model_bundle::load(d);
+        assert_error([&] { good.check_compatible(good.frame, 16, task_kind::delay, "delay sink"); }, "delay sink",
+                     "\"classify\" model");
+        assert_error([&] { good.check_compatible(good.frame, 32, task_kind::classify, "classifier sink"); },
+                     "N_p = 16");
+        frame_settings other = good.frame;
+        other.n_symbols = 16;
+        assert_error([&] { good.check_compatible(other, 16, task_kind::classify, "classifier sink"); }, "frame");
+
+        std::ofstream(d + "/decoder.pt", std::ios::trunc) << "not a torch archive";
+        assert_error([&] { bundle_decoder dec(model_bundle::load(d), 1); }, "decoder.pt", "corrupt");
+        fs::remove(d + "/decoder.pt");
+        assert_error([&] { bundle_decoder dec(model_bundle::load(d), 1); }, "decoder.pt", "missing");
+
+        // Weights of another architecture.
+        copy_bundle(t.dir, d);
+        edit_json(d + "/bundle.json", [](nlohmann::json& j) { j["decoder"]["settings"]["width"] = 4; });
+        assert_error([&] { bundle_decoder dec(model_bundle::load(d), 1); }, "decoder.pt");
+
+        // Mask that does not match bundle.json: fewer pilots, another frame.
+        copy_bundle(t.dir, d);
+        edit_json(d + "/mask.json", [](nlohmann::json& j) {
+            j["pilots"].erase(j["pilots"].begin());
+            if (j.contains("n_pilots"))
+                j["n_pilots"] = j["pilots"].size(); // a valid mask, just not this bundle's
+        });
+        assert_error([&] { model_bundle::load(d); }, "mask.json", "n_pilots = 16");
+        copy_bundle(t.dir, d);
+        edit_json(d + "/mask.json", [](nlohmann::json& j) { j["n_symbols"] = 64; });
+        assert_error([&] { model_bundle::load(d); }, "mask.json", "does not match bundle.json");
+        fs::remove(d + "/mask.json");
+        assert_error([&] { model_bundle::load(d); }, "mask.json");
+        fs::remove_all(d);
+    }
+
+    void bad_settings_are_refused()
+    {
+        auto s = tiny("");
+        s.objective = "fun";
+        assert_error([&] { train(s, nullptr); }, "objective");
+        s = tiny("");
+        s.snr_min_db = 30;
+        s.snr_max_db = 10;
+        assert_error([&] { train(s, nullptr); }, "snr");
+        s = tiny("");
+        s.n_pilots = 5000;
+        assert_error([&] { train(s, nullptr); }, "pilots");
+        s = tiny("");
+        s.scene_spec = scene::random(random_spec{ { target_class::car } });
+        assert_error([&] { train(s, nullptr); }, "at least two classes");
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_learning_training);

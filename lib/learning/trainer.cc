@@ -1,0 +1,500 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: joint pilot/decoder training (see include/gnuradio/sems/learning/trainer.h). */
+#include "learning/trainer_data.h"
+#include "learning/classifier_decoder.h"
+#include "learning/delay_decoder.h"
+#include "learning/reconstruction_decoder.h"
+#include "learning/semantic_encoder.h"
+#include <gnuradio/sems/learning/trainer.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+using nlohmann::json;
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+double since(clock_type::time_point t0)
+{
+    return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+void fail(const std::string& what) { throw std::invalid_argument("training settings: " + what); }
+
+scene default_scene() { return scene::random(random_spec{}); }
+
+// Copies of a module's parameters and buffers (best-epoch checkpoint).
+std::vector<torch::Tensor> snapshot(const std::shared_ptr<torch::nn::Module>& m)
+{
+    std::vector<torch::Tensor> out;
+    for (auto& p : m->parameters())
+        out.push_back(p.detach().clone());
+    for (auto& b : m->buffers())
+        out.push_back(b.detach().clone());
+    return out;
+}
+void restore(const std::shared_ptr<torch::nn::Module>& m, const std::vector<torch::Tensor>& s)
+{
+    torch::NoGradGuard ng;
+    size_t i = 0;
+    for (auto& p : m->parameters())
+        p.copy_(s[i++]);
+    for (auto& b : m->buffers())
+        b.copy_(s[i++]);
+}
+
+class trainer
+{
+public:
+    trainer(const training_settings& s, std::ostream* log) : d_s(s), d_log(log) {}
+
+    training_result run();
+
+private:
+    const training_settings& d_s;
+    std::ostream* d_log;
+    training::data_set d_data;
+    int d_n = 0, d_m = 0;
+    double d_spacing = 1.0;
+
+    bool higher_is_better(bool reconstruction) const
+    {
+        return !reconstruction && d_s.task == task_kind::classify;
+    }
+
+    nn::task_decoder make_task_decoder()
+    {
+        if (d_s.task == task_kind::classify) {
+            auto cs = d_s.classifier;
+            cs.n_classes = static_cast<int>(d_data.class_names.size());
+            return std::make_shared<nn::classifier_decoder_module>(d_n, d_m, d_s.n_pilots, cs);
+        }
+        auto ds = d_s.delay;
+        // Dictionary grid from the delays the data contain, with margin, at the set spacing.
+        ds.tau_min_index = std::floor(d_data.delay_min - d_s.delay_margin);
+        ds.tau_max_index = std::ceil(d_data.delay_max + d_s.delay_margin);
+        ds.q = static_cast<int>(std::lround((ds.tau_max_index - ds.tau_min_index) / d_s.delay_spacing)) + 1;
+        d_spacing = ds.spacing();
+        return std::make_shared<nn::delay_decoder_module>(d_n, d_m, d_s.n_pilots, ds);
+    }
+
+    // Task loss (or the reconstruction MSE) of one forward pass.
+    torch::Tensor loss(const nn::decoder_output& out,
+                       const training::split& sp,
+                       const torch::Tensor& idx,
+                       const torch::Tensor& h_clean,
+                       double ce_weight) const
+    {
+        if (out.channel.defined())
+            return torch::mse_loss(out.channel, h_clean);
+        if (d_s.task == task_kind::classify)
+            return torch::nn::functional::cross_entropy(out.logits, sp.label.index_select(0, idx));
+        auto tau = sp.delay.index_select(0, idx);
+        // Soft target: the truth split linearly between its two neighbouring grid points.
+        const auto& grid = out.logits;
+        const int64_t q = grid.size(1);
+        auto pos = ((tau - d_tau_min) / d_spacing).clamp(0, q - 1);
+        auto lo = pos.floor().clamp(0, q - 1);
+        auto w_hi = pos - lo;
+        auto hi = (lo + 1).clamp(0, q - 1);
+        auto target = torch::zeros_like(grid);
+        target.scatter_add_(1, lo.to(torch::kLong).unsqueeze(1), (1 - w_hi).unsqueeze(1));
+        target.scatter_add_(1, hi.to(torch::kLong).unsqueeze(1), w_hi.unsqueeze(1));
+        auto ce = -(target * torch::log_softmax(grid, 1)).sum(1).mean();
+        // L1 in delay indices: small next to the cross-entropy until the peak is found.
+        auto l1 = (out.delay_index - tau).abs().mean();
+        return ce_weight * ce + l1;
+    }
+
+    // Validation/test metric on a fixed mask: accuracy, delay MAE (index) or MSE.
+    struct scored {
+        double metric;
+        torch::Tensor logits, delay, obs;
+    };
+    scored evaluate(const nn::task_decoder& dec,
+                    const std::vector<int64_t>& mask_idx,
+                    const training::split& sp,
+                    const torch::Tensor& noisy,
+                    int64_t limit = 0) const
+    {
+        torch::NoGradGuard ng;
+        dec->eval();
+        const int64_t total = limit > 0 ? std::min<int64_t>(limit, sp.size()) : sp.size();
+        std::vector<torch::Tensor> logits, delay, obs;
+        double sum = 0.0;
+        for (int64_t a = 0; a < total; a += d_s.batch) {
+            const int64_t b = std::min<int64_t>(total, a + d_s.batch);
+            auto y = noisy.slice(0, a, b);
+            // The inference path of bundle_decoder: gather the pilots, scatter, forward.
+            auto o = nn::gather_pilots(y, mask_idx);
+            auto out = dec->forward(nn::scatter_pilots(o, mask_idx, d_n, d_m));
+            obs.push_back(o);
+            if (out.channel.defined()) {
+                sum += torch::mse_loss(out.channel, sp.h.slice(0, a, b), torch::Reduction::Sum).item<double>() /
+                       (2.0 * d_n * d_m);
+            } else if (d_s.task == task_kind::classify) {
+                logits.push_back(out.logits);
+                sum += out.logits.argmax(1).eq(sp.label.slice(0, a, b)).sum().item<double>();
+            } else {
+                delay.push_back(out.delay_index);
+                sum += (out.delay_index - sp.delay.slice(0, a, b)).abs().sum().item<double>();
+            }
+        }
+        dec->train();
+        scored r;
+        r.metric = sum / total;
+        r.obs = torch::cat(obs, 0);
+        if (!logits.empty())
+            r.logits = torch::cat(logits, 0);
+        if (!delay.empty())
+            r.delay = torch::cat(delay, 0);
+        return r;
+    }
+
+    void print(const std::string& line) const
+    {
+        if (d_log && d_s.verbose)
+            *d_log << line << std::endl;
+    }
+
+    float d_tau_min = 0.0f;
+    json d_history = json::array();
+};
+
+training_result trainer::run()
+{
+    const auto t0 = clock_type::now();
+    d_s.validate();
+    if (d_s.threads > 0) {
+        torch::set_num_threads(d_s.threads);
+    }
+    torch::manual_seed(d_s.seed);
+    d_n = d_s.frame.n_symbols;
+    d_m = d_s.frame.n_subcarriers;
+    const scene sc = d_s.scene_spec ? *d_s.scene_spec : default_scene();
+    if (d_s.task == task_kind::classify && sc.label_classes().size() < 2)
+        fail("classify needs a scene whose target of interest can be one of at least two classes (" +
+             d_s.scene_source + " has " + std::to_string(sc.label_classes().size()) + ")");
+
+    std::optional<pilot_mask> given_mask;
+    if (!d_s.mask_file.empty() && !d_s.mask_pattern.empty())
+        fail("give either a mask file or a mask pattern, not both");
+    if (!d_s.mask_pattern.empty())
+        given_mask = pilot_mask::from_pattern(d_s.mask_pattern, d_n, d_m, d_s.n_pilots, d_s.seed);
+    if (!d_s.mask_file.empty()) {
+        given_mask = pilot_mask::load(d_s.mask_file);
+        given_mask->check_frame(d_s.frame, "training settings: mask " + d_s.mask_file);
+        if (given_mask->size() != d_s.n_pilots)
+            fail("mask " + d_s.mask_file + " has " + std::to_string(given_mask->size()) + " pilots but --pilots is " +
+                 std::to_string(d_s.n_pilots));
+    }
+
+    d_data = training::make_data(d_s, sc);
+    {
+        std::ostringstream os;
+        os << "data: " << d_data.train.size() << " train / " << d_data.val.size() << " val / "
+           << d_data.test.size() << " test frames from " << d_s.scene_source << " ("
+           << std::fixed << std::setprecision(1) << since(t0) << " s)";
+        print(os.str());
+    }
+    // Fixed noise for validation and test, from their own generators.
+    auto val_gen = at::detail::createCPUGenerator(d_s.seed * 2654435761ULL + 17);
+    auto val_noisy = training::add_noise(
+        d_data.val.h, training::draw_noise_variance(d_data.val.size(), d_s.snr_min_db, d_s.snr_max_db, val_gen), val_gen);
+
+    nn::task_decoder task_dec = make_task_decoder();
+    if (d_s.task == task_kind::delay)
+        d_tau_min = static_cast<float>(
+            std::dynamic_pointer_cast<nn::delay_decoder_module>(task_dec)->settings().tau_min_index);
+
+    std::vector<int64_t> mask_idx;
+    json mask_origin;
+    const int64_t n_train = d_data.train.size();
+    const int64_t steps = std::max<int64_t>(1, n_train / d_s.batch);
+    int epoch_no = 0;
+
+    auto train_epoch = [&](auto&& forward_loss, torch::optim::Optimizer& opt) {
+        double sum = 0.0;
+        auto perm = torch::randperm(n_train, torch::kLong);
+        for (int64_t st = 0; st < steps; ++st) {
+            auto idx = perm.slice(0, st * d_s.batch, std::min<int64_t>(n_train, (st + 1) * d_s.batch));
+            auto h = d_data.train.h.index_select(0, idx);
+            auto y = training::add_noise(
+                h, training::draw_noise_variance(idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
+                c10::nullopt);
+            opt.zero_grad();
+            torch::Tensor l = forward_loss(y, h, idx);
+            l.backward();
+            opt.step();
+            sum += l.item<double>();
+        }
+        return sum / steps;
+    };
+
+    // ---- Phase 1: learn the mask together with the objective's decoder.
+    if (!given_mask) {
+        const bool mse = d_s.objective == "mse";
+        nn::task_decoder dec1 =
+            mse ? std::make_shared<nn::reconstruction_decoder_module>(d_n, d_m, d_s.n_pilots, d_s.reconstruction)
+                : task_dec;
+        nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder);
+        std::vector<torch::optim::OptimizerParamGroup> groups;
+        groups.emplace_back(dec1->parameters(), std::make_unique<torch::optim::AdamOptions>(d_s.lr));
+        groups.emplace_back(enc->parameters(),
+                            std::make_unique<torch::optim::AdamOptions>(d_s.lr * d_s.encoder.lr_scale));
+        torch::optim::Adam opt(groups, torch::optim::AdamOptions(d_s.lr));
+        double tau = d_s.encoder.temperature_start;
+        const bool hib = higher_is_better(mse);
+        double best = hib ? -1e300 : 1e300;
+        int since_best = 0;
+        std::vector<int64_t> best_mask;
+        auto best_state = snapshot(dec1);
+        for (int e = 0; e < d_s.epochs; ++e) {
+            const auto te = clock_type::now();
+            const double ce_w = d_s.delay_ce_weight;
+            const double l = train_epoch(
+                [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
+                    auto sel = enc->sample(tau);
+                    auto mask = nn::semantic_encoder_module::mask_from_selection(sel, d_n, d_m);
+                    auto out = dec1->forward(y * mask);
+                    auto task_l = loss(out, d_data.train, idx, h, ce_w);
+                    return task_l + d_s.encoder.collision_weight * enc->collision_penalty(tau);
+                },
+                opt);
+            mask_idx = enc->final_indices();
+            const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy);
+            const int distinct = enc->distinct_argmax();
+            std::ostringstream os;
+            os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [mask+" << (mse ? "mse" : "task")
+               << "] loss " << std::setprecision(4) << l << "  val "
+               << (mse ? "mse " : (hib ? "acc " : "mae ")) << std::setprecision(4) << v.metric << "  temp "
+               << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  "
+               << std::setprecision(1) << since(te) << " s";
+            print(os.str());
+            d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
+                                  { "temperature", tau }, { "distinct", distinct }, { "seconds", since(te) } });
+            const bool at_floor = tau <= d_s.encoder.temperature_floor * (1 + 1e-9);
+            tau = std::max(d_s.encoder.temperature_floor, tau * d_s.encoder.temperature_decay);
+            const bool better = hib ? v.metric > best : v.metric < best;
+            if (better) {
+                best = v.metric;
+                best_mask = mask_idx;
+                best_state = snapshot(dec1);
+            }
+            since_best = better ? 0 : since_best + 1;
+            if (at_floor && since_best >= d_s.patience) {
+                print("early stop (mask phase): no improvement for " + std::to_string(since_best) + " epochs");
+                break;
+            }
+        }
+        // The mask (and decoder) of the best validation epoch: the final greedy mask is
+        // what validation scores, so this is the best distinct mask seen.
+        if (!best_mask.empty()) {
+            mask_idx = best_mask;
+            restore(dec1, best_state);
+        }
+        std::sort(mask_idx.begin(), mask_idx.end()); // mask order: row-major (n, m)
+        mask_origin = { { "kind", "learned" },
+                        { "objective", d_s.objective },
+                        { "best_val", best },
+                        { "method", "gumbel-softmax heads, greedy distinct assignment" },
+                        { "seed", d_s.seed } };
+    } else {
+        for (int i : given_mask->flat_indices())
+            mask_idx.push_back(i);
+        mask_origin = given_mask->origin();
+    }
+
+    // ---- Phase 2: the task decoder on the fixed mask.
+    auto mask_t = torch::zeros({ d_n * d_m });
+    mask_t.index_fill_(0, torch::tensor(mask_idx, torch::kLong), 1.0f);
+    mask_t = mask_t.view({ d_n, d_m });
+    const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs;
+    {
+        torch::optim::Adam opt(task_dec->parameters(), torch::optim::AdamOptions(d_s.lr));
+        const bool hib = higher_is_better(false);
+        double best = hib ? -1e300 : 1e300;
+        auto best_state = snapshot(task_dec);
+        int since_best = 0;
+        for (int e = 0; e < epochs2; ++e) {
+            const auto te = clock_type::now();
+            // Cosine learning rate from lr to lr * lr_final_scale; the delay loss moves
+            // from cross-entropy towards L1 over the same schedule.
+            const double frac = epochs2 > 1 ? static_cast<double>(e) / (epochs2 - 1) : 1.0;
+            const double c = 0.5 * (1 + std::cos(M_PI * frac));
+            const double lr = d_s.lr * (d_s.lr_final_scale + (1 - d_s.lr_final_scale) * c);
+            for (auto& g : opt.param_groups())
+                static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
+            const double ce_w = d_s.delay_ce_weight_final + (d_s.delay_ce_weight - d_s.delay_ce_weight_final) * c;
+            const double l = train_epoch(
+                [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
+                    auto out = task_dec->forward(y * mask_t);
+                    return loss(out, d_data.train, idx, h, ce_w);
+                },
+                opt);
+            const auto v = evaluate(task_dec, mask_idx, d_data.val, val_noisy);
+            std::ostringstream os;
+            os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [decoder] loss " << std::setprecision(4)
+               << l << "  val " << (hib ? "acc " : "mae ") << v.metric << "  lr " << std::setprecision(5) << lr
+               << "  distinct " << mask_idx.size() << "/" << d_s.n_pilots << "  " << std::setprecision(1)
+               << since(te) << " s";
+            print(os.str());
+            d_history.push_back({ { "epoch", epoch_no }, { "phase", "decoder" }, { "loss", l }, { "val", v.metric },
+                                  { "lr", lr }, { "seconds", since(te) } });
+            const bool better = hib ? v.metric > best : v.metric < best;
+            if (better) {
+                best = v.metric;
+                best_state = snapshot(task_dec);
+            }
+            since_best = better ? 0 : since_best + 1;
+            if (since_best >= d_s.patience) {
+                print("early stop (decoder phase): no improvement for " + std::to_string(since_best) + " epochs");
+                break;
+            }
+        }
+        restore(task_dec, best_state);
+    }
+
+    // ---- Test metrics.
+    training_result res;
+    json metrics = json::object();
+    auto test_gen = at::detail::createCPUGenerator(d_s.seed * 2654435761ULL + 29);
+    auto score = [&](double lo, double hi, bool keep) {
+        auto noisy = training::add_noise(
+            d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), test_gen);
+        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, keep ? 0 : d_s.eval_frames);
+        const int64_t n = r.obs.size(0);
+        json m = { { "snr_min_db", lo }, { "snr_max_db", hi }, { "frames", n } };
+        if (d_s.task == task_kind::classify) {
+            m["accuracy"] = r.metric;
+        } else {
+            m["mae_index"] = r.metric;
+            m["mae_m"] = r.metric * d_s.frame.range_per_delay_index_m();
+            auto err = r.delay - d_data.test.delay.slice(0, 0, n);
+            m["rmse_index"] = std::sqrt((err * err).mean().item<double>());
+            m["median_abs_error_index"] = err.abs().median().item<double>();
+        }
+        if (keep) {
+            res.n_test = static_cast<int>(n);
+            auto o = r.obs.contiguous();
+            auto po = reinterpret_cast<const gr_complex*>(o.data_ptr<float>());
+            res.test_obs.assign(po, po + n * d_s.n_pilots);
+            if (d_s.task == task_kind::classify) {
+                auto p = torch::softmax(r.logits, 1).contiguous();
+                res.test_probs.assign(p.data_ptr<float>(), p.data_ptr<float>() + p.numel());
+                auto lab = d_data.test.label.slice(0, 0, n);
+                for (int64_t i = 0; i < n; ++i)
+                    res.test_labels.push_back(static_cast<int>(lab[i].item<int64_t>()));
+            } else {
+                auto d = r.delay.to(torch::kDouble).contiguous();
+                res.test_delay_index.assign(d.data_ptr<double>(), d.data_ptr<double>() + n);
+                auto t = d_data.test.delay.slice(0, 0, n).to(torch::kDouble).contiguous();
+                res.test_truth_index.assign(t.data_ptr<double>(), t.data_ptr<double>() + n);
+            }
+        }
+        return m;
+    };
+    metrics["test"] = score(d_s.snr_min_db, d_s.snr_max_db, true);
+    metrics["test_by_snr"] = json::array();
+    for (double snr : d_s.eval_snr_db)
+        metrics["test_by_snr"].push_back(score(snr, snr, false));
+
+    // ---- The bundle.
+    std::vector<pilot_position> pos;
+    for (auto i : mask_idx)
+        pos.push_back({ static_cast<int>(i / d_m), static_cast<int>(i % d_m) });
+    model_bundle& b = res.bundle;
+    b.task = d_s.task;
+    b.class_names = d_s.task == task_kind::classify ? d_data.class_names : std::vector<std::string>{};
+    b.frame = d_s.frame;
+    b.mask = given_mask ? *given_mask
+                        : pilot_mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), mask_origin, "learned mask");
+    b.decoder = task_dec->describe();
+    b.training = d_s.to_json();
+    b.training["scene"] = sc.to_json();
+    b.training["epochs_run"] = epoch_no;
+    b.training["history"] = d_history;
+    res.seconds = since(t0);
+    b.training["wall_time_s"] = res.seconds;
+    b.metrics = metrics;
+    res.history = d_history;
+    if (!d_s.out_dir.empty()) {
+        b.save(d_s.out_dir);
+        nn::save_module(task_dec, d_s.out_dir + "/" + model_bundle::weights_file);
+        b.directory = d_s.out_dir;
+    }
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(4) << "done in " << std::setprecision(1) << res.seconds << " s: test "
+       << metrics["test"].dump();
+    print(os.str());
+    for (const auto& m : metrics["test_by_snr"])
+        print("  " + m.dump());
+    return res;
+}
+
+} // namespace
+
+void training_settings::validate() const
+{
+    if (objective != "task" && objective != "mse")
+        fail("objective must be \"task\" or \"mse\", got \"" + objective + "\"");
+    frame.validate();
+    if (n_pilots < 1 || n_pilots > frame.grid_size())
+        fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
+             std::to_string(n_pilots));
+    if (std::isnan(snr_min_db) || std::isnan(snr_max_db) || snr_min_db > snr_max_db)
+        fail("need snr_min_db <= snr_max_db (not NaN)");
+    if (frames < 10)
+        fail("frames must be >= 10 (split 8:1:1), got " + std::to_string(frames));
+    if (epochs < 0 || decoder_epochs < 0)
+        fail("epochs must be >= 0");
+    if (batch < 1)
+        fail("batch must be >= 1");
+    if (!(lr > 0.0) || !std::isfinite(lr))
+        fail("lr must be a positive finite number");
+    if (!(delay_spacing > 0.0))
+        fail("delay_spacing must be positive");
+    if (!(encoder.temperature_floor > 0.0) || encoder.temperature_start < encoder.temperature_floor)
+        fail("need 0 < temperature floor <= temperature start");
+}
+
+json training_settings::to_json() const
+{
+    return { { "objective", objective },
+             { "n_pilots", n_pilots },
+             { "mask_file", mask_file },
+             { "mask_pattern", mask_pattern },
+             { "scene_source", scene_source },
+             { "snr_min_db", snr_min_db },
+             { "snr_max_db", snr_max_db },
+             { "frames", frames },
+             { "split", "8:1:1" },
+             { "epochs", epochs },
+             { "decoder_epochs", decoder_epochs },
+             { "batch", batch },
+             { "lr", lr },
+             { "lr_schedule", "phase 1 constant; phase 2 cosine to lr*" + std::to_string(lr_final_scale) },
+             { "patience", patience },
+             { "threads", threads },
+             { "seed", seed },
+             { "delay_spacing", delay_spacing },
+             { "delay_margin", delay_margin },
+             { "encoder", encoder.to_json() },
+             { "command_line", command_line } };
+}
+
+training_result train(const training_settings& settings, std::ostream* log)
+{
+    trainer t(settings, log);
+    return t.run();
+}
+
+} // namespace sems
+} // namespace gr

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the trainer's data set (internal): noiseless channels from the channel model,
+ * labels, and seeded noise. */
+#ifndef INCLUDED_SEMS_TRAINER_DATA_H
+#define INCLUDED_SEMS_TRAINER_DATA_H
+
+#include <gnuradio/sems/learning/trainer.h>
+#include <torch/torch.h>
+
+namespace gr {
+namespace sems {
+namespace training {
+
+struct split {
+    torch::Tensor h;      // B x 2 x N x M, noiseless
+    torch::Tensor label;  // B (long): class index into class_names
+    torch::Tensor delay;  // B (float): delay index of the target of interest
+    int64_t size() const { return h.size(0); }
+};
+
+struct data_set {
+    split train, val, test;
+    std::vector<std::string> class_names;
+    double delay_min = 0.0, delay_max = 0.0; // over all frames
+};
+
+data_set make_data(const training_settings& s, const scene& sc);
+
+// Per-frame σ² for SNRs (dB) drawn uniformly in [lo, hi] from `gen` (nullopt: global).
+torch::Tensor draw_noise_variance(int64_t count, double lo, double hi, c10::optional<at::Generator> gen);
+// h + CN(0, σ²) per frame (σ²: B).
+torch::Tensor add_noise(const torch::Tensor& h, const torch::Tensor& var, c10::optional<at::Generator> gen);
+
+} // namespace training
+} // namespace sems
+} // namespace gr
+
+#endif

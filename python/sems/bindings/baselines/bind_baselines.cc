@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: Python bindings of the classical baselines (delay estimators, CRB,
+ * Doppler features, feature SVM, MUSIC pilot patterns). Observations are 1-D
+ * complex64 numpy arrays of length N_p in mask order. */
+#include <gnuradio/sems/baselines/subcarrier_masks.h>
+#include <gnuradio/sems/baselines/music_delay_estimator.h>
+#include <gnuradio/sems/baselines/omp_delay_estimator.h>
+#include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
+#include <gnuradio/sems/baselines/delay_crb.h>
+#include <gnuradio/sems/baselines/delay_search.h>
+#include <gnuradio/sems/baselines/doppler_features.h>
+#include <gnuradio/sems/baselines/feature_svm.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <stdexcept>
+#include <string>
+
+namespace py = pybind11;
+using namespace gr::sems;
+
+namespace {
+
+using carray = py::array_t<gr_complex, py::array::c_style | py::array::forcecast>;
+
+const gr_complex* obs_ptr(const carray& a, int n_pilots, const char* who)
+{
+    if (a.ndim() != 1 || a.shape(0) != n_pilots)
+        throw std::invalid_argument(std::string(who) + ": expected a 1-D array of " + std::to_string(n_pilots) +
+                                    " observations");
+    return a.data();
+}
+
+} // namespace
+
+void bind_baselines(py::module& m)
+{
+    py::class_<delay_search>(m, "delay_search", "delay search window and grid of the classical estimators")
+        .def(py::init([](int oversample, double min_index, double max_index) {
+                 return delay_search{ oversample, min_index, max_index };
+             }),
+             py::arg("oversample") = 8, py::arg("min_index") = 0.0, py::arg("max_index") = -1.0)
+        .def_readwrite("oversample", &delay_search::oversample)
+        .def_readwrite("min_index", &delay_search::min_index)
+        .def_readwrite("max_index", &delay_search::max_index)
+        .def("grid", &delay_search::grid);
+
+    py::enum_<slow_time_model>(m, "slow_time_model")
+        .value("joint_doppler", slow_time_model::joint_doppler)
+        .value("per_symbol", slow_time_model::per_symbol);
+
+    py::class_<periodogram_delay_estimator>(m, "periodogram_delay_estimator",
+                                            "matched-filter (periodogram) delay estimator")
+        .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search,
+                         int doppler_oversample, slow_time_model slow, bool refine) {
+                 return new periodogram_delay_estimator(fs, mask, { search, doppler_oversample, slow, refine });
+             }),
+             py::arg("fs"), py::arg("mask"), py::arg("search") = delay_search{}, py::arg("doppler_oversample") = 2,
+             py::arg("slow_time") = slow_time_model::joint_doppler, py::arg("refine") = true)
+        .def("estimate_index",
+             [](const periodogram_delay_estimator& e, const carray& obs) {
+                 return e.estimate_index(obs_ptr(obs, e.n_pilots(), "estimate_index"));
+             })
+        .def("profile",
+             [](const periodogram_delay_estimator& e, const carray& obs) {
+                 return e.profile(obs_ptr(obs, e.n_pilots(), "profile"));
+             })
+        .def("grid_index", &periodogram_delay_estimator::grid_index)
+        .def("n_pilots", &periodogram_delay_estimator::n_pilots);
+
+    py::class_<omp_delay_estimator>(m, "omp_delay_estimator", "OMP on a joint delay-Doppler grid")
+        .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search,
+                         int doppler_oversample, int n_atoms, double relative_power) {
+                 return new omp_delay_estimator(fs, mask, { search, doppler_oversample, n_atoms, relative_power });
+             }),
+             py::arg("fs"), py::arg("mask"), py::arg("search") = delay_search{}, py::arg("doppler_oversample") = 2,
+             py::arg("n_atoms") = 1, py::arg("relative_power") = 0.25)
+        .def("estimate_index",
+             [](const omp_delay_estimator& e, const carray& obs) {
+                 return e.estimate_index(obs_ptr(obs, e.n_pilots(), "estimate_index"));
+             })
+        .def("n_pilots", &omp_delay_estimator::n_pilots);
+
+    py::class_<music_delay_estimator>(m, "music_delay_estimator", "co-array MUSIC from sparse pilots")
+        .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search, int n_paths) {
+                 return new music_delay_estimator(fs, mask, { search, n_paths });
+             }),
+             py::arg("fs"), py::arg("mask"), py::arg("search") = delay_search{}, py::arg("n_paths") = 1)
+        .def("estimate_index",
+             [](const music_delay_estimator& e, const carray& obs) {
+                 return e.estimate_index(obs_ptr(obs, e.n_pilots(), "estimate_index"));
+             })
+        .def("pseudo_spectrum",
+             [](const music_delay_estimator& e, const carray& obs) {
+                 return e.pseudo_spectrum(obs_ptr(obs, e.n_pilots(), "pseudo_spectrum"));
+             })
+        .def("grid_index", &music_delay_estimator::grid_index)
+        .def("coarray_spacing", &music_delay_estimator::coarray_spacing)
+        .def("coarray_length", &music_delay_estimator::coarray_length)
+        .def("n_pilots", &music_delay_estimator::n_pilots);
+
+    py::class_<delay_crb>(m, "delay_crb", "closed-form CRB on a single path's delay index")
+        .def_static("variance_index", &delay_crb::variance_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
+                    py::arg("doppler_known") = false, py::arg("gain_power") = 1.0)
+        .def_static("mae_index", &delay_crb::mae_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
+                    py::arg("doppler_known") = false, py::arg("rayleigh") = true)
+        .def_static("spread", &delay_crb::spread, py::arg("mask"), py::arg("doppler_known"));
+
+    py::class_<doppler_features>(m, "doppler_features", "Doppler-spectrum moments of the pilots")
+        .def(py::init<const frame_settings&, const pilot_mask&, int>(), py::arg("fs"), py::arg("mask"),
+             py::arg("oversample") = 1)
+        .def_static("names", &doppler_features::names)
+        .def("frequencies_hz", &doppler_features::frequencies_hz)
+        .def("spectrum",
+             [](const doppler_features& f, const carray& obs) {
+                 return f.spectrum(obs_ptr(obs, f.n_pilots(), "spectrum"));
+             })
+        .def("extract", [](const doppler_features& f, const carray& obs) {
+            return f.extract(obs_ptr(obs, f.n_pilots(), "extract"));
+        });
+
+    py::class_<feature_svm>(m, "feature_svm", "RBF SVM (libsvm) on standardised features")
+        .def(py::init([](const std::vector<std::vector<double>>& x, const std::vector<int>& y, double c, double gamma) {
+                 return new feature_svm(x, y, { c, gamma, 100.0 });
+             }),
+             py::arg("features"), py::arg("labels"), py::arg("c") = 10.0, py::arg("gamma") = -1.0)
+        .def("predict", &feature_svm::predict)
+        .def("n_features", &feature_svm::n_features)
+        .def("n_support_vectors", &feature_svm::n_support_vectors);
+
+    m.def("random_subcarrier_mask", &random_subcarrier_mask, py::arg("n_symbols"), py::arg("n_subcarriers"),
+          py::arg("count"), py::arg("seed"), "RP-MUSIC pattern: the uniform lattice's symbols, random subcarriers");
+    m.def("nested_subcarrier_mask", &nested_subcarrier_mask, py::arg("n_symbols"), py::arg("n_subcarriers"),
+          py::arg("count"), py::arg("rows") = 2, "OP-MUSIC pattern: nested-array subcarriers on a few symbols");
+}

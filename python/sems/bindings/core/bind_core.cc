@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: Python bindings of the core library: keys, frame settings, pilot masks,
+ * target classes, scenes and the channel model (H as numpy arrays). JSON crosses the
+ * boundary as text (to_json_string / parse), the same text the files hold.
+ */
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/target_class.h>
+#include <pybind11/complex.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace gr::sems;
+
+namespace {
+
+py::dict truth_dict(const frame_truth& t)
+{
+    py::dict d;
+    d[keys::frame] = t.frame;
+    d[keys::class_id] = t.class_id;
+    d[keys::class_name] = t.class_name;
+    d[keys::delay_s] = t.delay_s;
+    d[keys::delay_index] = t.delay_index;
+    d[keys::range_m] = t.range_m;
+    d[keys::velocity_mps] = t.velocity_mps;
+    d[keys::snr_db] = t.snr_db;
+    d[keys::n_paths] = t.n_paths;
+    return d;
+}
+
+void bind_keys(py::module& m)
+{
+    auto k = m.def_submodule("keys", "Tag, dictionary and port keys (include/gnuradio/sems/core/tags.h)");
+    k.attr("frame_tag") = keys::frame_tag;
+    k.attr("truth_tag") = keys::truth_tag;
+    k.attr("frame") = keys::frame;
+    k.attr("class_id") = keys::class_id;
+    k.attr("class_name") = keys::class_name;
+    k.attr("delay_s") = keys::delay_s;
+    k.attr("delay_index") = keys::delay_index;
+    k.attr("range_m") = keys::range_m;
+    k.attr("velocity_mps") = keys::velocity_mps;
+    k.attr("snr_db") = keys::snr_db;
+    k.attr("n_paths") = keys::n_paths;
+    k.attr("label") = keys::label;
+    k.attr("probs") = keys::probs;
+    k.attr("truth") = keys::truth;
+    k.attr("correct") = keys::correct;
+    k.attr("abs_error_index") = keys::abs_error_index;
+    k.attr("frames") = keys::frames;
+    k.attr("frames_scored") = keys::frames_scored;
+    k.attr("frames_skipped") = keys::frames_skipped;
+    k.attr("accuracy") = keys::accuracy;
+    k.attr("mae_index") = keys::mae_index;
+    k.attr("mae_m") = keys::mae_m;
+    k.attr("confusion") = keys::confusion;
+    k.attr("result_port") = keys::result_port;
+    k.attr("metrics_port") = keys::metrics_port;
+}
+
+void bind_frame_settings(py::module& m)
+{
+    py::class_<frame_settings>(m, "frame_settings", "OFDM frame settings (DESIGN §1) and derived quantities")
+        .def(py::init([](int n_symbols, int n_subcarriers, double bandwidth_hz, double carrier_hz,
+                         double symbol_interval_s, int cp_len) {
+                 frame_settings fs{ n_symbols, n_subcarriers, bandwidth_hz, carrier_hz, symbol_interval_s, cp_len };
+                 fs.validate();
+                 return fs;
+             }),
+             py::arg("n_symbols") = frame_settings{}.n_symbols,
+             py::arg("n_subcarriers") = frame_settings{}.n_subcarriers,
+             py::arg("bandwidth_hz") = frame_settings{}.bandwidth_hz,
+             py::arg("carrier_hz") = frame_settings{}.carrier_hz,
+             py::arg("symbol_interval_s") = frame_settings{}.symbol_interval_s,
+             py::arg("cp_len") = frame_settings{}.cp_len)
+        .def_readwrite("n_symbols", &frame_settings::n_symbols)
+        .def_readwrite("n_subcarriers", &frame_settings::n_subcarriers)
+        .def_readwrite("bandwidth_hz", &frame_settings::bandwidth_hz)
+        .def_readwrite("carrier_hz", &frame_settings::carrier_hz)
+        .def_readwrite("symbol_interval_s", &frame_settings::symbol_interval_s)
+        .def_readwrite("cp_len", &frame_settings::cp_len)
+        .def("subcarrier_spacing_hz", &frame_settings::subcarrier_spacing_hz)
+        .def("wavelength_m", &frame_settings::wavelength_m)
+        .def("grid_size", &frame_settings::grid_size)
+        .def("delay_resolution_s", &frame_settings::delay_resolution_s)
+        .def("range_per_delay_index_m", &frame_settings::range_per_delay_index_m)
+        .def("max_delay_s", &frame_settings::max_delay_s)
+        .def("max_range_m", &frame_settings::max_range_m)
+        .def("doppler_resolution_hz", &frame_settings::doppler_resolution_hz)
+        .def("max_doppler_hz", &frame_settings::max_doppler_hz)
+        .def("max_speed_mps", &frame_settings::max_speed_mps)
+        .def("delay_from_range", &frame_settings::delay_from_range)
+        .def("delay_index", &frame_settings::delay_index)
+        .def("doppler_from_velocity", &frame_settings::doppler_from_velocity)
+        .def("validate", &frame_settings::validate)
+        .def("to_json_string", [](const frame_settings& fs) { return fs.to_json().dump(); })
+        .def("__eq__", &frame_settings::operator==);
+}
+
+void bind_pilot_mask(py::module& m)
+{
+    py::class_<pilot_mask>(m, "pilot_mask", "Binary N x M pilot mask, pilots in row-major mask order")
+        .def(py::init([](int n_symbols, int n_subcarriers, const std::vector<std::pair<int, int>>& pilots,
+                         gr_complex pilot_symbol) {
+                 std::vector<pilot_position> pos;
+                 for (const auto& p : pilots)
+                     pos.push_back({ p.first, p.second });
+                 return pilot_mask(n_symbols, n_subcarriers, pos, pilot_symbol);
+             }),
+             py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("pilots"),
+             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f))
+        .def_static("uniform", &pilot_mask::uniform, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"))
+        .def_static("random", &pilot_mask::random, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"),
+                    py::arg("seed"))
+        .def_static("doppler", &pilot_mask::doppler, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"))
+        .def_static("from_pattern", &pilot_mask::from_pattern, py::arg("pattern"), py::arg("n_symbols"),
+                    py::arg("n_subcarriers"), py::arg("count"), py::arg("seed") = 0)
+        .def_static("load", &pilot_mask::load, py::arg("path"))
+        .def_static("parse", &pilot_mask::parse, py::arg("json_text"), py::arg("source") = "pilot mask text")
+        .def("save", &pilot_mask::save, py::arg("path"))
+        .def("to_json_string", &pilot_mask::to_json_string)
+        .def("n_symbols", &pilot_mask::n_symbols)
+        .def("n_subcarriers", &pilot_mask::n_subcarriers)
+        .def("size", &pilot_mask::size)
+        .def("__len__", &pilot_mask::size)
+        .def("pilot_symbol", &pilot_mask::pilot_symbol)
+        .def("positions",
+             [](const pilot_mask& mk) {
+                 std::vector<std::pair<int, int>> out;
+                 for (const auto& p : mk.positions())
+                     out.emplace_back(p.n, p.m);
+                 return out;
+             })
+        .def("flat_indices", &pilot_mask::flat_indices)
+        .def("dense",
+             [](const pilot_mask& mk) {
+                 py::array_t<uint8_t> a({ mk.n_symbols(), mk.n_subcarriers() });
+                 auto d = mk.dense();
+                 std::copy(d.begin(), d.end(), a.mutable_data());
+                 return a;
+             })
+        .def("carrier_lists", &pilot_mask::carrier_lists)
+        .def("pilot_symbol_lists", &pilot_mask::pilot_symbol_lists)
+        .def("__eq__", &pilot_mask::operator==);
+}
+
+void bind_scene(py::module& m)
+{
+    py::enum_<target_class>(m, "target_class")
+        .value("pedestrian", target_class::pedestrian)
+        .value("car", target_class::car)
+        .value("drone", target_class::drone);
+    m.def("class_names", &class_names, "Class names in class-id order");
+    m.def("class_from_name", &class_from_name, py::arg("name"));
+
+    py::enum_<fading_kind>(m, "fading_kind").value("rayleigh", fading_kind::rayleigh).value("none", fading_kind::none);
+
+    py::class_<micro_doppler>(m, "micro_doppler")
+        .def(py::init([](double rate_hz, double amplitude_m, double phase_rad) {
+                 return micro_doppler{ rate_hz, amplitude_m, phase_rad };
+             }),
+             py::arg("rate_hz"), py::arg("amplitude_m"), py::arg("phase_rad") = 0.0)
+        .def_readwrite("rate_hz", &micro_doppler::rate_hz)
+        .def_readwrite("amplitude_m", &micro_doppler::amplitude_m)
+        .def_readwrite("phase_rad", &micro_doppler::phase_rad);
+
+    py::class_<path_spec>(m, "path_spec")
+        .def(py::init([](double excess_range_m, double power) { return path_spec{ excess_range_m, power }; }),
+             py::arg("excess_range_m") = 0.0, py::arg("power") = 1.0)
+        .def_readwrite("excess_range_m", &path_spec::excess_range_m)
+        .def_readwrite("power", &path_spec::power);
+
+    py::class_<target_spec>(m, "target_spec")
+        .def(py::init([](target_class cls, double range_m, double velocity_mps, std::optional<micro_doppler> md,
+                         double power, std::vector<path_spec> paths) {
+                 return target_spec{ cls, range_m, velocity_mps, md, power, paths };
+             }),
+             py::arg("cls"), py::arg("range_m"), py::arg("velocity_mps"), py::arg("md") = py::none(),
+             py::arg("power") = 1.0, py::arg("paths") = std::vector<path_spec>{ path_spec{} })
+        .def_readwrite("cls", &target_spec::cls)
+        .def_readwrite("range_m", &target_spec::range_m)
+        .def_readwrite("velocity_mps", &target_spec::velocity_mps)
+        .def_readwrite("md", &target_spec::md)
+        .def_readwrite("power", &target_spec::power)
+        .def_readwrite("paths", &target_spec::paths);
+
+    py::class_<clutter_spec>(m, "clutter_spec")
+        .def(py::init([](double csr_db, int n_paths, double range_min_m, double range_max_m,
+                         std::vector<double> ranges_m) {
+                 return clutter_spec{ csr_db, n_paths, range_min_m, range_max_m, ranges_m };
+             }),
+             py::arg("csr_db"), py::arg("n_paths") = clutter_spec{}.n_paths,
+             py::arg("range_min_m") = clutter_spec{}.range_min_m, py::arg("range_max_m") = clutter_spec{}.range_max_m,
+             py::arg("ranges_m") = std::vector<double>{})
+        .def_readwrite("csr_db", &clutter_spec::csr_db)
+        .def_readwrite("n_paths", &clutter_spec::n_paths);
+
+    py::class_<random_spec>(m, "random_spec")
+        .def(py::init([](std::vector<target_class> classes, int n_targets, int paths_per_target,
+                         double excess_min, double excess_max, double decay_db, bool md) {
+                 return random_spec{ classes, n_targets, paths_per_target, excess_min, excess_max, decay_db, md };
+             }),
+             py::arg("classes") = random_spec{}.classes, py::arg("n_targets") = random_spec{}.n_targets,
+             py::arg("paths_per_target") = random_spec{}.paths_per_target,
+             py::arg("excess_range_min_m") = random_spec{}.excess_range_min_m,
+             py::arg("excess_range_max_m") = random_spec{}.excess_range_max_m,
+             py::arg("path_power_decay_db") = random_spec{}.path_power_decay_db,
+             py::arg("micro_doppler") = random_spec{}.micro_doppler)
+        .def_readwrite("classes", &random_spec::classes)
+        .def_readwrite("n_targets", &random_spec::n_targets)
+        .def_readwrite("paths_per_target", &random_spec::paths_per_target)
+        .def_readwrite("micro_doppler", &random_spec::micro_doppler);
+
+    py::class_<scene>(m, "scene", "Targets, clutter and the target of interest; fixed or random per frame")
+        .def_static("fixed", &scene::fixed, py::arg("targets"), py::arg("clutter") = py::none(),
+                    py::arg("target_of_interest") = 0, py::arg("fading") = fading_kind::rayleigh)
+        .def_static("random", &scene::random, py::arg("spec") = random_spec{}, py::arg("clutter") = py::none(),
+                    py::arg("fading") = fading_kind::rayleigh)
+        .def_static("load", &scene::load, py::arg("path"))
+        .def_static("parse", &scene::parse, py::arg("json_text"), py::arg("source") = "scene text")
+        .def("save", &scene::save, py::arg("path"))
+        .def("to_json_string", &scene::to_json_string)
+        .def("is_random", &scene::is_random)
+        .def("targets", &scene::targets)
+        .def("target_of_interest", &scene::target_of_interest)
+        .def("label_classes", &scene::label_classes);
+}
+
+void bind_channel_model(py::module& m)
+{
+    using cplx_array = py::array_t<gr_complex, py::array::c_style | py::array::forcecast>;
+
+    py::class_<channel_path>(m, "channel_path")
+        .def_readonly("delay_s", &channel_path::delay_s)
+        .def_readonly("doppler_hz", &channel_path::doppler_hz)
+        .def_readonly("md_rate_hz", &channel_path::md_rate_hz)
+        .def_readonly("md_amplitude_m", &channel_path::md_amplitude_m)
+        .def_readonly("md_phase_rad", &channel_path::md_phase_rad)
+        .def_readonly("gain", &channel_path::gain)
+        .def_readonly("mean_power", &channel_path::mean_power);
+
+    py::class_<frame_realization>(m, "frame_realization")
+        .def_readonly("paths", &frame_realization::paths)
+        .def_property_readonly("truth", [](const frame_realization& r) { return truth_dict(r.truth); });
+
+    py::class_<channel_model>(m, "channel_model", "The channel model shared by the emulator, trainer and evaluation")
+        .def(py::init<const frame_settings&, const scene&, uint64_t>(), py::arg("settings"), py::arg("scene"),
+             py::arg("seed") = 0)
+        .def_static("noise_variance", &channel_model::noise_variance, py::arg("snr_db"))
+        .def("settings", &channel_model::settings)
+        .def("draw", &channel_model::draw, py::arg("frame_index"))
+        .def(
+            "channel",
+            [](const channel_model& cm, const frame_realization& r, uint64_t first_symbol) {
+                const auto& fs = cm.settings();
+                cplx_array h({ fs.n_symbols, fs.n_subcarriers });
+                cm.factors(r, first_symbol).fill(h.mutable_data());
+                return h;
+            },
+            py::arg("realization"), py::arg("first_symbol"), "H (N x M) of a drawn frame")
+        .def(
+            "generate",
+            [](channel_model& cm, size_t count, uint64_t first_frame) {
+                const auto& fs = cm.settings();
+                cplx_array h({ static_cast<py::ssize_t>(count), static_cast<py::ssize_t>(fs.n_symbols),
+                               static_cast<py::ssize_t>(fs.n_subcarriers) });
+                std::vector<frame_truth> truths;
+                {
+                    py::gil_scoped_release release;
+                    truths = cm.generate(count, h.mutable_data(), first_frame);
+                }
+                py::list tl;
+                for (const auto& t : truths)
+                    tl.append(truth_dict(t));
+                return py::make_tuple(h, tl);
+            },
+            py::arg("count"), py::arg("first_frame") = 0,
+            "(H, truths): count x N x M noiseless channels (complex64) and a truth dict per frame")
+        .def(
+            "add_noise",
+            [](channel_model& cm, py::array_t<gr_complex, py::array::c_style> y, double snr_db) {
+                cm.add_noise(y.mutable_data(), static_cast<size_t>(y.size()), snr_db);
+            },
+            py::arg("y"), py::arg("snr_db"), "Adds CN(0, σ²) in place to a complex64 array")
+        .def("reseed", &channel_model::reseed, py::arg("seed"));
+}
+
+} // namespace
+
+void bind_core(py::module& m)
+{
+    bind_keys(m);
+    bind_frame_settings(m);
+    bind_pilot_mask(m);
+    bind_scene(m);
+    bind_channel_model(m);
+}

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: Python bindings for pilot_mapper. */
+#include <pybind11/complex.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <gnuradio/sems/blocks/pilot_mapper.h>
+
+namespace py = pybind11;
+
+void bind_pilot_mapper(py::module& m)
+{
+    using gr::sems::pilot_mapper;
+    const gr::sems::frame_settings defaults;
+    py::class_<pilot_mapper, gr::block, gr::basic_block, std::shared_ptr<pilot_mapper>>(
+        m, "pilot_mapper", "Learned-pilot OFDM transmitter: data symbols in, gr_complex[M] symbols out")
+        .def(py::init(&pilot_mapper::make),
+             py::arg("mask_file") = "",
+             py::arg("pilot_positions") = std::vector<int>{},
+             py::arg("n_symbols") = defaults.n_symbols,
+             py::arg("n_subcarriers") = defaults.n_subcarriers,
+             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f),
+             py::arg("pilot_power") = 1.0,
+             py::arg("data_power") = 1.0)
+        .def("set_pilot_power", &pilot_mapper::set_pilot_power, py::arg("energy"))
+        .def("pilot_power", &pilot_mapper::pilot_power)
+        .def("set_data_power", &pilot_mapper::set_data_power, py::arg("energy"))
+        .def("data_power", &pilot_mapper::data_power)
+        .def("mask", &pilot_mapper::mask, py::return_value_policy::copy)
+        .def("n_pilots", &pilot_mapper::n_pilots)
+        .def("data_per_frame", &pilot_mapper::data_per_frame)
+        .def("frames", &pilot_mapper::frames);
+}

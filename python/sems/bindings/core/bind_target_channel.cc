@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: Python bindings for target_channel. */
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <gnuradio/sems/blocks/target_channel.h>
+#include <limits>
+
+namespace py = pybind11;
+
+void bind_target_channel(py::module& m)
+{
+    using gr::sems::target_channel;
+    const gr::sems::frame_settings defaults;
+    py::class_<target_channel, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<target_channel>>(
+        m, "target_channel", "Frequency-domain target channel emulator over gr_complex[M] OFDM symbols")
+        .def(py::init(&target_channel::make),
+             py::arg("scene") = "",
+             py::arg("classes") = std::vector<std::string>{},
+             py::arg("n_targets") = 1,
+             py::arg("paths_per_target") = 1,
+             py::arg("micro_doppler") = true,
+             py::arg("clutter_paths") = 0,
+             py::arg("clutter_csr_db") = 0.0,
+             py::arg("snr_db") = std::numeric_limits<double>::infinity(),
+             py::arg("seed") = 0,
+             py::arg("n_symbols") = defaults.n_symbols,
+             py::arg("n_subcarriers") = defaults.n_subcarriers,
+             py::arg("bandwidth_hz") = defaults.bandwidth_hz,
+             py::arg("carrier_hz") = defaults.carrier_hz,
+             py::arg("symbol_interval_s") = defaults.symbol_interval_s)
+        .def("set_snr_db", &target_channel::set_snr_db, py::arg("snr_db"))
+        .def("snr_db", &target_channel::snr_db)
+        .def("settings", &target_channel::settings, py::return_value_policy::copy)
+        .def("scene_json", &target_channel::scene_json)
+        .def("frames", &target_channel::frames)
+        .def("nonfinite_symbols", &target_channel::nonfinite_symbols);
+}

@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the pybind11 module `gnuradio.sems.core_python` — the core (frame, mask, scene,
+ * channel model, tag keys) and the streaming blocks. No LibTorch: a flowgraph of mapper,
+ * channel and extractor never loads it. Each bind_*.cc binds one header.
+ */
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+void bind_core(py::module& m);
+void bind_pilot_mapper(py::module& m);
+void bind_target_channel(py::module& m);
+void bind_pilot_extractor(py::module& m);
+
+PYBIND11_MODULE(core_python, m)
+{
+    m.doc() = "gr-sems core: frame settings, pilot masks, scenes, the channel model and the streaming blocks";
+    // Blocks derive from gr::sync_block etc.: make their base classes known first.
+    py::module::import("gnuradio.gr");
+
+    bind_core(m);
+    bind_pilot_mapper(m);
+    bind_target_channel(m);
+    bind_pilot_extractor(m);
+}
