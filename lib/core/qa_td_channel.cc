@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: td_channel (the sample-level synthesis) against the frequency-domain model
+ * and its own bookkeeping: OFDM through it equals H·X when every delay is inside the
+ * prefix; the micro-Doppler phase is the model's; bad settings and delays are refused. */
+#include "qa/qa_assert.h"
+#include <gnuradio/fft/fft.h>
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/td_channel.h>
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace gr::sems;
+
+namespace {
+
+// Unitary CP-OFDM modulator/demodulator, the same maths as ofdm_tx/ofdm_rx.
+struct ofdm {
+    int m, cp;
+    gr::fft::fft_complex_rev rev;
+    gr::fft::fft_complex_fwd fwd;
+    ofdm(int m_, int cp_) : m(m_), cp(cp_), rev(m_), fwd(m_) {}
+    void tx(const gr_complex* x, gr_complex* out)
+    {
+        std::copy(x, x + m, rev.get_inbuf());
+        rev.execute();
+        const float sc = 1.0f / std::sqrt(float(m));
+        for (int i = 0; i < m + cp; ++i)
+            out[i] = rev.get_outbuf()[((i - cp) % m + m) % m] * sc;
+    }
+    void rx(const gr_complex* in, gr_complex* y)
+    {
+        std::copy(in + cp, in + cp + m, fwd.get_inbuf());
+        fwd.execute();
+        const float sc = 1.0f / std::sqrt(float(m));
+        for (int i = 0; i < m; ++i)
+            y[i] = fwd.get_outbuf()[i] * sc;
+    }
+};
+
+// NMSE of TD -> OFDM receiver against H·X of the frequency-domain model, same seed.
+double nmse_against_fd(const frame_settings& fs, const scene& sc, int frames)
+{
+    channel_model fd(fs, sc, 7), tdm(fs, sc, 7);
+    td_channel td(fs);
+    ofdm o(fs.n_subcarriers, fs.cp_len);
+    const int n = fs.n_symbols, m = fs.n_subcarriers, s = m + fs.cp_len;
+    std::mt19937 g(1);
+    std::vector<gr_complex> x(m), t(s), y(s), rx(m), h(m);
+    double err = 0.0, pw = 0.0;
+    for (int f = 0; f < frames; ++f) {
+        const auto r = fd.draw(f);
+        const auto fc = fd.factors(r, uint64_t(f) * n);
+        td.set_paths(tdm.draw(f).paths, uint64_t(f) * n);
+        for (int k = 0; k < n; ++k) {
+            for (auto& v : x)
+                v = gr_complex((g() & 1) ? 1.0f : -1.0f, (g() & 1) ? 1.0f : -1.0f) * float(M_SQRT1_2);
+            o.tx(x.data(), t.data());
+            td.apply_symbol(k, t.data(), y.data());
+            o.rx(y.data(), rx.data());
+            fc.row(k, h.data());
+            for (int i = 0; i < m; ++i) {
+                err += std::norm(rx[i] - h[i] * x[i]);
+                pw += std::norm(h[i] * x[i]);
+            }
+        }
+    }
+    return err / pw;
+}
+
+target_spec target(target_class c, double range, double v, std::vector<path_spec> paths = { path_spec{} })
+{
+    target_spec t;
+    t.cls = c;
+    t.range_m = range;
+    t.velocity_mps = v;
+    t.paths = std::move(paths);
+    return t;
+}
+
+} // namespace
+
+class qa_td_channel : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_td_channel);
+    CPPUNIT_TEST(equals_frequency_domain_inside_prefix);
+    CPPUNIT_TEST(past_prefix_is_not_frequency_domain);
+    CPPUNIT_TEST(doppler_error_is_closed_form);
+    CPPUNIT_TEST(bad_settings_and_delays);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void equals_frequency_domain_inside_prefix()
+    {
+        frame_settings fs; // M 64, CP 16: fractional delays up to 80 m, multipath, Rayleigh, clutter
+        auto sc = scene::fixed({ target(target_class::car, 7.3, 0.0, { { 0.0, 1.0 }, { 31.1, 0.5 } }),
+                                 target(target_class::pedestrian, 66.6, 0.0) },
+                               clutter_spec{ 0.0, 3, 0.0, 79.0, {} });
+        CPPUNIT_ASSERT_LESS(1e-11, nmse_against_fd(fs, sc, 3));
+    }
+
+    void past_prefix_is_not_frequency_domain()
+    {
+        // One static path 4 samples past a 16-sample prefix: the FD model's NMSE is 2e/M
+        // (closed form, data-dependent estimate: 10 %).
+        frame_settings fs;
+        auto sc = scene::fixed({ target(target_class::car, 100.0, 0.0) }, std::nullopt, 0, fading_kind::none);
+        const double got = nmse_against_fd(fs, sc, 4);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(2.0 * 4 / 64, got, 0.1 * 2.0 * 4 / 64);
+    }
+
+    void doppler_error_is_closed_form()
+    {
+        // Doppler ν: the FD model's NMSE is 2 - 2|S(ε)| cos ψ, ψ = 2πν(CP + (M-1)/2)/B.
+        frame_settings fs;
+        fs.carrier_hz = 300e9;
+        fs.symbol_interval_s = 80 / fs.bandwidth_hz; // a contiguous OFDM stream
+        const double v = 10.0, nu = fs.doppler_from_velocity(v), eps = nu / fs.subcarrier_spacing_hz();
+        auto sc = scene::fixed({ target(target_class::car, 20.0, v) }, std::nullopt, 0, fading_kind::none);
+        const int m = fs.n_subcarriers;
+        const double s_eps = std::sin(M_PI * eps) / (m * std::sin(M_PI * eps / m));
+        const double psi = 2 * M_PI * nu * (fs.cp_len + (m - 1) / 2.0) / fs.bandwidth_hz;
+        const double expected = 2 - 2 * s_eps * std::cos(psi);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(expected, nmse_against_fd(fs, sc, 2), 0.1 * expected);
+    }
+
+    void bad_settings_and_delays()
+    {
+        frame_settings fs;
+        fs.symbol_interval_s = 1e-6; // shorter than 80 samples at 30 MHz
+        qa::assert_error([&] { td_channel td(fs); }, "symbol_interval_s", "shorter than one symbol");
+        td_channel td(frame_settings{});
+        channel_path p;
+        p.delay_s = 64 / 30e6; // = 1/Δf: outside [0, 1/Δf)
+        qa::assert_error([&] { td.set_paths({ p }, 0); }, "path 0", "outside");
+        p.delay_s = std::nan("");
+        qa::assert_error([&] { td.set_paths({ p }, 0); }, "path 0", "delay");
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_td_channel);

@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the channel model at sample level (see td_channel.h for the equations). */
+#include <gnuradio/fft/fft.h>
+#include <gnuradio/sems/core/td_channel.h>
+#include <volk/volk.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace gr {
+namespace sems {
+
+namespace {
+
+constexpr double two_pi = 2.0 * M_PI;
+// Third-order phase error allowed between exact anchors of the micro-Doppler phase (rad).
+constexpr double md_phase_tolerance_rad = 1e-7; // below float's phase resolution (6e-8 rad·2π)
+
+inline double frac(double x) { return x - std::floor(x); }
+inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
+// a·b without the NaN/Inf recovery of operator* (__muldc3): the operands here are finite.
+inline std::complex<double> mul(std::complex<double> a, std::complex<double> b)
+{
+    return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
+}
+
+// out[k] += c · d[k] · x[k], k < n: the per-sample Doppler of a path without micro-Doppler
+// (d precomputed per frame, c the symbol's phase). Plain float arithmetic, so the compiler
+// vectorizes it (std::complex's operator* keeps a NaN recovery branch).
+void doppler_accumulate(gr_complex* __restrict out,
+                        const gr_complex* __restrict x,
+                        const gr_complex* __restrict d,
+                        gr_complex c,
+                        int n)
+{
+    float* o = reinterpret_cast<float*>(out);
+    const float* xs = reinterpret_cast<const float*>(x);
+    const float* ds = reinterpret_cast<const float*>(d);
+    const float cr = c.real(), ci = c.imag();
+    for (int k = 0; k < n; ++k) {
+        const float pr = ds[2 * k] * cr - ds[2 * k + 1] * ci; // p = c·d[k]
+        const float pi = ds[2 * k] * ci + ds[2 * k + 1] * cr;
+        const float xr = xs[2 * k], xi = xs[2 * k + 1];
+        o[2 * k] += xr * pr - xi * pi;
+        o[2 * k + 1] += xr * pi + xi * pr;
+    }
+}
+
+// dst[k] = scale · exp(j2π cycles_per_step · k), k < n: anchored exactly every 64 steps.
+void fill_phasors(gr_complex* dst, int n, std::complex<double> scale, double cycles_per_step)
+{
+    const std::complex<double> step = cis(two_pi * frac(cycles_per_step));
+    for (int k0 = 0; k0 < n; k0 += 64) {
+        std::complex<double> v = scale * cis(two_pi * frac(cycles_per_step * k0));
+        for (int k = k0; k < std::min(n, k0 + 64); ++k, v = mul(v, step))
+            dst[k] = gr_complex(v);
+    }
+}
+
+} // namespace
+
+struct td_channel::impl {
+    struct path {
+        int shift = 0;        // D: whole samples
+        double frac = 0.0;    // δ in [0, 1)
+        bool fractional = false;
+        bool moving = false;  // Doppler or micro-Doppler: per-sample phasor
+        bool has_md = false;
+        int anchor = 0;       // samples between exact phase anchors
+        channel_path p;
+        std::vector<gr_complex> shift_phasor; // α·exp(-j2π m δ/M)/M
+        std::vector<gr_complex> buf;          // α·[previous symbol | current symbol], shifted by δ
+        std::vector<gr_complex> doppler;      // exp(j2π ν k/B), k = 0..S-1 (Doppler without micro-Doppler)
+        gr_complex w0_prev{ 0.0f, 0.0f };     // the previous symbol's tone sum at -δ
+    };
+
+    int m, cp, s;
+    double b, t, md_scale;
+    gr::fft::fft_complex_fwd fwd;
+    gr::fft::fft_complex_rev rev;
+    std::vector<gr_complex> x_prev, x_cur; // FFT of the symbols' last M samples
+    std::vector<gr_complex> raw_prev;      // the previous symbol's samples
+    std::vector<path> paths;
+    size_t n_paths = 0;
+    std::vector<gr_complex> tmp;
+    uint64_t first_symbol = 0;
+
+    impl(const frame_settings& fs)
+        : m(fs.n_subcarriers),
+          cp(fs.cp_len),
+          s(fs.n_subcarriers + fs.cp_len),
+          b(fs.bandwidth_hz),
+          t(fs.symbol_interval_s),
+          md_scale(4.0 * M_PI / fs.wavelength_m()),
+          fwd(fs.n_subcarriers),
+          rev(fs.n_subcarriers),
+          x_prev(m),
+          x_cur(m),
+          raw_prev(s),
+          tmp(s)
+    {
+    }
+
+    // Inverse FFT of x ⊙ shift_phasor: the symbol's tone sum at times j - δ (j = 0..M-1),
+    // left in rev's output buffer.
+    const gr_complex* shifted_core(const path& pa, const std::vector<gr_complex>& x)
+    {
+        volk_32fc_x2_multiply_32fc(rev.get_inbuf(), x.data(), pa.shift_phasor.data(), m);
+        rev.execute();
+        return rev.get_outbuf();
+    }
+
+    // dst[i] = w[(i - CP) mod M], i = 0..S-1 (the symbol with its prefix, from its core).
+    void with_prefix(const gr_complex* w, gr_complex* dst) const
+    {
+        // Whole copies of the core, starting at core index (-CP) mod M.
+        int j = ((-cp) % m + m) % m;
+        for (int i = 0; i < s;) {
+            const int run = std::min(m - j, s - i);
+            std::memcpy(dst + i, w + j, sizeof(gr_complex) * run);
+            i += run;
+            j = 0;
+        }
+    }
+
+    void fill_previous(path& pa)
+    {
+        pa.buf.assign(size_t(2) * s, gr_complex(0.0f, 0.0f));
+        if (!pa.fractional) {
+            volk_32fc_s32fc_multiply_32fc(pa.buf.data(), raw_prev.data(), gr_complex(pa.p.gain), s);
+            pa.w0_prev = 0.0f;
+            return;
+        }
+        const gr_complex* w = shifted_core(pa, x_prev);
+        with_prefix(w, pa.buf.data()); // its sample 0 is never read (delays < M ≤ S)
+        pa.w0_prev = w[0];
+    }
+
+    void fill_current(path& pa, const gr_complex* in)
+    {
+        gr_complex* cur = pa.buf.data() + s;
+        if (!pa.fractional) {
+            volk_32fc_s32fc_multiply_32fc(cur, in, gr_complex(pa.p.gain), s);
+            return;
+        }
+        const gr_complex* w = shifted_core(pa, x_cur);
+        with_prefix(w, cur);
+        cur[0] = pa.w0_prev; // time -δ lies in the previous symbol: its tone sum there
+        pa.w0_prev = w[0];
+    }
+
+    // dst[k] = src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)),  t_k = sym·T + k/B.
+    // The phase is exact (double) at each chunk start and linear within a chunk (VOLK's
+    // rotator): exact for Doppler alone; for micro-Doppler the chunk is short enough that
+    // the curvature left out, |θ''|·chunk²/8 (secant), stays below md_phase_tolerance_rad.
+    void rotate(const path& pa, uint64_t sym, const gr_complex* src, gr_complex* dst) const
+    {
+        const auto& p = pa.p;
+        const double sd = static_cast<double>(sym);
+        const double dop_cycles0 = frac(p.doppler_hz * t * sd);
+        const double md_cycles0 = pa.has_md ? frac(p.md_rate_hz * t * sd) : 0.0;
+        const double beta = md_scale * p.md_amplitude_m;
+        auto md_phase = [&](int k) {
+            return pa.has_md ? beta * std::sin(two_pi * (md_cycles0 + p.md_rate_hz * k / b) + p.md_phase_rad)
+                             : 0.0;
+        };
+        double th0 = md_phase(0);
+        for (int k0 = 0; k0 < s; k0 += pa.anchor) {
+            const int k1 = std::min(s, k0 + pa.anchor);
+            const double th1 = md_phase(k1);
+            const double slope = two_pi * p.doppler_hz / b + (th1 - th0) / (k1 - k0);
+            lv_32fc_t phase(cis(two_pi * frac(dop_cycles0 + p.doppler_hz * k0 / b) + th0));
+            volk_32fc_s32fc_x2_rotator_32fc(dst + k0, src + k0, lv_32fc_t(cis(slope)), &phase, k1 - k0);
+            th0 = th1;
+        }
+    }
+};
+
+td_channel::td_channel(const frame_settings& fs) : d_fs(fs), d_s(fs.n_subcarriers + fs.cp_len)
+{
+    d_fs.validate();
+    if (fs.cp_len < 0)
+        throw std::invalid_argument("td_channel: cp_len must be >= 0, got " + std::to_string(fs.cp_len));
+    const double symbol_s = d_s / fs.bandwidth_hz;
+    if (fs.symbol_interval_s < symbol_s * (1.0 - 1e-12))
+        throw std::invalid_argument(
+            "td_channel: symbol_interval_s (T = " + std::to_string(fs.symbol_interval_s) +
+            " s) is shorter than one symbol, (M + cp_len)/B = " + std::to_string(symbol_s) +
+            " s: a symbol must fit its interval");
+    d = std::make_unique<impl>(d_fs);
+}
+
+td_channel::~td_channel() = default;
+td_channel::td_channel(td_channel&&) noexcept = default;
+td_channel& td_channel::operator=(td_channel&&) noexcept = default;
+
+void td_channel::reset()
+{
+    std::fill(d->x_prev.begin(), d->x_prev.end(), gr_complex(0.0f, 0.0f));
+    std::fill(d->raw_prev.begin(), d->raw_prev.end(), gr_complex(0.0f, 0.0f));
+    for (size_t l = 0; l < d->n_paths; ++l)
+        d->fill_previous(d->paths[l]);
+}
+
+void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t first_symbol)
+{
+    auto& I = *d;
+    if (I.paths.size() < paths.size())
+        I.paths.resize(paths.size());
+    I.n_paths = paths.size();
+    I.first_symbol = first_symbol;
+    const int m = I.m;
+    for (size_t l = 0; l < paths.size(); ++l) {
+        const auto& p = paths[l];
+        auto& pa = I.paths[l];
+        const double samples = p.delay_s * I.b;
+        if (!std::isfinite(samples) || samples < 0.0 || samples >= m)
+            throw std::invalid_argument("td_channel: path " + std::to_string(l) + " delay " +
+                                        std::to_string(p.delay_s) + " s is outside [0, 1/Δf) = [0, " +
+                                        std::to_string(m / I.b) + ") s");
+        pa.p = p;
+        pa.shift = static_cast<int>(std::floor(samples));
+        pa.frac = samples - pa.shift;
+        pa.fractional = pa.frac > 0.0;
+        pa.has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
+        pa.moving = pa.has_md || p.doppler_hz != 0.0;
+        pa.anchor = I.s;
+        if (pa.has_md) {
+            const double beta = I.md_scale * p.md_amplitude_m, omega = two_pi * p.md_rate_hz;
+            // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
+            const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
+            pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
+        }
+        // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15).
+        pa.doppler.resize(I.s);
+        fill_phasors(pa.doppler.data(), I.s, 1.0, p.doppler_hz / I.b);
+        pa.shift_phasor.resize(m);
+        fill_phasors(pa.shift_phasor.data(), m, p.gain / static_cast<double>(m), -pa.frac / m);
+        I.fill_previous(pa);
+    }
+}
+
+void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
+{
+    auto& I = *d;
+    const int s = I.s;
+    std::memcpy(I.fwd.get_inbuf(), in + I.cp, sizeof(gr_complex) * I.m);
+    I.fwd.execute();
+    std::memcpy(I.x_cur.data(), I.fwd.get_outbuf(), sizeof(gr_complex) * I.m);
+
+    std::fill(out, out + s, gr_complex(0.0f, 0.0f));
+    const uint64_t sym = I.first_symbol + static_cast<uint64_t>(n);
+    for (size_t l = 0; l < I.n_paths; ++l) {
+        auto& pa = I.paths[l];
+        I.fill_current(pa, in);
+        const gr_complex* src = pa.buf.data() + s - pa.shift;
+        if (pa.moving && !pa.has_md) {
+            const double cycles = frac(pa.p.doppler_hz * I.t * static_cast<double>(sym));
+            doppler_accumulate(out, src, pa.doppler.data(), gr_complex(cis(two_pi * cycles)), s);
+            std::memmove(pa.buf.data(), pa.buf.data() + s, sizeof(gr_complex) * s);
+            continue;
+        }
+        if (pa.moving) {
+            I.rotate(pa, sym, src, I.tmp.data());
+            src = I.tmp.data();
+        }
+        volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
+                            reinterpret_cast<const float*>(out),
+                            reinterpret_cast<const float*>(src),
+                            2 * s);
+        std::memmove(pa.buf.data(), pa.buf.data() + s, sizeof(gr_complex) * s);
+    }
+    std::swap(I.x_prev, I.x_cur);
+    std::memcpy(I.raw_prev.data(), in, sizeof(gr_complex) * s);
+}
+
+} // namespace sems
+} // namespace gr
