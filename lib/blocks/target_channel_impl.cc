@@ -13,68 +13,6 @@ namespace sems {
 
 static const char* const who = "target_channel";
 
-namespace {
-
-void check_snr(double snr_db)
-{
-    if (std::isnan(snr_db) || snr_db == -std::numeric_limits<double>::infinity())
-        throw std::invalid_argument(std::string(who) + ": snr_db must be a number or +inf (noiseless), got " +
-                                    std::to_string(snr_db));
-}
-
-scene build_scene(const std::string& text,
-                  const std::vector<std::string>& classes,
-                  int n_targets,
-                  int paths_per_target,
-                  bool micro_doppler,
-                  int clutter_paths,
-                  double clutter_csr_db)
-{
-    const auto first = text.find_first_not_of(" \t\r\n");
-    if (first != std::string::npos) { // a fixed scene: file or JSON text
-        const random_spec defaults;
-        if (!classes.empty() || n_targets != defaults.n_targets ||
-            paths_per_target != defaults.paths_per_target || micro_doppler != defaults.micro_doppler ||
-            clutter_paths != 0 || clutter_csr_db != 0.0)
-            throw std::invalid_argument(std::string(who) +
-                                        ": classes, n_targets, paths_per_target, micro_doppler and clutter_* "
-                                        "describe random scenes; a fixed scene (scene = file or JSON) carries "
-                                        "its own, so leave them at their defaults");
-        if (text[first] == '{')
-            return scene::parse(text, std::string(who) + " scene JSON");
-        return scene::load(text);
-    }
-
-    random_spec r;
-    if (!classes.empty()) {
-        r.classes.clear();
-        for (const auto& name : classes) {
-            try {
-                r.classes.push_back(class_from_name(name));
-            } catch (const std::invalid_argument& e) {
-                throw std::invalid_argument(std::string(who) + ": classes: " + e.what());
-            }
-        }
-    }
-    r.n_targets = n_targets;
-    r.paths_per_target = paths_per_target;
-    r.micro_doppler = micro_doppler;
-    std::optional<clutter_spec> clutter;
-    if (clutter_paths < 0)
-        throw std::invalid_argument(std::string(who) + ": clutter_paths must be >= 0, got " +
-                                    std::to_string(clutter_paths));
-    if (clutter_paths > 0) {
-        clutter_spec c;
-        c.n_paths = clutter_paths;
-        c.csr_db = clutter_csr_db;
-        clutter = c;
-    }
-    auto sc = scene::random(r, clutter);
-    sc.validate(std::string(who) + " random scene");
-    return sc;
-}
-
-} // namespace
 
 target_channel::sptr target_channel::make(const std::string& scene_text,
                                           const std::vector<std::string>& classes,
@@ -91,7 +29,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           double carrier_hz,
                                           double symbol_interval_s)
 {
-    check_snr(snr_db);
+    detail::check_snr(who, snr_db);
     frame_settings fs;
     fs.n_symbols = n_symbols;
     fs.n_subcarriers = n_subcarriers;
@@ -100,8 +38,8 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.symbol_interval_s = symbol_interval_s;
     fs.cp_len = 0; // the frequency-domain emulator has no cyclic prefix (ofdm_tx/rx add it)
     fs.validate();
-    auto sc = build_scene(scene_text, classes, n_targets, paths_per_target, micro_doppler, clutter_paths,
-                          clutter_csr_db);
+    auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
+                                          clutter_paths, clutter_csr_db);
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db);
 }
 
@@ -114,24 +52,14 @@ target_channel_impl::target_channel_impl(channel_model model, double snr_db)
       d_m(d_model.settings().n_subcarriers),
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
-      d_frame_key(pmt::intern(keys::frame_tag)),
-      d_truth_key(pmt::intern(keys::truth_tag)),
-      d_k_frame(pmt::intern(keys::frame)),
-      d_k_class(pmt::intern(keys::class_id)),
-      d_k_class_name(pmt::intern(keys::class_name)),
-      d_k_delay_s(pmt::intern(keys::delay_s)),
-      d_k_delay_index(pmt::intern(keys::delay_index)),
-      d_k_range_m(pmt::intern(keys::range_m)),
-      d_k_velocity_mps(pmt::intern(keys::velocity_mps)),
-      d_k_snr_db(pmt::intern(keys::snr_db)),
-      d_k_n_paths(pmt::intern(keys::n_paths))
+      d_frame_key(pmt::intern(keys::frame_tag))
 {
     d_tags.reserve(16);
 }
 
 void target_channel_impl::set_snr_db(double snr_db)
 {
-    check_snr(snr_db);
+    detail::check_snr(who, snr_db);
     d_snr_db = snr_db; // latched at the next frame start
 }
 
@@ -151,18 +79,7 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
     d_started = true;
     ++d_frames;
 
-    const auto& t = r.truth;
-    pmt::pmt_t dict = pmt::make_dict();
-    dict = pmt::dict_add(dict, d_k_frame, pmt::from_uint64(frame));
-    dict = pmt::dict_add(dict, d_k_class, pmt::from_long(t.class_id));
-    dict = pmt::dict_add(dict, d_k_class_name, pmt::string_to_symbol(t.class_name));
-    dict = pmt::dict_add(dict, d_k_delay_s, pmt::from_double(t.delay_s));
-    dict = pmt::dict_add(dict, d_k_delay_index, pmt::from_double(t.delay_index));
-    dict = pmt::dict_add(dict, d_k_range_m, pmt::from_double(t.range_m));
-    dict = pmt::dict_add(dict, d_k_velocity_mps, pmt::from_double(t.velocity_mps));
-    dict = pmt::dict_add(dict, d_k_snr_db, pmt::from_double(d_frame_snr_db));
-    dict = pmt::dict_add(dict, d_k_n_paths, pmt::from_long(t.n_paths));
-    add_item_tag(0, out_offset, d_truth_key, dict, alias_pmt());
+    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r.truth, frame, d_frame_snr_db), alias_pmt());
 }
 
 int target_channel_impl::work(int noutput_items,

@@ -3,6 +3,7 @@
 #ifndef INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
 #define INCLUDED_SEMS_TARGET_CHANNEL_IMPL_H
 
+#include "blocks/channel_block_common.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/blocks/target_channel.h>
 #include <pmt/pmt.h>
@@ -42,10 +43,8 @@ private:
     std::atomic<uint64_t> d_frames{ 0 };    // counters, read from other threads
     std::atomic<uint64_t> d_nonfinite{ 0 };
 
-    const pmt::pmt_t d_frame_key, d_truth_key;
-    // Truth-dict keys, interned once (keys.h order: frame, class, class_name, ...).
-    const pmt::pmt_t d_k_frame, d_k_class, d_k_class_name, d_k_delay_s, d_k_delay_index, d_k_range_m,
-        d_k_velocity_mps, d_k_snr_db, d_k_n_paths;
+    const pmt::pmt_t d_frame_key;
+    const detail::truth_dict d_truth;
     std::vector<gr::tag_t> d_tags;
 };
 

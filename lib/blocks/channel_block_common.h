@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: what the two target channel blocks (frequency and time domain) share
+ * (internal): their scene parameters, their SNR check and their truth tag, so both
+ * read the same parameters the same way and write the same sems_truth dict.
+ */
+#ifndef INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H
+#define INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H
+
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/scene.h>
+#include <pmt/pmt.h>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+namespace detail {
+
+// Throws std::invalid_argument (prefixed by `who`) for NaN or -inf.
+void check_snr(const char* who, double snr_db);
+
+// The scene of a channel block's parameters: a scene file path or JSON text (starts with
+// '{'), or "" for a random scene from the random options, which must then keep their
+// defaults with a fixed scene. Throws std::invalid_argument prefixed by `who`.
+scene channel_block_scene(const char* who,
+                          const std::string& text,
+                          const std::vector<std::string>& classes,
+                          int n_targets,
+                          int paths_per_target,
+                          bool micro_doppler,
+                          int clutter_paths,
+                          double clutter_csr_db);
+
+// The sems_truth dict of a frame (keys from tags.h, interned once).
+class truth_dict
+{
+public:
+    truth_dict();
+    const pmt::pmt_t& tag_key() const { return d_truth_key; }
+    pmt::pmt_t make(const frame_truth& t, uint64_t frame, double snr_db) const;
+
+private:
+    const pmt::pmt_t d_truth_key, d_frame, d_class, d_class_name, d_delay_s, d_delay_index, d_range_m,
+        d_velocity_mps, d_snr_db, d_n_paths;
+};
+
+} // namespace detail
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H */
