@@ -2,7 +2,8 @@
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
-keys; blocks pilot_mapper, target_channel, pilot_extractor; hier blocks ofdm_tx / ofdm_rx.
+keys; blocks pilot_mapper, target_channel, target_channel_td, pilot_extractor; hier blocks
+ofdm_tx / ofdm_rx.
 
 Learning (LibTorch, loaded on first use of one of these names): classifier_sink,
 delay_estimator_sink, model_bundle, bundle_decoder, training_settings, train, ...

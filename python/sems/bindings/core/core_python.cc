@@ -10,6 +10,7 @@ namespace py = pybind11;
 void bind_core(py::module& m);
 void bind_pilot_mapper(py::module& m);
 void bind_target_channel(py::module& m);
+void bind_target_channel_td(py::module& m);
 void bind_pilot_extractor(py::module& m);
 
 PYBIND11_MODULE(core_python, m)
@@ -21,5 +22,6 @@ PYBIND11_MODULE(core_python, m)
     bind_core(m);
     bind_pilot_mapper(m);
     bind_target_channel(m);
+    bind_target_channel_td(m);
     bind_pilot_extractor(m);
 }

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the time-domain target channel emulator (DESIGN §3, time domain).
+ *
+ * gr_complex samples in and out at the sample rate B: a CP-OFDM stream (ofdm_tx), symbols
+ * of S = M + cp_len samples back to back from the stream's first sample. A thin adapter
+ * over the same channel_model as target_channel (per frame draw(frame), so one seed gives
+ * the same targets and gains) and td_channel (the per-sample synthesis; its header states
+ * the time convention: symbol s at slow time s·T, its sample k at s·T + k/B, the delay
+ * acting on the contiguous stream, so a delay past the prefix gives ISI, and Doppler and
+ * micro-Doppler phases per sample, so ICI appears).
+ *
+ * Frames of N symbols: aligned to keys::frame_tag tags on a symbol's first sample (the
+ * frame index is the tag's value; a tag that is not on a symbol boundary is counted in
+ * misaligned_tags() and ignored), counted from 0 otherwise. keys::truth_tag (the same
+ * dict as target_channel) goes on the first sample of every frame.
+ *
+ * Noise CN(0, σ²) on every sample, σ² = 10^(-SNR/10): with ofdm_tx/ofdm_rx's unitary
+ * FFTs this is the same per-resource-element SNR as target_channel. Settable while
+ * running, effective from the next frame.
+ *
+ * Work sizes: the block asks the scheduler for whole symbols (output multiple S); any
+ * number of symbols per call gives the same output.
+ */
+#ifndef INCLUDED_SEMS_TARGET_CHANNEL_TD_H
+#define INCLUDED_SEMS_TARGET_CHANNEL_TD_H
+
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sync_block.h>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief Sample-level target channel emulator: the scenes of target_channel on a
+ *        CP-OFDM sample stream, with fractional delays, ISI and ICI.
+ * \ingroup sems
+ */
+class SEMS_API target_channel_td : virtual public gr::sync_block
+{
+public:
+    typedef std::shared_ptr<target_channel_td> sptr;
+
+    /*!
+     * \param scene            scene file path, scene JSON text, or "" for random scenes
+     * \param classes          random scenes: class names to draw from (empty = all)
+     * \param n_targets        random scenes: targets per frame (the first is the target of interest)
+     * \param paths_per_target random scenes: paths per target (1 = single path)
+     * \param micro_doppler    random scenes: micro-Doppler for the classes that have it
+     * \param clutter_paths    random scenes: static clutter scatterers (0 = no clutter)
+     * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
+     * \param snr_db           SNR per resource element, +inf = noiseless
+     * \param seed             seed of the model's draws (scene/gains and noise)
+     * \param n_symbols        N, symbols per frame
+     * \param n_subcarriers    M, subcarriers (FFT size)
+     * \param bandwidth_hz     B, the sample rate
+     * \param carrier_hz       f_c
+     * \param symbol_interval_s T, slow-time spacing of the symbols (>= (M + cp_len)/B)
+     * \param cp_len           cyclic prefix in samples (>= 0)
+     * Throws std::invalid_argument naming the parameter (or scene file) and the problem.
+     */
+    static sptr make(const std::string& scene = "",
+                     const std::vector<std::string>& classes = {},
+                     int n_targets = 1,
+                     int paths_per_target = 1,
+                     bool micro_doppler = true,
+                     int clutter_paths = 0,
+                     double clutter_csr_db = 0.0,
+                     double snr_db = std::numeric_limits<double>::infinity(),
+                     uint64_t seed = 0,
+                     int n_symbols = frame_settings{}.n_symbols,
+                     int n_subcarriers = frame_settings{}.n_subcarriers,
+                     double bandwidth_hz = frame_settings{}.bandwidth_hz,
+                     double carrier_hz = frame_settings{}.carrier_hz,
+                     double symbol_interval_s = frame_settings{}.symbol_interval_s,
+                     int cp_len = frame_settings{}.cp_len);
+
+    //! From the next frame; NaN and -inf refused.
+    virtual void set_snr_db(double snr_db) = 0;
+    virtual double snr_db() const = 0;
+
+    virtual const frame_settings& settings() const = 0;
+    virtual std::string scene_json() const = 0;
+
+    virtual uint64_t frames() const = 0;            //!< frames started
+    virtual uint64_t nonfinite_symbols() const = 0; //!< input symbols with a NaN/Inf sample
+    virtual uint64_t misaligned_tags() const = 0;   //!< frame tags off a symbol boundary (ignored)
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TARGET_CHANNEL_TD_H */

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: target_channel_td implementation (see target_channel_td.h). */
+#ifndef INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H
+#define INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H
+
+#include "blocks/channel_block_common.h"
+#include <gnuradio/sems/blocks/target_channel_td.h>
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/td_channel.h>
+#include <atomic>
+
+namespace gr {
+namespace sems {
+
+class target_channel_td_impl : public target_channel_td
+{
+public:
+    target_channel_td_impl(channel_model model, double snr_db);
+
+    void set_snr_db(double snr_db) override;
+    double snr_db() const override;
+    const frame_settings& settings() const override { return d_model.settings(); }
+    std::string scene_json() const override { return d_model.scene_spec().to_json_string(); }
+    uint64_t frames() const override { return d_frames; }
+    uint64_t nonfinite_symbols() const override { return d_nonfinite; }
+    uint64_t misaligned_tags() const override { return d_misaligned; }
+
+    int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star& output_items) override;
+
+private:
+    void start_frame(uint64_t frame, uint64_t out_offset);
+
+    channel_model d_model;
+    td_channel d_td;
+    const int d_n, d_s;
+    std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
+    double d_frame_snr_db;        // the current frame's
+
+    int d_row = 0; // next symbol of the current frame
+    uint64_t d_frame = 0;
+    bool d_started = false;
+
+    std::atomic<uint64_t> d_frames{ 0 };
+    std::atomic<uint64_t> d_nonfinite{ 0 };
+    std::atomic<uint64_t> d_misaligned{ 0 };
+
+    const pmt::pmt_t d_frame_key;
+    const detail::truth_dict d_truth;
+    std::vector<gr::tag_t> d_tags;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H */
