@@ -11,6 +11,7 @@ void bind_core(py::module& m);
 void bind_pilot_mapper(py::module& m);
 void bind_target_channel(py::module& m);
 void bind_target_channel_td(py::module& m);
+void bind_frame_sync(py::module& m);
 void bind_pilot_extractor(py::module& m);
 
 PYBIND11_MODULE(core_python, m)
@@ -23,5 +24,6 @@ PYBIND11_MODULE(core_python, m)
     bind_pilot_mapper(m);
     bind_target_channel(m);
     bind_target_channel_td(m);
+    bind_frame_sync(m);
     bind_pilot_extractor(m);
 }

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: frame alignment of a CP-OFDM sample stream whose start is unknown (a file, an
+ * SDR): finds the frame start from the known pilots (core frame_search: correlation with
+ * the pilots' time-domain template over `search_frames` frames), drops the samples before
+ * it, and from there passes the stream on with a keys::frame_tag (frame index from 0) on the
+ * first sample of every frame, so ofdm_rx and the extractor get whole frames.
+ *
+ * Until a frame is found it outputs nothing: each search that finds no frame (F·L·ρ below
+ * the threshold; noise alone) is counted in failures() and the window slides by one frame.
+ * The offset found (samples from the stream start) is offset() and goes out as a dict
+ * {offset, metric, failures} on the message port "sync". Once locked it stays locked (an
+ * offset calibrated once, as on a loopback); frame_search.h states what the search assumes.
+ */
+#ifndef INCLUDED_SEMS_FRAME_SYNC_H
+#define INCLUDED_SEMS_FRAME_SYNC_H
+
+#include <gnuradio/block.h>
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief Finds the frame start in a sample stream from the known pilots and tags frames.
+ * \ingroup sems
+ */
+class SEMS_API frame_sync : virtual public gr::block
+{
+public:
+    typedef std::shared_ptr<frame_sync> sptr;
+
+    /*!
+     * \param mask_file      pilot mask file (or "" with pilot_positions)
+     * \param pilot_positions flat pilot indices n·M + m (or empty with mask_file)
+     * \param n_symbols      N
+     * \param n_subcarriers  M
+     * \param pilot_symbol   s_p
+     * \param pilot_power    E_p, as in the pilot mapper
+     * \param cp_len         cyclic prefix (samples)
+     * \param search_frames  F, frames correlated per search (>= 1)
+     * \param threshold      detection threshold on F·L·ρ (frame_search.h)
+     * Throws std::invalid_argument naming the parameter.
+     */
+    static sptr make(const std::string& mask_file = "",
+                     const std::vector<int>& pilot_positions = {},
+                     int n_symbols = frame_settings{}.n_symbols,
+                     int n_subcarriers = frame_settings{}.n_subcarriers,
+                     gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
+                     double pilot_power = 1.0,
+                     int cp_len = frame_settings{}.cp_len,
+                     int search_frames = 4,
+                     double threshold = 25.0);
+
+    virtual bool locked() const = 0;
+    virtual int64_t offset() const = 0;      //!< samples dropped before the first frame; -1 until found
+    virtual double metric() const = 0;        //!< F·L·ρ of the last search
+    virtual uint64_t failures() const = 0;    //!< searches that found no frame
+    virtual int frame_len() const = 0;        //!< L = N·(M + cp_len)
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_FRAME_SYNC_H */

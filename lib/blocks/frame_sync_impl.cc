@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: frame_sync implementation (see frame_sync.h). */
+#include "blocks/frame_sync_impl.h"
+#include "blocks/block_mask.h"
+#include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/tags.h>
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+static const char* const who = "frame_sync";
+
+frame_sync::sptr frame_sync::make(const std::string& mask_file,
+                                  const std::vector<int>& pilot_positions,
+                                  int n_symbols,
+                                  int n_subcarriers,
+                                  gr_complex pilot_symbol,
+                                  double pilot_power,
+                                  int cp_len,
+                                  int search_frames,
+                                  double threshold)
+{
+    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    try {
+        return gnuradio::make_block_sptr<frame_sync_impl>(
+            frame_search(mask, cp_len, pilot_power, search_frames, threshold));
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": " + e.what());
+    }
+}
+
+frame_sync_impl::frame_sync_impl(frame_search search)
+    : gr::block(who,
+                gr::io_signature::make(1, 1, sizeof(gr_complex)),
+                gr::io_signature::make(1, 1, sizeof(gr_complex))),
+      d_search(std::move(search)),
+      d_frame_key(pmt::intern(keys::frame_tag)),
+      d_port(pmt::intern("sync"))
+{
+    message_port_register_out(d_port);
+    set_tag_propagation_policy(TPP_DONT); // tags are placed by hand (input and output offsets differ)
+}
+
+void frame_sync_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
+{
+    // Searching: whatever is there (it is buffered here). Locked: 1:1, after what is pending.
+    if (!d_locked)
+        ninput_items_required[0] = 1;
+    else
+        ninput_items_required[0] = d_pending_pos < d_buf.size() ? 0 : noutput_items;
+}
+
+int frame_sync_impl::general_work(int noutput_items,
+                                  gr_vector_int& ninput_items,
+                                  gr_vector_const_void_star& input_items,
+                                  gr_vector_void_star& output_items)
+{
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    const size_t window = static_cast<size_t>(d_search.window_len());
+    const size_t frame = static_cast<size_t>(d_search.frame_len());
+    if (!d_locked) {
+        d_buf.insert(d_buf.end(), in, in + ninput_items[0]);
+        consume_each(ninput_items[0]);
+        while (!d_locked && d_buf.size() >= window) {
+            const auto r = d_search.search(d_buf.data());
+            d_metric = r.metric;
+            if (!r.found) { // slide by one frame
+                ++d_failures;
+                d_buf.erase(d_buf.begin(), d_buf.begin() + static_cast<std::ptrdiff_t>(frame));
+                d_buf_start += frame;
+                continue;
+            }
+            d_offset = static_cast<int64_t>(d_buf_start) + r.lag;
+            d_locked = true;
+            d_pending_pos = static_cast<size_t>(r.lag);
+            pmt::pmt_t dict = pmt::make_dict();
+            dict = pmt::dict_add(dict, pmt::intern("offset"), pmt::from_long(d_offset));
+            dict = pmt::dict_add(dict, pmt::intern("metric"), pmt::from_double(r.metric));
+            dict = pmt::dict_add(dict, pmt::intern("failures"), pmt::from_uint64(d_failures));
+            message_port_pub(d_port, dict);
+        }
+        if (!d_locked)
+            return 0;
+    }
+    int n = 0;
+    if (d_pending_pos < d_buf.size()) { // the found frames, from the window
+        n = static_cast<int>(std::min<size_t>(noutput_items, d_buf.size() - d_pending_pos));
+        std::memcpy(out, d_buf.data() + d_pending_pos, sizeof(gr_complex) * n);
+        d_pending_pos += n;
+        if (d_pending_pos == d_buf.size()) {
+            d_buf.clear();
+            d_buf.shrink_to_fit();
+            d_pending_pos = 0;
+        }
+    } else {
+        n = std::min(noutput_items, ninput_items[0]);
+        std::memcpy(out, in, sizeof(gr_complex) * n);
+        consume_each(n);
+    }
+    const uint64_t first = nitems_written(0), L = frame;
+    for (uint64_t t = (first + L - 1) / L * L; t < first + static_cast<uint64_t>(n); t += L)
+        add_item_tag(0, t, d_frame_key, pmt::from_uint64(d_next_frame++));
+    return n;
+}
+
+} // namespace sems
+} // namespace gr

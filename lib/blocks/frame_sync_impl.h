@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: frame_sync implementation (see frame_sync.h). */
+#ifndef INCLUDED_SEMS_FRAME_SYNC_IMPL_H
+#define INCLUDED_SEMS_FRAME_SYNC_IMPL_H
+
+#include <gnuradio/sems/blocks/frame_sync.h>
+#include <gnuradio/sems/core/frame_search.h>
+#include <pmt/pmt.h>
+#include <atomic>
+
+namespace gr {
+namespace sems {
+
+class frame_sync_impl : public frame_sync
+{
+public:
+    explicit frame_sync_impl(frame_search search);
+
+    bool locked() const override { return d_locked; }
+    int64_t offset() const override { return d_offset; }
+    double metric() const override { return d_metric; }
+    uint64_t failures() const override { return d_failures; }
+    int frame_len() const override { return d_search.frame_len(); }
+
+    void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
+    int general_work(int noutput_items,
+                     gr_vector_int& ninput_items,
+                     gr_vector_const_void_star& input_items,
+                     gr_vector_void_star& output_items) override;
+
+private:
+    const frame_search d_search;
+    std::atomic<bool> d_locked{ false };
+    std::atomic<int64_t> d_offset{ -1 };
+    std::atomic<double> d_metric{ 0.0 };
+    std::atomic<uint64_t> d_failures{ 0 };
+    uint64_t d_next_frame = 0; // index of the next frame tag
+    // Searching: the samples not yet dropped (any upstream buffer size works), starting at
+    // stream offset d_buf_start. Locked: the found frame's samples still to be output.
+    std::vector<gr_complex> d_buf;
+    uint64_t d_buf_start = 0;
+    size_t d_pending_pos = 0;
+    const pmt::pmt_t d_frame_key, d_port;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_FRAME_SYNC_IMPL_H */

@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""gr-sems: frame_sync finds a random frame offset exactly from the pilots at 10 dB, and on
+noise alone tags nothing and counts its failed searches."""
+import math
+import os
+
+import numpy as np
+import pmt
+from gnuradio import analog, blocks, digital, gr, gr_unittest, sems
+
+MODELS = os.path.join(os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..")),
+                      "models")
+MASK = os.path.join(MODELS, "delay_single", "mask.json")  # pilots over 31 subcarriers
+QPSK = [(1 + 1j) / 2 ** 0.5, (-1 + 1j) / 2 ** 0.5, (-1 - 1j) / 2 ** 0.5, (1 - 1j) / 2 ** 0.5]
+
+
+class qa_frame_sync(gr_unittest.TestCase):
+
+    def transmit(self, frames, cp, seed):
+        """frames of mapper -> ofdm_tx samples (data QPSK), as a numpy array"""
+        n, m = 32, 64
+        src = digital.chunks_to_symbols_bc(QPSK, 1)
+        bits = analog.random_uniform_source_b(0, 4, seed)
+        mapper = sems.pilot_mapper(mask_file=MASK)
+        head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
+        sink = blocks.vector_sink_c()
+        tb = gr.top_block()
+        tb.connect(bits, src, mapper, head, sems.ofdm_tx(m, cp), sink)
+        tb.run()
+        return np.array(sink.data(), dtype=np.complex64)
+
+    def sync(self, x, cp, search_frames=4):
+        src = blocks.vector_source_c(x.tolist())
+        fs = sems.frame_sync(mask_file=MASK, cp_len=cp, search_frames=search_frames)
+        sink = blocks.vector_sink_c()
+        msgs = blocks.message_debug()
+        tb = gr.top_block()
+        tb.connect(src, fs, sink)
+        tb.msg_connect(fs, "sync", msgs, "store")
+        tb.run()
+        return fs, np.array(sink.data()), sink.tags(), msgs
+
+    def test_001_random_offset_found_exactly_at_10_db(self):
+        cp = 48
+        rng = np.random.default_rng(4)
+        for trial in range(5):
+            with self.subTest(trial=trial):
+                frames = 6
+                tx = self.transmit(frames, cp, seed=trial + 1)
+                L = 32 * (64 + cp)
+                offset = int(rng.integers(0, 3 * L))
+                sigma2 = 10 ** (-10 / 10)  # 10 dB per sample (= per resource element)
+                g = np.exp(1j * rng.uniform(0, 2 * np.pi)) * 0.8  # unknown gain and phase
+                lead = np.zeros(offset, np.complex64)
+                rx = np.concatenate([lead, g * tx])
+                rx = rx + (rng.standard_normal(rx.size) + 1j * rng.standard_normal(rx.size)) * math.sqrt(
+                    sigma2 / 2) * 0.8
+                fs, y, tags, msgs = self.sync(rx.astype(np.complex64), cp)
+                self.assertTrue(fs.locked())
+                self.assertEqual(fs.offset(), offset)
+                # the output starts at the frame: it is the transmitted stream (plus noise)
+                self.assertLess(np.mean(np.abs(y[:L] / g - tx[:L]) ** 2), 2 * sigma2)
+                key = pmt.intern(sems.keys.frame_tag)
+                got = [(t.offset, pmt.to_uint64(t.value)) for t in tags if pmt.eqv(t.key, key)]
+                self.assertEqual(got, [(f * L, f) for f in range(len(y) // L + (len(y) % L > 0))])
+                self.assertEqual(msgs.num_messages(), 1)
+                self.assertEqual(pmt.to_long(pmt.dict_ref(msgs.get_message(0), pmt.intern("offset"), pmt.PMT_NIL)),
+                                 offset)
+                self.assertGreater(fs.metric(), 25.0)
+
+    def test_002_noise_alone_no_tag_and_a_count(self):
+        cp = 48
+        L = 32 * (64 + cp)
+        rng = np.random.default_rng(9)
+        x = ((rng.standard_normal(12 * L) + 1j * rng.standard_normal(12 * L)) / math.sqrt(2)).astype(np.complex64)
+        fs, y, tags, msgs = self.sync(x, cp)
+        self.assertFalse(fs.locked())
+        self.assertEqual(fs.offset(), -1)
+        self.assertEqual(len(y), 0)
+        self.assertEqual(len(tags), 0)
+        self.assertEqual(msgs.num_messages(), 0)
+        self.assertEqual(fs.failures(), 12 - 4)  # windows of 5 frames sliding by one over 12 frames
+        self.assertLess(fs.metric(), 25.0)
+
+    def test_003_bad_parameters(self):
+        for kw, needle in ((dict(mask_file=MASK, cp_len=-1), "cp_len"),
+                           (dict(mask_file=MASK, search_frames=0), "frames"),
+                           (dict(mask_file=MASK, pilot_power=0.0), "pilot_power"),
+                           (dict(mask_file=MASK, threshold=float("nan")), "threshold"),
+                           (dict(), "no pilots"),
+                           # 32 pilots on one subcarrier: a tone, periodic in samples
+                           (dict(mask_file=os.path.join(MODELS, "classifier", "mask.json")), "cannot locate")):
+            with self.subTest(needle=needle):
+                with self.assertRaisesRegex(ValueError, "frame_sync.*" + needle):
+                    sems.frame_sync(**kw)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_frame_sync)
