@@ -15,8 +15,9 @@ namespace sems {
 namespace {
 
 constexpr double two_pi = 2.0 * M_PI;
-// Third-order phase error allowed between exact anchors of the micro-Doppler phase (rad).
-constexpr double md_phase_tolerance_rad = 1e-7; // below float's phase resolution (6e-8 rad·2π)
+// Phase error allowed by the linear (secant) micro-Doppler phase inside a chunk (rad): about
+// float's own phase resolution.
+constexpr double md_phase_tolerance_rad = 1e-7;
 
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }

@@ -26,9 +26,11 @@
  * H[n,m]·X[n,m] of the frequency-domain model (measured: ~1e-7 relative, qa). Input that
  * is not CP-OFDM with these M and CP is interpolated as if it were.
  *
- * Doppler and micro-Doppler phases are evaluated per sample by a second-order phase
- * recurrence in double precision, re-anchored exactly at least every `anchor` samples,
- * chosen so the third-order term β·ω³·(anchor/B)³/6 stays below 1e-9 rad.
+ * Doppler phases are exact per sample: a per-frame table exp(j2π ν k/B) (double, anchored
+ * every 64 samples) times the symbol's phase exp(j2π ν s T) (reduced modulo one cycle in
+ * double). Micro-Doppler phases are exact at the start of each chunk of samples and linear
+ * inside it (VOLK's rotator), the chunk K chosen so the curvature left out,
+ * β·ω²·(K/B)²/8 with β = 4πA/λ, stays below 1e-7 rad.
  *
  * Range migration within a frame is not modelled (the delay is fixed per frame), as in
  * the frequency-domain model.
