@@ -8,6 +8,7 @@ simulator, in samples/s, in one run and one harness:
     machine the wall clock measures the neighbours) and per wall second; best of --repeat
     runs, rows interleaved.
 
+First row: blocks.multiply_const_cc, the anchor (the harness's own cost per sample).
 Scenes: 1, 3 and 10 point targets (cars at 10 + 7.3 k m, 15 m/s, one path each, no
 fading for gr-radar's sake), noise off; then noise on and micro-Doppler (drones) rows.
 - target_channel_td: samples (M + CP per symbol) in and out.
@@ -94,6 +95,9 @@ def main():
     inf = float("inf")
 
     rows = []  # (group, label, vlen, make, samples per item, packet_len)
+    # The harness itself, with the cheapest block there is: what every row pays before its model.
+    rows.append(("anchor", "blocks.multiply_const_cc (harness anchor)", 1,
+                 lambda: blocks.multiply_const_cc(0.5), 1, None))
     for k in (1, 3, 10):
         rows.append((k, f"target_channel_td  {k:2d} targets, noiseless",
                      1, lambda k=k: sems.target_channel_td(scene=scene(k, False), snr_db=inf, cp_len=a.cp), 1, None))
