@@ -4,8 +4,10 @@
  *   sems_train --task classify --out models/classifier --snr-min 0 --snr-max 20 --threads 2
  *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
  *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
+ *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *
- * See include/gnuradio/sems/learning/trainer.h for what the phases do.
+ * See include/gnuradio/sems/learning/trainer.h for what the phases do and
+ * docs/distributed_training.md for several processes and machines.
  */
 #include <gnuradio/sems/core/scene.h>
 #include <gnuradio/sems/core/target_class.h>
@@ -97,7 +99,16 @@ int main(int argc, char** argv)
         ("full-scores", "encoder: free N*M score matrix per head instead of the factorised a[n] + b[m]")
         ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "head collision penalty")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
-        ("quiet", "no per-epoch progress");
+        ("quiet", "no per-epoch progress")
+        // Distributed training (docs/distributed_training.md); the flags override
+        // WORLD_SIZE, RANK, MASTER_ADDR, MASTER_PORT and GLOO_SOCKET_IFNAME.
+        ("world-size", po::value<int>(), "number of ranks (processes) training together (default: WORLD_SIZE or 1)")
+        ("rank", po::value<int>(), "this process's rank in [0, world-size) (default: RANK)")
+        ("store-file", po::value<std::string>(), "rendezvous through this file (FileStore; one machine): a fresh path every run")
+        ("master-addr", po::value<std::string>(), "rendezvous at rank 0's address (TCPStore; default: MASTER_ADDR)")
+        ("master-port", po::value<int>(), "rank 0's TCPStore port (default: MASTER_PORT or 29500)")
+        ("gloo-interface", po::value<std::string>(), "network interface for Gloo's connections (default: GLOO_SOCKET_IFNAME)")
+        ("dist-timeout", po::value<double>(), "seconds a rank waits for the others (rendezvous, each collective) before failing");
     // clang-format on
 
     try {
@@ -109,6 +120,21 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         s.verbose = !vm.count("quiet");
+        s.distributed = distributed_settings::from_environment();
+        if (vm.count("world-size"))
+            s.distributed.world_size = vm["world-size"].as<int>();
+        if (vm.count("rank"))
+            s.distributed.rank = vm["rank"].as<int>();
+        if (vm.count("store-file"))
+            s.distributed.store_file = vm["store-file"].as<std::string>();
+        if (vm.count("master-addr"))
+            s.distributed.master_addr = vm["master-addr"].as<std::string>();
+        if (vm.count("master-port"))
+            s.distributed.master_port = vm["master-port"].as<int>();
+        if (vm.count("gloo-interface"))
+            s.distributed.interface = vm["gloo-interface"].as<std::string>();
+        if (vm.count("dist-timeout"))
+            s.distributed.timeout_s = vm["dist-timeout"].as<double>();
         if (vm.count("shared-scores"))
             s.encoder.shared = true;
         if (vm.count("full-scores"))
@@ -165,7 +191,8 @@ int main(int argc, char** argv)
         s.command_line = cmd.str();
 
         const auto res = train(s, &std::cout);
-        std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;
+        if (s.distributed.rank == 0)
+            std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;
         return 0;
     } catch (const po::error& e) {
         std::cerr << "sems_train: " << e.what() << "\n\n" << opts << std::endl;

@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   gnuradio gnuradio-dev libvolk2-dev libspdlog-dev libfmt-dev libgmp-dev
-  libtorch-dev
+  libtorch-dev libgloo-dev
   libcppunit-dev pybind11-dev python3-pybind11
   nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
   python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako

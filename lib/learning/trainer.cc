@@ -3,6 +3,7 @@
 #include "learning/trainer_data.h"
 #include "learning/classifier_decoder.h"
 #include "learning/delay_decoder.h"
+#include "learning/distributed_context.h"
 #include "learning/reconstruction_decoder.h"
 #include "learning/semantic_encoder.h"
 #include <gnuradio/sems/learning/trainer.h>
@@ -61,6 +62,7 @@ private:
     const training_settings& d_s;
     std::ostream* d_log;
     training::data_set d_data;
+    std::unique_ptr<training::distributed_context> d_dist; // world size 1: identities
     int d_n = 0, d_m = 0;
     double d_spacing = 1.0;
 
@@ -116,6 +118,7 @@ private:
     // Validation/test metric on a fixed mask: accuracy, delay MAE (index) or MSE.
     struct scored {
         double metric;
+        int64_t count; // frames scored over all ranks
         torch::Tensor logits, delay, obs;
     };
     scored evaluate(const nn::task_decoder& dec,
@@ -149,7 +152,9 @@ private:
         }
         dec->train();
         scored r;
-        r.metric = sum / total;
+        const auto g = d_dist->all_reduce_sum({ sum, static_cast<double>(total) }); // all ranks' frames
+        r.metric = g[0] / g[1];
+        r.count = static_cast<int64_t>(g[1]);
         r.obs = torch::cat(obs, 0);
         if (!logits.empty())
             r.logits = torch::cat(logits, 0);
@@ -160,7 +165,7 @@ private:
 
     void print(const std::string& line) const
     {
-        if (d_log && d_s.verbose)
+        if (d_log && d_s.verbose && d_dist->rank() == 0)
             *d_log << line << std::endl;
     }
 
@@ -175,7 +180,9 @@ training_result trainer::run()
     if (d_s.threads > 0) {
         torch::set_num_threads(d_s.threads);
     }
-    torch::manual_seed(d_s.seed);
+    d_dist = std::make_unique<training::distributed_context>(d_s.distributed);
+    const uint64_t rank_seed = d_dist->rank_seed(d_s.seed); // d_s.seed on rank 0
+    torch::manual_seed(rank_seed);
     d_n = d_s.frame.n_symbols;
     d_m = d_s.frame.n_subcarriers;
     const scene sc = d_s.scene_spec ? *d_s.scene_spec : default_scene();
@@ -196,20 +203,33 @@ training_result trainer::run()
                  std::to_string(d_s.n_pilots));
     }
 
-    d_data = training::make_data(d_s, sc);
+    if (d_dist->active()) { // this rank's share of the frames, from its own seed
+        training_settings mine = d_s;
+        mine.frames = static_cast<int>(d_dist->share(d_s.frames));
+        mine.seed = rank_seed;
+        d_data = training::make_data(mine, sc);
+        const auto lo = d_dist->all_reduce_min({ d_data.delay_min, -d_data.delay_max });
+        d_data.delay_min = lo[0]; // the delay grid from all ranks' frames
+        d_data.delay_max = -lo[1];
+    } else {
+        d_data = training::make_data(d_s, sc);
+    }
     {
         std::ostringstream os;
         os << "data: " << d_data.train.size() << " train / " << d_data.val.size() << " val / "
            << d_data.test.size() << " test frames from " << d_s.scene_source << " ("
            << std::fixed << std::setprecision(1) << since(t0) << " s)";
+        if (d_dist->active())
+            os << " on rank 0 of " << d_dist->world_size() << " (each rank draws its own share)";
         print(os.str());
     }
     // Fixed noise for validation and test, from their own generators.
-    auto val_gen = at::detail::createCPUGenerator(d_s.seed * 2654435761ULL + 17);
+    auto val_gen = at::detail::createCPUGenerator(rank_seed * 2654435761ULL + 17);
     auto val_noisy = training::add_noise(
         d_data.val.h, training::draw_noise_variance(d_data.val.size(), d_s.snr_min_db, d_s.snr_max_db, val_gen), val_gen);
 
     nn::task_decoder task_dec = make_task_decoder();
+    d_dist->broadcast_module(*task_dec); // identical start: rank 0's weights
     if (d_s.task == task_kind::delay)
         d_tau_min = static_cast<float>(
             std::dynamic_pointer_cast<nn::delay_decoder_module>(task_dec)->settings().tau_min_index);
@@ -217,14 +237,18 @@ training_result trainer::run()
     std::vector<int64_t> mask_idx;
     json mask_origin;
     const int64_t n_train = d_data.train.size();
-    const int64_t steps = std::max<int64_t>(1, n_train / d_s.batch);
+    const int64_t batch = d_s.batch / d_dist->world_size(); // this rank's part of the global batch
+    // Every rank runs the same number of steps (collectives pair up).
+    const int64_t steps = static_cast<int64_t>(
+        d_dist->all_reduce_min({ static_cast<double>(std::max<int64_t>(1, n_train / batch)) })[0]);
     int epoch_no = 0;
 
-    auto train_epoch = [&](auto&& forward_loss, torch::optim::Optimizer& opt) {
+    auto train_epoch = [&](auto&& forward_loss, torch::optim::Optimizer& opt,
+                           const std::vector<std::shared_ptr<torch::nn::Module>>& modules) {
         double sum = 0.0;
         auto perm = torch::randperm(n_train, torch::kLong);
         for (int64_t st = 0; st < steps; ++st) {
-            auto idx = perm.slice(0, st * d_s.batch, std::min<int64_t>(n_train, (st + 1) * d_s.batch));
+            auto idx = perm.slice(0, st * batch, std::min<int64_t>(n_train, (st + 1) * batch));
             auto h = d_data.train.h.index_select(0, idx);
             auto y = training::add_noise(
                 h, training::draw_noise_variance(idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
@@ -232,10 +256,11 @@ training_result trainer::run()
             opt.zero_grad();
             torch::Tensor l = forward_loss(y, h, idx);
             l.backward();
+            d_dist->all_reduce_gradients(opt, modules); // mean over the ranks; batch-norm statistics too
             opt.step();
             sum += l.item<double>();
         }
-        return sum / steps;
+        return d_dist->all_reduce_sum({ sum / steps })[0] / d_dist->world_size();
     };
 
     // ---- Phase 1: learn the mask together with the objective's decoder.
@@ -245,6 +270,9 @@ training_result trainer::run()
             mse ? std::make_shared<nn::reconstruction_decoder_module>(d_n, d_m, d_s.n_pilots, d_s.reconstruction)
                 : task_dec;
         nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder);
+        d_dist->broadcast_module(*enc);
+        if (mse)
+            d_dist->broadcast_module(*dec1);
         std::vector<torch::optim::OptimizerParamGroup> groups;
         groups.emplace_back(dec1->parameters(), std::make_unique<torch::optim::AdamOptions>(d_s.lr));
         groups.emplace_back(enc->parameters(),
@@ -267,7 +295,8 @@ training_result trainer::run()
                     auto task_l = loss(out, d_data.train, idx, h, ce_w);
                     return task_l + d_s.encoder.collision_weight * enc->collision_penalty(tau);
                 },
-                opt);
+                opt, { dec1, enc.ptr() });
+            const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
             mask_idx = enc->final_indices();
             const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy);
             const int distinct = enc->distinct_argmax();
@@ -276,10 +305,11 @@ training_result trainer::run()
                << "] loss " << std::setprecision(4) << l << "  val "
                << (mse ? "mse " : (hib ? "acc " : "mae ")) << std::setprecision(4) << v.metric << "  temp "
                << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  "
-               << std::setprecision(1) << since(te) << " s";
+               << std::setprecision(1) << since(te) << " s  " << std::setprecision(0) << fps << " frames/s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
-                                  { "temperature", tau }, { "distinct", distinct }, { "seconds", since(te) } });
+                                  { "temperature", tau }, { "distinct", distinct }, { "seconds", since(te) },
+                                  { "train_frames_per_s", fps } });
             const bool at_floor = tau <= d_s.encoder.temperature_floor * (1 + 1e-9);
             tau = std::max(d_s.encoder.temperature_floor, tau * d_s.encoder.temperature_decay);
             const bool better = hib ? v.metric > best : v.metric < best;
@@ -338,16 +368,17 @@ training_result trainer::run()
                     auto out = task_dec->forward(y * mask_t);
                     return loss(out, d_data.train, idx, h, ce_w);
                 },
-                opt);
+                opt, { task_dec });
+            const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
             const auto v = evaluate(task_dec, mask_idx, d_data.val, val_noisy);
             std::ostringstream os;
             os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [decoder] loss " << std::setprecision(4)
                << l << "  val " << (hib ? "acc " : "mae ") << v.metric << "  lr " << std::setprecision(5) << lr
                << "  distinct " << mask_idx.size() << "/" << d_s.n_pilots << "  " << std::setprecision(1)
-               << since(te) << " s";
+               << since(te) << " s  " << std::setprecision(0) << fps << " frames/s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "decoder" }, { "loss", l }, { "val", v.metric },
-                                  { "lr", lr }, { "seconds", since(te) } });
+                                  { "lr", lr }, { "seconds", since(te) }, { "train_frames_per_s", fps } });
             const bool better = hib ? v.metric > best : v.metric < best;
             if (better) {
                 best = v.metric;
@@ -362,22 +393,24 @@ training_result trainer::run()
         restore(task_dec, best_state);
     }
 
-    // ---- Test metrics.
+    d_dist->check_in_sync({ task_dec }, "training");
+
+    // ---- Test metrics (each rank scores its own test frames; sums over all ranks).
     training_result res;
     json metrics = json::object();
-    auto test_gen = at::detail::createCPUGenerator(d_s.seed * 2654435761ULL + 29);
+    auto test_gen = at::detail::createCPUGenerator(rank_seed * 2654435761ULL + 29);
     auto score = [&](double lo, double hi, bool keep) {
         auto noisy = training::add_noise(
             d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), test_gen);
-        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, keep ? 0 : d_s.eval_frames);
-        const int64_t n = r.obs.size(0);
-        json m = { { "snr_min_db", lo }, { "snr_max_db", hi }, { "frames", n } };
+        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, keep ? 0 : d_dist->share(d_s.eval_frames));
+        const int64_t n = r.obs.size(0); // this rank's frames
+        json m = { { "snr_min_db", lo }, { "snr_max_db", hi }, { "frames", r.count } };
         if (d_s.task == task_kind::classify) {
             m["accuracy"] = r.metric;
         } else {
             m["mae_index"] = r.metric;
             m["mae_m"] = r.metric * d_s.frame.range_per_delay_index_m();
-            auto err = r.delay - d_data.test.delay.slice(0, 0, n);
+            auto err = d_dist->all_gather(r.delay - d_data.test.delay.slice(0, 0, n));
             m["rmse_index"] = std::sqrt((err * err).mean().item<double>());
             m["median_abs_error_index"] = err.abs().median().item<double>();
         }
@@ -425,7 +458,20 @@ training_result trainer::run()
     b.training["wall_time_s"] = res.seconds;
     b.metrics = metrics;
     res.history = d_history;
-    if (!d_s.out_dir.empty()) {
+    if (d_dist->active()) {
+        const double steps_run = static_cast<double>(d_dist->gradient_calls());
+        b.training["distributed"] = { { "gradient_allreduce_ms_per_step",
+                                        steps_run > 0 ? 1e3 * d_dist->gradient_seconds() / steps_run : 0.0 },
+                                      { "gradient_floats_per_step", d_dist->gradient_floats() },
+                                      { "rendezvous", d_s.distributed.store_file.empty() ? "TCPStore" : "FileStore" } };
+        std::ostringstream os;
+        os << std::fixed << std::setprecision(2) << "gradient all-reduce over " << d_dist->world_size()
+           << " ranks: " << b.training["distributed"]["gradient_allreduce_ms_per_step"].get<double>()
+           << " ms/step (" << d_dist->gradient_floats() << " floats), " << d_dist->gradient_seconds() << " s of "
+           << since(t0) << " s";
+        print(os.str());
+    }
+    if (!d_s.out_dir.empty() && d_dist->rank() == 0) { // rank 0 alone writes
         b.save(d_s.out_dir);
         nn::save_module(task_dec, d_s.out_dir + "/" + model_bundle::weights_file);
         b.directory = d_s.out_dir;
@@ -457,6 +503,13 @@ void training_settings::validate() const
         fail("epochs must be >= 0");
     if (batch < 1)
         fail("batch must be >= 1");
+    distributed.validate();
+    if (batch % distributed.world_size != 0)
+        fail("batch " + std::to_string(batch) + " (global) must be a multiple of the world size " +
+             std::to_string(distributed.world_size));
+    if (frames / distributed.world_size < 10)
+        fail("frames must give each of the " + std::to_string(distributed.world_size) +
+             " ranks >= 10 frames (split 8:1:1), got " + std::to_string(frames));
     if (!(lr > 0.0) || !std::isfinite(lr))
         fail("lr must be a positive finite number");
     if (!(delay_spacing > 0.0))
@@ -479,6 +532,11 @@ json training_settings::to_json() const
              { "epochs", epochs },
              { "decoder_epochs", decoder_epochs },
              { "batch", batch },
+             { "world_size", distributed.world_size },
+             { "batch_per_rank", batch / distributed.world_size },
+             { "data_per_rank", distributed.world_size > 1
+                                    ? "each rank draws frames/world_size of the frames from its own seed (rank 0: seed)"
+                                    : "one process" },
              { "lr", lr },
              { "lr_schedule", "phase 1 constant; phase 2 cosine to lr*" + std::to_string(lr_final_scale) },
              { "patience", patience },

@@ -29,6 +29,7 @@
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/learning/distributed_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <gnuradio/sems/core/scene.h>
@@ -57,7 +58,7 @@ struct SEMS_LEARNING_API training_settings {
     int frames = 30000;              // split 8:1:1
     int epochs = 20;                 // phase 1 (learned mask) or the decoder epochs (fixed mask)
     int decoder_epochs = 10;         // phase 2 after a learned mask
-    int batch = 256;
+    int batch = 256;                 // global: each of the world's ranks trains on batch / world_size
     double lr = 0.01;                // Adam
     double lr_final_scale = 0.02;    // cosine schedule of phase 2 ends at lr * this
     int patience = 4;                // early stop (phase 2, and phase 1 once at the temperature floor)
@@ -77,6 +78,11 @@ struct SEMS_LEARNING_API training_settings {
     nn::classifier_settings classifier;
     nn::delay_settings delay;
     nn::reconstruction_settings reconstruction;
+
+    // One rank of a distributed run (docs/distributed_training.md); default: alone.
+    // Each rank draws its own share of `frames` (seeded by rank), its own noise and
+    // Gumbel samples; gradients and validation/test sums are all-reduced; rank 0 writes.
+    distributed_settings distributed;
 
     std::string out_dir;             // empty: do not write a bundle
     std::string command_line;        // recorded in bundle.json
