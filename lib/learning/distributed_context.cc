@@ -262,6 +262,7 @@ void distributed_context::all_reduce_gradients(const torch::optim::Optimizer& op
     for (const auto& b : buffers)
         total += b.numel();
     auto bucket = torch::empty({ total }, torch::kFloat);
+    float* flag = bucket.data_ptr<float>();
     int64_t off = static_cast<int64_t>(params.size());
     for (size_t i = 0; i < params.size(); ++i) {
         const auto& p = params[i];
@@ -269,10 +270,10 @@ void distributed_context::all_reduce_gradients(const torch::optim::Optimizer& op
         auto slot = bucket.slice(0, off, off + n);
         if (p.grad().defined()) {
             slot.copy_(p.grad().reshape({ -1 }));
-            bucket[i] = 1.0f;
+            flag[i] = 1.0f;
         } else {
             slot.zero_();
-            bucket[i] = 0.0f;
+            flag[i] = 0.0f;
         }
         off += n;
     }
@@ -286,7 +287,7 @@ void distributed_context::all_reduce_gradients(const torch::optim::Optimizer& op
     for (size_t i = 0; i < params.size(); ++i) {
         auto p = params[i];
         const int64_t n = p.numel();
-        if (bucket[i].item<float>() > 0.0f) {
+        if (flag[i] > 0.0f) { // some rank has this gradient
             if (!p.grad().defined())
                 p.mutable_grad() = torch::zeros_like(p);
             p.mutable_grad().copy_(bucket.slice(0, off, off + n).view(p.sizes()));
