@@ -62,6 +62,7 @@ distributed_settings distributed_settings::from_environment()
         s.master_port = static_cast<int>(v);
     }
     s.interface = env_string("GLOO_SOCKET_IFNAME");
+    s.agent_store = env_string("TORCHELASTIC_USE_AGENT_STORE") == "True"; // torchrun
     return s;
 }
 
@@ -182,7 +183,7 @@ distributed_context::distributed_context(const distributed_settings& s) : d_s(s)
         } else {
             c10d::TCPStoreOptions o;
             o.port = static_cast<std::uint16_t>(d_s.master_port);
-            o.isServer = d_s.rank == 0;
+            o.isServer = d_s.rank == 0 && !d_s.agent_store;
             o.numWorkers = static_cast<std::size_t>(d_s.world_size);
             o.waitWorkers = true;
             o.timeout = m.timeout;

@@ -73,7 +73,8 @@ void two_ranks(const std::function<void(int, distributed_context&)>& body)
 }
 
 struct env_guard {
-    std::vector<std::string> names{ "WORLD_SIZE", "RANK", "MASTER_ADDR", "MASTER_PORT", "GLOO_SOCKET_IFNAME" };
+    std::vector<std::string> names{ "WORLD_SIZE", "RANK", "MASTER_ADDR", "MASTER_PORT", "GLOO_SOCKET_IFNAME",
+                                    "TORCHELASTIC_USE_AGENT_STORE" };
     env_guard()
     {
         for (const auto& n : names)
@@ -134,7 +135,10 @@ public:
         assert_error([] { distributed_settings::from_environment(); }, "MASTER_PORT");
         ::setenv("MASTER_PORT", "29611", 1);
         ::setenv("GLOO_SOCKET_IFNAME", "lo", 1);
+        CPPUNIT_ASSERT(!distributed_settings::from_environment().agent_store); // rank 0 serves the store
+        ::setenv("TORCHELASTIC_USE_AGENT_STORE", "True", 1);
         const auto s = distributed_settings::from_environment();
+        CPPUNIT_ASSERT(s.agent_store); // torchrun's agent serves it
         CPPUNIT_ASSERT_EQUAL(3, s.world_size);
         CPPUNIT_ASSERT_EQUAL(2, s.rank);
         CPPUNIT_ASSERT_EQUAL(std::string("127.0.0.1"), s.master_addr);

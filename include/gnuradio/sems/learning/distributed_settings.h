@@ -28,6 +28,7 @@ struct SEMS_LEARNING_API distributed_settings {
     int master_port = 29500;  //!< TCPStore port (rank 0 listens on it)
     std::string store_file;   //!< FileStore path (one machine or a shared file system); wins over master_addr
     std::string interface;    //!< network interface for Gloo's connections (empty: see docs)
+    bool agent_store = false; //!< the TCPStore is served by a launcher (torchrun's agent), not by rank 0
     double timeout_s = 300.0; //!< rendezvous and per-collective timeout: a dead or silent rank ends the run
 
     /*! \brief True when this process is one rank of several. */
@@ -35,7 +36,8 @@ struct SEMS_LEARNING_API distributed_settings {
 
     /*!
      * \brief The settings PyTorch's launchers export: WORLD_SIZE, RANK, MASTER_ADDR,
-     * MASTER_PORT (and GLOO_SOCKET_IFNAME for the interface).
+     * MASTER_PORT (and GLOO_SOCKET_IFNAME for the interface; TORCHELASTIC_USE_AGENT_STORE=True
+     * when torchrun's agent serves the TCPStore).
      * \details Unset WORLD_SIZE gives world_size 1.
      * \throws std::invalid_argument naming the variable when one is malformed or RANK is
      * missing while WORLD_SIZE > 1.
