@@ -12,6 +12,7 @@
 #include "learning/classifier_decoder.h"
 #include "learning/distributed_context.h"
 #include "qa/qa_assert.h"
+#include <gnuradio/sems/learning/trainer.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <atomic>
@@ -116,6 +117,19 @@ public:
         assert_error(bad([](auto& s) { s.master_port = 70000; }), "master port", "70000");
         assert_error(bad([](auto& s) { s.timeout_s = 0.0; }), "timeout");
         assert_error(bad([](auto& s) { s.store_file.clear(); }), "needs a rendezvous", "--store-file");
+        // The trainer's settings: the global batch splits evenly, every rank gets >= 10 frames.
+        training_settings t;
+        t.distributed.world_size = 3;
+        t.distributed.store_file = "/tmp/x";
+        t.batch = 64;
+        assert_error([t] { t.validate(); }, "batch 64 (global)", "multiple of the world size 3");
+        t.batch = 63;
+        t.frames = 29;
+        assert_error([t] { t.validate(); }, "frames must give each of the 3 ranks >= 10 frames", "29");
+        t.frames = 30;
+        t.validate();
+        CPPUNIT_ASSERT_EQUAL(21, t.to_json()["batch_per_rank"].get<int>());
+        CPPUNIT_ASSERT_EQUAL(3, t.to_json()["world_size"].get<int>());
         distributed_settings alone; // world size 1 needs no rendezvous
         alone.validate();
         CPPUNIT_ASSERT(!alone.enabled());
