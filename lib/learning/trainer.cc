@@ -402,7 +402,9 @@ training_result trainer::run()
     auto score = [&](double lo, double hi, bool keep) {
         auto noisy = training::add_noise(
             d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), test_gen);
-        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, keep ? 0 : d_dist->share(d_s.eval_frames));
+        // eval_frames over all ranks (0 = every test frame); each rank scores its share.
+        const int64_t limit = keep || d_s.eval_frames <= 0 ? 0 : std::max<int64_t>(1, d_dist->share(d_s.eval_frames));
+        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, limit);
         const int64_t n = r.obs.size(0); // this rank's frames
         json m = { { "snr_min_db", lo }, { "snr_max_db", hi }, { "frames", r.count } };
         if (d_s.task == task_kind::classify) {
