@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#ifdef USE_C10D_GLOO
+#ifdef SEMS_HAVE_GLOO
 #include <torch/csrc/distributed/c10d/FileStore.hpp>
 #include <torch/csrc/distributed/c10d/ProcessGroupGloo.hpp>
 #include <torch/csrc/distributed/c10d/TCPStore.hpp>
@@ -85,7 +85,7 @@ void distributed_settings::validate() const
 
 bool distributed_settings::available()
 {
-#ifdef USE_C10D_GLOO
+#ifdef SEMS_HAVE_GLOO
     return true;
 #else
     return false;
@@ -111,7 +111,7 @@ bool is_loopback(const std::string& host)
 }
 } // namespace
 
-#ifdef USE_C10D_GLOO
+#ifdef SEMS_HAVE_GLOO
 struct distributed_context::impl {
     c10::intrusive_ptr<c10d::Store> store;
     c10::intrusive_ptr<c10d::ProcessGroupGloo> pg;
@@ -162,7 +162,7 @@ distributed_context::distributed_context(const distributed_settings& s) : d_s(s)
     d_s.validate();
     if (!active())
         return;
-#ifndef USE_C10D_GLOO
+#ifndef SEMS_HAVE_GLOO
     throw std::runtime_error(
         "distributed training (world size " + std::to_string(d_s.world_size) +
         ") is not available: gr-sems's learning library was built without Gloo (libgloo-dev was not found "
@@ -220,7 +220,7 @@ int64_t distributed_context::share(int64_t total) const
     return total / w + (d_s.rank < total % w ? 1 : 0);
 }
 
-#ifdef USE_C10D_GLOO
+#ifdef SEMS_HAVE_GLOO
 
 void distributed_context::broadcast_module(torch::nn::Module& mod)
 {
