@@ -105,7 +105,7 @@ uint64_t splitmix64(uint64_t x)
     return x ^ (x >> 31);
 }
 
-bool is_loopback(const std::string& host)
+[[maybe_unused]] bool is_loopback(const std::string& host) // unused without Gloo
 {
     return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
