@@ -35,6 +35,7 @@ private:
     std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
     double d_frame_snr_db; // the current frame's
 
+    frame_realization d_realization;        // the current frame's draw, buffers reused
     std::optional<frame_channel> d_channel; // the current frame's factors
     int d_row = 0;                           // next row of the current frame
     uint64_t d_frame = 0;
