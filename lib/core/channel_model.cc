@@ -55,6 +55,9 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
     d_slow.resize(size_t(d_l) * d_n);
     d_delay.resize(size_t(d_l) * d_m);
     d_delay_conj.resize(size_t(d_l) * d_m);
+    // A row is recomputed only when its path's delay changed: a fixed scene's delay rows
+    // are the same every frame (the same values, not an approximation of them).
+    d_delay_s.resize(size_t(d_l), std::numeric_limits<double>::quiet_NaN());
     const frame_settings& fs = d_fs;
     const double T = fs.symbol_interval_s;
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
@@ -77,6 +80,9 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
             }
             d_slow[size_t(l) * d_n + n] = gr_complex(slow);
         }
+        if (d_delay_s[l] == p.delay_s)
+            continue;
+        d_delay_s[l] = p.delay_s;
         std::complex<double> d(1.0, 0.0);
         const std::complex<double> delay_step = delay_phasor(1.0, fs.delay_index(p.delay_s), d_m);
         for (int m = 0; m < d_m; ++m, d *= delay_step) {
@@ -117,6 +123,8 @@ struct channel_model::rngs {
     rng draws;                // scene parameters and path gains
     gaussian_generator noise; // only noise: the same seed gives the same frames at every SNR
     std::vector<target_spec> drawn; // a random scene's targets of the frame, reused
+    double noise_snr_db = std::numeric_limits<double>::quiet_NaN(); // add_noise's last SNR
+    float noise_sigma = 0.0f;                                          // and its σ
     explicit rngs(uint64_t seed) : draws(seed), noise(seed ^ 0x6e6f697365ULL) {}
     void reseed(uint64_t seed)
     {
@@ -271,14 +279,19 @@ frame_channel channel_model::factors(const frame_realization& r, uint64_t first_
 
 void channel_model::add_noise(gr_complex* y, size_t count, double snr_db)
 {
-    const double var = noise_variance(snr_db);
-    if (var == 0.0)
+    auto& st = *d_rng;
+    if (!(snr_db == st.noise_snr_db)) { // called per OFDM symbol: σ is computed once per SNR
+        const double var = noise_variance(snr_db);
+        const float sigma = static_cast<float>(std::sqrt(var));
+        if (!std::isfinite(sigma))
+            throw std::invalid_argument("add_noise: SNR " + std::to_string(snr_db) +
+                                        " dB gives a noise amplitude beyond single precision");
+        st.noise_snr_db = snr_db;
+        st.noise_sigma = sigma;
+    }
+    if (st.noise_sigma == 0.0f)
         return; // noiseless: no draw at all
-    const float sigma = static_cast<float>(std::sqrt(var));
-    if (!std::isfinite(sigma))
-        throw std::invalid_argument("add_noise: SNR " + std::to_string(snr_db) +
-                                    " dB gives a noise amplitude beyond single precision");
-    d_rng->noise.add(y, count, sigma);
+    st.noise.add(y, count, st.noise_sigma);
 }
 
 std::vector<frame_truth> channel_model::generate(size_t count, gr_complex* h_out, uint64_t first_frame)

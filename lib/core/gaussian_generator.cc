@@ -3,9 +3,9 @@
  *
  * The loops below are written for the compiler's auto-vectoriser: fixed trip counts
  * over the lanes, no branches (selects only), no calls. GCC 12 at -O3 vectorises them
- * (checked with -fopt-info-vec). target_clones builds an AVX2 version next to the
- * baseline (SSE2) one and picks it at load time; neither enables FMA, so both give
- * the same bits.
+ * (checked with -fopt-info-vec). target_clones builds AVX-512 and AVX2 versions next
+ * to the baseline (SSE2) one and picks one at load time; the file is compiled with
+ * -ffp-contract=off (no FMA contraction), so every version gives the same bits.
  */
 #include "core/gaussian_generator.h"
 #include <algorithm>
@@ -29,7 +29,7 @@ constexpr int steps = gaussian_generator::block / L;
 
 // One block: `steps` rounds of L lanes, each lane two xoshiro128+ outputs -> one CN(0, 1).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
+__attribute__((target_clones("avx512f", "avx2", "default")))
 #endif
 void generate_block(uint32_t* __restrict s0,
                     uint32_t* __restrict s1,

@@ -9,7 +9,7 @@
  *  - Gaussians: Box–Muller in its complex form, z = sqrt(-ln u1) · e^{jφ}, so one pair
  *    of uniforms gives one complex sample (|z|² of CN(0, 1) is Exp(1)); ln, sin and cos
  *    are fixed float polynomials (Cephes), so the output is the same bits on every
- *    machine and instruction set (no FMA contraction: the AVX2 clone targets "avx2" only).
+ *    machine and instruction set (SSE2, AVX2 and AVX-512 versions; no FMA contraction).
  *
  * Determinism: samples are drawn from a block buffer, so the n-th sample after
  * reseed(seed) is the same whatever the sizes of the calls that consumed the first n.

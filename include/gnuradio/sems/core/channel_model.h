@@ -83,6 +83,7 @@ private:
     std::vector<gr_complex> d_slow;  // L x N, gain included
     std::vector<gr_complex> d_delay; // L x M
     std::vector<gr_complex> d_delay_conj; // conj(d_delay), for VOLK's multiply-conjugate-add
+    std::vector<double> d_delay_s;        // the delay each delay row was computed for
     mutable std::vector<gr_complex> d_scratch;
 };
 
