@@ -218,6 +218,7 @@ training_result trainer::run()
     json mask_origin;
     const int64_t n_train = d_data.train.size();
     const int64_t steps = std::max<int64_t>(1, n_train / d_s.batch);
+    const double epoch_frames = static_cast<double>(std::min<int64_t>(n_train, steps * d_s.batch)); // per epoch
     int epoch_no = 0;
 
     auto train_epoch = [&](auto&& forward_loss, torch::optim::Optimizer& opt) {
@@ -276,7 +277,8 @@ training_result trainer::run()
                << "] loss " << std::setprecision(4) << l << "  val "
                << (mse ? "mse " : (hib ? "acc " : "mae ")) << std::setprecision(4) << v.metric << "  temp "
                << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  "
-               << std::setprecision(1) << since(te) << " s";
+               << std::setprecision(1) << since(te) << " s  " << std::setprecision(0) << epoch_frames / since(te)
+               << " frames/s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
                                   { "temperature", tau }, { "distinct", distinct }, { "seconds", since(te) } });
@@ -344,7 +346,7 @@ training_result trainer::run()
             os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [decoder] loss " << std::setprecision(4)
                << l << "  val " << (hib ? "acc " : "mae ") << v.metric << "  lr " << std::setprecision(5) << lr
                << "  distinct " << mask_idx.size() << "/" << d_s.n_pilots << "  " << std::setprecision(1)
-               << since(te) << " s";
+               << since(te) << " s  " << std::setprecision(0) << epoch_frames / since(te) << " frames/s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "decoder" }, { "loss", l }, { "val", v.metric },
                                   { "lr", lr }, { "seconds", since(te) } });
