@@ -4,7 +4,9 @@
  * the same vector size, all in the same harness and run:
  *     vector_source (repeat) -> block -> head -> null_sink, top_block::run, wall time.
  * Each row is measured --repeat times, interleaved with the other rows, and the best
- * run is reported: on a shared machine the best run is the one least disturbed.
+ * run is reported: on a shared machine the best run is the one least disturbed. Two
+ * figures per row: symbols per wall second, and symbols per CPU second of the whole
+ * process (all flowgraph threads), which a loaded machine disturbs less.
  */
 #include <gnuradio/blocks/head.h>
 #include <gnuradio/blocks/multiply_const_v.h>
@@ -14,6 +16,7 @@
 #include <gnuradio/sems/blocks/target_channel.h>
 #include <gnuradio/top_block.h>
 #include <boost/program_options.hpp>
+#include <sys/resource.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -58,8 +61,21 @@ std::string scene_json(int paths, bool micro_doppler)
     return scene::fixed({ t }).to_json_string();
 }
 
-// Runs source -> block -> head(n) -> sink and returns the wall time in seconds.
-double time_run(const options& o, const std::vector<gr_complex>& data, gr::basic_block_sptr block, uint64_t n)
+// CPU time of the whole process (all flowgraph threads), user + system, in seconds.
+double process_cpu_seconds()
+{
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+struct timing {
+    double wall = 0.0; // s
+    double cpu = 0.0;  // s, all threads
+};
+
+// Runs source -> block -> head(n) -> sink and returns its wall and CPU time.
+timing time_run(const options& o, const std::vector<gr_complex>& data, gr::basic_block_sptr block, uint64_t n)
 {
     const size_t item = sizeof(gr_complex) * o.n_subcarriers;
     auto tb = gr::make_top_block("sems_bench_channel");
@@ -69,24 +85,34 @@ double time_run(const options& o, const std::vector<gr_complex>& data, gr::basic
     tb->connect(src, 0, block, 0);
     tb->connect(block, 0, head, 0);
     tb->connect(head, 0, sink, 0);
+    const double c0 = process_cpu_seconds();
     const auto t0 = std::chrono::steady_clock::now();
     tb->run();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timing t;
+    t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t.cpu = process_cpu_seconds() - c0;
+    return t;
 }
 
+struct rate {
+    double wall = 0.0; // symbols per wall second
+    double cpu = 0.0;  // symbols per CPU second (all threads of the flowgraph)
+};
+
 // Symbols/s for a block made fresh per run: a short calibration run, then one of ~seconds.
-double symbols_per_second(const options& o,
-                          const std::vector<gr_complex>& data,
-                          const std::function<gr::basic_block_sptr()>& make)
+rate symbols_per_second(const options& o,
+                        const std::vector<gr_complex>& data,
+                        const std::function<gr::basic_block_sptr()>& make)
 {
     uint64_t n = 1 << 14;
-    double t = time_run(o, data, make(), n);
+    double t = time_run(o, data, make(), n).wall;
     while (t < 0.05 && n < (uint64_t(1) << 40)) { // grow until the calibration is measurable
         n *= 4;
-        t = time_run(o, data, make(), n);
+        t = time_run(o, data, make(), n).wall;
     }
     const uint64_t target = static_cast<uint64_t>(std::max(1.0, o.seconds * n / t));
-    return target / time_run(o, data, make(), target);
+    const timing r = time_run(o, data, make(), target);
+    return { target / r.wall, target / r.cpu };
 }
 
 } // namespace
@@ -155,21 +181,29 @@ int main(int argc, char** argv)
         { "target_channel,  3 paths, " + std::string(snr_text), channel(3, false, o.snr_db) },
         { "target_channel, 10 paths, " + std::string(snr_text), channel(10, false, o.snr_db) },
         { "target_channel,  1 path + micro-Doppler, " + std::string(snr_text), channel(1, true, o.snr_db) },
+        { "target_channel,  3 paths, noiseless", channel(3, false, std::numeric_limits<double>::infinity()) },
         { "target_channel, 10 paths, noiseless", channel(10, false, std::numeric_limits<double>::infinity()) },
     };
 
     std::printf("sems_bench_channel: M = %d subcarriers, N = %d symbols/frame, best of %d runs of %.1f s per row\n",
                 o.n_subcarriers, o.n_symbols, o.repeat, o.seconds);
     std::printf("harness: vector_source(repeat) -> block -> head -> null_sink, top_block::run, wall time\n\n");
-    std::vector<double> best(rows.size(), 0.0);
+    std::vector<rate> best(rows.size());
     try {
         for (int k = 0; k < o.repeat; ++k)
-            for (size_t i = 0; i < rows.size(); ++i)
-                best[i] = std::max(best[i], symbols_per_second(o, data, rows[i].make));
-        std::printf("%-52s %14s %14s %10s\n", "block", "symbols/s", "samples/s", "vs mult.");
+            for (size_t i = 0; i < rows.size(); ++i) {
+                const rate r = symbols_per_second(o, data, rows[i].make);
+                best[i].wall = std::max(best[i].wall, r.wall);
+                best[i].cpu = std::max(best[i].cpu, r.cpu);
+            }
+        std::printf("%-52s %12s %12s %9s %14s %9s\n", "block", "symbols/s", "samples/s", "vs mult.",
+                    "symbols/CPU-s", "vs mult.");
         for (size_t i = 0; i < rows.size(); ++i)
-            std::printf("%-52s %14.4g %14.4g %9.2fx\n", rows[i].name.c_str(), best[i], best[i] * o.n_subcarriers,
-                        best[i] / best[0]);
+            std::printf("%-52s %12.4g %12.4g %8.2fx %14.4g %8.2fx\n", rows[i].name.c_str(), best[i].wall,
+                        best[i].wall * o.n_subcarriers, best[i].wall / best[0].wall, best[i].cpu,
+                        best[i].cpu / best[0].cpu);
+        std::printf("\nwall: symbols per second of wall time (the harness's throughput); CPU-s: symbols per\n"
+                    "second of CPU time summed over the flowgraph's threads (steadier on a shared machine).\n");
     } catch (const std::exception& e) {
         std::cerr << "sems_bench_channel: " << e.what() << "\n";
         return 1;

@@ -10,6 +10,9 @@
  * Each rate is given twice: per wall-clock second, and per second of the process's CPU
  * time (std::clock), which stays meaningful when other jobs share the cores.
  *
+ * With both bundles it then runs the two decoders at once, each in its own thread with
+ * its own intra-op thread count (--together-threads), as two sinks in one flowgraph do.
+ *
  *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
  */
 #include <gnuradio/blocks/vector_source.h>
@@ -27,6 +30,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace po = boost::program_options;
@@ -105,7 +109,40 @@ rate sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t 
     return rate_of(frames, w);
 }
 
-std::vector<int> parse_batches(const std::string& s)
+// Wall-clock frames/s of one decoder in a thread of its own (CPU time is per process, so
+// only wall time separates two decoders that run at once).
+double decoder_wall_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
+{
+    return decoder_fps(dec, obs, frames, batch).wall_fps;
+}
+
+// Two decoders at once, each in its own thread with its own intra-op thread count, as two
+// sinks in one flowgraph run: frames/s of each alone, then of each while the other runs.
+void two_at_once(const model_bundle& a,
+                 const model_bundle& b,
+                 int threads_a,
+                 int threads_b,
+                 int batch,
+                 size_t min_frames)
+{
+    const bundle_decoder da(a, threads_a), db(b, threads_b);
+    const size_t frames = frames_for(batch, min_frames);
+    const auto oa = gaussian_frames(frames, a.mask.size(), 2), ob = gaussian_frames(frames, b.mask.size(), 3);
+    double alone_a = 0, alone_b = 0, with_a = 0, with_b = 0;
+    std::thread([&] { alone_a = decoder_wall_fps(da, oa, frames, batch); }).join();
+    std::thread([&] { alone_b = decoder_wall_fps(db, ob, frames, batch); }).join();
+    std::thread ta([&] { with_a = decoder_wall_fps(da, oa, frames, batch); });
+    std::thread tb([&] { with_b = decoder_wall_fps(db, ob, frames, batch); });
+    ta.join();
+    tb.join();
+    std::printf("\ntwo decoders at once (own threads), batch %d, wall frames/s:\n", batch);
+    std::printf("%-28s %8s %12s %12s\n", "bundle", "threads", "alone", "together");
+    std::printf("%-28s %8d %12.0f %12.0f\n", a.directory.c_str(), threads_a, alone_a, with_a);
+    std::printf("%-28s %8d %12.0f %12.0f\n", b.directory.c_str(), threads_b, alone_b, with_b);
+}
+
+// Comma-separated positive integers of option `option` (batch sizes, thread counts).
+std::vector<int> parse_counts(const std::string& s, const std::string& option)
 {
     std::vector<int> out;
     std::stringstream ss(s);
@@ -113,11 +150,11 @@ std::vector<int> parse_batches(const std::string& s)
     while (std::getline(ss, item, ',')) {
         const int b = std::stoi(item);
         if (b < 1)
-            throw std::invalid_argument("--batches: batch sizes must be >= 1, got " + item);
+            throw std::invalid_argument(option + ": values must be >= 1, got " + item);
         out.push_back(b);
     }
     if (out.empty())
-        throw std::invalid_argument("--batches: no batch size given");
+        throw std::invalid_argument(option + ": no value given");
     return out;
 }
 
@@ -128,13 +165,16 @@ int main(int argc, char** argv)
     std::string classifier_dir, delay_dir, batches_text;
     size_t min_frames = 0;
     int threads = 1;
+    std::string together_text;
     po::options_description opts("sems_bench_sinks: frames per second of the sinks at several batch sizes");
     opts.add_options()("help,h", "this help")(
         "classifier", po::value(&classifier_dir), "classifier bundle directory (e.g. models/classifier)")(
         "delay", po::value(&delay_dir), "delay bundle directory (e.g. models/delay_single)")(
         "batches", po::value(&batches_text)->default_value("1,32,256"), "comma-separated batch sizes")(
         "frames", po::value(&min_frames)->default_value(1024), "frames timed per measurement (at least)")(
-        "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads");
+        "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads")(
+        "together-threads", po::value(&together_text)->default_value("1,1"),
+        "with both bundles: intra-op threads of the classifier and the delay decoder when run at once");
     try {
         po::variables_map vm;
         po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -149,7 +189,7 @@ int main(int argc, char** argv)
             throw std::invalid_argument("--frames must be >= 1");
         if (threads < 1)
             throw std::invalid_argument("--threads must be >= 1");
-        const std::vector<int> batches = parse_batches(batches_text);
+        const std::vector<int> batches = parse_counts(batches_text, "--batches");
 
         std::printf("%-28s %6s %7s %12s %12s %12s %12s\n", "bundle", "batch", "frames", "decoder fps",
                     "sink fps", "decoder/cpu", "sink/cpu");
@@ -169,6 +209,13 @@ int main(int argc, char** argv)
                             s.wall_fps, d.cpu_fps, s.cpu_fps);
                 std::fflush(stdout);
             }
+        }
+        if (!classifier_dir.empty() && !delay_dir.empty()) {
+            const std::vector<int> tt = parse_counts(together_text, "--together-threads");
+            if (tt.size() != 2)
+                throw std::invalid_argument("--together-threads: give two counts, e.g. 1,1");
+            two_at_once(model_bundle::load(classifier_dir), model_bundle::load(delay_dir), tt[0], tt[1],
+                        batches.back(), min_frames);
         }
     } catch (const std::exception& e) {
         std::cerr << "sems_bench_sinks: " << e.what() << std::endl;

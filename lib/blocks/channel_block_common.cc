@@ -3,6 +3,7 @@
 #include "blocks/channel_block_common.h"
 #include <gnuradio/sems/core/tags.h>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -85,19 +86,42 @@ truth_dict::truth_dict()
 {
 }
 
-pmt::pmt_t truth_dict::make(const frame_truth& t, uint64_t frame, double snr_db) const
+namespace {
+// Equal as stored (a -0 is not a +0): a cached PMT is reused only for the very same value.
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+} // namespace
+
+pmt::pmt_t truth_dict::make(const frame_truth& t, uint64_t frame, double snr_db)
 {
-    pmt::pmt_t dict = pmt::make_dict();
-    dict = pmt::dict_add(dict, d_frame, pmt::from_uint64(frame));
-    dict = pmt::dict_add(dict, d_class, pmt::from_long(t.class_id));
-    dict = pmt::dict_add(dict, d_class_name, pmt::string_to_symbol(t.class_name));
-    dict = pmt::dict_add(dict, d_delay_s, pmt::from_double(t.delay_s));
-    dict = pmt::dict_add(dict, d_delay_index, pmt::from_double(t.delay_index));
-    dict = pmt::dict_add(dict, d_range_m, pmt::from_double(t.range_m));
-    dict = pmt::dict_add(dict, d_velocity_mps, pmt::from_double(t.velocity_mps));
-    dict = pmt::dict_add(dict, d_snr_db, pmt::from_double(snr_db));
-    dict = pmt::dict_add(dict, d_n_paths, pmt::from_long(t.n_paths));
-    return dict;
+    const bool same_tail = d_tail_valid && t.class_id == d_tail_truth.class_id &&
+                           t.n_paths == d_tail_truth.n_paths && t.class_name == d_tail_truth.class_name &&
+                           same_bits(t.delay_s, d_tail_truth.delay_s) &&
+                           same_bits(t.delay_index, d_tail_truth.delay_index) &&
+                           same_bits(t.range_m, d_tail_truth.range_m) &&
+                           same_bits(t.velocity_mps, d_tail_truth.velocity_mps) && same_bits(snr_db, d_tail_snr_db);
+    if (!same_tail) {
+        if (t.class_id < 0)
+            throw std::invalid_argument("sems_truth: negative class id " + std::to_string(t.class_id));
+        const auto cls = static_cast<size_t>(t.class_id);
+        if (cls >= d_class_symbols.size())
+            d_class_symbols.resize(cls + 1);
+        if (!d_class_symbols[cls]) // interning hashes and locks: once per class, not per frame
+            d_class_symbols[cls] = pmt::string_to_symbol(t.class_name);
+        pmt::pmt_t tail = pmt::make_dict();
+        tail = pmt::acons(d_class, pmt::from_long(t.class_id), tail);
+        tail = pmt::acons(d_class_name, d_class_symbols[cls], tail);
+        tail = pmt::acons(d_delay_s, pmt::from_double(t.delay_s), tail);
+        tail = pmt::acons(d_delay_index, pmt::from_double(t.delay_index), tail);
+        tail = pmt::acons(d_range_m, pmt::from_double(t.range_m), tail);
+        tail = pmt::acons(d_velocity_mps, pmt::from_double(t.velocity_mps), tail);
+        tail = pmt::acons(d_snr_db, pmt::from_double(snr_db), tail);
+        tail = pmt::acons(d_n_paths, pmt::from_long(t.n_paths), tail);
+        d_tail = tail;
+        d_tail_truth = t;
+        d_tail_snr_db = snr_db;
+        d_tail_valid = true;
+    }
+    return pmt::acons(d_frame, pmt::from_uint64(frame), d_tail);
 }
 
 } // namespace detail

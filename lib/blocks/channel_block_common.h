@@ -31,17 +31,28 @@ scene channel_block_scene(const char* who,
                           int clutter_paths,
                           double clutter_csr_db);
 
-// The sems_truth dict of a frame (keys from tags.h, interned once).
+// The sems_truth dict of a frame (keys from tags.h, interned once). Built per frame, so
+// built cheaply: pmt::acons (the keys are distinct, so the same alist dict_add would
+// build, without its search per key), class-name symbols interned once per class, and,
+// PMTs being immutable, every entry but the frame's shared with the previous frame's dict
+// while the truth and the SNR are unchanged (a fixed scene: one entry and one value
+// allocated per frame instead of 27 allocations). One truth_dict per block (not shared
+// between threads).
 class truth_dict
 {
 public:
     truth_dict();
     const pmt::pmt_t& tag_key() const { return d_truth_key; }
-    pmt::pmt_t make(const frame_truth& t, uint64_t frame, double snr_db) const;
+    pmt::pmt_t make(const frame_truth& t, uint64_t frame, double snr_db);
 
 private:
     const pmt::pmt_t d_truth_key, d_frame, d_class, d_class_name, d_delay_s, d_delay_index, d_range_m,
         d_velocity_mps, d_snr_db, d_n_paths;
+    std::vector<pmt::pmt_t> d_class_symbols; // by class id
+    pmt::pmt_t d_tail;                       // the dict less its frame entry
+    frame_truth d_tail_truth;
+    double d_tail_snr_db = 0.0;
+    bool d_tail_valid = false;
 };
 
 } // namespace detail

@@ -68,7 +68,8 @@ double target_channel_impl::snr_db() const { return d_snr_db; }
 void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
 {
     d_frame_snr_db = d_snr_db.load();
-    auto r = d_model.draw(frame);
+    d_model.draw(frame, d_realization); // no allocation once the buffers have grown
+    const auto& r = d_realization;
     const uint64_t first_symbol = frame * static_cast<uint64_t>(d_n);
     if (d_channel)
         d_channel->update(r.paths, first_symbol); // reuses the buffers

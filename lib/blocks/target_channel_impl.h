@@ -35,6 +35,7 @@ private:
     std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
     double d_frame_snr_db; // the current frame's
 
+    frame_realization d_realization;        // the current frame's draw, buffers reused
     std::optional<frame_channel> d_channel; // the current frame's factors
     int d_row = 0;                           // next row of the current frame
     uint64_t d_frame = 0;
@@ -44,7 +45,7 @@ private:
     std::atomic<uint64_t> d_nonfinite{ 0 };
 
     const pmt::pmt_t d_frame_key;
-    const detail::truth_dict d_truth;
+    detail::truth_dict d_truth; // caches the previous frame's dict
     std::vector<gr::tag_t> d_tags;
 };
 

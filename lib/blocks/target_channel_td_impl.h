@@ -45,7 +45,7 @@ private:
     std::atomic<uint64_t> d_misaligned{ 0 };
 
     const pmt::pmt_t d_frame_key;
-    const detail::truth_dict d_truth;
+    detail::truth_dict d_truth; // caches the previous frame's dict
     std::vector<gr::tag_t> d_tags;
 };
 

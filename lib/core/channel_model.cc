@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model (see channel_model.h for the equations). */
+#include "core/gaussian_generator.h"
 #include "core/rng.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/steering.h>
@@ -54,6 +55,9 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
     d_slow.resize(size_t(d_l) * d_n);
     d_delay.resize(size_t(d_l) * d_m);
     d_delay_conj.resize(size_t(d_l) * d_m);
+    // A row is recomputed only when its path's delay changed: a fixed scene's delay rows
+    // are the same every frame (the same values, not an approximation of them).
+    d_delay_s.resize(size_t(d_l), std::numeric_limits<double>::quiet_NaN());
     const frame_settings& fs = d_fs;
     const double T = fs.symbol_interval_s;
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
@@ -76,6 +80,9 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
             }
             d_slow[size_t(l) * d_n + n] = gr_complex(slow);
         }
+        if (d_delay_s[l] == p.delay_s)
+            continue;
+        d_delay_s[l] = p.delay_s;
         std::complex<double> d(1.0, 0.0);
         const std::complex<double> delay_step = delay_phasor(1.0, fs.delay_index(p.delay_s), d_m);
         for (int m = 0; m < d_m; ++m, d *= delay_step) {
@@ -113,9 +120,17 @@ void frame_channel::fill(gr_complex* grid) const
 // --- channel_model --------------------------------------------------------------
 
 struct channel_model::rngs {
-    rng draws; // scene parameters and path gains
-    rng noise; // only noise: the same seed gives the same frames at every SNR
+    rng draws;                // scene parameters and path gains
+    gaussian_generator noise; // only noise: the same seed gives the same frames at every SNR
+    std::vector<target_spec> drawn; // a random scene's targets of the frame, reused
+    double noise_snr_db = std::numeric_limits<double>::quiet_NaN(); // add_noise's last SNR
+    float noise_sigma = 0.0f;                                          // and its σ
     explicit rngs(uint64_t seed) : draws(seed), noise(seed ^ 0x6e6f697365ULL) {}
+    void reseed(uint64_t seed)
+    {
+        draws.reseed(seed);
+        noise.reseed(seed ^ 0x6e6f697365ULL);
+    }
 };
 
 channel_model::channel_model(const frame_settings& fs, const scene& sc, uint64_t seed)
@@ -157,7 +172,7 @@ channel_model::~channel_model() = default;
 channel_model::channel_model(channel_model&&) noexcept = default;
 channel_model& channel_model::operator=(channel_model&&) noexcept = default;
 
-void channel_model::reseed(uint64_t seed) { *d_rng = rngs(seed); }
+void channel_model::reseed(uint64_t seed) { d_rng->reseed(seed); }
 
 double channel_model::noise_variance(double snr_db)
 {
@@ -170,20 +185,31 @@ double channel_model::noise_variance(double snr_db)
 
 frame_realization channel_model::draw(uint64_t frame_index)
 {
-    rng& g = d_rng->draws;
     frame_realization out;
+    draw(frame_index, out);
+    return out;
+}
+
+void channel_model::draw(uint64_t frame_index, frame_realization& out)
+{
+    rng& g = d_rng->draws;
+    out.paths.clear(); // keeps the capacity
     const double clutter_share = d_scene.clutter() ? db_to_linear(d_scene.clutter()->csr_db) : 0.0;
     const double target_total = 1.0 / (1.0 + clutter_share);
 
-    // Concrete targets of this frame.
-    std::vector<target_spec> targets;
+    // Concrete targets of this frame: a fixed scene's are read in place; a random
+    // scene's are drawn into reused scratch (path lists keep their capacity).
+    const std::vector<target_spec>* targets_of_frame = &d_scene.targets();
     if (const auto& r = d_scene.random_settings()) {
-        for (int i = 0; i < r->n_targets; ++i) {
-            target_spec t;
+        auto& drawn = d_rng->drawn;
+        drawn.resize(static_cast<size_t>(r->n_targets));
+        for (auto& t : drawn) {
             t.cls = r->classes[g.below(r->classes.size())];
             const auto& spec = class_info(t.cls);
             t.range_m = g.uniform(spec.range_min_m, spec.range_max_m);
             t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
+            t.power = target_spec{}.power;
+            t.md.reset();
             if (r->micro_doppler && spec.has_micro_doppler())
                 t.md = micro_doppler{ g.uniform(spec.md_rate_min_hz, spec.md_rate_max_hz),
                                       spec.md_amplitude_m,
@@ -193,11 +219,10 @@ frame_realization channel_model::draw(uint64_t frame_index)
             for (int k = 1; k < r->paths_per_target; ++k)
                 t.paths.push_back({ g.uniform(r->excess_range_min_m, r->excess_range_max_m),
                                     db_to_linear(-k * r->path_power_decay_db) });
-            targets.push_back(std::move(t));
         }
-    } else {
-        targets = d_scene.targets();
+        targets_of_frame = &drawn;
     }
+    const auto& targets = *targets_of_frame;
 
     double weight_sum = 0.0;
     for (const auto& t : targets)
@@ -245,7 +270,6 @@ frame_realization channel_model::draw(uint64_t frame_index)
     truth.velocity_mps = toi.velocity_mps;
     truth.snr_db = std::numeric_limits<double>::infinity();
     truth.n_paths = static_cast<int>(out.paths.size());
-    return out;
 }
 
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const
@@ -255,12 +279,19 @@ frame_channel channel_model::factors(const frame_realization& r, uint64_t first_
 
 void channel_model::add_noise(gr_complex* y, size_t count, double snr_db)
 {
-    const double var = noise_variance(snr_db);
-    if (var == 0.0)
+    auto& st = *d_rng;
+    if (!(snr_db == st.noise_snr_db)) { // called per OFDM symbol: σ is computed once per SNR
+        const double var = noise_variance(snr_db);
+        const float sigma = static_cast<float>(std::sqrt(var));
+        if (!std::isfinite(sigma))
+            throw std::invalid_argument("add_noise: SNR " + std::to_string(snr_db) +
+                                        " dB gives a noise amplitude beyond single precision");
+        st.noise_snr_db = snr_db;
+        st.noise_sigma = sigma;
+    }
+    if (st.noise_sigma == 0.0f)
         return; // noiseless: no draw at all
-    rng& g = d_rng->noise;
-    for (size_t i = 0; i < count; ++i)
-        y[i] += gr_complex(g.complex_normal(var));
+    st.noise.add(y, count, st.noise_sigma);
 }
 
 std::vector<frame_truth> channel_model::generate(size_t count, gr_complex* h_out, uint64_t first_frame)

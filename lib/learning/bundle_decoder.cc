@@ -11,6 +11,17 @@ struct bundle_decoder::impl {
     model_bundle bundle;
     nn::task_decoder net;
     std::vector<int64_t> indices;
+    int threads = 0; // intra-op threads of this decoder's inference; 0 = LibTorch's own
+
+    // LibTorch's intra-op thread count is per calling thread with its OpenMP backend
+    // (at::set_num_threads -> omp_set_num_threads, an ICV of the calling thread), so it
+    // is set where inference runs: each sink's work thread keeps its own count, instead
+    // of the last decoder constructed setting it for everyone.
+    void use_threads() const
+    {
+        if (threads > 0 && at::get_num_threads() != threads)
+            at::set_num_threads(threads);
+    }
 
     torch::Tensor grid(const gr_complex* obs, int batch) const
     {
@@ -27,6 +38,7 @@ struct bundle_decoder::impl {
         if (bundle.task != need)
             throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
                                         " is a \"" + task_name(bundle.task) + "\" model");
+        use_threads();
         torch::NoGradGuard ng;
         return net->forward(grid(obs, batch));
     }
@@ -34,8 +46,8 @@ struct bundle_decoder::impl {
 
 bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl(std::make_unique<impl>())
 {
-    if (threads > 0)
-        torch::set_num_threads(threads);
+    d_impl->threads = threads;
+    d_impl->use_threads(); // the constructing thread too (single-threaded callers)
     d_impl->bundle = bundle;
     const std::string source = bundle.directory + "/" + model_bundle::bundle_file;
     d_impl->net = nn::make_decoder(bundle.decoder, bundle.frame.n_symbols, bundle.frame.n_subcarriers,

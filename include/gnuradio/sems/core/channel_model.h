@@ -83,6 +83,7 @@ private:
     std::vector<gr_complex> d_slow;  // L x N, gain included
     std::vector<gr_complex> d_delay; // L x M
     std::vector<gr_complex> d_delay_conj; // conj(d_delay), for VOLK's multiply-conjugate-add
+    std::vector<double> d_delay_s;        // the delay each delay row was computed for
     mutable std::vector<gr_complex> d_scratch;
 };
 
@@ -104,10 +105,15 @@ public:
 
     // Draw the next frame's paths (scene parameters for random scenes, and gains).
     frame_realization draw(uint64_t frame_index);
+    // The same draw into `out`, reusing its buffers: what a streaming block calls once
+    // per frame, allocation-free once they have grown (fixed scenes are read in place).
+    void draw(uint64_t frame_index, frame_realization& out);
     // The frame's factors; first_symbol is the absolute slow-time index of row 0.
     frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
 
-    // y += CN(0, σ²) per element; draws nothing when snr_db = +inf.
+    // y += CN(0, σ²) per element; draws nothing when snr_db = +inf. The noise is a
+    // single-precision vectorised Box–Muller stream (lib/core/gaussian_generator.h):
+    // the same seed gives the same noise whatever the sizes of the calls.
     void add_noise(gr_complex* y, size_t count, double snr_db);
 
     // `count` consecutive frames starting at frame `first_frame` (rows at
@@ -117,7 +123,7 @@ public:
     void reseed(uint64_t seed);
 
 private:
-    struct rngs;
+    struct rngs; // generators and per-frame scratch (lib/core/channel_model.cc)
     frame_settings d_fs;
     scene d_scene;
     std::unique_ptr<rngs> d_rng;

@@ -19,7 +19,9 @@ namespace sems {
 class SEMS_LEARNING_API bundle_decoder
 {
 public:
-    // threads <= 0 leaves LibTorch's intra-op thread count alone.
+    // threads <= 0 leaves LibTorch's intra-op thread count alone; threads > 0 is applied in
+    // the thread that runs each inference (LibTorch's OpenMP count is per thread), so two
+    // decoders (two sinks) in one process each keep the count they were given.
     explicit bundle_decoder(const model_bundle& bundle, int threads = 1);
     ~bundle_decoder();
 

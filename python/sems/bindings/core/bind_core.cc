@@ -254,7 +254,7 @@ void bind_channel_model(py::module& m)
              py::arg("seed") = 0)
         .def_static("noise_variance", &channel_model::noise_variance, py::arg("snr_db"))
         .def("settings", &channel_model::settings)
-        .def("draw", &channel_model::draw, py::arg("frame_index"))
+        .def("draw", py::overload_cast<uint64_t>(&channel_model::draw), py::arg("frame_index"))
         .def(
             "channel",
             [](const channel_model& cm, const frame_realization& r, uint64_t first_symbol) {
