@@ -13,6 +13,7 @@ void bind_target_channel(py::module& m);
 void bind_target_channel_td(py::module& m);
 void bind_frame_sync(py::module& m);
 void bind_pilot_extractor(py::module& m);
+void bind_range_doppler_map(py::module& m);
 
 PYBIND11_MODULE(core_python, m)
 {
@@ -26,4 +27,5 @@ PYBIND11_MODULE(core_python, m)
     bind_target_channel_td(m);
     bind_frame_sync(m);
     bind_pilot_extractor(m);
+    bind_range_doppler_map(m);
 }
