@@ -2,8 +2,8 @@
 /* gr-sems: the pilot observations as the classical baselines see them (internal):
  * a checked double vector, pilots grouped by symbol, peak interpolation, mask checks.
  * The steering phasors and the Doppler grid come from core/steering.h. */
-#ifndef INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H
-#define INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H
+#ifndef INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
+#define INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -72,4 +72,4 @@ inline void check_mask(const frame_settings& fs, const pilot_mask& mask, const s
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H */
+#endif /* INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H */

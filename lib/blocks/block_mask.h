@@ -3,8 +3,8 @@
  * pilot_mask (internal to the library). One place, so both ends of the chain read
  * the same parameters the same way: a mask file OR explicit flat positions n·M+m.
  */
-#ifndef INCLUDED_SEMS_BLOCK_MASK_H
-#define INCLUDED_SEMS_BLOCK_MASK_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
+#define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
@@ -88,4 +88,4 @@ inline void check_power(const std::string& who, const std::string& name, double 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BLOCK_MASK_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H */

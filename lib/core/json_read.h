@@ -4,8 +4,8 @@
  * Every reader of a project file (mask, scene, bundle) goes through these, so a bad
  * field always produces the same kind of message: "<source>: <field>: <problem>".
  */
-#ifndef INCLUDED_SEMS_JSON_READ_H
-#define INCLUDED_SEMS_JSON_READ_H
+#ifndef INCLUDED_SEMS_LIB_CORE_JSON_READ_H
+#define INCLUDED_SEMS_LIB_CORE_JSON_READ_H
 
 #include <nlohmann/json.hpp>
 #include <cmath>
@@ -109,4 +109,4 @@ inline void check_format(const nlohmann::json& j, const char* name, int version,
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_JSON_READ_H */
+#endif /* INCLUDED_SEMS_LIB_CORE_JSON_READ_H */

@@ -20,8 +20,8 @@
  * (Gaussian) estimator, √(2/π)·std, averages to a finite √(2 · var₁) with var₁ the
  * bound at |α|² = 1, because E[1/|α|] = √π.
  */
-#ifndef INCLUDED_SEMS_DELAY_CRB_H
-#define INCLUDED_SEMS_DELAY_CRB_H
+#ifndef INCLUDED_SEMS_BASELINES_DELAY_CRB_H
+#define INCLUDED_SEMS_BASELINES_DELAY_CRB_H
 
 #include <gnuradio/sems/baselines/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -53,4 +53,4 @@ struct SEMS_BASELINES_API delay_crb {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DELAY_CRB_H */
+#endif /* INCLUDED_SEMS_BASELINES_DELAY_CRB_H */

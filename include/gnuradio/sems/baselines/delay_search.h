@@ -5,8 +5,8 @@
  * steering exp(-j2π m Δf τ) is periodic in the delay index with period M, so a
  * negative min_index searches the wrapped end of the unambiguous window.
  */
-#ifndef INCLUDED_SEMS_DELAY_SEARCH_H
-#define INCLUDED_SEMS_DELAY_SEARCH_H
+#ifndef INCLUDED_SEMS_BASELINES_DELAY_SEARCH_H
+#define INCLUDED_SEMS_BASELINES_DELAY_SEARCH_H
 
 #include <gnuradio/sems/baselines/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -30,4 +30,4 @@ struct SEMS_BASELINES_API delay_search {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DELAY_SEARCH_H */
+#endif /* INCLUDED_SEMS_BASELINES_DELAY_SEARCH_H */

@@ -21,8 +21,8 @@
  *                 spread the micro-Doppler is, independent of where it sits.
  * An all-zero input gives all-zero features.
  */
-#ifndef INCLUDED_SEMS_DOPPLER_FEATURES_H
-#define INCLUDED_SEMS_DOPPLER_FEATURES_H
+#ifndef INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H
+#define INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -62,4 +62,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DOPPLER_FEATURES_H */
+#endif /* INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H */

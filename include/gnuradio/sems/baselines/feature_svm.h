@@ -3,8 +3,8 @@
  * z-score standardisation learned from the training set. Used by the feature-SVM
  * recognition baseline (doppler_features → feature_svm).
  */
-#ifndef INCLUDED_SEMS_FEATURE_SVM_H
-#define INCLUDED_SEMS_FEATURE_SVM_H
+#ifndef INCLUDED_SEMS_BASELINES_FEATURE_SVM_H
+#define INCLUDED_SEMS_BASELINES_FEATURE_SVM_H
 
 #include <gnuradio/sems/baselines/api.h>
 #include <memory>
@@ -41,4 +41,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FEATURE_SVM_H */
+#endif /* INCLUDED_SEMS_BASELINES_FEATURE_SVM_H */

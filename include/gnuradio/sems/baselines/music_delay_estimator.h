@@ -21,8 +21,8 @@
  * A mask whose co-array has L < K + 1 (e.g. one pilot per symbol) cannot be used:
  * the constructor throws std::invalid_argument saying so.
  */
-#ifndef INCLUDED_SEMS_BASELINE_MUSIC_H
-#define INCLUDED_SEMS_BASELINE_MUSIC_H
+#ifndef INCLUDED_SEMS_BASELINES_MUSIC_DELAY_ESTIMATOR_H
+#define INCLUDED_SEMS_BASELINES_MUSIC_DELAY_ESTIMATOR_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -65,4 +65,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINE_MUSIC_H */
+#endif /* INCLUDED_SEMS_BASELINES_MUSIC_DELAY_ESTIMATOR_H */

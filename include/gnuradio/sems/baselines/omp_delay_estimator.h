@@ -14,8 +14,8 @@
  * `relative_power` of the strongest (the direct path arrives first). No off-grid
  * refinement: the grid-mismatch floor is part of the method.
  */
-#ifndef INCLUDED_SEMS_BASELINE_OMP_H
-#define INCLUDED_SEMS_BASELINE_OMP_H
+#ifndef INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
+#define INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -63,4 +63,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINE_OMP_H */
+#endif /* INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H */

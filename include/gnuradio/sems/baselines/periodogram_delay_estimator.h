@@ -13,8 +13,8 @@
  *                   symbols (needs several pilots per symbol to say anything).
  * The peak of P on the delay grid is refined by a parabola through its neighbours.
  */
-#ifndef INCLUDED_SEMS_BASELINE_PERIODOGRAM_H
-#define INCLUDED_SEMS_BASELINE_PERIODOGRAM_H
+#ifndef INCLUDED_SEMS_BASELINES_PERIODOGRAM_DELAY_ESTIMATOR_H
+#define INCLUDED_SEMS_BASELINES_PERIODOGRAM_DELAY_ESTIMATOR_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -60,4 +60,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINE_PERIODOGRAM_H */
+#endif /* INCLUDED_SEMS_BASELINES_PERIODOGRAM_DELAY_ESTIMATOR_H */

@@ -12,8 +12,8 @@
  *    co-array MUSIC: with 16 pilots per symbol it gives lags 0..59 at spacing 1.
  *    Leftover pilots (count not a multiple of rows) go to one more spread symbol.
  */
-#ifndef INCLUDED_SEMS_BASELINE_MASKS_H
-#define INCLUDED_SEMS_BASELINE_MASKS_H
+#ifndef INCLUDED_SEMS_BASELINES_SUBCARRIER_MASKS_H
+#define INCLUDED_SEMS_BASELINES_SUBCARRIER_MASKS_H
 
 #include <gnuradio/sems/baselines/api.h>
 #include <gnuradio/sems/core/pilot_mask.h>
@@ -28,4 +28,4 @@ SEMS_BASELINES_API pilot_mask nested_subcarrier_mask(int n_symbols, int n_subcar
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINE_MASKS_H */
+#endif /* INCLUDED_SEMS_BASELINES_SUBCARRIER_MASKS_H */

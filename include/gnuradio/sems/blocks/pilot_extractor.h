@@ -13,8 +13,8 @@
  *
  * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m.
  */
-#ifndef INCLUDED_SEMS_PILOT_EXTRACTOR_H
-#define INCLUDED_SEMS_PILOT_EXTRACTOR_H
+#ifndef INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
+#define INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
@@ -57,4 +57,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_EXTRACTOR_H */
+#endif /* INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H */

@@ -19,8 +19,8 @@
  * Pilot and data power are energies per symbol (>= 0, finite), settable while running;
  * a new value takes effect at the next frame, so a frame is never split between two powers.
  */
-#ifndef INCLUDED_SEMS_PILOT_MAPPER_H
-#define INCLUDED_SEMS_PILOT_MAPPER_H
+#ifndef INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
+#define INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
@@ -72,4 +72,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_MAPPER_H */
+#endif /* INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H */

@@ -24,8 +24,8 @@
  * Non-finite input symbols are passed through (the extractor skips their frame) and
  * counted.
  */
-#ifndef INCLUDED_SEMS_TARGET_CHANNEL_H
-#define INCLUDED_SEMS_TARGET_CHANNEL_H
+#ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
+#define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -84,4 +84,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TARGET_CHANNEL_H */
+#endif /* INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H */

@@ -15,8 +15,8 @@
  * Draws are seeded and reproducible. Scene/gain draws and noise draws use separate
  * generators, so the same seed gives the same frames at every SNR.
  */
-#ifndef INCLUDED_SEMS_CHANNEL_MODEL_H
-#define INCLUDED_SEMS_CHANNEL_MODEL_H
+#ifndef INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
+#define INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -132,4 +132,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_CHANNEL_MODEL_H */
+#endif /* INCLUDED_SEMS_CORE_CHANNEL_MODEL_H */

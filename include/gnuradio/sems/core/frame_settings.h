@@ -3,8 +3,8 @@
  *
  * The defaults here are the project's only copy of the frame defaults.
  */
-#ifndef INCLUDED_SEMS_FRAME_SETTINGS_H
-#define INCLUDED_SEMS_FRAME_SETTINGS_H
+#ifndef INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
+#define INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
@@ -54,4 +54,4 @@ struct SEMS_API frame_settings {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FRAME_SETTINGS_H */
+#endif /* INCLUDED_SEMS_CORE_FRAME_SETTINGS_H */

@@ -5,8 +5,8 @@
  * validates (dimensions, range, duplicates, count) and throws std::invalid_argument
  * naming the source and the problem; nothing is clipped or de-duplicated silently.
  */
-#ifndef INCLUDED_SEMS_PILOT_MASK_H
-#define INCLUDED_SEMS_PILOT_MASK_H
+#ifndef INCLUDED_SEMS_CORE_PILOT_MASK_H
+#define INCLUDED_SEMS_CORE_PILOT_MASK_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -94,4 +94,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_MASK_H */
+#endif /* INCLUDED_SEMS_CORE_PILOT_MASK_H */

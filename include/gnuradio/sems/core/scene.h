@@ -8,8 +8,8 @@
  * channel power per resource element). Clutter takes csr/(1+csr) of it, the targets
  * the rest, split by target power and then by path power.
  */
-#ifndef INCLUDED_SEMS_SCENE_H
-#define INCLUDED_SEMS_SCENE_H
+#ifndef INCLUDED_SEMS_CORE_SCENE_H
+#define INCLUDED_SEMS_CORE_SCENE_H
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/target_class.h>
@@ -109,4 +109,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SCENE_H */
+#endif /* INCLUDED_SEMS_CORE_SCENE_H */

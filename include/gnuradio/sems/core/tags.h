@@ -4,8 +4,8 @@
  * Blocks, bindings and apps take their keys from here (Python gets them as
  * gnuradio.sems.keys), so no string is spelled twice.
  */
-#ifndef INCLUDED_SEMS_TAGS_H
-#define INCLUDED_SEMS_TAGS_H
+#ifndef INCLUDED_SEMS_CORE_TAGS_H
+#define INCLUDED_SEMS_CORE_TAGS_H
 
 namespace gr {
 namespace sems {
@@ -48,4 +48,4 @@ constexpr const char* metrics_port = "metrics";
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TAGS_H */
+#endif /* INCLUDED_SEMS_CORE_TAGS_H */

@@ -8,8 +8,8 @@
  *   car:        no micro-Doppler            -> peak 2/0.1·20               = 400 Hz
  *   drone:      A = 0.01 m  (rotor blades)  -> peak 2/0.1·(10 + 2π·120·0.01) ≈ 351 Hz
  */
-#ifndef INCLUDED_SEMS_TARGET_CLASS_H
-#define INCLUDED_SEMS_TARGET_CLASS_H
+#ifndef INCLUDED_SEMS_CORE_TARGET_CLASS_H
+#define INCLUDED_SEMS_CORE_TARGET_CLASS_H
 
 #include <gnuradio/sems/api.h>
 #include <string>
@@ -41,4 +41,4 @@ SEMS_API std::vector<std::string> class_names();
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TARGET_CLASS_H */
+#endif /* INCLUDED_SEMS_CORE_TARGET_CLASS_H */

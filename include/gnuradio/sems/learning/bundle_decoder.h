@@ -4,8 +4,8 @@
  * maps pilot observations (Y/s_p at the mask positions, in mask order) to answers.
  * LibTorch stays behind this header (pimpl), so blocks and bindings need no torch headers.
  */
-#ifndef INCLUDED_SEMS_BUNDLE_DECODER_H
-#define INCLUDED_SEMS_BUNDLE_DECODER_H
+#ifndef INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
+#define INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
@@ -46,4 +46,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BUNDLE_DECODER_H */
+#endif /* INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H */

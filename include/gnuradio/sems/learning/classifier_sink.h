@@ -14,8 +14,8 @@
  * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still
  * running; read the getters after wait() for the final numbers.
  */
-#ifndef INCLUDED_SEMS_CLASSIFIER_SINK_H
-#define INCLUDED_SEMS_CLASSIFIER_SINK_H
+#ifndef INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H
+#define INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/learning/sink_defaults.h>
@@ -69,4 +69,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_CLASSIFIER_SINK_H */
+#endif /* INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H */

@@ -5,8 +5,8 @@
  *
  * Loading validates everything and names the file and the problem.
  */
-#ifndef INCLUDED_SEMS_MODEL_BUNDLE_H
-#define INCLUDED_SEMS_MODEL_BUNDLE_H
+#ifndef INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
+#define INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -53,4 +53,4 @@ struct SEMS_LEARNING_API model_bundle {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_MODEL_BUNDLE_H */
+#endif /* INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H */

@@ -5,8 +5,8 @@
  * these structs without pulling in LibTorch. Users trade speed for accuracy here
  * (width, depth, dictionary size Q).
  */
-#ifndef INCLUDED_SEMS_NN_SETTINGS_H
-#define INCLUDED_SEMS_NN_SETTINGS_H
+#ifndef INCLUDED_SEMS_LEARNING_NETWORK_SETTINGS_H
+#define INCLUDED_SEMS_LEARNING_NETWORK_SETTINGS_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <nlohmann/json.hpp>
@@ -81,4 +81,4 @@ struct SEMS_LEARNING_API reconstruction_settings {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_SETTINGS_H */
+#endif /* INCLUDED_SEMS_LEARNING_NETWORK_SETTINGS_H */

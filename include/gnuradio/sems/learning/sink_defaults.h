@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: default settings of the sink blocks, the one place they are spelled
  * (classifier_sink, delay_estimator_sink, their bindings). */
-#ifndef INCLUDED_SEMS_SINK_DEFAULTS_H
-#define INCLUDED_SEMS_SINK_DEFAULTS_H
+#ifndef INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H
+#define INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H
 
 namespace gr {
 namespace sems {
@@ -16,4 +16,4 @@ struct sink_defaults {
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SINK_DEFAULTS_H */
+#endif /* INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H */

@@ -23,8 +23,8 @@
  * The same settings and seed give the same mask, weights and metrics (seeded data,
  * torch::manual_seed, fixed thread count).
  */
-#ifndef INCLUDED_SEMS_TRAINER_H
-#define INCLUDED_SEMS_TRAINER_H
+#ifndef INCLUDED_SEMS_LEARNING_TRAINER_H
+#define INCLUDED_SEMS_LEARNING_TRAINER_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
@@ -115,4 +115,4 @@ SEMS_LEARNING_API training_result train(const training_settings& settings, std::
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TRAINER_H */
+#endif /* INCLUDED_SEMS_LEARNING_TRAINER_H */
