@@ -31,7 +31,7 @@ namespace sems {
 class SEMS_LEARNING_API delay_estimator_sink : virtual public gr::sync_block
 {
 public:
-    typedef std::shared_ptr<delay_estimator_sink> sptr;
+    typedef std::shared_ptr<delay_estimator_sink> sptr; ///< shared pointer to the block
 
     /*!
      * \param bundle_dir     model bundle directory (bundle.json, mask.json, decoder.pt), task `delay`
