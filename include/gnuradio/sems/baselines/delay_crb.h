@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief the Cramér–Rao bound on the delay of a single path, for a pilot pattern.
+ * \brief The Cramér–Rao bound on the delay of a single path, for a pilot pattern.
  *
  * \details Model: r_k = α · exp(-j2π m_k Δf τ) · exp(j2π ν n_k T) + w_k, w_k ~ CN(0, σ²),
  * k over the N_p pilots; unknowns: τ, the complex gain α (|α| and its phase) and —

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief the classical micro-Doppler feature extractor (the feature-SVM baseline).
+ * \brief The classical micro-Doppler feature extractor (the feature-SVM baseline).
  *
  * \details Doppler spectrum from the pilots: for every subcarrier that carries pilots, the
  * slow-time periodogram of its pilots (a DFT over the symbols that carry them,

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief orthogonal matching pursuit (OMP) delay estimator on an oversampled grid.
+ * \brief Orthogonal matching pursuit (OMP) delay estimator on an oversampled grid.
  *
  * \details Dictionary: joint delay–Doppler atoms d(τ,ν)_k = a_τ(m_k) · b_ν(n_k) at the pilot
  * positions (a_τ(m) = exp(-j2π m Δf τ), b_ν(n) = exp(j2π ν n T)), τ on the oversampled

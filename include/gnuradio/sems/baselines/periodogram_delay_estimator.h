@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief the periodogram (matched-filter) delay estimator, the classical reference.
+ * \brief The periodogram (matched-filter) delay estimator, the classical reference.
  *
  * \details Input: pilot observations r_k = Y/s_p at the mask positions (n_k, m_k), in mask order.
  * A single path gives r_k = α · exp(-j2π m_k Δf τ) · (slow-time phase of symbol n_k) + noise.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief pilot patterns for the MUSIC baselines (UP / RP / OP-MUSIC).
+ * \brief Pilot patterns for the MUSIC baselines (UP / RP / OP-MUSIC).
  *
  * \details UP-MUSIC uses pilot_mask::uniform. The two others are built here:
  *  - random_subcarrier_mask (RP): the uniform lattice's pilot symbols (as many as it
