@@ -5,6 +5,7 @@
 #ifndef INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 #define INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 
+#include "core/checks.h"
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
@@ -29,7 +30,7 @@ inline Eigen::VectorXcd observations(const gr_complex* obs, int n_pilots, const 
         throw std::invalid_argument(who + ": observations: null pointer");
     Eigen::VectorXcd r(n_pilots);
     for (int k = 0; k < n_pilots; ++k) {
-        if (!std::isfinite(obs[k].real()) || !std::isfinite(obs[k].imag()))
+        if (!checks::finite(obs[k]))
             throw std::invalid_argument(who + ": observation " + std::to_string(k) + " is not finite");
         r[k] = cd(obs[k].real(), obs[k].imag());
     }

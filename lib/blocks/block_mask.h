@@ -6,6 +6,7 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 #define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 
+#include "core/checks.h"
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <cmath>
@@ -81,7 +82,7 @@ inline pilot_mask block_mask(const std::string& who,
 // Power parameters are energies per symbol: finite and >= 0.
 inline void check_power(const std::string& who, const std::string& name, double value)
 {
-    if (!std::isfinite(value) || value < 0.0)
+    if (!checks::non_negative(value))
         throw std::invalid_argument(who + ": " + name + " must be finite and >= 0, got " + std::to_string(value));
 }
 

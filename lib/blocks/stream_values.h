@@ -3,6 +3,7 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_STREAM_VALUES_H
 #define INCLUDED_SEMS_LIB_BLOCKS_STREAM_VALUES_H
 
+#include "core/checks.h"
 #include <gnuradio/gr_complex.h>
 #include <pmt/pmt.h>
 #include <cmath>
