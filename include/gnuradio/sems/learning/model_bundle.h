@@ -39,8 +39,8 @@ struct SEMS_LEARNING_API model_bundle {
     static constexpr const char* format_name = "sems.model_bundle"; ///< bundle.json's `format`
     static constexpr int format_version = 1;                        ///< bundle.json's `version`
     static constexpr const char* bundle_file = "bundle.json";       ///< the bundle's description
-    static constexpr const char* mask_file = "mask.json";           ///< the pilot mask file
-    static constexpr const char* weights_file = "decoder.pt";       ///< the decoder weights file
+    static constexpr const char* mask_file = "mask.json";           ///< the default pilot mask file name
+    static constexpr const char* weights_file = "decoder.pt";       ///< the default decoder weights file name
 
     std::string directory;                ///< where it was loaded from or saved to
     task_kind task = task_kind::classify; ///< the decoder's task
@@ -49,7 +49,19 @@ struct SEMS_LEARNING_API model_bundle {
     pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask
     nlohmann::json decoder;  ///< {"kind": ..., settings}
     nlohmann::json training; ///< objective, SNR range, frames, epochs, seed, command
-    nlohmann::json metrics;  ///< measured test metrics
+    nlohmann::json metrics;
+    /*!
+     * \brief The pilot mask's file name, as bundle.json records it (`mask_file`; relative to
+     *        directory, no folders). load() reads this file, save() writes it.
+     */
+    std::string mask_name = mask_file;
+    /*!
+     * \brief The decoder weights' file name, as bundle.json records it (`weights_file`;
+     *        relative to directory, no folders). bundle_decoder reads this file.
+     */
+    std::string weights_name = weights_file;
+    /*! \brief Where the weights are. \return directory/weights_name. */
+    std::string weights_path() const;  ///< measured test metrics
 
     /*!
      * \brief Reads and validates dir/bundle.json and dir/mask.json (weights are read by
