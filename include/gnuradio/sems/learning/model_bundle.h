@@ -49,7 +49,7 @@ struct SEMS_LEARNING_API model_bundle {
     pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask
     nlohmann::json decoder;  ///< {"kind": ..., settings}
     nlohmann::json training; ///< objective, SNR range, frames, epochs, seed, command
-    nlohmann::json metrics;
+    nlohmann::json metrics;  ///< measured test metrics
     /*!
      * \brief The pilot mask's file name, as bundle.json records it (`mask_file`; relative to
      *        directory, no folders). load() reads this file, save() writes it.
@@ -61,11 +61,11 @@ struct SEMS_LEARNING_API model_bundle {
      */
     std::string weights_name = weights_file;
     /*! \brief Where the weights are. \return directory/weights_name. */
-    std::string weights_path() const;  ///< measured test metrics
+    std::string weights_path() const;
 
     /*!
-     * \brief Reads and validates dir/bundle.json and dir/mask.json (weights are read by
-     *        bundle_decoder).
+     * \brief Reads and validates dir/bundle.json and the mask file it names (weights are
+     *        read by bundle_decoder).
      * \param dir the bundle directory.
      * \return the bundle.
      * \throws std::invalid_argument naming the file and the problem.
