@@ -24,6 +24,8 @@ import textwrap
 import xml.etree.ElementTree as ET
 
 NAMESPACE = "gr::sems::"
+PY_EXCEPTIONS = {"std::invalid_argument": "ValueError", "std::runtime_error": "RuntimeError",
+                 "std::out_of_range": "IndexError"}
 
 
 def inline_text(el):
@@ -82,6 +84,8 @@ def sections(detailed):
         target = raises if plist.get("kind") == "exception" else args
         for item in plist.findall("parameteritem"):
             names = ", ".join("".join(n.itertext()).strip() for n in item.iter("parametername"))
+            if target is raises:  # what Python sees (pybind11's exception translation)
+                names = PY_EXCEPTIONS.get(names, names)
             target.append((names, inline_text(item.find("parameterdescription"))))
     for sect in detailed.iter("simplesect"):
         if sect.get("kind") == "return":
