@@ -197,7 +197,7 @@ def main():
     text = "\n".join(lines)
     old = open(out).read() if os.path.exists(out) else None
     if text != old:  # keep the timestamp when nothing changed (no needless rebuilds)
-        os.makedirs(os.path.dirname(out), exist_ok=True)
+        os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
         with open(out, "w") as f:
             f.write(text)
 

@@ -69,6 +69,24 @@ def cxx_defaults():
     sink = dict(pilot_frame, batch_size=sems.sink_defaults.batch_size, threads=sems.sink_defaults.threads,
                 metrics_period=sems.sink_defaults.metrics_period)
     ofdm = {"n_subcarriers": fs.n_subcarriers, "cp_len": fs.cp_len}
+    # target_channel_td: the same scene options as target_channel, plus its frame's cp_len.
+    td = sems.target_channel_td()
+    td_rnd = json.loads(td.scene_json())
+    td_frame = td.settings()
+    channel_td = dict(channel)
+    channel_td.update({
+        "n_symbols": td_frame.n_symbols, "n_subcarriers": td_frame.n_subcarriers,
+        "bandwidth_hz": td_frame.bandwidth_hz, "carrier_hz": td_frame.carrier_hz,
+        "symbol_interval_s": td_frame.symbol_interval_s, "snr_db": td.snr_db(),
+        "n_targets": td_rnd["random"]["targets"], "paths_per_target": td_rnd["random"]["paths_per_target"],
+        "micro_doppler": td_rnd["random"]["micro_doppler"],
+        "seed": bound_default(sems.target_channel_td, "seed"),
+        "clutter_csr_db": bound_default(sems.target_channel_td, "clutter_csr_db"),
+    })
+    # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
+    sync = {name: bound_default(sems.frame_sync, name)
+            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold")}
+    sync.update(pilot_frame)
     return {
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
@@ -78,6 +96,8 @@ def cxx_defaults():
         "sems_ofdm_tx": ofdm,
         "sems_ofdm_rx": ofdm,
         "sems_metrics_printer": {},
+        "sems_target_channel_td": channel_td,
+        "sems_frame_sync": sync,
     }
 
 
@@ -107,6 +127,20 @@ GRC_ONLY = {
     ("sems_delay_estimator_sink", "bundle_dir"): "required in C++",
     ("sems_delay_estimator_sink", "n_pilots"): "required in C++",
     ("sems_metrics_printer", "label"): "Python-only block",
+    ("sems_target_channel_td", "scene_kind"): "GRC chooser between random / file / JSON scene",
+    ("sems_target_channel_td", "scene_file"): "the chosen scene's path",
+    ("sems_target_channel_td", "scene_json"): "the chosen scene's JSON text",
+    ("sems_frame_sync", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_frame_sync", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_frame_sync", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+}
+
+# Deliberate, documented differences: GRC default, C++ default, where the reason is written.
+# docs/time_domain.md: time-domain flowgraphs default to CP 48 (covers the class table's delays),
+# the C++/Python default stays frame_settings' 16 so a chain of defaults matches ofdm_tx/ofdm_rx.
+DELIBERATE = {
+    ("sems_target_channel_td", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
+    ("sems_frame_sync", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
 }
 
 
@@ -140,6 +174,15 @@ class qa_grc_defaults(gr_unittest.TestCase):
         for block, d in self.blocks.items():
             for p in d.get("parameters", []):
                 key = (block, p["id"])
+                if key in DELIBERATE:
+                    grc_expected, cxx_name, doc = DELIBERATE[key]
+                    self.assertEqual(grc_value(p["default"]), grc_expected, key)
+                    self.assertNotEqual(grc_expected, sems.frame_settings().cp_len, f"{key}: no longer a deviation")
+                    with open(os.path.join(SOURCE, doc)) as f:
+                        self.assertIn("CP = 48", f.read(), f"{key}: the reason is no longer in {doc}")
+                    self.assertIn(f"C++/Python default is frame_settings' {sems.frame_settings().cp_len}",
+                                  d["documentation"], f"{key}: the GRC documentation must state the C++ default")
+                    continue
                 if key in GRC_ONLY:
                     self.assertNotIn(p["id"], self.cxx[block], f"{key} is both GRC-only and compared")
                     continue
