@@ -156,17 +156,13 @@ public:
      * \return the frame's paths and truth.
      */
     frame_realization draw(uint64_t frame_index);
-<<<<<<< HEAD
-    // The same draw into `out`, reusing its buffers: what a streaming block calls once
-    // per frame, allocation-free once they have grown (fixed scenes are read in place).
+    /*!
+     * \brief The same draw into `out`, reusing its buffers: what a streaming block calls once
+     *        per frame, allocation-free once they have grown (fixed scenes are read in place).
+     * \param frame_index the frame index written into the truth.
+     * \param out the frame's paths and truth.
+     */
     void draw(uint64_t frame_index, frame_realization& out);
-    // The frame's factors; first_symbol is the absolute slow-time index of row 0.
-    frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
-
-    // y += CN(0, σ²) per element; draws nothing when snr_db = +inf. The noise is a
-    // single-precision vectorised Box–Muller stream (lib/core/gaussian_generator.h):
-    // the same seed gives the same noise whatever the sizes of the calls.
-=======
     /*!
      * \brief The frame's separable factors.
      * \param r a drawn frame.
@@ -177,11 +173,13 @@ public:
 
     /*!
      * \brief Adds noise: y += CN(0, σ²) per element; draws nothing when snr_db = +inf.
+     * \details The noise is a single-precision vectorised Box–Muller stream
+     * (lib/core/gaussian_generator.h): the same seed gives the same noise whatever the sizes
+     * of the calls.
      * \param y the values to add noise to.
      * \param count the number of values.
      * \param snr_db SNR per resource element in dB.
      */
->>>>>>> 293c319 (docs: Doxygen on the core and blocks headers (prose converted to \brief/\details/\param/\return/\throws))
     void add_noise(gr_complex* y, size_t count, double snr_db);
 
     /*!
