@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: closed-form Cramér–Rao bound on a single path's delay. See delay_crb.h. */
+#include "core/checks.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <cmath>
@@ -40,7 +41,7 @@ double delay_crb::variance_index(const frame_settings& fs,
     mask.check_frame(fs, "delay CRB");
     if (std::isnan(snr_db))
         throw std::invalid_argument("delay CRB: snr_db is NaN");
-    if (!(gain_power > 0.0) || !std::isfinite(gain_power))
+    if (!checks::positive(gain_power))
         throw std::invalid_argument("delay CRB: gain_power must be finite and > 0");
     const double s = spread(mask, doppler_known);
     if (!(s > 1e-12))

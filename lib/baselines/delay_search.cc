@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the delay search grid of the classical estimators. */
+#include "core/checks.h"
 #include <gnuradio/sems/baselines/delay_search.h>
 #include <cmath>
 #include <stdexcept>
@@ -12,7 +13,7 @@ void delay_search::validate(const frame_settings& fs, const std::string& who) co
     if (oversample < 1 || oversample > 1024)
         throw std::invalid_argument(who + ": delay oversample must be in [1, 1024], got " + std::to_string(oversample));
     const double hi = max_index < 0.0 ? fs.n_subcarriers : max_index;
-    if (!std::isfinite(min_index) || !std::isfinite(hi))
+    if (!checks::finite(min_index) || !checks::finite(hi))
         throw std::invalid_argument(who + ": delay search window must be finite");
     if (!(hi > min_index))
         throw std::invalid_argument(who + ": delay search window [" + std::to_string(min_index) + ", " +

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: Doppler-spectrum features of the pilots. See doppler_features.h. */
+#include "core/checks.h"
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/core/steering.h>
 #include <cmath>
@@ -44,7 +45,7 @@ std::vector<double> doppler_features::spectrum(const gr_complex* obs) const
     if (obs == nullptr)
         throw std::invalid_argument("doppler features: observations: null pointer");
     for (int k = 0; k < d_np; ++k)
-        if (!std::isfinite(obs[k].real()) || !std::isfinite(obs[k].imag()))
+        if (!checks::finite(obs[k]))
             throw std::invalid_argument("doppler features: observation " + std::to_string(k) + " is not finite");
     const size_t f = d_freq.size();
     std::vector<double> s(f, 0.0);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: RBF SVM (libsvm) on standardised features. See feature_svm.h. */
+#include "core/checks.h"
 #include <gnuradio/sems/baselines/feature_svm.h>
 #include <libsvm/svm.h>
 #include <cmath>
@@ -57,9 +58,9 @@ feature_svm::feature_svm(const std::vector<std::vector<double>>& features,
     if (features.size() != labels.size())
         throw std::invalid_argument(who + ": " + std::to_string(features.size()) + " feature rows but " +
                                     std::to_string(labels.size()) + " labels");
-    if (!(s.c > 0.0) || !std::isfinite(s.c))
+    if (!checks::positive(s.c))
         throw std::invalid_argument(who + ": C must be finite and > 0");
-    if (!std::isfinite(s.gamma))
+    if (!checks::finite(s.gamma))
         throw std::invalid_argument(who + ": gamma must be finite");
     if (!(s.cache_mb > 0.0))
         throw std::invalid_argument(who + ": cache_mb must be > 0");
@@ -74,7 +75,7 @@ feature_svm::feature_svm(const std::vector<std::vector<double>>& features,
                                         std::to_string(features[i].size()) + " features, expected " +
                                         std::to_string(m.d));
         for (double v : features[i])
-            if (!std::isfinite(v))
+            if (!checks::finite(v))
                 throw std::invalid_argument(who + ": row " + std::to_string(i) + " has a non-finite feature");
         if (labels[i] < 0)
             throw std::invalid_argument(who + ": label " + std::to_string(labels[i]) + " is negative");
@@ -130,7 +131,7 @@ int feature_svm::predict(const std::vector<double>& x) const
         throw std::invalid_argument("feature SVM: got " + std::to_string(x.size()) + " features, expected " +
                                     std::to_string(d_impl->d));
     for (double v : x)
-        if (!std::isfinite(v))
+        if (!checks::finite(v))
             throw std::invalid_argument("feature SVM: non-finite feature");
     const auto n = d_impl->encode(x);
     return static_cast<int>(std::lround(svm_predict(d_impl->model, n.data())));

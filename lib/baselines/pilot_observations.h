@@ -2,9 +2,10 @@
 /* gr-sems: the pilot observations as the classical baselines see them (internal):
  * a checked double vector, pilots grouped by symbol, peak interpolation, mask checks.
  * The steering phasors and the Doppler grid come from core/steering.h. */
-#ifndef INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H
-#define INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H
+#ifndef INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
+#define INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 
+#include "core/checks.h"
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
@@ -29,7 +30,7 @@ inline Eigen::VectorXcd observations(const gr_complex* obs, int n_pilots, const 
         throw std::invalid_argument(who + ": observations: null pointer");
     Eigen::VectorXcd r(n_pilots);
     for (int k = 0; k < n_pilots; ++k) {
-        if (!std::isfinite(obs[k].real()) || !std::isfinite(obs[k].imag()))
+        if (!checks::finite(obs[k]))
             throw std::invalid_argument(who + ": observation " + std::to_string(k) + " is not finite");
         r[k] = cd(obs[k].real(), obs[k].imag());
     }
@@ -72,4 +73,4 @@ inline void check_mask(const frame_settings& fs, const pilot_mask& mask, const s
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINES_PILOT_OBSERVATIONS_H */
+#endif /* INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H */

@@ -3,9 +3,10 @@
  * pilot_mask (internal to the library). One place, so both ends of the chain read
  * the same parameters the same way: a mask file OR explicit flat positions n·M+m.
  */
-#ifndef INCLUDED_SEMS_BLOCK_MASK_H
-#define INCLUDED_SEMS_BLOCK_MASK_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
+#define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 
+#include "core/checks.h"
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <cmath>
@@ -81,11 +82,11 @@ inline pilot_mask block_mask(const std::string& who,
 // Power parameters are energies per symbol: finite and >= 0.
 inline void check_power(const std::string& who, const std::string& name, double value)
 {
-    if (!std::isfinite(value) || value < 0.0)
+    if (!checks::non_negative(value))
         throw std::invalid_argument(who + ": " + name + " must be finite and >= 0, got " + std::to_string(value));
 }
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BLOCK_MASK_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H */

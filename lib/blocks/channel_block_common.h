@@ -3,8 +3,8 @@
  * (internal): their scene parameters, their SNR check and their truth tag, so both
  * read the same parameters the same way and write the same sems_truth dict.
  */
-#ifndef INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H
-#define INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_CHANNEL_BLOCK_COMMON_H
+#define INCLUDED_SEMS_LIB_BLOCKS_CHANNEL_BLOCK_COMMON_H
 
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/scene.h>
@@ -59,4 +59,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_CHANNEL_BLOCK_COMMON_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_CHANNEL_BLOCK_COMMON_H */

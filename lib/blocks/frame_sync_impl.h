@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: frame_sync implementation (see frame_sync.h). */
-#ifndef INCLUDED_SEMS_FRAME_SYNC_IMPL_H
-#define INCLUDED_SEMS_FRAME_SYNC_IMPL_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
+#define INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
 
 #include <gnuradio/sems/blocks/frame_sync.h>
 #include <gnuradio/sems/core/frame_search.h>
@@ -46,4 +46,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FRAME_SYNC_IMPL_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H */

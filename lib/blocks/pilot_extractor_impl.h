@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot_extractor implementation (see pilot_extractor.h). */
-#ifndef INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H
-#define INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_PILOT_EXTRACTOR_IMPL_H
+#define INCLUDED_SEMS_LIB_BLOCKS_PILOT_EXTRACTOR_IMPL_H
 
 #include <gnuradio/sems/blocks/pilot_extractor.h>
 #include <pmt/pmt.h>
@@ -55,4 +55,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_EXTRACTOR_IMPL_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_PILOT_EXTRACTOR_IMPL_H */

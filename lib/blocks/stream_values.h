@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: reading what streams and tags carry, the same way in every block (internal). */
-#ifndef INCLUDED_SEMS_STREAM_VALUES_H
-#define INCLUDED_SEMS_STREAM_VALUES_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_STREAM_VALUES_H
+#define INCLUDED_SEMS_LIB_BLOCKS_STREAM_VALUES_H
 
+#include "core/checks.h"
 #include <gnuradio/gr_complex.h>
 #include <pmt/pmt.h>
 #include <cmath>
@@ -45,4 +46,4 @@ inline bool all_finite(const gr_complex* x, size_t n)
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_STREAM_VALUES_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_STREAM_VALUES_H */

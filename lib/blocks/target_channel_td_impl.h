@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: target_channel_td implementation (see target_channel_td.h). */
-#ifndef INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H
-#define INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H
+#define INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H
 
 #include "blocks/channel_block_common.h"
 #include <gnuradio/sems/blocks/target_channel_td.h>
@@ -52,4 +52,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TARGET_CHANNEL_TD_IMPL_H */
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H */

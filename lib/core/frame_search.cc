@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: frame-start search (see frame_search.h). */
+#include "core/checks.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/frame_search.h>
 #include <volk/volk.h>
@@ -18,12 +19,12 @@ frame_search::frame_search(const pilot_mask& mask, int cp_len, double pilot_powe
     if (cp_len < 0 || cp_len > m)
         throw std::invalid_argument("frame_search: cp_len must be in [0, M = " + std::to_string(m) + "], got " +
                                     std::to_string(cp_len));
-    if (!(pilot_power > 0.0) || !std::isfinite(pilot_power))
+    if (!checks::positive(pilot_power))
         throw std::invalid_argument("frame_search: pilot_power must be a finite number > 0, got " +
                                     std::to_string(pilot_power));
     if (frames < 1)
         throw std::invalid_argument("frame_search: frames must be >= 1, got " + std::to_string(frames));
-    if (!(threshold > 0.0) || !std::isfinite(threshold))
+    if (!checks::positive(threshold))
         throw std::invalid_argument("frame_search: threshold must be a finite number > 0, got " +
                                     std::to_string(threshold));
     const int s = m + cp_len;

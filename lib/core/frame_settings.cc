@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: frame settings validation and JSON. */
 #include "core/json_read.h"
+#include "core/checks.h"
 #include <gnuradio/sems/core/frame_settings.h>
 #include <cmath>
 #include <stdexcept>
@@ -12,7 +13,7 @@ namespace sems {
 namespace {
 void require_positive(double v, const char* name)
 {
-    if (!std::isfinite(v) || v <= 0.0)
+    if (!checks::positive(v))
         throw std::invalid_argument(std::string("frame settings: ") + name +
                                     " must be a positive finite number, got " + std::to_string(v));
 }

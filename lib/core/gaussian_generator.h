@@ -20,8 +20,8 @@
  * N(0, 1/2) (probability of the complex sample reaching that radius: e^-22.2 = 2.3e-10);
  * the angle is uniform on 2^26 levels; ln/sin/cos are accurate to ~1e-7 relative.
  */
-#ifndef INCLUDED_SEMS_GAUSSIAN_GENERATOR_H
-#define INCLUDED_SEMS_GAUSSIAN_GENERATOR_H
+#ifndef INCLUDED_SEMS_LIB_CORE_GAUSSIAN_GENERATOR_H
+#define INCLUDED_SEMS_LIB_CORE_GAUSSIAN_GENERATOR_H
 
 #include <gnuradio/gr_complex.h>
 #include <cstddef>
@@ -64,4 +64,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_GAUSSIAN_GENERATOR_H */
+#endif /* INCLUDED_SEMS_LIB_CORE_GAUSSIAN_GENERATOR_H */

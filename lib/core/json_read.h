@@ -4,9 +4,10 @@
  * Every reader of a project file (mask, scene, bundle) goes through these, so a bad
  * field always produces the same kind of message: "<source>: <field>: <problem>".
  */
-#ifndef INCLUDED_SEMS_JSON_READ_H
-#define INCLUDED_SEMS_JSON_READ_H
+#ifndef INCLUDED_SEMS_LIB_CORE_JSON_READ_H
+#define INCLUDED_SEMS_LIB_CORE_JSON_READ_H
 
+#include "core/checks.h"
 #include <nlohmann/json.hpp>
 #include <cmath>
 #include <fstream>
@@ -68,7 +69,7 @@ inline double finite_number(const nlohmann::json& v, const std::string& field, c
     if (!v.is_number())
         fail(source, field, "expected a number, got " + v.dump());
     const double x = v.get<double>();
-    if (!std::isfinite(x))
+    if (!checks::finite(x))
         fail(source, field, "must be finite");
     return x;
 }
@@ -109,4 +110,4 @@ inline void check_format(const nlohmann::json& j, const char* name, int version,
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_JSON_READ_H */
+#endif /* INCLUDED_SEMS_LIB_CORE_JSON_READ_H */

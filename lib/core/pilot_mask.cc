@@ -2,6 +2,7 @@
 /* gr-sems: pilot mask validation, standard patterns and the JSON file format. */
 #include "core/json_read.h"
 #include "core/rng.h"
+#include "core/checks.h"
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <algorithm>
 #include <cmath>
@@ -67,7 +68,7 @@ pilot_mask::pilot_mask(int n_symbols,
     if (dup != d_pilots.end())
         json_read::fail(source, "pilots",
                         "duplicate position [" + std::to_string(dup->n) + ", " + std::to_string(dup->m) + "]");
-    if (!std::isfinite(pilot_symbol.real()) || !std::isfinite(pilot_symbol.imag()) ||
+    if (!checks::finite(pilot_symbol) ||
         std::norm(pilot_symbol) == 0.0f)
         json_read::fail(source, "pilot_symbol", "must be finite and non-zero (observations are divided by it)");
     if (!d_origin.is_object())

@@ -7,8 +7,8 @@
  * (a fixed algorithm, unlike the standard library's): ~10x cheaper than Box–Muller,
  * which matters because noise is the emulator's per-sample cost.
  */
-#ifndef INCLUDED_SEMS_RNG_H
-#define INCLUDED_SEMS_RNG_H
+#ifndef INCLUDED_SEMS_LIB_CORE_RNG_H
+#define INCLUDED_SEMS_LIB_CORE_RNG_H
 
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
@@ -83,4 +83,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_RNG_H */
+#endif /* INCLUDED_SEMS_LIB_CORE_RNG_H */

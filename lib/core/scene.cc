@@ -12,6 +12,7 @@
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]}}
  */
 #include "core/json_read.h"
+#include "core/checks.h"
 #include <gnuradio/sems/core/scene.h>
 #include <algorithm>
 #include <cmath>
@@ -27,19 +28,19 @@ namespace {
 
 void check_finite_nonneg(double v, const std::string& source, const std::string& field)
 {
-    if (!std::isfinite(v) || v < 0.0)
+    if (!checks::non_negative(v))
         fail(source, field, "must be a finite number >= 0, got " + std::to_string(v));
 }
 
 void check_positive(double v, const std::string& source, const std::string& field)
 {
-    if (!std::isfinite(v) || v <= 0.0)
+    if (!checks::positive(v))
         fail(source, field, "must be a finite number > 0, got " + std::to_string(v));
 }
 
 void validate_clutter(const clutter_spec& c, const std::string& source)
 {
-    if (!std::isfinite(c.csr_db))
+    if (!checks::finite(c.csr_db))
         fail(source, "clutter.csr_db", "must be finite");
     if (c.ranges_m.empty()) {
         if (c.n_paths < 1)
@@ -126,13 +127,13 @@ void scene::validate(const std::string& source) const
         const std::string f = "targets[" + std::to_string(i) + "]";
         class_info(t.cls); // throws on an unknown class
         check_finite_nonneg(t.range_m, source, f + ".range_m");
-        if (!std::isfinite(t.velocity_mps))
+        if (!checks::finite(t.velocity_mps))
             fail(source, f + ".velocity_mps", "must be finite");
         check_positive(t.power, source, f + ".power");
         if (t.md) {
             check_finite_nonneg(t.md->rate_hz, source, f + ".micro_doppler.rate_hz");
             check_finite_nonneg(t.md->amplitude_m, source, f + ".micro_doppler.amplitude_m");
-            if (!std::isfinite(t.md->phase_rad))
+            if (!checks::finite(t.md->phase_rad))
                 fail(source, f + ".micro_doppler.phase_rad", "must be finite");
         }
         if (t.paths.empty())

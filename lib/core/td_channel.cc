@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model at sample level (see td_channel.h for the equations). */
+#include "core/checks.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <volk/volk.h>
@@ -217,7 +218,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
         const auto& p = paths[l];
         auto& pa = I.paths[l];
         const double samples = p.delay_s * I.b;
-        if (!std::isfinite(samples) || samples < 0.0 || samples >= m)
+        if (!checks::non_negative(samples) || samples >= m)
             throw std::invalid_argument("td_channel: path " + std::to_string(l) + " delay " +
                                         std::to_string(p.delay_s) + " s is outside [0, 1/Δf) = [0, " +
                                         std::to_string(m / I.b) + ") s");

@@ -52,7 +52,7 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     const std::string source = bundle.directory + "/" + model_bundle::bundle_file;
     d_impl->net = nn::make_decoder(bundle.decoder, bundle.frame.n_symbols, bundle.frame.n_subcarriers,
                                    bundle.mask.size(), source);
-    nn::load_module(d_impl->net, bundle.directory + "/" + model_bundle::weights_file);
+    nn::load_module(d_impl->net, bundle.weights_path()); // the weights file bundle.json names
     d_impl->net->eval();
     for (int i : bundle.mask.flat_indices())
         d_impl->indices.push_back(i);

@@ -13,8 +13,8 @@
  *
  * The 16-d features are exposed for the evaluation's t-SNE.
  */
-#ifndef INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H
-#define INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_DECODER_H
+#define INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_DECODER_H
 
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/learning/network_settings.h>
@@ -54,4 +54,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_CLASSIFIER_DECODER_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_DECODER_H */

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: classifier_sink implementation — a thin adapter: sink_core does the
  * stream bookkeeping, classifier_task the decoding and the scoring. */
-#ifndef INCLUDED_SEMS_CLASSIFIER_SINK_IMPL_H
-#define INCLUDED_SEMS_CLASSIFIER_SINK_IMPL_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_SINK_IMPL_H
+#define INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_SINK_IMPL_H
 
 #include "learning/sink_block.h"
 #include "learning/sink_core.h"
@@ -55,4 +55,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_CLASSIFIER_SINK_IMPL_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_CLASSIFIER_SINK_IMPL_H */

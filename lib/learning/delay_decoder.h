@@ -12,8 +12,8 @@
  * maximum before exponentiating, so logits of ±1e4 are safe, and τ̂ is a convex
  * combination of grid delays: it always lies inside [τ_min, τ_max].
  */
-#ifndef INCLUDED_SEMS_NN_DELAY_DECODER_H
-#define INCLUDED_SEMS_NN_DELAY_DECODER_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
+#define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/learning/network_settings.h>
@@ -58,4 +58,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_DELAY_DECODER_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H */

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: delay_estimator_sink implementation. */
 #include "learning/delay_estimator_sink_impl.h"
+#include "core/checks.h"
 
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/tags.h>
@@ -45,7 +46,7 @@ bool delay_task::score(pmt::pmt_t& result, const pmt::pmt_t& truth)
             return false;
         truth_index = d_fs.delay_index(truth_s);
     }
-    if (!std::isfinite(truth_index))
+    if (!checks::finite(truth_index))
         return false;
     const double estimate = pmt::to_double(pmt::dict_ref(result, pmt::intern(keys::delay_index), pmt::PMT_NIL));
     const double err = std::abs(estimate - truth_index);

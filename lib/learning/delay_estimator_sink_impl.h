@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: delay_estimator_sink implementation — a thin adapter: sink_core does the
  * stream bookkeeping, delay_task the decoding and the scoring. */
-#ifndef INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_IMPL_H
-#define INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_IMPL_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_ESTIMATOR_SINK_IMPL_H
+#define INCLUDED_SEMS_LIB_LEARNING_DELAY_ESTIMATOR_SINK_IMPL_H
 
 #include "learning/sink_block.h"
 #include "learning/sink_core.h"
@@ -50,4 +50,4 @@ public:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DELAY_ESTIMATOR_SINK_IMPL_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_DELAY_ESTIMATOR_SINK_IMPL_H */

@@ -8,8 +8,8 @@
  * answering) becomes a std::runtime_error naming this rank, the operation and the
  * timeout, so the app exits non-zero instead of hanging.
  */
-#ifndef INCLUDED_SEMS_LEARNING_DISTRIBUTED_CONTEXT_H
-#define INCLUDED_SEMS_LEARNING_DISTRIBUTED_CONTEXT_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_DISTRIBUTED_CONTEXT_H
+#define INCLUDED_SEMS_LIB_LEARNING_DISTRIBUTED_CONTEXT_H
 
 #include <gnuradio/sems/learning/distributed_settings.h>
 #include <torch/torch.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: model bundle directory (bundle.json + mask.json; weights via bundle_decoder). */
+/* gr-sems: model bundle directory (bundle.json + the mask and weights files it names; weights via bundle_decoder). */
 #include "core/json_read.h"
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <sys/stat.h>
@@ -20,6 +20,18 @@ bool is_directory(const std::string& path)
 {
     struct stat st;
     return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+// A file of the bundle as bundle.json names it: a plain file name inside the bundle
+// directory (no folders, not "." or ".."), `fallback` when the key is absent.
+std::string bundle_file_name(const nlohmann::json& j, const char* key, const char* fallback, const std::string& path)
+{
+    if (!j.contains(key))
+        return fallback;
+    const auto name = json_read::string(j[key], key, path);
+    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos)
+        json_read::fail(path, key, "must be a file name inside the bundle directory, got \"" + name + "\"");
+    return name;
 }
 
 // The decoder kind each task needs.
@@ -46,8 +58,8 @@ nlohmann::json model_bundle::to_json() const
                          { "decoder", decoder },
                          { "frame", frame.to_json() },
                          { "n_pilots", mask.size() },
-                         { "mask_file", mask_file },
-                         { "weights_file", weights_file },
+                         { "mask_file", mask_name },
+                         { "weights_file", weights_name },
                          { "training", training.is_null() ? nlohmann::json::object() : training },
                          { "metrics", metrics.is_null() ? nlohmann::json::object() : metrics } };
     return j;
@@ -58,9 +70,11 @@ void model_bundle::save(const std::string& dir) const
     ::mkdir(dir.c_str(), 0755);
     if (!is_directory(dir))
         throw std::invalid_argument(dir + ": cannot create the bundle directory");
-    mask.save(join(dir, mask_file));
+    mask.save(join(dir, mask_name));
     json_read::write_file(join(dir, bundle_file), to_json());
 }
+
+std::string model_bundle::weights_path() const { return join(directory, weights_name); }
 
 model_bundle model_bundle::load(const std::string& dir)
 {
@@ -98,8 +112,10 @@ model_bundle model_bundle::load(const std::string& dir)
                                                      " names but the decoder has " + s->at("n_classes").dump() +
                                                      " classes");
     }
-    const auto mask_name = j.contains("mask_file") ? json_read::string(j["mask_file"], "mask_file", path)
-                                                   : std::string(mask_file);
+    // The bundle's own files are the ones bundle.json names (the defaults for older bundles).
+    b.mask_name = bundle_file_name(j, "mask_file", mask_file, path);
+    b.weights_name = bundle_file_name(j, "weights_file", weights_file, path);
+    const auto& mask_name = b.mask_name;
     b.mask = pilot_mask::load(join(dir, mask_name)); // names mask.json in its errors
     try {
         b.mask.check_frame(b.frame, path);

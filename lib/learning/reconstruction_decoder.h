@@ -3,8 +3,8 @@
  * paper calls reconstruction-based): sparse grid -> MLP -> the whole N x M channel.
  * No per-frame normalisation: it must reproduce H itself (unit mean power).
  */
-#ifndef INCLUDED_SEMS_NN_RECONSTRUCTION_DECODER_H
-#define INCLUDED_SEMS_NN_RECONSTRUCTION_DECODER_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_RECONSTRUCTION_DECODER_H
+#define INCLUDED_SEMS_LIB_LEARNING_RECONSTRUCTION_DECODER_H
 
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/learning/network_settings.h>
@@ -31,4 +31,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_RECONSTRUCTION_DECODER_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_RECONSTRUCTION_DECODER_H */

@@ -23,8 +23,8 @@
  *    (largest max score), each take their best-scoring element that no earlier head
  *    took. This yields exactly N_p distinct positions whatever the scores are.
  */
-#ifndef INCLUDED_SEMS_NN_SEMANTIC_ENCODER_H
-#define INCLUDED_SEMS_NN_SEMANTIC_ENCODER_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_SEMANTIC_ENCODER_H
+#define INCLUDED_SEMS_LIB_LEARNING_SEMANTIC_ENCODER_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/learning/network_settings.h>
@@ -81,4 +81,4 @@ SEMS_LEARNING_API std::vector<int64_t> greedy_distinct_assignment(const torch::T
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_SEMANTIC_ENCODER_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_SEMANTIC_ENCODER_H */

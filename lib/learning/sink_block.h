@@ -9,8 +9,8 @@
  * gr::sync_block is a virtual base of the public block classes, so the most-derived
  * impl constructs it (name and signatures); this base builds the task and the core.
  */
-#ifndef INCLUDED_SEMS_SINK_BLOCK_H
-#define INCLUDED_SEMS_SINK_BLOCK_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_SINK_BLOCK_H
+#define INCLUDED_SEMS_LIB_LEARNING_SINK_BLOCK_H
 
 #include "learning/sink_core.h"
 #include <gnuradio/sems/core/tags.h>
@@ -83,4 +83,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SINK_BLOCK_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_SINK_BLOCK_H */

@@ -18,8 +18,8 @@
  * Threads: push()/finish() run in the block's thread; the getters may be called from
  * any thread (Python) and take the same lock as the bookkeeping.
  */
-#ifndef INCLUDED_SEMS_SINK_CORE_H
-#define INCLUDED_SEMS_SINK_CORE_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_SINK_CORE_H
+#define INCLUDED_SEMS_LIB_LEARNING_SINK_CORE_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/io_signature.h>
@@ -151,4 +151,4 @@ bool is_truth(const pmt::pmt_t& v);
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SINK_CORE_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_SINK_CORE_H */

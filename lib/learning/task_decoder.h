@@ -7,8 +7,8 @@
  * file with scatter_pilots(). Both then call the same forward(), so the app and the
  * sinks compute the same answers.
  */
-#ifndef INCLUDED_SEMS_NN_DECODER_FACTORY_H
-#define INCLUDED_SEMS_NN_DECODER_FACTORY_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_TASK_DECODER_H
+#define INCLUDED_SEMS_LIB_LEARNING_TASK_DECODER_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <torch/torch.h>
@@ -71,4 +71,4 @@ SEMS_LEARNING_API void load_module(const std::shared_ptr<torch::nn::Module>& mod
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_NN_DECODER_FACTORY_H */
+#endif /* INCLUDED_SEMS_LIB_LEARNING_TASK_DECODER_H */

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the trainer's data set (internal): noiseless channels from the channel model,
  * labels, and seeded noise. */
-#ifndef INCLUDED_SEMS_TRAINER_DATA_H
-#define INCLUDED_SEMS_TRAINER_DATA_H
+#ifndef INCLUDED_SEMS_LIB_LEARNING_TRAINER_DATA_H
+#define INCLUDED_SEMS_LIB_LEARNING_TRAINER_DATA_H
 
 #include <gnuradio/sems/learning/trainer.h>
 #include <torch/torch.h>

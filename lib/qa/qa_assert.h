@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: assertions shared by the CppUnit suites (test-only, not installed). */
-#ifndef INCLUDED_SEMS_QA_ASSERT_H
-#define INCLUDED_SEMS_QA_ASSERT_H
+#ifndef INCLUDED_SEMS_LIB_QA_QA_ASSERT_H
+#define INCLUDED_SEMS_LIB_QA_QA_ASSERT_H
 
 #include <cppunit/TestAssert.h>
 #include <stdexcept>
@@ -32,4 +32,4 @@ void assert_error(F f, const std::string& needle1, const std::string& needle2 = 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_QA_ASSERT_H */
+#endif /* INCLUDED_SEMS_LIB_QA_QA_ASSERT_H */

@@ -4,6 +4,10 @@ import math
 
 from gnuradio import blocks, digital, fft, gr
 
+from .core_python import frame_settings as _frame_settings
+
+_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame_settings.h)
+
 
 class ofdm_tx(gr.hier_block2):
     """gr_complex[M] OFDM symbols (frequency domain) in, complex samples out:
@@ -16,7 +20,7 @@ class ofdm_tx(gr.hier_block2):
     Tags on a symbol come out on its first sample (the start of its prefix).
     """
 
-    def __init__(self, n_subcarriers=64, cp_len=16):
+    def __init__(self, n_subcarriers=_FRAME.n_subcarriers, cp_len=_FRAME.cp_len):
         gr.hier_block2.__init__(
             self, "sems_ofdm_tx",
             gr.io_signature(1, 1, gr.sizeof_gr_complex * n_subcarriers),

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: symbol visibility for the shared library. */
+/*!
+ * \file
+ * \brief Symbol visibility of libgnuradio-sems (core + streaming blocks, no LibTorch).
+ */
 #ifndef INCLUDED_SEMS_API_H
 #define INCLUDED_SEMS_API_H
 

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the Cramér–Rao bound on the delay of a single path, for a pilot pattern.
+/*!
+ * \file
+ * \brief The Cramér–Rao bound on the delay of a single path, for a pilot pattern.
  *
- * Model: r_k = α · exp(-j2π m_k Δf τ) · exp(j2π ν n_k T) + w_k, w_k ~ CN(0, σ²),
+ * \details Model: r_k = α · exp(-j2π m_k Δf τ) · exp(j2π ν n_k T) + w_k, w_k ~ CN(0, σ²),
  * k over the N_p pilots; unknowns: τ, the complex gain α (|α| and its phase) and —
  * unless `doppler_known` — the Doppler ν. With φ the phase of α, ∂r_k/∂(τ, ν, φ) =
  * j r_k · g_k, g_k = (-2π Δf m_k, 2π T n_k, 1), and ∂r_k/∂|α| is orthogonal to those,
@@ -20,8 +22,8 @@
  * (Gaussian) estimator, √(2/π)·std, averages to a finite √(2 · var₁) with var₁ the
  * bound at |α|² = 1, because E[1/|α|] = √π.
  */
-#ifndef INCLUDED_SEMS_DELAY_CRB_H
-#define INCLUDED_SEMS_DELAY_CRB_H
+#ifndef INCLUDED_SEMS_BASELINES_DELAY_CRB_H
+#define INCLUDED_SEMS_BASELINES_DELAY_CRB_H
 
 #include <gnuradio/sems/baselines/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -30,27 +32,44 @@
 namespace gr {
 namespace sems {
 
+/*! \brief The Cramér–Rao bound on the delay of a single path, for a pilot pattern (see the file's description). */
 struct SEMS_BASELINES_API delay_crb {
-    // Variance bound of the delay index for a path of power |α|² = gain_power.
-    // Throws std::invalid_argument for NaN SNR, gain_power <= 0, or a pattern whose
-    // pilots all sit on one subcarrier (no delay information: S = 0).
+    /*!
+     * \brief Variance bound of the delay index for a path of power |α|² = gain_power.
+     * \param fs the frame. \param mask the pilot pattern. \param snr_db SNR per resource element in dB.
+     * \param doppler_known whether ν is known (else it is a nuisance parameter).
+     * \param gain_power |α|².
+     * \return the bound on var(τ̂·B).
+     * \throws std::invalid_argument for NaN SNR, gain_power <= 0, or a pattern whose
+     *         pilots all sit on one subcarrier (no delay information: S = 0).
+     */
     static double variance_index(const frame_settings& fs,
                                  const pilot_mask& mask,
                                  double snr_db,
                                  bool doppler_known = false,
                                  double gain_power = 1.0);
-    // MAE of an efficient estimator: √(2/π)·√var at fixed gain; with rayleigh = true
-    // averaged over |α|² ~ Exp(1): √(2·var at |α|² = 1).
+    /*!
+     * \brief MAE of an efficient estimator: √(2/π)·√var at fixed gain; with rayleigh = true
+     *        averaged over |α|² ~ Exp(1): √(2·var at |α|² = 1).
+     * \param fs the frame. \param mask the pilot pattern. \param snr_db SNR per resource element in dB.
+     * \param doppler_known whether ν is known. \param rayleigh average over Rayleigh fading.
+     * \return the MAE in delay indices.
+     * \throws std::invalid_argument as variance_index().
+     */
     static double mae_index(const frame_settings& fs,
                             const pilot_mask& mask,
                             double snr_db,
                             bool doppler_known = false,
                             bool rayleigh = true);
-    // The pattern's effective subcarrier spread S (see above).
+    /*!
+     * \brief The pattern's effective subcarrier spread S (see the file's description).
+     * \param mask the pilot pattern. \param doppler_known whether ν is known.
+     * \return S.
+     */
     static double spread(const pilot_mask& mask, bool doppler_known);
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DELAY_CRB_H */
+#endif /* INCLUDED_SEMS_BASELINES_DELAY_CRB_H */

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the classical micro-Doppler feature extractor (the feature-SVM baseline).
+/*!
+ * \file
+ * \brief The classical micro-Doppler feature extractor (the feature-SVM baseline).
  *
- * Doppler spectrum from the pilots: for every subcarrier that carries pilots, the
+ * \details Doppler spectrum from the pilots: for every subcarrier that carries pilots, the
  * slow-time periodogram of its pilots (a DFT over the symbols that carry them,
  * evaluated on the grid f_q = (q - F/2) / (F T), q = 0..F-1, F = N · oversample, i.e.
  * over [-1/(2T), 1/(2T))), summed over subcarriers:
@@ -21,8 +23,8 @@
  *                 spread the micro-Doppler is, independent of where it sits.
  * An all-zero input gives all-zero features.
  */
-#ifndef INCLUDED_SEMS_DOPPLER_FEATURES_H
-#define INCLUDED_SEMS_DOPPLER_FEATURES_H
+#ifndef INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H
+#define INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -35,20 +37,39 @@
 namespace gr {
 namespace sems {
 
+/*! \brief The classical micro-Doppler feature extractor (see the file's description). */
 class SEMS_BASELINES_API doppler_features
 {
 public:
-    static constexpr int n_features = 6;
+    static constexpr int n_features = 6; ///< features per frame
+    /*! \brief The features' names. \return n_features names, in feature order. */
     static std::vector<std::string> names();
 
+    /*!
+     * \brief An extractor for a frame and a pilot pattern.
+     * \param fs the frame. \param mask the pilot pattern.
+     * \param oversample Doppler grid points per 1/(N·T), >= 1.
+     * \throws std::invalid_argument naming the bad parameter.
+     */
     doppler_features(const frame_settings& fs, const pilot_mask& mask, int oversample = 1);
 
+    /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const { return d_np; }
-    // The Doppler grid f_q in Hz.
+    /*! \brief The Doppler grid f_q. \return the frequencies in Hz. */
     const std::vector<double>& frequencies_hz() const { return d_freq; }
-    // S(f) on the grid. Throws std::invalid_argument on non-finite input.
+    /*!
+     * \brief S(f) on the grid.
+     * \param obs N_p observations in mask order.
+     * \return the spectrum.
+     * \throws std::invalid_argument on non-finite input.
+     */
     std::vector<double> spectrum(const gr_complex* obs) const;
-    // The n_features features of one frame.
+    /*!
+     * \brief The features of one frame.
+     * \param obs N_p observations in mask order.
+     * \return n_features values.
+     * \throws std::invalid_argument on non-finite input.
+     */
     std::vector<double> extract(const gr_complex* obs) const;
 
 private:
@@ -62,4 +83,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_DOPPLER_FEATURES_H */
+#endif /* INCLUDED_SEMS_BASELINES_DOPPLER_FEATURES_H */

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: orthogonal matching pursuit (OMP) delay estimator on an oversampled grid.
+/*!
+ * \file
+ * \brief Orthogonal matching pursuit (OMP) delay estimator on an oversampled grid.
  *
- * Dictionary: joint delay–Doppler atoms d(τ,ν)_k = a_τ(m_k) · b_ν(n_k) at the pilot
+ * \details Dictionary: joint delay–Doppler atoms d(τ,ν)_k = a_τ(m_k) · b_ν(n_k) at the pilot
  * positions (a_τ(m) = exp(-j2π m Δf τ), b_ν(n) = exp(j2π ν n T)), τ on the oversampled
  * delay grid and ν on an oversampled Doppler grid over ±1/(2T). Every symbol's pilots
  * share the delay support and the Doppler ties the symbols together, so any pilot
@@ -14,8 +16,8 @@
  * `relative_power` of the strongest (the direct path arrives first). No off-grid
  * refinement: the grid-mismatch floor is part of the method.
  */
-#ifndef INCLUDED_SEMS_BASELINE_OMP_H
-#define INCLUDED_SEMS_BASELINE_OMP_H
+#ifndef INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
+#define INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
@@ -28,31 +30,63 @@
 namespace gr {
 namespace sems {
 
+/*! \brief One atom chosen by OMP. */
 struct SEMS_BASELINES_API omp_atom {
-    double delay_index;
-    double doppler_hz;
-    gr_complex gain;
+    double delay_index; ///< τ·B
+    double doppler_hz;  ///< ν in Hz
+    gr_complex gain;    ///< least-squares gain
 };
 
+/*! \brief Orthogonal matching pursuit (OMP) delay estimator on an oversampled delay–Doppler grid (see the file's description). */
 class SEMS_BASELINES_API omp_delay_estimator
 {
 public:
+    /*! \brief The estimator's settings. */
     struct settings {
-        delay_search search{};
-        int doppler_oversample = 2;
-        int n_atoms = 1;             // sparsity (model order), >= 1 and <= N_p
-        double relative_power = 0.25; // of the strongest atom, in (0, 1]
+        delay_search search{}; ///< the delay search window and grid
+        int doppler_oversample = 2;  ///< Doppler grid points per 1/(N T)
+        int n_atoms = 1;             ///< sparsity (model order), >= 1 and <= N_p
+        double relative_power = 0.25; ///< reporting threshold: fraction of the strongest atom, in (0, 1]
     };
 
+    /*!
+     * \brief An estimator for a frame and a pilot pattern.
+     * \param fs the frame. \param mask the pilot pattern. \param s the settings.
+     * \throws std::invalid_argument naming the bad setting or why the mask cannot be used.
+     */
     omp_delay_estimator(const frame_settings& fs, const pilot_mask& mask, settings s);
+    /*!
+     * \brief An estimator with default settings.
+     * \param fs the frame. \param mask the pilot pattern.
+     * \throws std::invalid_argument naming why the mask cannot be used.
+     */
     omp_delay_estimator(const frame_settings& fs, const pilot_mask& mask);
-    ~omp_delay_estimator();
+    ~omp_delay_estimator(); ///< Destructor.
+    /*! \brief Move constructor. */
     omp_delay_estimator(omp_delay_estimator&&) noexcept;
 
-    int n_pilots() const; // N_p, the observations per frame
+    /*! \brief N_p. \return the observations per frame. */
+    int n_pilots() const;
+    /*!
+     * \brief Estimates the delay of the target of interest.
+     * \param obs N_p observations Y/s_p in mask order.
+     * \return the delay index τ·B.
+     * \throws std::invalid_argument on non-finite input.
+     */
     double estimate_index(const gr_complex* obs) const;
+    /*!
+     * \brief Estimates the delay of the target of interest.
+     * \param obs N_p observations Y/s_p in mask order.
+     * \return the delay in s.
+     * \throws std::invalid_argument on non-finite input.
+     */
     double estimate_delay_s(const gr_complex* obs) const;
-    // The atoms in the order they were chosen, with least-squares gains.
+    /*!
+     * \brief The atoms in the order they were chosen, with least-squares gains.
+     * \param obs N_p observations in mask order.
+     * \return the atoms.
+     * \throws std::invalid_argument on non-finite input.
+     */
     std::vector<omp_atom> decompose(const gr_complex* obs) const;
 
 private:
@@ -63,4 +97,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BASELINE_OMP_H */
+#endif /* INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H */

@@ -11,8 +11,8 @@
  * {offset, metric, failures} on the message port "sync". Once locked it stays locked (an
  * offset calibrated once, as on a loopback); frame_search.h states what the search assumes.
  */
-#ifndef INCLUDED_SEMS_FRAME_SYNC_H
-#define INCLUDED_SEMS_FRAME_SYNC_H
+#ifndef INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
+#define INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
@@ -31,9 +31,10 @@ namespace sems {
 class SEMS_API frame_sync : virtual public gr::block
 {
 public:
-    typedef std::shared_ptr<frame_sync> sptr;
+    typedef std::shared_ptr<frame_sync> sptr; ///< shared pointer to the block
 
     /*!
+     * \brief Makes a frame synchroniser.
      * \param mask_file      pilot mask file (or "" with pilot_positions)
      * \param pilot_positions flat pilot indices n·M + m (or empty with mask_file)
      * \param n_symbols      N
@@ -43,7 +44,8 @@ public:
      * \param cp_len         cyclic prefix (samples)
      * \param search_frames  F, frames correlated per search (>= 1)
      * \param threshold      detection threshold on F·L·ρ (frame_search.h)
-     * Throws std::invalid_argument naming the parameter.
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter.
      */
     static sptr make(const std::string& mask_file = "",
                      const std::vector<int>& pilot_positions = {},
@@ -55,14 +57,14 @@ public:
                      int search_frames = 4,
                      double threshold = 25.0);
 
-    virtual bool locked() const = 0;
-    virtual int64_t offset() const = 0;      //!< samples dropped before the first frame; -1 until found
-    virtual double metric() const = 0;        //!< F·L·ρ of the last search
-    virtual uint64_t failures() const = 0;    //!< searches that found no frame
-    virtual int frame_len() const = 0;        //!< L = N·(M + cp_len)
+    virtual bool locked() const = 0;          //!< \return whether the frame start was found
+    virtual int64_t offset() const = 0;      //!< \return samples dropped before the first frame; -1 until found
+    virtual double metric() const = 0;        //!< \return F·L·ρ of the last search
+    virtual uint64_t failures() const = 0;    //!< \return searches that found no frame
+    virtual int frame_len() const = 0;        //!< \return L = N·(M + cp_len)
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FRAME_SYNC_H */
+#endif /* INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H */

@@ -1,20 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the pilot extractor (DESIGN §3): gr_complex[M] in, one gr_complex[N_p]
- * per frame out: the pilot observations Y[n,m]/s_p at the mask positions, in mask
- * order (row-major, sorted by (n, m)). No power is divided out: with pilot power E_p
- * and a noiseless channel the output is sqrt(E_p)·H at the pilots.
- *
- * Frames are aligned to keys::frame_tag tags when present and counted (N symbols
- * each) otherwise. A partial frame (a frame tag arrives before N symbols were
- * collected, or the stream starts mid-frame) is dropped and counted; a frame with a
- * NaN/Inf anywhere in its symbols is skipped and counted. Every output item carries
- * a keys::frame_tag (the input's value, or the counted index on an untagged stream)
- * and the tags of its frame's symbols (keys::truth_tag among them).
- *
- * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m.
+/*!
+ * \file
+ * \brief The pilot extractor block (DESIGN §3).
  */
-#ifndef INCLUDED_SEMS_PILOT_EXTRACTOR_H
-#define INCLUDED_SEMS_PILOT_EXTRACTOR_H
+#ifndef INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
+#define INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
@@ -27,18 +17,36 @@
 namespace gr {
 namespace sems {
 
+/*!
+ * \brief The pilot extractor (DESIGN §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/s_p per frame out.
+ *
+ * \details The output is the pilot observations Y[n,m]/s_p at the mask positions, in mask
+ * order (row-major, sorted by (n, m)). No power is divided out: with pilot power E_p
+ * and a noiseless channel the output is sqrt(E_p)·H at the pilots.
+ *
+ * Frames are aligned to keys::frame_tag tags when present and counted (N symbols
+ * each) otherwise. A partial frame (a frame tag arrives before N symbols were
+ * collected, or the stream starts mid-frame) is dropped and counted; a frame with a
+ * NaN/Inf anywhere in its symbols is skipped and counted. Every output item carries
+ * a keys::frame_tag (the input's value, or the counted index on an untagged stream)
+ * and the tags of its frame's symbols (keys::truth_tag among them).
+ *
+ * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m.
+ */
 class SEMS_API pilot_extractor : virtual public gr::block
 {
 public:
-    typedef std::shared_ptr<pilot_extractor> sptr;
+    typedef std::shared_ptr<pilot_extractor> sptr; ///< shared pointer to the block
 
     /*!
+     * \brief Makes a pilot extractor.
      * \param mask_file        pilot mask JSON; "" to use pilot_positions
      * \param pilot_positions  flat pilot positions n·M+m; empty to use mask_file
      * \param n_symbols        N
      * \param n_subcarriers    M (input vector length)
      * \param pilot_symbol     s_p, the observations are divided by it; must match the file's
-     * Throws std::invalid_argument naming the parameter and the problem.
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter and the problem.
      */
     static sptr make(const std::string& mask_file = "",
                      const std::vector<int>& pilot_positions = {},
@@ -46,15 +54,20 @@ public:
                      int n_subcarriers = frame_settings{}.n_subcarriers,
                      gr_complex pilot_symbol = gr_complex(1.0f, 0.0f));
 
+    /*! \brief The pilot mask. \return the mask. */
     virtual const pilot_mask& mask() const = 0;
+    /*! \brief N_p. \return the output vector length. */
     virtual int n_pilots() const = 0;
 
+    /*! \brief Frames written. \return the count. */
     virtual uint64_t frames_out() const = 0;
+    /*! \brief Partial frames dropped (a frame tag before N symbols, or a mid-frame start). \return the count. */
     virtual uint64_t frames_dropped_partial() const = 0;
+    /*! \brief Frames skipped for a NaN/Inf symbol. \return the count. */
     virtual uint64_t frames_skipped_nonfinite() const = 0;
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_EXTRACTOR_H */
+#endif /* INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H */

@@ -1,8 +1,30 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the learned-pilot OFDM transmitter (DESIGN §2).
+/*!
+ * \file
+ * \brief The learned-pilot OFDM transmitter block (DESIGN §2).
+ */
+#ifndef INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
+#define INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
+
+#include <gnuradio/block.h>
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/pilot_mask.h>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief The learned-pilot OFDM transmitter (DESIGN §2): places the pilot mask's pilots and the data symbols on an N x M frame.
  *
- *   X_s[n,m] = sqrt(E_p) · s_p           at the pilot positions P
- *            = sqrt(E_d) · data           elsewhere, data taken in row-major order
+ * \details
+ * \verbatim
+   X_s[n,m] = sqrt(E_p) · s_p           at the pilot positions P
+            = sqrt(E_d) · data           elsewhere, data taken in row-major order
+   \endverbatim
  *
  * Input: data symbols (gr_complex stream). Output: gr_complex[M], one OFDM symbol in
  * the frequency domain, N per frame; a frame consumes N·M − N_p data symbols.
@@ -19,26 +41,13 @@
  * Pilot and data power are energies per symbol (>= 0, finite), settable while running;
  * a new value takes effect at the next frame, so a frame is never split between two powers.
  */
-#ifndef INCLUDED_SEMS_PILOT_MAPPER_H
-#define INCLUDED_SEMS_PILOT_MAPPER_H
-
-#include <gnuradio/block.h>
-#include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
-#include <cstdint>
-#include <string>
-#include <vector>
-
-namespace gr {
-namespace sems {
-
 class SEMS_API pilot_mapper : virtual public gr::block
 {
 public:
-    typedef std::shared_ptr<pilot_mapper> sptr;
+    typedef std::shared_ptr<pilot_mapper> sptr; ///< shared pointer to the block
 
     /*!
+     * \brief Makes a pilot mapper.
      * \param mask_file        pilot mask JSON (DESIGN §4); "" to use pilot_positions
      * \param pilot_positions  flat pilot positions n·M+m (any order); empty to use mask_file
      * \param n_symbols        N, OFDM symbols per frame
@@ -46,7 +55,8 @@ public:
      * \param pilot_symbol     s_p (non-zero); must match the mask file's when a file is given
      * \param pilot_power      E_p
      * \param data_power       E_d
-     * Throws std::invalid_argument naming the parameter and the problem.
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter and the problem.
      */
     static sptr make(const std::string& mask_file = "",
                      const std::vector<int>& pilot_positions = {},
@@ -56,20 +66,34 @@ public:
                      double pilot_power = 1.0,
                      double data_power = 1.0);
 
+    /*!
+     * \brief Sets E_p from the next frame.
+     * \param energy pilot energy per symbol (>= 0, finite).
+     * \throws std::invalid_argument if negative or not finite.
+     */
     virtual void set_pilot_power(double energy) = 0;
+    /*! \brief E_p. \return the pilot energy per symbol. */
     virtual double pilot_power() const = 0;
+    /*!
+     * \brief Sets E_d from the next frame.
+     * \param energy data energy per symbol (>= 0, finite).
+     * \throws std::invalid_argument if negative or not finite.
+     */
     virtual void set_data_power(double energy) = 0;
+    /*! \brief E_d. \return the data energy per symbol. */
     virtual double data_power() const = 0;
 
+    /*! \brief The pilot mask. \return the mask. */
     virtual const pilot_mask& mask() const = 0;
+    /*! \brief N_p. \return the pilots per frame. */
     virtual int n_pilots() const = 0;
-    // Data symbols consumed per frame: N·M − N_p.
+    /*! \brief Data symbols consumed per frame. \return N·M − N_p. */
     virtual int data_per_frame() const = 0;
-    // Frames started so far.
+    /*! \brief Frames started so far. \return the count. */
     virtual uint64_t frames() const = 0;
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_MAPPER_H */
+#endif /* INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H */

@@ -1,7 +1,26 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the frequency-domain target channel emulator (DESIGN §1, §3).
+/*!
+ * \file
+ * \brief The frequency-domain target channel emulator block (DESIGN §1, §3).
+ */
+#ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
+#define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
+
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sync_block.h>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief The frequency-domain target channel emulator (DESIGN §1, §3): y = H[n,:] ⊙ x + V per OFDM symbol.
  *
- * gr_complex[M] in and out, one OFDM symbol per item: y = H[n,:] ⊙ x + V.
+ * \details gr_complex[M] in and out, one OFDM symbol per item: y = H[n,:] ⊙ x + V.
  * A thin adapter over channel_model: per frame draw(frame) and factors(r, frame·N),
  * per symbol apply_row and add_noise. Everything per frame happens at the frame
  * start; nothing is allocated per item.
@@ -24,26 +43,13 @@
  * Non-finite input symbols are passed through (the extractor skips their frame) and
  * counted.
  */
-#ifndef INCLUDED_SEMS_TARGET_CHANNEL_H
-#define INCLUDED_SEMS_TARGET_CHANNEL_H
-
-#include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sync_block.h>
-#include <cstdint>
-#include <limits>
-#include <string>
-#include <vector>
-
-namespace gr {
-namespace sems {
-
 class SEMS_API target_channel : virtual public gr::sync_block
 {
 public:
-    typedef std::shared_ptr<target_channel> sptr;
+    typedef std::shared_ptr<target_channel> sptr; ///< shared pointer to the block
 
     /*!
+     * \brief Makes a target channel.
      * \param scene            scene file path, scene JSON text, or "" for random scenes
      * \param classes          random scenes: class names to draw from (empty = all)
      * \param n_targets        random scenes: targets per frame (the first is the target of interest)
@@ -53,8 +59,13 @@ public:
      * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
      * \param snr_db           SNR per resource element, +inf = noiseless
      * \param seed             seed of the model's draws (scene/gains and noise)
-     * Frame settings as in frame_settings (DESIGN §1).
-     * Throws std::invalid_argument naming the parameter (or scene file) and the problem.
+     * \param n_symbols        N (frame_settings::n_symbols)
+     * \param n_subcarriers    M, the vector length (frame_settings::n_subcarriers)
+     * \param bandwidth_hz     B (frame_settings::bandwidth_hz)
+     * \param carrier_hz       f_c (frame_settings::carrier_hz)
+     * \param symbol_interval_s T (frame_settings::symbol_interval_s)
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
     static sptr make(const std::string& scene = "",
                      const std::vector<std::string>& classes = {},
@@ -71,17 +82,27 @@ public:
                      double carrier_hz = frame_settings{}.carrier_hz,
                      double symbol_interval_s = frame_settings{}.symbol_interval_s);
 
-    virtual void set_snr_db(double snr_db) = 0; // from the next frame; NaN and -inf refused
+    /*!
+     * \brief Sets the SNR from the next frame.
+     * \param snr_db SNR per resource element in dB, +inf = noiseless.
+     * \throws std::invalid_argument on NaN and -inf.
+     */
+    virtual void set_snr_db(double snr_db) = 0;
+    /*! \brief The SNR. \return the SNR per resource element in dB. */
     virtual double snr_db() const = 0;
 
+    /*! \brief The frame. \return the frame settings. */
     virtual const frame_settings& settings() const = 0;
+    /*! \brief The scene. \return the scene as JSON text. */
     virtual std::string scene_json() const = 0;
 
-    virtual uint64_t frames() const = 0;            // frames started
-    virtual uint64_t nonfinite_symbols() const = 0; // input symbols with a NaN/Inf element
+    /*! \brief Frames started. \return the count. */
+    virtual uint64_t frames() const = 0;
+    /*! \brief Input symbols with a NaN/Inf element. \return the count. */
+    virtual uint64_t nonfinite_symbols() const = 0;
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TARGET_CHANNEL_H */
+#endif /* INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H */

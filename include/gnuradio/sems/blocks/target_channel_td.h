@@ -21,8 +21,8 @@
  * Work sizes: the block asks the scheduler for whole symbols (output multiple S); any
  * number of symbols per call gives the same output.
  */
-#ifndef INCLUDED_SEMS_TARGET_CHANNEL_TD_H
-#define INCLUDED_SEMS_TARGET_CHANNEL_TD_H
+#ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
+#define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -43,9 +43,10 @@ namespace sems {
 class SEMS_API target_channel_td : virtual public gr::sync_block
 {
 public:
-    typedef std::shared_ptr<target_channel_td> sptr;
+    typedef std::shared_ptr<target_channel_td> sptr; ///< shared pointer to the block
 
     /*!
+     * \brief Makes a sample-level target channel.
      * \param scene            scene file path, scene JSON text, or "" for random scenes
      * \param classes          random scenes: class names to draw from (empty = all)
      * \param n_targets        random scenes: targets per frame (the first is the target of interest)
@@ -61,7 +62,8 @@ public:
      * \param carrier_hz       f_c
      * \param symbol_interval_s T, slow-time spacing of the symbols (>= (M + cp_len)/B)
      * \param cp_len           cyclic prefix in samples (>= 0)
-     * Throws std::invalid_argument naming the parameter (or scene file) and the problem.
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
     static sptr make(const std::string& scene = "",
                      const std::vector<std::string>& classes = {},
@@ -79,19 +81,26 @@ public:
                      double symbol_interval_s = frame_settings{}.symbol_interval_s,
                      int cp_len = frame_settings{}.cp_len);
 
-    //! From the next frame; NaN and -inf refused.
+    /*!
+     * \brief Sets the SNR from the next frame.
+     * \param snr_db SNR per resource element in dB, +inf = noiseless.
+     * \throws std::invalid_argument on NaN and -inf.
+     */
     virtual void set_snr_db(double snr_db) = 0;
+    //! \brief The SNR. \return the SNR per resource element in dB.
     virtual double snr_db() const = 0;
 
+    //! \brief The frame. \return the frame settings.
     virtual const frame_settings& settings() const = 0;
+    //! \brief The scene. \return the scene as JSON text.
     virtual std::string scene_json() const = 0;
 
-    virtual uint64_t frames() const = 0;            //!< frames started
-    virtual uint64_t nonfinite_symbols() const = 0; //!< input symbols with a NaN/Inf sample
-    virtual uint64_t misaligned_tags() const = 0;   //!< frame tags off a symbol boundary (ignored)
+    virtual uint64_t frames() const = 0;            //!< \return frames started
+    virtual uint64_t nonfinite_symbols() const = 0; //!< \return input symbols with a NaN/Inf sample
+    virtual uint64_t misaligned_tags() const = 0;   //!< \return frame tags off a symbol boundary (ignored)
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TARGET_CHANNEL_TD_H */
+#endif /* INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H */

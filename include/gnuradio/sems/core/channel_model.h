@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: THE channel model (DESIGN §1). The emulator block, the training app, the
+/*!
+ * \file
+ * \brief THE channel model (DESIGN §1).
+ *
+ * \details The emulator block, the training app, the
  * evaluation and the Python bindings all draw their channels here.
  *
- *   H[n,m] = Σ_l α_l · exp(-j2π m Δf τ_l) · exp(j2π ν_l t_n) · exp(j (4π/λ) A_l sin(ω_l t_n + φ_l))
- *   Y[n,m] = H[n,m] · X[n,m] + V[n,m],   V ~ CN(0, σ²),  σ² = 10^(-SNR/10)
+ * \verbatim
+   H[n,m] = Σ_l α_l · exp(-j2π m Δf τ_l) · exp(j2π ν_l t_n) · exp(j (4π/λ) A_l sin(ω_l t_n + φ_l))
+   Y[n,m] = H[n,m] · X[n,m] + V[n,m],   V ~ CN(0, σ²),  σ² = 10^(-SNR/10)
+   \endverbatim
  *
  * H is separable per path: a delay factor over m times a slow-time factor over n,
  * so a frame costs L·(N + M) phase evaluations plus the N·M accumulation, and the
@@ -15,8 +21,8 @@
  * Draws are seeded and reproducible. Scene/gain draws and noise draws use separate
  * generators, so the same seed gives the same frames at every SNR.
  */
-#ifndef INCLUDED_SEMS_CHANNEL_MODEL_H
-#define INCLUDED_SEMS_CHANNEL_MODEL_H
+#ifndef INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
+#define INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -31,51 +37,73 @@
 namespace gr {
 namespace sems {
 
-// One propagation path of one frame, with its gain already drawn.
+/*! \brief One propagation path of one frame, with its gain already drawn. */
 struct SEMS_API channel_path {
+    /*! \brief τ_l, the round-trip delay in s. */
     double delay_s = 0.0;
-    double doppler_hz = 0.0;
-    double md_rate_hz = 0.0;      // 0: no micro-Doppler factor
-    double md_amplitude_m = 0.0;
-    double md_phase_rad = 0.0;
-    std::complex<double> gain{ 1.0, 0.0 }; // α_l
-    double mean_power = 1.0;               // p_l
+    double doppler_hz = 0.0;      ///< ν_l in Hz
+    double md_rate_hz = 0.0;      ///< 0: no micro-Doppler factor
+    double md_amplitude_m = 0.0;  ///< A_l in m
+    double md_phase_rad = 0.0;    ///< φ_l in rad
+    std::complex<double> gain{ 1.0, 0.0 }; ///< α_l
+    double mean_power = 1.0;               ///< p_l, the mean of |α_l|²
 };
 
-// Ground truth of one frame: the target of interest (its direct path).
+/*! \brief Ground truth of one frame: the target of interest (its direct path). */
 struct SEMS_API frame_truth {
-    uint64_t frame = 0;
-    int class_id = 0;
-    std::string class_name;
-    double delay_s = 0.0;
-    double delay_index = 0.0; // τ·B
-    double range_m = 0.0;
-    double velocity_mps = 0.0;
-    double snr_db = 0.0;      // +inf when noiseless
-    int n_paths = 0;          // all paths of the realization, clutter included
+    uint64_t frame = 0;      ///< frame index
+    int class_id = 0;        ///< class id of the target of interest
+    std::string class_name;  ///< its class name
+    double delay_s = 0.0;    ///< round-trip delay in s
+    double delay_index = 0.0; ///< τ·B
+    double range_m = 0.0;      ///< range in m
+    double velocity_mps = 0.0; ///< radial velocity in m/s
+    double snr_db = 0.0;      ///< +inf when noiseless
+    int n_paths = 0;          ///< all paths of the realization, clutter included
 };
 
+/*! \brief One drawn frame: its paths and its truth. */
 struct SEMS_API frame_realization {
-    std::vector<channel_path> paths;
-    frame_truth truth;
+    std::vector<channel_path> paths; ///< every path, clutter included
+    frame_truth truth;               ///< the target of interest
 };
 
-// The separable factors of one frame: H[n,m] = Σ_l slow_l[n] · delay_l[m].
+/*! \brief The separable factors of one frame: H[n,m] = Σ_l slow_l[n] · delay_l[m]. */
 class SEMS_API frame_channel
 {
 public:
+    /*!
+     * \brief Computes the factors of one frame.
+     * \param fs the frame settings.
+     * \param paths the frame's paths.
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
     frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol);
-    // The factors of another frame, computed in place in the same buffers: what a
-    // streaming block calls once per frame, allocation-free once the buffers have grown.
+    /*!
+     * \brief The factors of another frame, computed in place in the same buffers.
+     * \details What a streaming block calls once per frame, allocation-free once the
+     * buffers have grown.
+     * \param paths the frame's paths.
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
     void update(const std::vector<channel_path>& paths, uint64_t first_symbol);
 
+    /*! \brief N. \return the symbols per frame. */
     int n_symbols() const { return d_n; }
+    /*! \brief M. \return the subcarriers per symbol. */
     int n_subcarriers() const { return d_m; }
+    /*! \brief L. \return the number of paths. */
     int n_paths() const { return d_l; }
 
-    void row(int n, gr_complex* h) const;                              // h[m] = H[n,m]
-    void apply_row(int n, const gr_complex* x, gr_complex* y) const;   // y = H[n,:] ⊙ x
-    void fill(gr_complex* grid) const;                                 // row-major N x M
+    /*! \brief One row of H. \param n the symbol. \param h out: h[m] = H[n,m], M values. */
+    void row(int n, gr_complex* h) const;
+    /*!
+     * \brief Applies one row: y = H[n,:] ⊙ x.
+     * \param n the symbol. \param x M input values. \param y M output values.
+     */
+    void apply_row(int n, const gr_complex* x, gr_complex* y) const;
+    /*! \brief The whole frame's H. \param grid out: row-major N x M. */
+    void fill(gr_complex* grid) const;
 
 private:
     frame_settings d_fs;
@@ -87,39 +115,83 @@ private:
     mutable std::vector<gr_complex> d_scratch;
 };
 
+/*!
+ * \brief The seeded channel model of one frame format and one scene: draws frames,
+ *        their factors and the noise.
+ */
 class SEMS_API channel_model
 {
 public:
-    // Validates the scene against the frame (ranges inside the unambiguous delay,
-    // instantaneous Doppler inside ±1/(2T)); throws std::invalid_argument.
+    /*!
+     * \brief A model of a scene on a frame.
+     * \param fs the frame settings.
+     * \param sc the scene.
+     * \param seed seed of the scene/gain draws and of the noise.
+     * \throws std::invalid_argument if the scene does not fit the frame (ranges inside the
+     *         unambiguous delay, instantaneous Doppler inside ±1/(2T)).
+     */
     channel_model(const frame_settings& fs, const scene& sc, uint64_t seed);
-    ~channel_model();
+    ~channel_model(); ///< Destructor.
+    /*! \brief Move constructor. */
     channel_model(channel_model&&) noexcept;
+    /*! \brief Move assignment. \return *this. */
     channel_model& operator=(channel_model&&) noexcept;
 
+    /*! \brief The frame settings. \return the model's frame. */
     const frame_settings& settings() const { return d_fs; }
+    /*! \brief The scene. \return the model's scene. */
     const scene& scene_spec() const { return d_scene; }
 
-    // σ² for an SNR in dB; 0 for +inf. Throws on NaN.
+    /*!
+     * \brief σ² for an SNR in dB.
+     * \param snr_db SNR per resource element in dB (+inf: noiseless).
+     * \return 10^(-snr_db/10); 0 for +inf.
+     * \throws std::invalid_argument on NaN.
+     */
     static double noise_variance(double snr_db);
 
-    // Draw the next frame's paths (scene parameters for random scenes, and gains).
+    /*!
+     * \brief Draws the next frame's paths (scene parameters for random scenes, and gains).
+     * \param frame_index the frame index written into the truth.
+     * \return the frame's paths and truth.
+     */
     frame_realization draw(uint64_t frame_index);
-    // The same draw into `out`, reusing its buffers: what a streaming block calls once
-    // per frame, allocation-free once they have grown (fixed scenes are read in place).
+    /*!
+     * \brief The same draw into `out`, reusing its buffers: what a streaming block calls once
+     *        per frame, allocation-free once they have grown (fixed scenes are read in place).
+     * \param frame_index the frame index written into the truth.
+     * \param out the frame's paths and truth.
+     */
     void draw(uint64_t frame_index, frame_realization& out);
-    // The frame's factors; first_symbol is the absolute slow-time index of row 0.
+    /*!
+     * \brief The frame's separable factors.
+     * \param r a drawn frame.
+     * \param first_symbol the absolute slow-time index of row 0.
+     * \return the factors.
+     */
     frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
 
-    // y += CN(0, σ²) per element; draws nothing when snr_db = +inf. The noise is a
-    // single-precision vectorised Box–Muller stream (lib/core/gaussian_generator.h):
-    // the same seed gives the same noise whatever the sizes of the calls.
+    /*!
+     * \brief Adds noise: y += CN(0, σ²) per element; draws nothing when snr_db = +inf.
+     * \details The noise is a single-precision vectorised Box–Muller stream
+     * (lib/core/gaussian_generator.h): the same seed gives the same noise whatever the sizes
+     * of the calls.
+     * \param y the values to add noise to.
+     * \param count the number of values.
+     * \param snr_db SNR per resource element in dB.
+     */
     void add_noise(gr_complex* y, size_t count, double snr_db);
 
-    // `count` consecutive frames starting at frame `first_frame` (rows at
-    // first_frame·N): noiseless H into h_out (count x N x M), truths returned.
+    /*!
+     * \brief Noiseless H of consecutive frames.
+     * \param count frames to generate.
+     * \param h_out out: count x N x M values.
+     * \param first_frame index of the first frame (its rows start at first_frame·N).
+     * \return the frames' truths.
+     */
     std::vector<frame_truth> generate(size_t count, gr_complex* h_out, uint64_t first_frame = 0);
 
+    /*! \brief Restarts both generators. \param seed the new seed. */
     void reseed(uint64_t seed);
 
 private:
@@ -132,4 +204,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_CHANNEL_MODEL_H */
+#endif /* INCLUDED_SEMS_CORE_CHANNEL_MODEL_H */

@@ -24,8 +24,8 @@
  * template's autocorrelation sidelobe must stay below max_sidelobe of its peak; the
  * shipped classifier mask, 32 pilots on subcarrier 32, is one; the delay masks pass).
  */
-#ifndef INCLUDED_SEMS_FRAME_SEARCH_H
-#define INCLUDED_SEMS_FRAME_SEARCH_H
+#ifndef INCLUDED_SEMS_CORE_FRAME_SEARCH_H
+#define INCLUDED_SEMS_CORE_FRAME_SEARCH_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -37,7 +37,7 @@ namespace sems {
 
 //! \brief The outcome of one search.
 struct SEMS_API frame_search_result {
-    bool found = false;
+    bool found = false;   //!< whether the metric reached the threshold
     int lag = 0;          //!< first frame start, samples from the window start (0 <= lag < F·L)
     double metric = 0.0;  //!< F·L·ρ at the best lag (compare with the threshold)
 };
@@ -54,21 +54,22 @@ public:
      * \param pilot_power E_p, as given to the pilot mapper (> 0)
      * \param frames F, frames correlated per search (>= 1)
      * \param threshold detection threshold on F·L·ρ (> 0)
-     * Throws std::invalid_argument naming the parameter.
+     * \throws std::invalid_argument naming the parameter.
      */
     frame_search(const pilot_mask& mask, int cp_len, double pilot_power, int frames, double threshold = 25.0);
 
-    //! L = N·(M + cp_len), samples per frame.
+    //! \brief L = N·(M + cp_len), samples per frame. \return L.
     int frame_len() const { return d_len; }
-    //! Samples a search needs: (F + 1)·L.
+    //! \brief Samples a search needs: (F + 1)·L. \return the window length.
     int window_len() const { return (d_frames + 1) * d_len; }
+    //! \brief The pilots' time-domain template of one frame. \return L samples.
     const std::vector<gr_complex>& frame_template() const { return d_template; }
-    //! Largest autocorrelation of the template at a non-zero lag, relative to its peak.
+    //! \brief Largest autocorrelation of the template at a non-zero lag, relative to its peak. \return the ratio.
     double sidelobe() const { return d_sidelobe; }
     //! Templates whose sidelobe() exceeds this are refused (they cannot resolve a sample).
     static constexpr double max_sidelobe = 0.8;
 
-    //! \param x window_len() samples
+    //! \brief Searches one window. \param x window_len() samples \return the best lag and its metric.
     frame_search_result search(const gr_complex* x) const;
 
 private:
@@ -80,4 +81,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FRAME_SEARCH_H */
+#endif /* INCLUDED_SEMS_CORE_FRAME_SEARCH_H */

@@ -1,57 +1,106 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: OFDM frame settings (DESIGN §1) and the quantities derived from them.
- *
- * The defaults here are the project's only copy of the frame defaults.
+/*!
+ * \file
+ * \brief OFDM frame settings (DESIGN §1) and the quantities derived from them.
  */
-#ifndef INCLUDED_SEMS_FRAME_SETTINGS_H
-#define INCLUDED_SEMS_FRAME_SETTINGS_H
+#ifndef INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
+#define INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
 #include <string>
 
+/*! \brief GNU Radio's namespace. */
 namespace gr {
+/*! \brief gr-sems: semantic sensing over OFDM (frame, mask, scene, channel, blocks, learning, baselines). */
 namespace sems {
 
-constexpr double speed_of_light_mps = 3e8; // DESIGN §1 uses c = 3e8 m/s exactly
+/*! \brief The speed of light c in m/s; DESIGN §1 uses c = 3e8 m/s exactly. */
+constexpr double speed_of_light_mps = 3e8;
 
+/*!
+ * \brief The OFDM frame: N symbols of M subcarriers over bandwidth B at carrier f_c.
+ * \details The defaults here are the project's only copy of the frame defaults (blocks,
+ * bindings and GRC take them from here).
+ */
 struct SEMS_API frame_settings {
-    int n_symbols = 32;             // N, slow time
-    int n_subcarriers = 64;         // M
-    double bandwidth_hz = 30e6;     // B
-    double carrier_hz = 3e9;        // f_c
-    double symbol_interval_s = 1e-3; // T
-    int cp_len = 16;                // time-domain path only
+    int n_symbols = 32;             ///< N, OFDM symbols per frame (slow time)
+    int n_subcarriers = 64;         ///< M, subcarriers per symbol
+    double bandwidth_hz = 30e6;     ///< B in Hz
+    double carrier_hz = 3e9;        ///< f_c in Hz
+    double symbol_interval_s = 1e-3; ///< T, the symbol interval in s
+    int cp_len = 16;                ///< cyclic prefix length in samples (time-domain path only)
 
+    /*! \brief Δf = B/M in Hz. \return the subcarrier spacing. */
     double subcarrier_spacing_hz() const { return bandwidth_hz / n_subcarriers; }
+    /*! \brief λ = c/f_c. \return the carrier wavelength in m. */
     double wavelength_m() const { return speed_of_light_mps / carrier_hz; }
+    /*! \brief N·M. \return the resource elements of one frame. */
     int grid_size() const { return n_symbols * n_subcarriers; }
-    // One delay index = 1/B seconds = c/(2B) metres of range.
+    /*! \brief One delay index, 1/B. \return the delay resolution in s. */
     double delay_resolution_s() const { return 1.0 / bandwidth_hz; }
+    /*! \brief One delay index in range, c/(2B). \return metres of range per delay index. */
     double range_per_delay_index_m() const { return speed_of_light_mps / (2.0 * bandwidth_hz); }
-    double max_delay_s() const { return 1.0 / subcarrier_spacing_hz(); } // unambiguous
+    /*! \brief The unambiguous delay 1/Δf. \return the maximum delay in s. */
+    double max_delay_s() const { return 1.0 / subcarrier_spacing_hz(); }
+    /*! \brief The unambiguous range c/(2Δf). \return the maximum range in m. */
     double max_range_m() const { return speed_of_light_mps * max_delay_s() / 2.0; }
+    /*! \brief 1/(N·T). \return the Doppler resolution in Hz. */
     double doppler_resolution_hz() const { return 1.0 / (n_symbols * symbol_interval_s); }
-    double max_doppler_hz() const { return 1.0 / (2.0 * symbol_interval_s); } // ±, unambiguous
+    /*! \brief The unambiguous Doppler ±1/(2T). \return its magnitude in Hz. */
+    double max_doppler_hz() const { return 1.0 / (2.0 * symbol_interval_s); }
+    /*! \brief The unambiguous radial speed λ/(4T). \return its magnitude in m/s. */
     double max_speed_mps() const { return max_doppler_hz() * wavelength_m() / 2.0; }
 
+    /*!
+     * \brief Round-trip delay of a range.
+     * \param range_m the range in m.
+     * \return 2·range/c in s.
+     */
     double delay_from_range(double range_m) const { return 2.0 * range_m / speed_of_light_mps; }
+    /*!
+     * \brief Range of a round-trip delay.
+     * \param delay_s the delay in s.
+     * \return c·delay/2 in m.
+     */
     double range_from_delay(double delay_s) const { return delay_s * speed_of_light_mps / 2.0; }
+    /*!
+     * \brief Delay in delay-index units.
+     * \param delay_s the delay in s.
+     * \return delay·B (real valued).
+     */
     double delay_index(double delay_s) const { return delay_s * bandwidth_hz; }
+    /*!
+     * \brief Doppler of a radial velocity.
+     * \param v_mps radial velocity in m/s (positive: Doppler > 0).
+     * \return 2v/λ in Hz.
+     */
     double doppler_from_velocity(double v_mps) const { return 2.0 * v_mps / wavelength_m(); }
 
-    // Throws std::invalid_argument naming the parameter that is out of range.
+    /*!
+     * \brief Checks every field.
+     * \throws std::invalid_argument naming the parameter that is out of range.
+     */
     void validate() const;
 
+    /*! \brief The settings as JSON (the `frame` object of the file formats). \return the JSON object. */
     nlohmann::json to_json() const;
-    // Missing keys keep their defaults; `source` names the file or context in errors.
+    /*!
+     * \brief Reads settings from JSON; missing keys keep their defaults.
+     * \param j the JSON object.
+     * \param source names the file or context in errors.
+     * \return the validated settings.
+     * \throws std::invalid_argument naming `source` and the bad key.
+     */
     static frame_settings from_json(const nlohmann::json& j, const std::string& source);
 
+    /*! \brief Field-wise equality. \param o the other settings. \return true if every field is equal. */
     bool operator==(const frame_settings& o) const;
+    /*! \brief Negated operator==(). \param o the other settings. \return true if any field differs. */
     bool operator!=(const frame_settings& o) const { return !(*this == o); }
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_FRAME_SETTINGS_H */
+#endif /* INCLUDED_SEMS_CORE_FRAME_SETTINGS_H */

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the binary N x M pilot mask P and its JSON file format (DESIGN §2, §4).
+/*!
+ * \file
+ * \brief The binary N x M pilot mask P and its JSON file format (DESIGN §2, §4).
  *
- * Pilots are kept in mask order: row-major, sorted by (n, m). Every constructor
+ * \details Pilots are kept in mask order: row-major, sorted by (n, m). Every constructor
  * validates (dimensions, range, duplicates, count) and throws std::invalid_argument
  * naming the source and the problem; nothing is clipped or de-duplicated silently.
  */
-#ifndef INCLUDED_SEMS_PILOT_MASK_H
-#define INCLUDED_SEMS_PILOT_MASK_H
+#ifndef INCLUDED_SEMS_CORE_PILOT_MASK_H
+#define INCLUDED_SEMS_CORE_PILOT_MASK_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -19,20 +21,37 @@
 namespace gr {
 namespace sems {
 
+/*! \brief One pilot's resource element. */
 struct SEMS_API pilot_position {
-    int n; // OFDM symbol (slow time)
-    int m; // subcarrier
+    int n; ///< OFDM symbol (slow time)
+    int m; ///< subcarrier
+    /*! \brief Mask order: row-major by (n, m). \param o the other position. \return true if this comes first. */
     bool operator<(const pilot_position& o) const { return n < o.n || (n == o.n && m < o.m); }
+    /*! \brief Equality. \param o the other position. \return true if n and m are equal. */
     bool operator==(const pilot_position& o) const { return n == o.n && m == o.m; }
 };
 
+/*!
+ * \brief The pilot mask: which resource elements of the N x M frame carry the pilot symbol.
+ * \details Pilots are kept in mask order (row-major, sorted by (n, m)); that order is the
+ * order of pilot_extractor's output and of the decoders' inputs.
+ */
 class SEMS_API pilot_mask
 {
 public:
-    static constexpr const char* format_name = "sems.pilot_mask";
-    static constexpr int format_version = 1;
+    static constexpr const char* format_name = "sems.pilot_mask"; ///< the file's `format`
+    static constexpr int format_version = 1;                      ///< the file's `version`
 
-    // Explicit positions, in any order (stored sorted). `source` names the origin in errors.
+    /*!
+     * \brief A mask of explicit positions, in any order (stored sorted).
+     * \param n_symbols N.
+     * \param n_subcarriers M.
+     * \param pilots the positions (no duplicates, inside the grid, at least one).
+     * \param pilot_symbol s_p, the symbol every pilot carries.
+     * \param origin how the mask was made (saved in the file).
+     * \param source names the origin in errors.
+     * \throws std::invalid_argument naming `source` and the problem.
+     */
     pilot_mask(int n_symbols,
                int n_subcarriers,
                std::vector<pilot_position> pilots,
@@ -40,47 +59,103 @@ public:
                nlohmann::json origin = { { "kind", "explicit" } },
                const std::string& source = "pilot mask");
 
-    // Standard patterns.
-    // Uniform lattice: rows and columns evenly spaced, as square as the grid allows.
+    /*!
+     * \brief Uniform lattice: rows and columns evenly spaced, as square as the grid allows.
+     * \param n_symbols N. \param n_subcarriers M. \param count N_p, 1..N·M.
+     * \return the mask.
+     * \throws std::invalid_argument if count is out of range.
+     */
     static pilot_mask uniform(int n_symbols, int n_subcarriers, int count);
-    // Seeded uniform draw without replacement; the same seed gives the same mask.
+    /*!
+     * \brief Seeded uniform draw without replacement; the same seed gives the same mask.
+     * \param n_symbols N. \param n_subcarriers M. \param count N_p, 1..N·M. \param seed the seed.
+     * \return the mask.
+     * \throws std::invalid_argument if count is out of range.
+     */
     static pilot_mask random(int n_symbols, int n_subcarriers, int count, uint64_t seed);
-    // Doppler-oriented: every symbol of a few evenly spaced subcarriers (long slow-time runs).
+    /*!
+     * \brief Doppler-oriented: every symbol of a few evenly spaced subcarriers (long slow-time runs).
+     * \param n_symbols N. \param n_subcarriers M. \param count N_p, 1..N·M.
+     * \return the mask.
+     * \throws std::invalid_argument if count is out of range.
+     */
     static pilot_mask doppler(int n_symbols, int n_subcarriers, int count);
-    // Build by pattern name: "uniform", "random", "doppler".
+    /*!
+     * \brief Builds a mask by pattern name.
+     * \param pattern "uniform", "random" or "doppler".
+     * \param n_symbols N. \param n_subcarriers M. \param count N_p.
+     * \param seed the seed of "random" (ignored by the others).
+     * \return the mask.
+     * \throws std::invalid_argument on an unknown pattern or a bad count.
+     */
     static pilot_mask from_pattern(const std::string& pattern,
                                    int n_symbols,
                                    int n_subcarriers,
                                    int count,
                                    uint64_t seed = 0);
 
-    // File format.
+    /*!
+     * \brief Reads a mask file (docs/file_formats.md).
+     * \param path the file.
+     * \return the mask.
+     * \throws std::invalid_argument naming the file and the problem.
+     */
     static pilot_mask load(const std::string& path);
+    /*!
+     * \brief Parses mask JSON text.
+     * \param json_text the JSON. \param source names the text in errors.
+     * \return the mask.
+     * \throws std::invalid_argument naming `source` and the problem.
+     */
     static pilot_mask parse(const std::string& json_text, const std::string& source = "pilot mask text");
+    /*!
+     * \brief Reads a mask from JSON.
+     * \param j the JSON object. \param source names the origin in errors.
+     * \return the mask.
+     * \throws std::invalid_argument naming `source` and the problem.
+     */
     static pilot_mask from_json(const nlohmann::json& j, const std::string& source);
+    /*! \brief The file format's JSON. \return the JSON object. */
     nlohmann::json to_json() const;
+    /*! \brief The file format's JSON text. \return the text. */
     std::string to_json_string() const;
+    /*! \brief Writes the mask file. \param path the file. \throws std::invalid_argument naming the file if it cannot be written. */
     void save(const std::string& path) const;
 
+    /*! \brief N. \return the symbols of the mask's frame. */
     int n_symbols() const { return d_n_symbols; }
+    /*! \brief M. \return the subcarriers of the mask's frame. */
     int n_subcarriers() const { return d_n_subcarriers; }
-    int size() const { return static_cast<int>(d_pilots.size()); } // N_p
+    /*! \brief N_p. \return the number of pilots. */
+    int size() const { return static_cast<int>(d_pilots.size()); }
+    /*! \brief The pilots. \return the positions in mask order. */
     const std::vector<pilot_position>& positions() const { return d_pilots; }
+    /*! \brief s_p. \return the pilot symbol. */
     gr_complex pilot_symbol() const { return d_pilot_symbol; }
+    /*! \brief How the mask was made. \return the origin JSON. */
     const nlohmann::json& origin() const { return d_origin; }
 
-    // n * M + m for each pilot, in mask order.
+    /*! \brief Flat indices. \return n·M + m for each pilot, in mask order. */
     std::vector<int> flat_indices() const;
-    // Dense 0/1 grid, row-major N x M.
+    /*! \brief The dense mask. \return the 0/1 grid, row-major N x M. */
     std::vector<uint8_t> dense() const;
-    // Per-symbol pilot subcarrier lists and symbols, as gr-digital's
-    // ofdm_carrier_allocator_cvc takes them (pilot_carriers, pilot_symbols).
+    /*!
+     * \brief Per-symbol pilot subcarrier lists, as gr-digital's ofdm_carrier_allocator_cvc
+     *        takes them (pilot_carriers).
+     * \return one list of subcarriers per symbol.
+     */
     std::vector<std::vector<int>> carrier_lists() const;
+    /*! \brief Per-symbol pilot symbols (ofdm_carrier_allocator_cvc's pilot_symbols). \return one list per symbol. */
     std::vector<std::vector<gr_complex>> pilot_symbol_lists() const;
 
-    // Throws std::invalid_argument, naming `who`, when the mask does not fit the frame.
+    /*!
+     * \brief Checks that the mask fits a frame.
+     * \param fs the frame. \param who names the caller in errors.
+     * \throws std::invalid_argument naming `who` when the mask does not fit the frame.
+     */
     void check_frame(const frame_settings& fs, const std::string& who) const;
 
+    /*! \brief Equality of grid, positions and pilot symbol. \param o the other mask. \return true if equal. */
     bool operator==(const pilot_mask& o) const;
 
 private:
@@ -94,4 +169,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_PILOT_MASK_H */
+#endif /* INCLUDED_SEMS_CORE_PILOT_MASK_H */

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: what the emulator models (DESIGN §1): targets, their paths, clutter, and
+/*!
+ * \file
+ * \brief What the emulator models (DESIGN §1): targets, their paths, clutter, and
  * the target of interest; fixed (given values) or random (drawn per frame from the
  * class table). A scene models only what it has: no micro-Doppler on a target without
  * it, no clutter paths without clutter.
  *
- * Power bookkeeping: the mean path powers of one realization sum to 1 (unit mean
+ * \details Power bookkeeping: the mean path powers of one realization sum to 1 (unit mean
  * channel power per resource element). Clutter takes csr/(1+csr) of it, the targets
  * the rest, split by target power and then by path power.
  */
-#ifndef INCLUDED_SEMS_SCENE_H
-#define INCLUDED_SEMS_SCENE_H
+#ifndef INCLUDED_SEMS_CORE_SCENE_H
+#define INCLUDED_SEMS_CORE_SCENE_H
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/target_class.h>
@@ -21,80 +23,133 @@
 namespace gr {
 namespace sems {
 
+/*! \brief Micro-Doppler of a target: a sinusoidal displacement A·sin(2π f_md t + φ). */
 struct SEMS_API micro_doppler {
-    double rate_hz = 0.0;     // f_md = ω / 2π
-    double amplitude_m = 0.0; // displacement A
-    double phase_rad = 0.0;   // φ (random scenes draw it per frame)
+    double rate_hz = 0.0;     ///< f_md = ω / 2π
+    double amplitude_m = 0.0; ///< displacement A
+    double phase_rad = 0.0;   ///< φ (random scenes draw it per frame)
 };
 
+/*! \brief One path of a target (the first is the direct path). */
 struct SEMS_API path_spec {
-    double excess_range_m = 0.0; // beyond the target's range (0 = the direct path)
-    double power = 1.0;          // relative to the target's other paths
+    double excess_range_m = 0.0; ///< beyond the target's range (0 = the direct path)
+    double power = 1.0;          ///< relative to the target's other paths
 };
 
+/*! \brief One target of a fixed scene. */
 struct SEMS_API target_spec {
-    target_class cls = target_class::car;
-    double range_m = 50.0;
-    double velocity_mps = 15.0; // radial, positive = Doppler > 0
-    std::optional<micro_doppler> md;
-    double power = 1.0;                        // relative to the scene's other targets
-    std::vector<path_spec> paths{ path_spec{} }; // at least one; the first is the direct path
+    target_class cls = target_class::car; ///< its class
+    double range_m = 50.0;                ///< range in m
+    double velocity_mps = 15.0; ///< radial, positive = Doppler > 0
+    std::optional<micro_doppler> md;      ///< its micro-Doppler, if any
+    double power = 1.0;                        ///< relative to the scene's other targets
+    std::vector<path_spec> paths{ path_spec{} }; ///< at least one; the first is the direct path
 };
 
+/*! \brief Static clutter: zero-Doppler scatterers at a clutter-to-signal power ratio. */
 struct SEMS_API clutter_spec {
-    double csr_db = 0.0;                // clutter-to-signal power ratio
-    int n_paths = 4;                    // static (zero-Doppler) scatterers
-    double range_min_m = 0.0;           // drawn per frame, unless ranges_m is given
-    double range_max_m = 200.0;
-    std::vector<double> ranges_m;       // fixed scatterer ranges (then n_paths = ranges_m.size())
+    double csr_db = 0.0;                ///< clutter-to-signal power ratio
+    int n_paths = 4;                    ///< static (zero-Doppler) scatterers
+    double range_min_m = 0.0;           ///< drawn per frame, unless ranges_m is given
+    double range_max_m = 200.0;         ///< upper end of the drawn ranges
+    std::vector<double> ranges_m;       ///< fixed scatterer ranges (then n_paths = ranges_m.size())
 };
 
-// How a random scene draws a frame.
+/*! \brief How a random scene draws a frame. */
 struct SEMS_API random_spec {
+    /*! \brief Classes the target of interest is drawn from. */
     std::vector<target_class> classes{ target_class::pedestrian, target_class::car, target_class::drone };
-    int n_targets = 1;                 // the target of interest is target 0
-    int paths_per_target = 1;          // 1 = single path
-    double excess_range_min_m = 2.0;   // extra paths: excess range ~ U[min, max]
-    double excess_range_max_m = 30.0;
-    double path_power_decay_db = 3.0;  // path k has mean power 10^(-k·decay/10) relative to path 0
-    bool micro_doppler = true;         // false: the micro-Doppler-free experiment
+    int n_targets = 1;                 ///< the target of interest is target 0
+    int paths_per_target = 1;          ///< 1 = single path
+    double excess_range_min_m = 2.0;   ///< extra paths: excess range ~ U[min, max]
+    double excess_range_max_m = 30.0;  ///< upper end of the extra paths' excess range
+    double path_power_decay_db = 3.0;  ///< path k has mean power 10^(-k·decay/10) relative to path 0
+    bool micro_doppler = true;         ///< false: the micro-Doppler-free experiment
 };
 
+/*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */
 enum class fading_kind { rayleigh, none };
 
+/*! \brief A scene: fixed targets, or random ones drawn per frame, with optional clutter. */
 class SEMS_API scene
 {
 public:
-    static constexpr const char* format_name = "sems.scene";
-    static constexpr int format_version = 1;
+    static constexpr const char* format_name = "sems.scene"; ///< the file's `format`
+    static constexpr int format_version = 1;                 ///< the file's `version`
 
-    // A fixed scene: given targets, optional clutter.
+    /*!
+     * \brief A fixed scene: given targets, optional clutter.
+     * \param targets the targets (at least one).
+     * \param clutter the clutter, if any.
+     * \param target_of_interest index of the target the truth describes.
+     * \param fading the gains' fading.
+     * \return the scene.
+     * \throws std::invalid_argument naming the bad field.
+     */
     static scene fixed(std::vector<target_spec> targets,
                        std::optional<clutter_spec> clutter = std::nullopt,
                        int target_of_interest = 0,
                        fading_kind fading = fading_kind::rayleigh);
-    // A random scene drawn per frame from the class table.
+    /*!
+     * \brief A random scene drawn per frame from the class table.
+     * \param spec how frames are drawn.
+     * \param clutter the clutter, if any.
+     * \param fading the gains' fading.
+     * \return the scene.
+     * \throws std::invalid_argument naming the bad field.
+     */
     static scene random(random_spec spec,
                         std::optional<clutter_spec> clutter = std::nullopt,
                         fading_kind fading = fading_kind::rayleigh);
 
+    /*!
+     * \brief Reads a scene file (docs/file_formats.md).
+     * \param path the file.
+     * \return the scene.
+     * \throws std::invalid_argument naming the file and the field.
+     */
     static scene load(const std::string& path);
+    /*!
+     * \brief Parses scene JSON text.
+     * \param json_text the JSON. \param source names the text in errors.
+     * \return the scene.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
     static scene parse(const std::string& json_text, const std::string& source = "scene text");
+    /*!
+     * \brief Reads a scene from JSON.
+     * \param j the JSON object. \param source names the origin in errors.
+     * \return the scene.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
     static scene from_json(const nlohmann::json& j, const std::string& source);
+    /*! \brief The file format's JSON. \return the JSON object. */
     nlohmann::json to_json() const;
+    /*! \brief The file format's JSON text. \return the text. */
     std::string to_json_string() const;
+    /*! \brief Writes the scene file. \param path the file. \throws std::invalid_argument naming the file if it cannot be written. */
     void save(const std::string& path) const;
 
+    /*! \brief Random or fixed. \return true for a random scene. */
     bool is_random() const { return d_random.has_value(); }
+    /*! \brief The targets of a fixed scene. \return the targets (empty for a random scene). */
     const std::vector<target_spec>& targets() const { return d_targets; }
+    /*! \brief How a random scene draws. \return the settings (empty for a fixed scene). */
     const std::optional<random_spec>& random_settings() const { return d_random; }
+    /*! \brief The clutter. \return the clutter, if any. */
     const std::optional<clutter_spec>& clutter() const { return d_clutter; }
+    /*! \brief The target of interest. \return its index in targets(). */
     int target_of_interest() const { return d_toi; }
+    /*! \brief The gains' fading. \return the fading kind. */
     fading_kind fading() const { return d_fading; }
-    // Classes a frame of this scene can be labelled with (the TOI's possible classes).
+    /*! \brief Classes a frame of this scene can be labelled with (the target of interest's possible classes). \return the classes. */
     std::vector<target_class> label_classes() const;
 
-    // Throws std::invalid_argument naming `source` and the field.
+    /*!
+     * \brief Checks every field.
+     * \param source names the scene in errors.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
     void validate(const std::string& source = "scene") const;
 
 private:
@@ -109,4 +164,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SCENE_H */
+#endif /* INCLUDED_SEMS_CORE_SCENE_H */

@@ -24,6 +24,7 @@ namespace sems {
 /*!
  * \brief exp(j·2π·cycles), with the whole cycles removed in double precision first.
  * \param cycles the phase in cycles (any magnitude).
+ * \return the unit phasor.
  */
 inline std::complex<double> cis_cycles(double cycles)
 {
@@ -36,6 +37,7 @@ inline std::complex<double> cis_cycles(double cycles)
  * \param m subcarrier index (0..M-1).
  * \param delay_index the delay as a delay index τ·B (any real value; periodic in M).
  * \param n_subcarriers M.
+ * \return the phasor.
  */
 inline std::complex<double> delay_phasor(double m, double delay_index, int n_subcarriers)
 {
@@ -47,6 +49,7 @@ inline std::complex<double> delay_phasor(double m, double delay_index, int n_sub
  * \param n symbol index (slow time; may be an absolute stream index).
  * \param doppler_hz ν.
  * \param symbol_interval_s T.
+ * \return the phasor.
  */
 inline std::complex<double> doppler_phasor(double n, double doppler_hz, double symbol_interval_s)
 {
@@ -58,6 +61,7 @@ inline std::complex<double> doppler_phasor(double n, double doppler_hz, double s
  * \details oversample·N points, step 1/(oversample·N·T), point q at (q - F/2)/(F·T) with F = oversample·N.
  * \param fs the frame (N, T).
  * \param oversample grid points per Doppler resolution cell 1/(N·T); >= 1.
+ * \return the grid in Hz, ascending.
  * \throws std::invalid_argument if oversample < 1.
  */
 SEMS_API std::vector<double> doppler_grid(const frame_settings& fs, int oversample);

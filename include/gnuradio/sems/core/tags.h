@@ -1,51 +1,54 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: every stream-tag key, PMT-dict key and message port name, spelled once.
+/*!
+ * \file
+ * \brief Every stream-tag key, PMT-dict key and message port name, spelled once.
  *
- * Blocks, bindings and apps take their keys from here (Python gets them as
+ * \details Blocks, bindings and apps take their keys from here (Python gets them as
  * gnuradio.sems.keys), so no string is spelled twice.
  */
-#ifndef INCLUDED_SEMS_TAGS_H
-#define INCLUDED_SEMS_TAGS_H
+#ifndef INCLUDED_SEMS_CORE_TAGS_H
+#define INCLUDED_SEMS_CORE_TAGS_H
 
 namespace gr {
 namespace sems {
+/*! \brief Stream-tag keys, PMT-dict keys and message port names (DESIGN §3). */
 namespace keys {
 
 // Stream tags (DESIGN §3).
-constexpr const char* frame_tag = "sems_frame"; // uint64 frame index, first symbol of a frame
-constexpr const char* truth_tag = "sems_truth"; // PMT dict of the frame's ground truth
+constexpr const char* frame_tag = "sems_frame"; ///< uint64 frame index, first symbol of a frame
+constexpr const char* truth_tag = "sems_truth"; ///< PMT dict of the frame's ground truth
 
 // Truth and result dictionary keys.
-constexpr const char* frame = "frame";
-constexpr const char* class_id = "class";
-constexpr const char* class_name = "class_name";
-constexpr const char* delay_s = "delay_s";
-constexpr const char* delay_index = "delay_index";
-constexpr const char* range_m = "range_m";
-constexpr const char* velocity_mps = "velocity_mps";
-constexpr const char* snr_db = "snr_db";
-constexpr const char* n_paths = "n_paths";
-constexpr const char* label = "label";
-constexpr const char* probs = "probs";
-constexpr const char* truth = "truth";
-constexpr const char* correct = "correct";
-constexpr const char* abs_error_index = "abs_error_index";
+constexpr const char* frame = "frame";               ///< frame index (uint64)
+constexpr const char* class_id = "class";            ///< target class id of the target of interest
+constexpr const char* class_name = "class_name";     ///< target class name
+constexpr const char* delay_s = "delay_s";           ///< round-trip delay in s
+constexpr const char* delay_index = "delay_index";   ///< delay in delay-index units (τ·B)
+constexpr const char* range_m = "range_m";           ///< range in m
+constexpr const char* velocity_mps = "velocity_mps"; ///< radial velocity in m/s
+constexpr const char* snr_db = "snr_db";             ///< SNR per resource element in dB
+constexpr const char* n_paths = "n_paths";           ///< number of channel paths of the frame
+constexpr const char* label = "label";               ///< predicted class id
+constexpr const char* probs = "probs";               ///< class probabilities (f32vector)
+constexpr const char* truth = "truth";               ///< the frame's truth dict, when tagged
+constexpr const char* correct = "correct";           ///< prediction matches the truth (bool)
+constexpr const char* abs_error_index = "abs_error_index"; ///< |estimated - true| delay index
 
 // Running-metric dictionary keys.
-constexpr const char* frames = "frames";
-constexpr const char* frames_scored = "frames_scored";
-constexpr const char* frames_skipped = "frames_skipped";
-constexpr const char* accuracy = "accuracy";
-constexpr const char* mae_index = "mae_index";
-constexpr const char* mae_m = "mae_m";
-constexpr const char* confusion = "confusion"; // rows: truth class, columns: predicted class
+constexpr const char* frames = "frames";                 ///< frames handled
+constexpr const char* frames_scored = "frames_scored";   ///< frames with a truth to compare
+constexpr const char* frames_skipped = "frames_skipped"; ///< non-finite frames, never decoded
+constexpr const char* accuracy = "accuracy";             ///< fraction of scored frames classified correctly
+constexpr const char* mae_index = "mae_index";           ///< mean absolute delay error in delay indices
+constexpr const char* mae_m = "mae_m";                   ///< mean absolute range error in m
+constexpr const char* confusion = "confusion"; ///< rows: truth class, columns: predicted class
 
 // Message ports.
-constexpr const char* result_port = "result";
-constexpr const char* metrics_port = "metrics";
+constexpr const char* result_port = "result";   ///< per-frame result dicts
+constexpr const char* metrics_port = "metrics"; ///< running-metric dicts
 
 } // namespace keys
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TAGS_H */
+#endif /* INCLUDED_SEMS_CORE_TAGS_H */

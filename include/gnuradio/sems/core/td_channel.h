@@ -35,8 +35,8 @@
  * Range migration within a frame is not modelled (the delay is fixed per frame), as in
  * the frequency-domain model.
  */
-#ifndef INCLUDED_SEMS_TD_CHANNEL_H
-#define INCLUDED_SEMS_TD_CHANNEL_H
+#ifndef INCLUDED_SEMS_CORE_TD_CHANNEL_H
+#define INCLUDED_SEMS_CORE_TD_CHANNEL_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
@@ -60,16 +60,20 @@ class SEMS_API td_channel
 {
 public:
     /*!
-     * \param fs frame settings; uses M, cp_len, B, T, f_c. Throws std::invalid_argument
-     *           when T < (M + cp_len)/B (a symbol longer than its interval).
+     * \brief A sample-level channel for a frame format.
+     * \param fs frame settings; uses M, cp_len, B, T, f_c.
+     * \throws std::invalid_argument when T < (M + cp_len)/B (a symbol longer than its interval).
      */
     explicit td_channel(const frame_settings& fs);
-    ~td_channel();
+    ~td_channel(); ///< Destructor.
+    /*! \brief Move constructor. */
     td_channel(td_channel&&) noexcept;
+    /*! \brief Move assignment. \return *this. */
     td_channel& operator=(td_channel&&) noexcept;
 
-    //! Samples per symbol, S = M + cp_len.
+    //! \brief Samples per symbol, S = M + cp_len. \return S.
     int symbol_len() const { return d_s; }
+    //! \brief The frame. \return the frame settings.
     const frame_settings& settings() const { return d_fs; }
 
     /*!
@@ -100,4 +104,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TD_CHANNEL_H */
+#endif /* INCLUDED_SEMS_CORE_TD_CHANNEL_H */

@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: inference on a model bundle, shared by the sinks, the evaluation app and
- * the bindings. Rebuilds the decoder network from bundle.json, loads its weights and
- * maps pilot observations (Y/s_p at the mask positions, in mask order) to answers.
- * LibTorch stays behind this header (pimpl), so blocks and bindings need no torch headers.
- */
-#ifndef INCLUDED_SEMS_BUNDLE_DECODER_H
-#define INCLUDED_SEMS_BUNDLE_DECODER_H
+/*!
+ * \file
+ * \brief Inference on a model bundle.
+ */#ifndef INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
+#define INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
@@ -16,26 +14,57 @@
 namespace gr {
 namespace sems {
 
+/*!
+ * \brief Inference on a model bundle, shared by the sinks, the evaluation app and the bindings.
+ * \details Rebuilds the decoder network from bundle.json, loads its weights and maps pilot
+ * observations (Y/s_p at the mask positions, in mask order) to answers. LibTorch stays
+ * behind this header (pimpl), so blocks and bindings need no torch headers.
+ */
 class SEMS_LEARNING_API bundle_decoder
 {
 public:
-    // threads <= 0 leaves LibTorch's intra-op thread count alone; threads > 0 is applied in
-    // the thread that runs each inference (LibTorch's OpenMP count is per thread), so two
-    // decoders (two sinks) in one process each keep the count they were given.
+    /*!
+     * \brief Loads a bundle's decoder.
+     * \param bundle the bundle (from model_bundle::load).
+     * \param threads LibTorch intra-op threads; <= 0 leaves LibTorch's count alone; > 0 is
+     *        applied in the thread that runs each inference (LibTorch's OpenMP count is per
+     *        thread), so two decoders (two sinks) in one process each keep the count they
+     *        were given.
+     * \throws std::invalid_argument naming the weights file and the problem.
+     */
     explicit bundle_decoder(const model_bundle& bundle, int threads = 1);
-    ~bundle_decoder();
+    ~bundle_decoder(); ///< Destructor.
 
+    /*! \brief The bundle. \return the bundle the decoder was loaded from. */
     const model_bundle& bundle() const;
+    /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const;
 
-    // obs: batch x N_p, row-major. Returns batch x C class probabilities, row-major.
+    /*!
+     * \brief Classifies frames.
+     * \param obs batch x N_p observations, row-major. \param batch the number of frames.
+     * \return batch x C class probabilities, row-major.
+     */
     std::vector<float> classify(const gr_complex* obs, int batch) const;
-    // obs: batch x N_p. Returns the delay of the target of interest, in seconds.
+    /*!
+     * \brief Estimates the delay of the target of interest.
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return the delays in s.
+     */
     std::vector<double> estimate_delay(const gr_complex* obs, int batch) const;
-    // obs: batch x N_p. The same estimate as a delay index (τ·B).
+    /*!
+     * \brief The same estimate as estimate_delay() as a delay index (τ·B).
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return the delay indices.
+     */
     std::vector<double> estimate_delay_index(const gr_complex* obs, int batch) const;
-    // obs: batch x N_p. Classifier only: batch x feature_size() embeddings (for t-SNE).
+    /*!
+     * \brief Classifier only: the embeddings (for t-SNE).
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return batch x feature_size() values, row-major.
+     */
     std::vector<float> features(const gr_complex* obs, int batch) const;
+    /*! \brief The embedding size. \return the features per frame. */
     int feature_size() const;
 
 private:
@@ -46,4 +75,4 @@ private:
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_BUNDLE_DECODER_H */
+#endif /* INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H */

@@ -31,7 +31,7 @@ struct SEMS_LEARNING_API distributed_settings {
     bool agent_store = false; //!< the TCPStore is served by a launcher (torchrun's agent), not by rank 0
     double timeout_s = 300.0; //!< rendezvous and per-collective timeout: a dead or silent rank ends the run
 
-    /*! \brief True when this process is one rank of several. */
+    /*! \brief True when this process is one rank of several. \return world_size > 1. */
     bool enabled() const { return world_size > 1; }
 
     /*!
@@ -39,6 +39,7 @@ struct SEMS_LEARNING_API distributed_settings {
      * MASTER_PORT (and GLOO_SOCKET_IFNAME for the interface; TORCHELASTIC_USE_AGENT_STORE=True
      * when torchrun's agent serves the TCPStore).
      * \details Unset WORLD_SIZE gives world_size 1.
+     * \return the settings.
      * \throws std::invalid_argument naming the variable when one is malformed or RANK is
      * missing while WORLD_SIZE > 1.
      */
@@ -47,7 +48,7 @@ struct SEMS_LEARNING_API distributed_settings {
     /*! \brief Throws std::invalid_argument naming the setting that is out of range. */
     void validate() const;
 
-    /*! \brief True when the learning library was built with Gloo (libgloo-dev found). */
+    /*! \brief True when the learning library was built with Gloo (libgloo-dev found). \return whether distributed runs are possible. */
     static bool available();
 };
 

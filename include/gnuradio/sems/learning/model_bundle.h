@@ -1,12 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: a trained model bundle (DESIGN §4): a directory with mask.json, the
- * network weights and bundle.json (task, class names, decoder architecture and
- * settings, frame settings, how it was trained, measured metrics).
- *
- * Loading validates everything and names the file and the problem.
+/*!
+ * \file
+ * \brief A trained model bundle (DESIGN §4).
  */
-#ifndef INCLUDED_SEMS_MODEL_BUNDLE_H
-#define INCLUDED_SEMS_MODEL_BUNDLE_H
+#ifndef INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
+#define INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
 
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
@@ -18,39 +16,81 @@
 namespace gr {
 namespace sems {
 
+/*! \brief The task a bundle's decoder answers: the target's class, or its delay. */
 enum class task_kind { classify, delay };
+/*! \brief The task's name. \param t the task. \return "classify" or "delay". */
 SEMS_LEARNING_API std::string task_name(task_kind t);
-SEMS_LEARNING_API task_kind task_from_name(const std::string& name); // throws std::invalid_argument
+/*!
+ * \brief The task of a name.
+ * \param name "classify" or "delay".
+ * \return the task.
+ * \throws std::invalid_argument on another name.
+ */
+SEMS_LEARNING_API task_kind task_from_name(const std::string& name);
 
+/*!
+ * \brief A trained model bundle (DESIGN §4): a directory with mask.json, the network
+ *        weights and bundle.json.
+ * \details bundle.json records the task, the class names, the decoder architecture and
+ * settings, the frame settings, how the bundle was trained and its measured metrics.
+ * Loading validates everything and names the file and the problem.
+ */
 struct SEMS_LEARNING_API model_bundle {
-    static constexpr const char* format_name = "sems.model_bundle";
-    static constexpr int format_version = 1;
-    static constexpr const char* bundle_file = "bundle.json";
-    static constexpr const char* mask_file = "mask.json";
-    static constexpr const char* weights_file = "decoder.pt";
+    static constexpr const char* format_name = "sems.model_bundle"; ///< bundle.json's `format`
+    static constexpr int format_version = 1;                        ///< bundle.json's `version`
+    static constexpr const char* bundle_file = "bundle.json";       ///< the bundle's description
+    static constexpr const char* mask_file = "mask.json";           ///< the default pilot mask file name
+    static constexpr const char* weights_file = "decoder.pt";       ///< the default decoder weights file name
 
-    std::string directory;
-    task_kind task = task_kind::classify;
-    std::vector<std::string> class_names; // classify only
-    frame_settings frame;
-    pilot_mask mask{ 1, 1, { { 0, 0 } } };
-    nlohmann::json decoder;  // {"kind": ..., settings}
-    nlohmann::json training; // objective, SNR range, frames, epochs, seed, command
-    nlohmann::json metrics;  // measured test metrics
+    std::string directory;                ///< where it was loaded from or saved to
+    task_kind task = task_kind::classify; ///< the decoder's task
+    std::vector<std::string> class_names; ///< classify only
+    frame_settings frame;                 ///< the frame it was trained on
+    pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask
+    nlohmann::json decoder;  ///< {"kind": ..., settings}
+    nlohmann::json training; ///< objective, SNR range, frames, epochs, seed, command
+    nlohmann::json metrics;  ///< measured test metrics
+    /*!
+     * \brief The pilot mask's file name, as bundle.json records it (`mask_file`; relative to
+     *        directory, no folders). load() reads this file, save() writes it.
+     */
+    std::string mask_name = mask_file;
+    /*!
+     * \brief The decoder weights' file name, as bundle.json records it (`weights_file`;
+     *        relative to directory, no folders). bundle_decoder reads this file.
+     */
+    std::string weights_name = weights_file;
+    /*! \brief Where the weights are. \return directory/weights_name. */
+    std::string weights_path() const;
 
-    // Reads and validates <dir>/bundle.json and <dir>/mask.json (weights are read by
-    // bundle_decoder). Throws std::invalid_argument naming the file and the problem.
+    /*!
+     * \brief Reads and validates dir/bundle.json and the mask file it names (weights are
+     *        read by bundle_decoder).
+     * \param dir the bundle directory.
+     * \return the bundle.
+     * \throws std::invalid_argument naming the file and the problem.
+     */
     static model_bundle load(const std::string& dir);
-    // Writes bundle.json and mask.json (weights are written by the trainer).
+    /*!
+     * \brief Writes bundle.json and mask.json (weights are written by the trainer).
+     * \param dir the bundle directory (created if missing).
+     * \throws std::invalid_argument naming the file if it cannot be written.
+     */
     void save(const std::string& dir) const;
+    /*! \brief bundle.json's content. \return the JSON object. */
     nlohmann::json to_json() const;
 
-    // Refuses (std::invalid_argument naming `who`) a bundle whose frame settings,
-    // pilot count or task do not match what a block expects.
+    /*!
+     * \brief Refuses a bundle whose frame settings, pilot count or task do not match what a
+     *        block expects.
+     * \param fs the block's frame. \param n_pilots the block's N_p.
+     * \param expected the task the block needs. \param who names the block in errors.
+     * \throws std::invalid_argument naming `who` and the mismatch.
+     */
     void check_compatible(const frame_settings& fs, int n_pilots, task_kind expected, const std::string& who) const;
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_MODEL_BUNDLE_H */
+#endif /* INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H */

@@ -1,19 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: default settings of the sink blocks, the one place they are spelled
- * (classifier_sink, delay_estimator_sink, their bindings). */
-#ifndef INCLUDED_SEMS_SINK_DEFAULTS_H
-#define INCLUDED_SEMS_SINK_DEFAULTS_H
+/*!
+ * \file
+ * \brief Default settings of the sink blocks.
+ */
+#ifndef INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H
+#define INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H
 
 namespace gr {
 namespace sems {
 
+/*!
+ * \brief Default settings of the sink blocks, the one place they are spelled
+ *        (classifier_sink, delay_estimator_sink, their bindings and GRC blocks).
+ */
 struct sink_defaults {
-    static constexpr int batch_size = 32;      // frames per inference call
-    static constexpr int threads = 1;          // LibTorch intra-op threads
-    static constexpr int metrics_period = 100; // frames between `metrics` messages
+    static constexpr int batch_size = 32;      ///< frames per inference call
+    static constexpr int threads = 1;          ///< LibTorch intra-op threads
+    static constexpr int metrics_period = 100; ///< frames between `metrics` messages
 };
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_SINK_DEFAULTS_H */
+#endif /* INCLUDED_SEMS_LEARNING_SINK_DEFAULTS_H */

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: joint training of the pilot mask and a task decoder (DESIGN §5).
+/*!
+ * \file
+ * \brief Joint training of the pilot mask and a task decoder (DESIGN §5).
  *
- * Torch-free header: the training app, the evaluation and the Python bindings call
+ * \details Torch-free header: the training app, the evaluation and the Python bindings call
  * train() with a settings struct. Data come from gr::sems::channel_model::generate
  * (the emulator's own model): noiseless H per frame, split 8:1:1 into train /
  * validation / test; noise CN(0, channel_model::noise_variance(snr)) is drawn fresh
@@ -23,8 +25,8 @@
  * The same settings and seed give the same mask, weights and metrics (seeded data,
  * torch::manual_seed, fixed thread count).
  */
-#ifndef INCLUDED_SEMS_TRAINER_H
-#define INCLUDED_SEMS_TRAINER_H
+#ifndef INCLUDED_SEMS_LEARNING_TRAINER_H
+#define INCLUDED_SEMS_LEARNING_TRAINER_H
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
@@ -43,76 +45,88 @@
 namespace gr {
 namespace sems {
 
+/*! \brief Everything train() needs; the defaults are the paper's settings. */
 struct SEMS_LEARNING_API training_settings {
-    task_kind task = task_kind::classify;
-    std::string objective = "task"; // "task" (SemS) or "mse" (reconstruction baseline)
-    int n_pilots = 32;
-    std::string mask_file;          // empty: learn the mask; else train the decoder on it
-    std::string mask_pattern;       // or a standard pattern (uniform|random|doppler, seeded by seed)
-    frame_settings frame;
-    std::optional<scene> scene_spec; // empty: random scene, all classes, single path
-    std::string scene_source = "default random scene";
+    task_kind task = task_kind::classify; ///< the decoder's task
+    std::string objective = "task"; ///< "task" (SemS) or "mse" (reconstruction baseline)
+    int n_pilots = 32;               ///< N_p
+    std::string mask_file;          ///< empty: learn the mask; else train the decoder on it
+    std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler, seeded by seed)
+    frame_settings frame;            ///< the frame
+    std::optional<scene> scene_spec; ///< empty: random scene, all classes, single path
+    std::string scene_source = "default random scene"; ///< names the scene in errors and bundle.json
 
-    double snr_min_db = 10.0;
-    double snr_max_db = 10.0;
-    int frames = 30000;              // split 8:1:1
-    int epochs = 20;                 // phase 1 (learned mask) or the decoder epochs (fixed mask)
-    int decoder_epochs = 10;         // phase 2 after a learned mask
-    int batch = 256;                 // global: each of the world's ranks trains on batch / world_size
-    double lr = 0.01;                // Adam
-    double lr_final_scale = 0.02;    // cosine schedule of phase 2 ends at lr * this
-    int patience = 4;                // early stop (phase 2, and phase 1 once at the temperature floor)
-    int threads = 0;                 // <= 0: leave LibTorch's default
-    uint64_t seed = 1;
-    std::vector<double> eval_snr_db{ 0.0, 10.0, 20.0, 30.0 };
-    int eval_frames = 0;             // test frames scored per SNR point; 0 = the whole test split
+    double snr_min_db = 10.0;        ///< training SNR range: lower end in dB
+    double snr_max_db = 10.0;        ///< training SNR range: upper end in dB
+    int frames = 30000;              ///< split 8:1:1
+    int epochs = 20;                 ///< phase 1 (learned mask) or the decoder epochs (fixed mask)
+    int decoder_epochs = 10;         ///< phase 2 after a learned mask
+    int batch = 256;                 ///< global batch: each of the world's ranks trains on batch / world_size
+    double lr = 0.01;                ///< Adam
+    double lr_final_scale = 0.02;    ///< cosine schedule of phase 2 ends at lr * this
+    int patience = 4;                ///< early stop (phase 2, and phase 1 once at the temperature floor)
+    int threads = 0;                 ///< <= 0: leave LibTorch's default
+    uint64_t seed = 1;               ///< seed of data, noise, mask draws and torch::manual_seed
+    std::vector<double> eval_snr_db{ 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
+    int eval_frames = 0;             ///< test frames scored per SNR point; 0 = the whole test split
 
-    // Delay dictionary: grid spacing (delay indices) and margin around the delays the
-    // training frames contain; the grid range comes from the data.
+    /*! \brief Delay dictionary: grid spacing in delay indices (the grid range comes from the data). */
     double delay_spacing = 0.125;
-    double delay_margin = 2.0;
-    double delay_ce_weight = 1.0;    // cross-entropy on the dictionary scores (finds the peak)
-    double delay_ce_weight_final = 0.05; // phase 2 ends on (almost) pure L1
+    double delay_margin = 2.0;       ///< delay dictionary: margin around the training frames' delays (delay indices)
+    double delay_ce_weight = 1.0;    ///< cross-entropy on the dictionary scores (finds the peak)
+    double delay_ce_weight_final = 0.05; ///< phase 2 ends on (almost) pure L1
 
-    nn::encoder_settings encoder;
-    nn::classifier_settings classifier;
-    nn::delay_settings delay;
-    nn::reconstruction_settings reconstruction;
+    nn::encoder_settings encoder;               ///< the semantic encoder (learned mask)
+    nn::classifier_settings classifier;         ///< the classifier decoder
+    nn::delay_settings delay;                   ///< the delay decoder
+    nn::reconstruction_settings reconstruction; ///< the reconstruction decoder (objective "mse")
 
-    // One rank of a distributed run (docs/distributed_training.md); default: alone.
-    // Each rank draws its own share of `frames` (seeded by rank), its own noise and
-    // Gumbel samples; gradients and validation/test sums are all-reduced; rank 0 writes.
+    /*!
+     * \brief One rank of a distributed run (docs/distributed_training.md); default: alone.
+     * \details Each rank draws its own share of `frames` (seeded by rank), its own noise and
+     * Gumbel samples; gradients and validation/test sums are all-reduced; rank 0 writes.
+     */
     distributed_settings distributed;
 
-    std::string out_dir;             // empty: do not write a bundle
-    std::string command_line;        // recorded in bundle.json
-    bool verbose = true;
+    std::string out_dir;             ///< empty: do not write a bundle
+    std::string command_line;        ///< recorded in bundle.json
+    bool verbose = true;             ///< per-epoch progress on the log
 
-    void validate() const;           // std::invalid_argument naming the setting
-    nlohmann::json to_json() const;  // what bundle.json records under "training"
+    /*! \brief Checks every setting. \throws std::invalid_argument naming the setting. */
+    void validate() const;
+    /*! \brief What bundle.json records under "training". \return the JSON object. */
+    nlohmann::json to_json() const;
 };
 
+/*! \brief What train() returns: the bundle, the history and the scored test frames. */
 struct SEMS_LEARNING_API training_result {
-    model_bundle bundle;             // directory set when written
-    nlohmann::json history;          // one object per epoch
-    double seconds = 0.0;
+    model_bundle bundle;             ///< directory set when written
+    nlohmann::json history;          ///< one object per epoch
+    double seconds = 0.0;            ///< wall time of the training
 
-    // The test frames at the training SNR range, as the app scored them: observations
-    // (n_test x N_p, mask order) and the trainer's own answers, so a loaded bundle can be
-    // checked against them.
+    /*!
+     * \brief The number of test frames at the training SNR range, as the app scored them.
+     * \details test_obs and the test_* answers let a loaded bundle be checked against the
+     * trainer's own answers.
+     */
     int n_test = 0;
-    std::vector<gr_complex> test_obs;
-    std::vector<float> test_probs;       // classify: n_test x C
-    std::vector<int> test_labels;        // classify: label index into class_names
-    std::vector<double> test_delay_index; // delay: estimates
-    std::vector<double> test_truth_index; // delay: truth
+    std::vector<gr_complex> test_obs;    ///< observations, n_test x N_p, mask order
+    std::vector<float> test_probs;       ///< classify: n_test x C
+    std::vector<int> test_labels;        ///< classify: label index into class_names
+    std::vector<double> test_delay_index; ///< delay: estimates
+    std::vector<double> test_truth_index; ///< delay: truth
 };
 
-// Trains, scores on the test split and (if out_dir is set) writes the bundle.
-// Progress goes to `log` (nullptr: silent).
+/*!
+ * \brief Trains, scores on the test split and (if out_dir is set) writes the bundle.
+ * \param settings the settings (validated first).
+ * \param log where progress goes (nullptr: silent).
+ * \return the bundle, history and test answers.
+ * \throws std::invalid_argument naming a bad setting or file.
+ */
 SEMS_LEARNING_API training_result train(const training_settings& settings, std::ostream* log);
 
 } // namespace sems
 } // namespace gr
 
-#endif /* INCLUDED_SEMS_TRAINER_H */
+#endif /* INCLUDED_SEMS_LEARNING_TRAINER_H */

@@ -10,6 +10,8 @@
 #include <gnuradio/sems/baselines/delay_search.h>
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/baselines/feature_svm.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -35,7 +37,7 @@ const gr_complex* obs_ptr(const carray& a, int n_pilots, const char* who)
 
 void bind_baselines(py::module& m)
 {
-    py::class_<delay_search>(m, "delay_search", "delay search window and grid of the classical estimators")
+    py::class_<delay_search>(m, "delay_search", D(delay_search))
         .def(py::init([](int oversample, double min_index, double max_index) {
                  return delay_search{ oversample, min_index, max_index };
              }),
@@ -45,12 +47,11 @@ void bind_baselines(py::module& m)
         .def_readwrite("max_index", &delay_search::max_index)
         .def("grid", &delay_search::grid);
 
-    py::enum_<slow_time_model>(m, "slow_time_model")
+    py::enum_<slow_time_model>(m, "slow_time_model", D(slow_time_model))
         .value("joint_doppler", slow_time_model::joint_doppler)
         .value("per_symbol", slow_time_model::per_symbol);
 
-    py::class_<periodogram_delay_estimator>(m, "periodogram_delay_estimator",
-                                            "matched-filter (periodogram) delay estimator")
+    py::class_<periodogram_delay_estimator>(m, "periodogram_delay_estimator", D(periodogram_delay_estimator))
         .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search,
                          int doppler_oversample, slow_time_model slow, bool refine) {
                  return new periodogram_delay_estimator(fs, mask, { search, doppler_oversample, slow, refine });
@@ -68,7 +69,7 @@ void bind_baselines(py::module& m)
         .def("grid_index", &periodogram_delay_estimator::grid_index)
         .def("n_pilots", &periodogram_delay_estimator::n_pilots);
 
-    py::class_<omp_delay_estimator>(m, "omp_delay_estimator", "OMP on a joint delay-Doppler grid")
+    py::class_<omp_delay_estimator>(m, "omp_delay_estimator", D(omp_delay_estimator))
         .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search,
                          int doppler_oversample, int n_atoms, double relative_power) {
                  return new omp_delay_estimator(fs, mask, { search, doppler_oversample, n_atoms, relative_power });
@@ -81,7 +82,7 @@ void bind_baselines(py::module& m)
              })
         .def("n_pilots", &omp_delay_estimator::n_pilots);
 
-    py::class_<music_delay_estimator>(m, "music_delay_estimator", "co-array MUSIC from sparse pilots")
+    py::class_<music_delay_estimator>(m, "music_delay_estimator", D(music_delay_estimator))
         .def(py::init([](const frame_settings& fs, const pilot_mask& mask, const delay_search& search, int n_paths) {
                  return new music_delay_estimator(fs, mask, { search, n_paths });
              }),
@@ -99,14 +100,14 @@ void bind_baselines(py::module& m)
         .def("coarray_length", &music_delay_estimator::coarray_length)
         .def("n_pilots", &music_delay_estimator::n_pilots);
 
-    py::class_<delay_crb>(m, "delay_crb", "closed-form CRB on a single path's delay index")
+    py::class_<delay_crb>(m, "delay_crb", D(delay_crb))
         .def_static("variance_index", &delay_crb::variance_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
                     py::arg("doppler_known") = false, py::arg("gain_power") = 1.0)
         .def_static("mae_index", &delay_crb::mae_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
                     py::arg("doppler_known") = false, py::arg("rayleigh") = true)
         .def_static("spread", &delay_crb::spread, py::arg("mask"), py::arg("doppler_known"));
 
-    py::class_<doppler_features>(m, "doppler_features", "Doppler-spectrum moments of the pilots")
+    py::class_<doppler_features>(m, "doppler_features", D(doppler_features))
         .def(py::init<const frame_settings&, const pilot_mask&, int>(), py::arg("fs"), py::arg("mask"),
              py::arg("oversample") = 1)
         .def_static("names", &doppler_features::names)
@@ -119,7 +120,7 @@ void bind_baselines(py::module& m)
             return f.extract(obs_ptr(obs, f.n_pilots(), "extract"));
         });
 
-    py::class_<feature_svm>(m, "feature_svm", "RBF SVM (libsvm) on standardised features")
+    py::class_<feature_svm>(m, "feature_svm", D(feature_svm))
         .def(py::init([](const std::vector<std::vector<double>>& x, const std::vector<int>& y, double c, double gamma) {
                  return new feature_svm(x, y, { c, gamma, 100.0 });
              }),
@@ -128,8 +129,8 @@ void bind_baselines(py::module& m)
         .def("n_features", &feature_svm::n_features)
         .def("n_support_vectors", &feature_svm::n_support_vectors);
 
-    m.def("random_subcarrier_mask", &random_subcarrier_mask, py::arg("n_symbols"), py::arg("n_subcarriers"),
+    m.def("random_subcarrier_mask", &random_subcarrier_mask, D(random_subcarrier_mask), py::arg("n_symbols"), py::arg("n_subcarriers"),
           py::arg("count"), py::arg("seed"), "RP-MUSIC pattern: the uniform lattice's symbols, random subcarriers");
-    m.def("nested_subcarrier_mask", &nested_subcarrier_mask, py::arg("n_symbols"), py::arg("n_subcarriers"),
+    m.def("nested_subcarrier_mask", &nested_subcarrier_mask, D(nested_subcarrier_mask), py::arg("n_symbols"), py::arg("n_subcarriers"),
           py::arg("count"), py::arg("rows") = 2, "OP-MUSIC pattern: nested-array subcarriers on a few symbols");
 }

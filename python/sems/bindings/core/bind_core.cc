@@ -9,6 +9,8 @@
 #include <gnuradio/sems/core/scene.h>
 #include <gnuradio/sems/core/tags.h>
 #include <gnuradio/sems/core/target_class.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -66,7 +68,7 @@ void bind_keys(py::module& m)
 
 void bind_frame_settings(py::module& m)
 {
-    py::class_<frame_settings>(m, "frame_settings", "OFDM frame settings (DESIGN §1) and derived quantities")
+    py::class_<frame_settings>(m, "frame_settings", D(frame_settings))
         .def(py::init([](int n_symbols, int n_subcarriers, double bandwidth_hz, double carrier_hz,
                          double symbol_interval_s, int cp_len) {
                  frame_settings fs{ n_symbols, n_subcarriers, bandwidth_hz, carrier_hz, symbol_interval_s, cp_len };
@@ -105,7 +107,7 @@ void bind_frame_settings(py::module& m)
 
 void bind_pilot_mask(py::module& m)
 {
-    py::class_<pilot_mask>(m, "pilot_mask", "Binary N x M pilot mask, pilots in row-major mask order")
+    py::class_<pilot_mask>(m, "pilot_mask", D(pilot_mask))
         .def(py::init([](int n_symbols, int n_subcarriers, const std::vector<std::pair<int, int>>& pilots,
                          gr_complex pilot_symbol) {
                  std::vector<pilot_position> pos;
@@ -152,16 +154,16 @@ void bind_pilot_mask(py::module& m)
 
 void bind_scene(py::module& m)
 {
-    py::enum_<target_class>(m, "target_class")
+    py::enum_<target_class>(m, "target_class", D(target_class))
         .value("pedestrian", target_class::pedestrian)
         .value("car", target_class::car)
         .value("drone", target_class::drone);
-    m.def("class_names", &class_names, "Class names in class-id order");
-    m.def("class_from_name", &class_from_name, py::arg("name"));
+    m.def("class_names", &class_names, D(class_names));
+    m.def("class_from_name", &class_from_name, D(class_from_name), py::arg("name"));
 
-    py::enum_<fading_kind>(m, "fading_kind").value("rayleigh", fading_kind::rayleigh).value("none", fading_kind::none);
+    py::enum_<fading_kind>(m, "fading_kind", D(fading_kind)).value("rayleigh", fading_kind::rayleigh).value("none", fading_kind::none);
 
-    py::class_<micro_doppler>(m, "micro_doppler")
+    py::class_<micro_doppler>(m, "micro_doppler", D(micro_doppler))
         .def(py::init([](double rate_hz, double amplitude_m, double phase_rad) {
                  return micro_doppler{ rate_hz, amplitude_m, phase_rad };
              }),
@@ -170,13 +172,13 @@ void bind_scene(py::module& m)
         .def_readwrite("amplitude_m", &micro_doppler::amplitude_m)
         .def_readwrite("phase_rad", &micro_doppler::phase_rad);
 
-    py::class_<path_spec>(m, "path_spec")
+    py::class_<path_spec>(m, "path_spec", D(path_spec))
         .def(py::init([](double excess_range_m, double power) { return path_spec{ excess_range_m, power }; }),
              py::arg("excess_range_m") = 0.0, py::arg("power") = 1.0)
         .def_readwrite("excess_range_m", &path_spec::excess_range_m)
         .def_readwrite("power", &path_spec::power);
 
-    py::class_<target_spec>(m, "target_spec")
+    py::class_<target_spec>(m, "target_spec", D(target_spec))
         .def(py::init([](target_class cls, double range_m, double velocity_mps, std::optional<micro_doppler> md,
                          double power, std::vector<path_spec> paths) {
                  return target_spec{ cls, range_m, velocity_mps, md, power, paths };
@@ -190,7 +192,7 @@ void bind_scene(py::module& m)
         .def_readwrite("power", &target_spec::power)
         .def_readwrite("paths", &target_spec::paths);
 
-    py::class_<clutter_spec>(m, "clutter_spec")
+    py::class_<clutter_spec>(m, "clutter_spec", D(clutter_spec))
         .def(py::init([](double csr_db, int n_paths, double range_min_m, double range_max_m,
                          std::vector<double> ranges_m) {
                  return clutter_spec{ csr_db, n_paths, range_min_m, range_max_m, ranges_m };
@@ -201,7 +203,7 @@ void bind_scene(py::module& m)
         .def_readwrite("csr_db", &clutter_spec::csr_db)
         .def_readwrite("n_paths", &clutter_spec::n_paths);
 
-    py::class_<random_spec>(m, "random_spec")
+    py::class_<random_spec>(m, "random_spec", D(random_spec))
         .def(py::init([](std::vector<target_class> classes, int n_targets, int paths_per_target,
                          double excess_min, double excess_max, double decay_db, bool md) {
                  return random_spec{ classes, n_targets, paths_per_target, excess_min, excess_max, decay_db, md };
@@ -217,7 +219,7 @@ void bind_scene(py::module& m)
         .def_readwrite("paths_per_target", &random_spec::paths_per_target)
         .def_readwrite("micro_doppler", &random_spec::micro_doppler);
 
-    py::class_<scene>(m, "scene", "Targets, clutter and the target of interest; fixed or random per frame")
+    py::class_<scene>(m, "scene", D(scene))
         .def_static("fixed", &scene::fixed, py::arg("targets"), py::arg("clutter") = py::none(),
                     py::arg("target_of_interest") = 0, py::arg("fading") = fading_kind::rayleigh)
         .def_static("random", &scene::random, py::arg("spec") = random_spec{}, py::arg("clutter") = py::none(),
@@ -236,7 +238,7 @@ void bind_channel_model(py::module& m)
 {
     using cplx_array = py::array_t<gr_complex, py::array::c_style | py::array::forcecast>;
 
-    py::class_<channel_path>(m, "channel_path")
+    py::class_<channel_path>(m, "channel_path", D(channel_path))
         .def_readonly("delay_s", &channel_path::delay_s)
         .def_readonly("doppler_hz", &channel_path::doppler_hz)
         .def_readonly("md_rate_hz", &channel_path::md_rate_hz)
@@ -245,11 +247,11 @@ void bind_channel_model(py::module& m)
         .def_readonly("gain", &channel_path::gain)
         .def_readonly("mean_power", &channel_path::mean_power);
 
-    py::class_<frame_realization>(m, "frame_realization")
+    py::class_<frame_realization>(m, "frame_realization", D(frame_realization))
         .def_readonly("paths", &frame_realization::paths)
         .def_property_readonly("truth", [](const frame_realization& r) { return truth_dict(r.truth); });
 
-    py::class_<channel_model>(m, "channel_model", "The channel model shared by the emulator, trainer and evaluation")
+    py::class_<channel_model>(m, "channel_model", D(channel_model))
         .def(py::init<const frame_settings&, const scene&, uint64_t>(), py::arg("settings"), py::arg("scene"),
              py::arg("seed") = 0)
         .def_static("noise_variance", &channel_model::noise_variance, py::arg("snr_db"))

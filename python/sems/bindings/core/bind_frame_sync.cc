@@ -6,6 +6,8 @@
 
 #include <gnuradio/sems/blocks/frame_sync.h>
 
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
+
 namespace py = pybind11;
 
 void bind_frame_sync(py::module& m)
@@ -13,7 +15,7 @@ void bind_frame_sync(py::module& m)
     using gr::sems::frame_sync;
     const gr::sems::frame_settings defaults;
     py::class_<frame_sync, gr::block, gr::basic_block, std::shared_ptr<frame_sync>>(
-        m, "frame_sync", "Frame alignment of a CP-OFDM sample stream from the known pilots")
+        m, "frame_sync", D(frame_sync))
         .def(py::init(&frame_sync::make),
              py::arg("mask_file") = "",
              py::arg("pilot_positions") = std::vector<int>{},
@@ -23,10 +25,11 @@ void bind_frame_sync(py::module& m)
              py::arg("pilot_power") = 1.0,
              py::arg("cp_len") = defaults.cp_len,
              py::arg("search_frames") = 4,
-             py::arg("threshold") = 25.0)
-        .def("locked", &frame_sync::locked)
-        .def("offset", &frame_sync::offset)
-        .def("metric", &frame_sync::metric)
-        .def("failures", &frame_sync::failures)
-        .def("frame_len", &frame_sync::frame_len);
+             py::arg("threshold") = 25.0,
+             D(frame_sync, make))
+        .def("locked", &frame_sync::locked, D(frame_sync, locked))
+        .def("offset", &frame_sync::offset, D(frame_sync, offset))
+        .def("metric", &frame_sync::metric, D(frame_sync, metric))
+        .def("failures", &frame_sync::failures, D(frame_sync, failures))
+        .def("frame_len", &frame_sync::frame_len, D(frame_sync, frame_len));
 }

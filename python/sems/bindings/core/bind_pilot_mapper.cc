@@ -6,6 +6,8 @@
 
 #include <gnuradio/sems/blocks/pilot_mapper.h>
 
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
+
 namespace py = pybind11;
 
 void bind_pilot_mapper(py::module& m)
@@ -13,7 +15,7 @@ void bind_pilot_mapper(py::module& m)
     using gr::sems::pilot_mapper;
     const gr::sems::frame_settings defaults;
     py::class_<pilot_mapper, gr::block, gr::basic_block, std::shared_ptr<pilot_mapper>>(
-        m, "pilot_mapper", "Learned-pilot OFDM transmitter: data symbols in, gr_complex[M] symbols out")
+        m, "pilot_mapper", D(pilot_mapper))
         .def(py::init(&pilot_mapper::make),
              py::arg("mask_file") = "",
              py::arg("pilot_positions") = std::vector<int>{},
@@ -21,13 +23,14 @@ void bind_pilot_mapper(py::module& m)
              py::arg("n_subcarriers") = defaults.n_subcarriers,
              py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f),
              py::arg("pilot_power") = 1.0,
-             py::arg("data_power") = 1.0)
-        .def("set_pilot_power", &pilot_mapper::set_pilot_power, py::arg("energy"))
-        .def("pilot_power", &pilot_mapper::pilot_power)
-        .def("set_data_power", &pilot_mapper::set_data_power, py::arg("energy"))
-        .def("data_power", &pilot_mapper::data_power)
-        .def("mask", &pilot_mapper::mask, py::return_value_policy::copy)
-        .def("n_pilots", &pilot_mapper::n_pilots)
-        .def("data_per_frame", &pilot_mapper::data_per_frame)
-        .def("frames", &pilot_mapper::frames);
+             py::arg("data_power") = 1.0,
+             D(pilot_mapper, make))
+        .def("set_pilot_power", &pilot_mapper::set_pilot_power, D(pilot_mapper, set_pilot_power), py::arg("energy"))
+        .def("pilot_power", &pilot_mapper::pilot_power, D(pilot_mapper, pilot_power))
+        .def("set_data_power", &pilot_mapper::set_data_power, D(pilot_mapper, set_data_power), py::arg("energy"))
+        .def("data_power", &pilot_mapper::data_power, D(pilot_mapper, data_power))
+        .def("mask", &pilot_mapper::mask, D(pilot_mapper, mask), py::return_value_policy::copy)
+        .def("n_pilots", &pilot_mapper::n_pilots, D(pilot_mapper, n_pilots))
+        .def("data_per_frame", &pilot_mapper::data_per_frame, D(pilot_mapper, data_per_frame))
+        .def("frames", &pilot_mapper::frames, D(pilot_mapper, frames));
 }

@@ -4,6 +4,8 @@
 #include <pybind11/stl.h>
 
 #include <gnuradio/sems/blocks/target_channel.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <limits>
 
 namespace py = pybind11;
@@ -13,7 +15,7 @@ void bind_target_channel(py::module& m)
     using gr::sems::target_channel;
     const gr::sems::frame_settings defaults;
     py::class_<target_channel, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<target_channel>>(
-        m, "target_channel", "Frequency-domain target channel emulator over gr_complex[M] OFDM symbols")
+        m, "target_channel", D(target_channel))
         .def(py::init(&target_channel::make),
              py::arg("scene") = "",
              py::arg("classes") = std::vector<std::string>{},
@@ -28,11 +30,12 @@ void bind_target_channel(py::module& m)
              py::arg("n_subcarriers") = defaults.n_subcarriers,
              py::arg("bandwidth_hz") = defaults.bandwidth_hz,
              py::arg("carrier_hz") = defaults.carrier_hz,
-             py::arg("symbol_interval_s") = defaults.symbol_interval_s)
-        .def("set_snr_db", &target_channel::set_snr_db, py::arg("snr_db"))
-        .def("snr_db", &target_channel::snr_db)
-        .def("settings", &target_channel::settings, py::return_value_policy::copy)
-        .def("scene_json", &target_channel::scene_json)
-        .def("frames", &target_channel::frames)
-        .def("nonfinite_symbols", &target_channel::nonfinite_symbols);
+             py::arg("symbol_interval_s") = defaults.symbol_interval_s,
+             D(target_channel, make))
+        .def("set_snr_db", &target_channel::set_snr_db, D(target_channel, set_snr_db), py::arg("snr_db"))
+        .def("snr_db", &target_channel::snr_db, D(target_channel, snr_db))
+        .def("settings", &target_channel::settings, D(target_channel, settings), py::return_value_policy::copy)
+        .def("scene_json", &target_channel::scene_json, D(target_channel, scene_json))
+        .def("frames", &target_channel::frames, D(target_channel, frames))
+        .def("nonfinite_symbols", &target_channel::nonfinite_symbols, D(target_channel, nonfinite_symbols));
 }

@@ -6,6 +6,8 @@
 #include <pybind11/stl.h>
 
 #include <gnuradio/sems/blocks/target_channel_td.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <limits>
 
 namespace py = pybind11;
@@ -19,7 +21,7 @@ void bind_target_channel_td(py::module& m)
                gr::block,
                gr::basic_block,
                std::shared_ptr<target_channel_td>>(
-        m, "target_channel_td", "Time-domain (sample-level) target channel emulator over a CP-OFDM sample stream")
+        m, "target_channel_td", D(target_channel_td))
         .def(py::init(&target_channel_td::make),
              py::arg("scene") = "",
              py::arg("classes") = std::vector<std::string>{},
@@ -35,12 +37,13 @@ void bind_target_channel_td(py::module& m)
              py::arg("bandwidth_hz") = defaults.bandwidth_hz,
              py::arg("carrier_hz") = defaults.carrier_hz,
              py::arg("symbol_interval_s") = defaults.symbol_interval_s,
-             py::arg("cp_len") = defaults.cp_len)
-        .def("set_snr_db", &target_channel_td::set_snr_db, py::arg("snr_db"))
-        .def("snr_db", &target_channel_td::snr_db)
-        .def("settings", &target_channel_td::settings, py::return_value_policy::copy)
-        .def("scene_json", &target_channel_td::scene_json)
-        .def("frames", &target_channel_td::frames)
-        .def("nonfinite_symbols", &target_channel_td::nonfinite_symbols)
-        .def("misaligned_tags", &target_channel_td::misaligned_tags);
+             py::arg("cp_len") = defaults.cp_len,
+             D(target_channel_td, make))
+        .def("set_snr_db", &target_channel_td::set_snr_db, D(target_channel_td, set_snr_db), py::arg("snr_db"))
+        .def("snr_db", &target_channel_td::snr_db, D(target_channel_td, snr_db))
+        .def("settings", &target_channel_td::settings, D(target_channel_td, settings), py::return_value_policy::copy)
+        .def("scene_json", &target_channel_td::scene_json, D(target_channel_td, scene_json))
+        .def("frames", &target_channel_td::frames, D(target_channel_td, frames))
+        .def("nonfinite_symbols", &target_channel_td::nonfinite_symbols, D(target_channel_td, nonfinite_symbols))
+        .def("misaligned_tags", &target_channel_td::misaligned_tags, D(target_channel_td, misaligned_tags));
 }

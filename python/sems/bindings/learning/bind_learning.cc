@@ -6,6 +6,8 @@
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/sems/learning/trainer.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -43,12 +45,15 @@ py::array_t<T> to_array(const std::vector<T>& v, std::vector<py::ssize_t> shape)
 
 void bind_learning(py::module& m)
 {
-    py::enum_<task_kind>(m, "task_kind").value("classify", task_kind::classify).value("delay", task_kind::delay);
-    m.def("task_name", &task_name, py::arg("task"));
-    m.def("task_from_name", &task_from_name, py::arg("name"));
+    py::enum_<task_kind>(m, "task_kind", D(task_kind)).value("classify", task_kind::classify).value("delay", task_kind::delay);
+    m.def("task_name", &task_name, D(task_name), py::arg("task"));
+    m.def("task_from_name", &task_from_name, D(task_from_name), py::arg("name"));
 
-    py::class_<model_bundle>(m, "model_bundle", "A trained model bundle: mask.json, decoder.pt, bundle.json")
+    py::class_<model_bundle>(m, "model_bundle", D(model_bundle))
         .def_static("load", &model_bundle::load, py::arg("dir"))
+        .def_readonly("mask_name", &model_bundle::mask_name, D(model_bundle, mask_name))
+        .def_readonly("weights_name", &model_bundle::weights_name, D(model_bundle, weights_name))
+        .def("weights_path", &model_bundle::weights_path, D(model_bundle, weights_path))
         .def_readonly("directory", &model_bundle::directory)
         .def_readonly("task", &model_bundle::task)
         .def_readonly("class_names", &model_bundle::class_names)
@@ -63,7 +68,7 @@ void bind_learning(py::module& m)
              py::arg("expected"), py::arg("who"));
 
     py::class_<bundle_decoder, std::shared_ptr<bundle_decoder>>(
-        m, "bundle_decoder", "Inference on a model bundle (the sinks' decoder)")
+        m, "bundle_decoder", D(bundle_decoder))
         .def(py::init([](const model_bundle& b, int threads) { return std::make_shared<bundle_decoder>(b, threads); }),
              py::arg("bundle"), py::arg("threads") = 1)
         .def(py::init([](const std::string& dir, int threads) {
@@ -124,7 +129,7 @@ void bind_learning(py::module& m)
             },
             py::arg("obs"), "(batch, N_p) complex -> (batch,) delay index τ·B");
 
-    py::class_<training_settings>(m, "training_settings", "Settings of train() (include/gnuradio/sems/learning/trainer.h)")
+    py::class_<training_settings>(m, "training_settings", D(training_settings))
         .def(py::init<>())
         .def_readwrite("task", &training_settings::task)
         .def_readwrite("objective", &training_settings::objective)
@@ -179,7 +184,7 @@ void bind_learning(py::module& m)
         .def("validate", &training_settings::validate)
         .def("to_json_string", [](const training_settings& s) { return s.to_json().dump(); });
 
-    py::class_<training_result>(m, "training_result")
+    py::class_<training_result>(m, "training_result", D(training_result))
         .def_readonly("bundle", &training_result::bundle)
         .def_readonly("seconds", &training_result::seconds)
         .def_property_readonly("history_json", [](const training_result& r) { return r.history.dump(); })

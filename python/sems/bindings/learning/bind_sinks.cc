@@ -7,6 +7,8 @@
 #include <gnuradio/sems/learning/delay_estimator_sink.h>
 #include <gnuradio/sems/learning/sink_defaults.h>
 
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
+
 namespace py = pybind11;
 using gr::sems::sink_defaults;
 
@@ -15,7 +17,7 @@ namespace {
 // The constructor and the getters both sinks share; each adds its own metrics.
 template <typename Sink>
 py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>
-bind_sink(py::module& m, const char* name, const char* doc)
+bind_sink(py::module& m, const char* name, const char* doc, const char* make_doc)
 {
     const gr::sems::frame_settings frame;
     return py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>(m, name, doc)
@@ -26,14 +28,16 @@ bind_sink(py::module& m, const char* name, const char* doc)
              py::arg("threads") = sink_defaults::threads,
              py::arg("metrics_period") = sink_defaults::metrics_period,
              py::arg("n_symbols") = frame.n_symbols,
-             py::arg("n_subcarriers") = frame.n_subcarriers)
-        .def("frames", &Sink::frames)
-        .def("frames_scored", &Sink::frames_scored)
-        .def("frames_skipped", &Sink::frames_skipped)
-        .def("reset_metrics", &Sink::reset_metrics)
-        .def("batch_size", &Sink::batch_size)
-        .def("metrics_period", &Sink::metrics_period)
-        .def("set_metrics_period", &Sink::set_metrics_period, py::arg("k"));
+             py::arg("n_subcarriers") = frame.n_subcarriers,
+             make_doc)
+        // Both sink headers document these getters with the same text.
+        .def("frames", &Sink::frames, D(classifier_sink, frames))
+        .def("frames_scored", &Sink::frames_scored, D(classifier_sink, frames_scored))
+        .def("frames_skipped", &Sink::frames_skipped, D(classifier_sink, frames_skipped))
+        .def("reset_metrics", &Sink::reset_metrics, D(classifier_sink, reset_metrics))
+        .def("batch_size", &Sink::batch_size, D(classifier_sink, batch_size))
+        .def("metrics_period", &Sink::metrics_period, D(classifier_sink, metrics_period))
+        .def("set_metrics_period", &Sink::set_metrics_period, D(classifier_sink, set_metrics_period), py::arg("k"));
 }
 
 } // namespace
@@ -43,16 +47,18 @@ void bind_sinks(py::module& m)
     using gr::sems::classifier_sink;
     using gr::sems::delay_estimator_sink;
 
-    bind_sink<classifier_sink>(
-        m, "classifier_sink", "Classifies the target of each frame of pilot observations with a model bundle.")
-        .def("accuracy", &classifier_sink::accuracy)
-        .def("confusion", &classifier_sink::confusion, "confusion[truth][predicted] over class_names()")
-        .def("class_names", &classifier_sink::class_names);
+    // The sinks' defaults, as GRC's blocks must spell them (python/sems/qa_grc_defaults.py).
+    py::class_<sink_defaults>(m, "sink_defaults", D(sink_defaults))
+        .def_readonly_static("batch_size", &sink_defaults::batch_size, D(sink_defaults, batch_size))
+        .def_readonly_static("threads", &sink_defaults::threads, D(sink_defaults, threads))
+        .def_readonly_static("metrics_period", &sink_defaults::metrics_period, D(sink_defaults, metrics_period));
 
-    bind_sink<delay_estimator_sink>(
-        m,
-        "delay_estimator_sink",
-        "Estimates the delay of the target of interest of each frame of pilot observations with a model bundle.")
-        .def("mae_index", &delay_estimator_sink::mae_index)
-        .def("mae_m", &delay_estimator_sink::mae_m);
+    bind_sink<classifier_sink>(m, "classifier_sink", D(classifier_sink), D(classifier_sink, make))
+        .def("accuracy", &classifier_sink::accuracy, D(classifier_sink, accuracy))
+        .def("confusion", &classifier_sink::confusion, D(classifier_sink, confusion))
+        .def("class_names", &classifier_sink::class_names, D(classifier_sink, class_names));
+
+    bind_sink<delay_estimator_sink>(m, "delay_estimator_sink", D(delay_estimator_sink), D(delay_estimator_sink, make))
+        .def("mae_index", &delay_estimator_sink::mae_index, D(delay_estimator_sink, mae_index))
+        .def("mae_m", &delay_estimator_sink::mae_m, D(delay_estimator_sink, mae_m));
 }

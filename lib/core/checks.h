@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the finite / positive checks every library shares (internal).
+ *
+ * One definition of "finite", "positive" and "non-negative" for settings and samples:
+ * NaN and ±Inf are never positive or non-negative, a complex value is finite when both
+ * parts are. The callers keep their own messages (they name the file or parameter and
+ * the problem); these only decide.
+ */
+#ifndef INCLUDED_SEMS_LIB_CORE_CHECKS_H
+#define INCLUDED_SEMS_LIB_CORE_CHECKS_H
+
+#include <cmath>
+#include <complex>
+#include <cstddef>
+
+namespace gr {
+namespace sems {
+namespace checks {
+
+// Neither NaN nor ±Inf.
+inline bool finite(double v) { return std::isfinite(v); }
+// Both parts finite.
+template <typename T>
+inline bool finite(const std::complex<T>& z)
+{
+    return std::isfinite(z.real()) && std::isfinite(z.imag());
+}
+// Finite and > 0.
+inline bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+// Finite and >= 0.
+inline bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
+// Every element finite (a frame with a NaN/Inf is counted and skipped, never decoded).
+template <typename T>
+inline bool all_finite(const std::complex<T>* x, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!finite(x[i]))
+            return false;
+    return true;
+}
+// Every element finite.
+inline bool all_finite(const double* x, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(x[i]))
+            return false;
+    return true;
+}
+
+} // namespace checks
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LIB_CORE_CHECKS_H */

@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""One fact in one place: every GRC default that has a C++ counterpart equals the C++ default.
+
+Loads every grc/sems_*.block.yml and compares each default with the value the C++ code
+holds, read through the bindings from the objects themselves (a block built with its
+defaults and asked through its getters; frame_settings(); sink_defaults; the random scene
+a default target_channel draws from). A default the table below does not know fails the
+test, so a new GRC parameter has to be classified here: compared with C++, or explicitly
+GRC-only (with the reason). Every parameter must also be documented in the block's
+`documentation:` field (a "- <label>: ..." line).
+"""
+import glob
+import inspect
+import json
+import math
+import os
+import unittest
+
+import yaml
+
+from gnuradio import gr_unittest
+from gnuradio import sems
+
+SOURCE = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+GRC_DIR = os.path.join(SOURCE, "grc")
+BUNDLES = os.path.join(SOURCE, "models")
+
+
+def grc_value(text):
+    """A GRC default as GRC evaluates it (a Python expression)."""
+    return eval(str(text), {"__builtins__": {"float": float, "True": True, "False": False}})
+
+
+def cxx_defaults():
+    """block id -> {parameter id -> the C++ default}."""
+    fs = sems.frame_settings()
+    frame = {
+        "n_symbols": fs.n_symbols,
+        "n_subcarriers": fs.n_subcarriers,
+        "bandwidth_hz": fs.bandwidth_hz,
+        "carrier_hz": fs.carrier_hz,
+        "symbol_interval_s": fs.symbol_interval_s,
+    }
+    # target_channel with every default: its getters and the random scene it draws from.
+    ch = sems.target_channel()
+    rnd = json.loads(ch.scene_json())
+    spec = rnd["random"]
+    channel = dict(frame)
+    channel.update({
+        "snr_db": ch.snr_db(),
+        "n_targets": spec["targets"],
+        "paths_per_target": spec["paths_per_target"],
+        "micro_doppler": spec["micro_doppler"],
+        "clutter_paths": (rnd.get("clutter") or {}).get("paths", 0),
+        "classes": [] if sorted(spec["classes"]) == sorted(sems.class_names()) else spec["classes"],
+        # seed: no getter; the bindings' default is make()'s (checked through the signature).
+        "seed": bound_default(sems.target_channel, "seed"),
+        "clutter_csr_db": bound_default(sems.target_channel, "clutter_csr_db"),
+    })
+    # pilot_mapper / pilot_extractor: built with one pilot, every other argument defaulted.
+    mapper = sems.pilot_mapper(pilot_positions=[0])
+    extractor = sems.pilot_extractor(pilot_positions=[0])
+    pilot_frame = {"n_symbols": fs.n_symbols, "n_subcarriers": fs.n_subcarriers}
+    mapper_d = dict(pilot_frame, pilot_symbol=mapper.mask().pilot_symbol(),
+                    pilot_power=mapper.pilot_power(), data_power=mapper.data_power())
+    assert (mapper.mask().n_symbols(), mapper.mask().n_subcarriers()) == (fs.n_symbols, fs.n_subcarriers)
+    extractor_d = dict(pilot_frame, pilot_symbol=extractor.mask().pilot_symbol())
+    sink = dict(pilot_frame, batch_size=sems.sink_defaults.batch_size, threads=sems.sink_defaults.threads,
+                metrics_period=sems.sink_defaults.metrics_period)
+    ofdm = {"n_subcarriers": fs.n_subcarriers, "cp_len": fs.cp_len}
+    # target_channel_td: the same scene options as target_channel, plus its frame's cp_len.
+    td = sems.target_channel_td()
+    td_rnd = json.loads(td.scene_json())
+    td_frame = td.settings()
+    channel_td = dict(channel)
+    channel_td.update({
+        "n_symbols": td_frame.n_symbols, "n_subcarriers": td_frame.n_subcarriers,
+        "bandwidth_hz": td_frame.bandwidth_hz, "carrier_hz": td_frame.carrier_hz,
+        "symbol_interval_s": td_frame.symbol_interval_s, "snr_db": td.snr_db(),
+        "n_targets": td_rnd["random"]["targets"], "paths_per_target": td_rnd["random"]["paths_per_target"],
+        "micro_doppler": td_rnd["random"]["micro_doppler"],
+        "seed": bound_default(sems.target_channel_td, "seed"),
+        "clutter_csr_db": bound_default(sems.target_channel_td, "clutter_csr_db"),
+    })
+    # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
+    sync = {name: bound_default(sems.frame_sync, name)
+            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold")}
+    sync.update(pilot_frame)
+    return {
+        "sems_target_channel": channel,
+        "sems_pilot_mapper": mapper_d,
+        "sems_pilot_extractor": extractor_d,
+        "sems_classifier_sink": sink,
+        "sems_delay_estimator_sink": sink,
+        "sems_ofdm_tx": ofdm,
+        "sems_ofdm_rx": ofdm,
+        "sems_metrics_printer": {},
+        "sems_target_channel_td": channel_td,
+        "sems_frame_sync": sync,
+    }
+
+
+def bound_default(cls, name):
+    """The default pybind11 shows for `name` in the constructor's signature."""
+    first = cls.__init__.__doc__.splitlines()[0]
+    for part in first[first.index("(") + 1:first.rindex(")")].split(", "):
+        if part.startswith(name + ":") and " = " in part:
+            return grc_value(part.split(" = ", 1)[1])
+    raise AssertionError(f"{cls.__name__}: no default for {name} in {first}")
+
+
+# GRC-only parameters (no C++ default to agree with), and why.
+GRC_ONLY = {
+    ("sems_target_channel", "scene_kind"): "GRC chooser between random / file / JSON scene",
+    ("sems_target_channel", "scene_file"): "the chosen scene's path (C++ scene = '' means random)",
+    ("sems_target_channel", "scene_json"): "the chosen scene's JSON text",
+    ("sems_pilot_mapper", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_pilot_mapper", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_pilot_mapper", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_pilot_extractor", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_pilot_extractor", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_pilot_extractor", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_pilot_extractor", "n_pilots"): "GRC-side vector length; C++ takes it from the mask",
+    ("sems_classifier_sink", "bundle_dir"): "required in C++",
+    ("sems_classifier_sink", "n_pilots"): "required in C++",
+    ("sems_delay_estimator_sink", "bundle_dir"): "required in C++",
+    ("sems_delay_estimator_sink", "n_pilots"): "required in C++",
+    ("sems_metrics_printer", "label"): "Python-only block",
+    ("sems_target_channel_td", "scene_kind"): "GRC chooser between random / file / JSON scene",
+    ("sems_target_channel_td", "scene_file"): "the chosen scene's path",
+    ("sems_target_channel_td", "scene_json"): "the chosen scene's JSON text",
+    ("sems_frame_sync", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_frame_sync", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_frame_sync", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+}
+
+# Deliberate, documented differences: GRC default, C++ default, where the reason is written.
+# docs/time_domain.md: time-domain flowgraphs default to CP 48 (covers the class table's delays),
+# the C++/Python default stays frame_settings' 16 so a chain of defaults matches ofdm_tx/ofdm_rx.
+DELIBERATE = {
+    ("sems_target_channel_td", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
+    ("sems_frame_sync", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
+}
+
+
+def load_blocks():
+    files = sorted(glob.glob(os.path.join(GRC_DIR, "sems_*.block.yml")))
+    assert files, f"no GRC blocks under {GRC_DIR}"
+    return {os.path.basename(f)[:-len(".block.yml")]: yaml.safe_load(open(f)) for f in files}
+
+
+def same(a, b):
+    if isinstance(a, complex) or isinstance(b, complex):
+        return complex(a) == complex(b)
+    if isinstance(a, float) or isinstance(b, float):
+        return (math.isinf(a) and math.isinf(b) and (a > 0) == (b > 0)) or float(a) == float(b)
+    if isinstance(a, str) and a in ("True", "False"):
+        a = a == "True"
+    return a == b
+
+
+class qa_grc_defaults(gr_unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.blocks = load_blocks()
+        cls.cxx = cxx_defaults()
+
+    def test_every_block_known(self):
+        self.assertEqual(sorted(self.blocks), sorted(self.cxx))
+
+    def test_defaults_agree(self):
+        checked = 0
+        for block, d in self.blocks.items():
+            for p in d.get("parameters", []):
+                key = (block, p["id"])
+                if key in DELIBERATE:
+                    grc_expected, cxx_name, doc = DELIBERATE[key]
+                    self.assertEqual(grc_value(p["default"]), grc_expected, key)
+                    self.assertNotEqual(grc_expected, sems.frame_settings().cp_len, f"{key}: no longer a deviation")
+                    with open(os.path.join(SOURCE, doc)) as f:
+                        self.assertIn("CP = 48", f.read(), f"{key}: the reason is no longer in {doc}")
+                    self.assertIn(f"C++/Python default is frame_settings' {sems.frame_settings().cp_len}",
+                                  d["documentation"], f"{key}: the GRC documentation must state the C++ default")
+                    continue
+                if key in GRC_ONLY:
+                    self.assertNotIn(p["id"], self.cxx[block], f"{key} is both GRC-only and compared")
+                    continue
+                self.assertIn(p["id"], self.cxx[block],
+                              f"{block}.{p['id']}: default {p.get('default')!r} is neither compared with a "
+                              f"C++ default nor listed as GRC-only")
+                grc = grc_value(p["default"])
+                cxx = self.cxx[block][p["id"]]
+                self.assertTrue(same(grc, cxx), f"{block}.{p['id']}: GRC default {grc!r} != C++ default {cxx!r}")
+                checked += 1
+        self.assertGreaterEqual(checked, 30)
+
+    def test_python_hier_defaults(self):
+        # ofdm_tx / ofdm_rx are Python hier blocks: their defaults come from frame_settings too.
+        fs = sems.frame_settings()
+        for cls in (sems.ofdm_tx, sems.ofdm_rx):
+            sig = inspect.signature(cls.__init__).parameters
+            self.assertEqual(sig["n_subcarriers"].default, fs.n_subcarriers, cls.__name__)
+            self.assertEqual(sig["cp_len"].default, fs.cp_len, cls.__name__)
+
+    def test_every_parameter_documented(self):
+        for block, d in self.blocks.items():
+            doc = d.get("documentation", "")
+            for p in d.get("parameters", []):
+                self.assertIn(f"- {p['label']}: ", doc, f"{block}: parameter {p['id']} ({p['label']}) undocumented")
+
+    def test_checker_catches_a_disagreement(self):
+        # The comparison can fail: the old target_channel SNR default (20 dB) against C++'s +inf.
+        self.assertFalse(same(grc_value("20.0"), self.cxx["sems_target_channel"]["snr_db"]))
+        self.assertTrue(same(grc_value("float('inf')"), self.cxx["sems_target_channel"]["snr_db"]))
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_grc_defaults)
