@@ -162,7 +162,7 @@ int main(int argc, char** argv)
     const double bandwidth = d.subcarrier_spacing_hz() * o.n_subcarriers;
     auto channel = [&](int paths, bool md, double snr) {
         return [=, &o]() -> gr::basic_block_sptr {
-            return target_channel::make(scene_json(paths, md), {}, 1, 1, true, 0, 0.0, snr, 1, o.n_symbols,
+            return target_channel::make(scene_json(paths, md), {}, 1, 1, true, "approaching", 0, 0.0, snr, 1, o.n_symbols,
                                         o.n_subcarriers, bandwidth);
         };
     };

@@ -112,7 +112,9 @@ int main(int argc, char** argv)
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
         ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
         ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no settings check)")
-        ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)");
+        ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
+        ("no-any-heading", "experiment 1: skip the \"any\" heading scene")
+        ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)");
     // clang-format on
     try {
         po::variables_map vm;
@@ -123,6 +125,8 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         apply_size(c);
+        c.exp1_any_heading = !vm.count("no-any-heading");
+        c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         if (vm.count("test-frames"))
             c.test_frames = vm["test-frames"].as<int>();
         if (vm.count("train-frames"))

@@ -47,7 +47,7 @@ double parse_snr(const std::string& s)
 int main(int argc, char** argv)
 {
     training_settings s;
-    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr;
+    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading;
     int paths = 1;
     double clutter_csr = std::numeric_limits<double>::quiet_NaN();
     bool no_md = false;
@@ -66,6 +66,7 @@ int main(int argc, char** argv)
         ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
         ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
         ("no-micro-doppler", po::bool_switch(&no_md), "random scene: no micro-Doppler")
+        ("heading", po::value(&heading)->default_value("approaching"), "random scene: approaching (radial velocity = +speed, the paper) | any (speed·cos θ, θ uniform)")
         ("snr", po::value(&snr), "fixed SNR in dB ('inf' = noiseless)")
         ("snr-min", po::value(&snr_min), "SNR range, low end (dB)")
         ("snr-max", po::value(&snr_max), "SNR range, high end (dB)")
@@ -92,12 +93,18 @@ int main(int argc, char** argv)
         ("temp-start", po::value(&s.encoder.temperature_start)->default_value(s.encoder.temperature_start), "Gumbel temperature at the start")
         ("temp-floor", po::value(&s.encoder.temperature_floor)->default_value(s.encoder.temperature_floor), "Gumbel temperature floor")
         ("temp-decay", po::value(&s.encoder.temperature_decay)->default_value(s.encoder.temperature_decay), "temperature factor per epoch")
-        ("soft-above", po::value(&s.encoder.soft_above)->default_value(s.encoder.soft_above), "soft (relaxed) forward while the temperature is above this")
+        ("encoder", po::value(&s.encoder.kind)->default_value(s.encoder.kind), "mask learner: gumbel_topk (structured scores, top-N_p) | gumbel_heads (the paper's N_p heads)")
+        ("free-scores", "encoder gumbel_topk: add a free N x M score term to a[n] + b[m]")
+        ("soft-epochs", po::value(&s.encoder.soft_epochs)->default_value(s.encoder.soft_epochs), "mask epochs with a soft (relaxed) forward pass first; 0 = hard 0/1 masks from the start")
         ("embedding", po::value(&s.encoder.embedding)->default_value(s.encoder.embedding), "encoder: head embedding size")
         ("encoder-hidden", po::value(&s.encoder.hidden)->default_value(s.encoder.hidden), "encoder: MLP width")
         ("shared-scores", "encoder: add a score matrix shared by all heads")
         ("full-scores", "encoder: free N*M score matrix per head instead of the factorised a[n] + b[m]")
-        ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "head collision penalty")
+        ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "gumbel_heads: head collision penalty (0 = off)")
+        ("classifier", po::value(&s.classifier.architecture)->default_value(s.classifier.architecture), "classifier decoder: spectral (phase-invariant Doppler profile, any mask) | resnet (the paper's)")
+        ("mti", po::value(&s.classifier.mti)->default_value(s.classifier.mti), "spectral classifier: zero-Doppler stage none | mean (subtract each subcarrier's mean: removes static clutter) | both")
+        ("doppler-bins", po::value(&s.classifier.doppler_bins)->default_value(s.classifier.doppler_bins), "spectral classifier: slow-time DFT size (>= symbols)")
+        ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
         ("quiet", "no per-epoch progress")
         // Distributed training (docs/distributed_training.md); the flags override
@@ -139,6 +146,8 @@ int main(int argc, char** argv)
             s.encoder.shared = true;
         if (vm.count("full-scores"))
             s.encoder.factorized = false;
+        if (vm.count("free-scores"))
+            s.encoder.free_scores = true;
         s.task = task_from_name(task);
         if (vm.count("width")) {
             s.classifier.width = vm["width"].as<int>();
@@ -162,6 +171,9 @@ int main(int argc, char** argv)
         for (const auto& v : split_list(eval_snr))
             s.eval_snr_db.push_back(parse_snr(v));
 
+        if (!scene_file.empty() && !vm["heading"].defaulted())
+            throw std::invalid_argument("--heading is for random scenes built from the flags; with --scene, "
+                                        "set \"heading\" in the scene file");
         if (!scene_file.empty()) {
             s.scene_spec = scene::load(scene_file);
             s.scene_source = scene_file;
@@ -172,6 +184,7 @@ int main(int argc, char** argv)
                 r.classes.push_back(class_from_name(c));
             r.paths_per_target = paths;
             r.micro_doppler = !no_md;
+            r.heading = heading_from_name(heading);
             std::optional<clutter_spec> clutter;
             if (!std::isnan(clutter_csr)) {
                 clutter_spec c;
@@ -181,7 +194,7 @@ int main(int argc, char** argv)
             s.scene_spec = scene::random(r, clutter);
             std::ostringstream src;
             src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
-                << (no_md ? ", no micro-Doppler" : "")
+                << (no_md ? ", no micro-Doppler" : "") << ", heading " << heading
                 << (clutter ? ", clutter CSR " + std::to_string(clutter_csr) + " dB" : "") << ")";
             s.scene_source = src.str();
         }

@@ -91,6 +91,8 @@ scene recognition_scene(const std::string& scenario, const config& c)
         clutter_spec cl;
         cl.csr_db = c.clutter_csr_db;
         clutter = cl;
+    } else if (scenario == "any") {
+        r.heading = heading_kind::any;
     } else if (scenario != "default")
         throw std::invalid_argument("unknown recognition scenario " + scenario);
     return scene::random(r, clutter);

@@ -49,6 +49,8 @@ struct config {
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
     bool reuse_bundles = false; // load any cached bundle without comparing settings (timing re-runs)
     bool only_shipped = false; // evaluate only the shipped bundles (rows to add to a full run)
+    bool exp1_any_heading = true;   // experiment 1 also on the "any" heading scene
+    bool exp1_hand_patterns = true; // experiment 1: the SemS decoder also on Doppler/uniform/random pilots
     frame_settings fs;
     std::string command_line;
 };
@@ -81,7 +83,7 @@ std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, 
                                const pilot_mask& mask);
 
 // Scenes of the experiments.
-scene recognition_scene(const std::string& scenario, const config& c); // default | no_md | clutter
+scene recognition_scene(const std::string& scenario, const config& c); // default | any | no_md | clutter
 scene delay_scene(int paths);
 
 // Accuracy and macro-F1 (unweighted mean of per-class F1 over the classes present).

@@ -70,8 +70,11 @@ struct dl_method {
 void run_recognition(const config& c, std::ostream& log)
 {
     std::vector<std::string> scenarios;
-    if (c.experiments.count(1))
+    if (c.experiments.count(1)) {
         scenarios.push_back("default");
+        if (c.exp1_any_heading)
+            scenarios.push_back("any"); // the harder scene: approaching, receding and crossing targets
+    }
     if (c.experiments.count(3)) {
         scenarios.push_back("no_md");
         scenarios.push_back("clutter");
@@ -87,8 +90,9 @@ void run_recognition(const config& c, std::ostream& log)
     const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
 
     for (const auto& scen : scenarios) {
-        const std::string exp = scen == "default" ? "1" : "3";
-        csv_file& csv = scen == "default" ? *csv1 : *csv3;
+        const bool exp1 = scen == "default" || scen == "any";
+        const std::string exp = exp1 ? "1" : "3";
+        csv_file& csv = exp1 ? *csv1 : *csv3;
         const scene sc = recognition_scene(scen, c);
         const uint64_t test_seed = c.seed + 101;
         log << "[" << now_utc() << "] exp " << exp << " (" << scen << "): " << c.test_frames
@@ -128,6 +132,17 @@ void run_recognition(const config& c, std::ostream& log)
             pcsi.settings.snr_min_db = pcsi.settings.snr_max_db = std::numeric_limits<double>::infinity();
             pcsi.noiseless_input = true;
             dl.push_back(pcsi);
+            // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
+            if (exp1 && c.exp1_hand_patterns)
+                for (const std::string pattern : { "doppler", "uniform", "random" }) {
+                    dl_method hp = m;
+                    hp.method = "SemS decoder (" + pattern + " pilots)";
+                    hp.model_name = "cls_" + scen + "_" + pattern;
+                    hp.mask_label = pattern;
+                    hp.settings.mask_pattern = pattern;
+                    hp.settings.epochs = m.settings.epochs + m.settings.decoder_epochs;
+                    dl.push_back(hp);
+                }
             if (scen == "default") {
                 dl_method pn = pcsi;
                 pn.method = "Perfect CSI (test SNR)";

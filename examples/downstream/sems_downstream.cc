@@ -41,7 +41,7 @@ int main(int argc, char** argv)
         std::vector<gr_complex> data(size_t(frames) * (fs.grid_size() - np), gr_complex(1.0f, 0.0f));
         auto src = gr::blocks::vector_source_c::make(data);
         auto mapper = sems::pilot_mapper::make(mask);
-        auto channel = sems::target_channel::make("", {}, 1, 1, true, 0, 0.0, 20.0, 7);
+        auto channel = sems::target_channel::make("", {}, 1, 1, true, "approaching", 0, 0.0, 20.0, 7);
         auto extractor = sems::pilot_extractor::make(mask);
         auto sink = gr::blocks::vector_sink_c::make(np);
         tb->connect(src, 0, mapper, 0);

@@ -25,6 +25,7 @@ scene channel_block_scene(const char* who,
                           int n_targets,
                           int paths_per_target,
                           bool micro_doppler,
+                          const std::string& heading,
                           int clutter_paths,
                           double clutter_csr_db)
 {
@@ -33,9 +34,10 @@ scene channel_block_scene(const char* who,
         const random_spec defaults;
         if (!classes.empty() || n_targets != defaults.n_targets ||
             paths_per_target != defaults.paths_per_target || micro_doppler != defaults.micro_doppler ||
-            clutter_paths != 0 || clutter_csr_db != 0.0)
+            heading != heading_name(defaults.heading) || clutter_paths != 0 || clutter_csr_db != 0.0)
             throw std::invalid_argument(std::string(who) +
-                                        ": classes, n_targets, paths_per_target, micro_doppler and clutter_* "
+                                        ": classes, n_targets, paths_per_target, micro_doppler, heading and "
+                                        "clutter_* "
                                         "describe random scenes; a fixed scene (scene = file or JSON) carries "
                                         "its own, so leave them at their defaults");
         if (text[first] == '{')
@@ -57,6 +59,11 @@ scene channel_block_scene(const char* who,
     r.n_targets = n_targets;
     r.paths_per_target = paths_per_target;
     r.micro_doppler = micro_doppler;
+    try {
+        r.heading = heading_from_name(heading);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": heading: " + e.what());
+    }
     std::optional<clutter_spec> clutter;
     if (clutter_paths < 0)
         throw std::invalid_argument(std::string(who) + ": clutter_paths must be >= 0, got " +

@@ -28,6 +28,7 @@ scene channel_block_scene(const char* who,
                           int n_targets,
                           int paths_per_target,
                           bool micro_doppler,
+                          const std::string& heading, // "approaching" | "any" (heading_kind)
                           int clutter_paths,
                           double clutter_csr_db);
 

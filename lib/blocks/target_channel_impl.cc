@@ -19,6 +19,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           int n_targets,
                                           int paths_per_target,
                                           bool micro_doppler,
+                                          const std::string& heading,
                                           int clutter_paths,
                                           double clutter_csr_db,
                                           double snr_db,
@@ -39,7 +40,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.cp_len = 0; // the frequency-domain emulator has no cyclic prefix (ofdm_tx/rx add it)
     fs.validate();
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
-                                          clutter_paths, clutter_csr_db);
+                                          heading, clutter_paths, clutter_csr_db);
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db);
 }
 

@@ -42,8 +42,9 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(who) + ": " + e.what());
     }
+    // (No heading parameter here yet: random scenes use the default heading; a scene JSON may set "any".)
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
-                                          clutter_paths, clutter_csr_db);
+                                          heading_name(random_spec{}.heading), clutter_paths, clutter_csr_db);
     try { // the model checks the scene against the frame, td_channel T against the symbol length
         return gnuradio::make_block_sptr<target_channel_td_impl>(channel_model(fs, sc, seed), snr_db);
     } catch (const std::invalid_argument& e) {

@@ -210,6 +210,10 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
             t.power = target_spec{}.power;
             t.md.reset();
+            // "any" heading: radial velocity speed·cos θ, θ ~ U[0, 2π). Drawn after the speed,
+            // and only for this heading, so approaching scenes keep their exact frames.
+            if (r->heading == heading_kind::any)
+                t.velocity_mps *= std::cos(g.uniform(0.0, two_pi));
             if (r->micro_doppler && spec.has_micro_doppler())
                 t.md = micro_doppler{ g.uniform(spec.md_rate_min_hz, spec.md_rate_max_hz),
                                       spec.md_amplitude_m,

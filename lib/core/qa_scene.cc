@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: scenes — file round trip, random draws from the class table, validation. */
+/* gr-sems: scenes — file round trip, random draws from the class table (both headings),
+ * validation. */
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/scene.h>
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <vector>
 #include <string>
 
 using namespace gr::sems;
@@ -22,6 +26,7 @@ class qa_scene : public CppUnit::TestFixture
     CPPUNIT_TEST(random_round_trip);
     CPPUNIT_TEST(random_draws_follow_class_table);
     CPPUNIT_TEST(micro_doppler_off_means_no_md_paths);
+    CPPUNIT_TEST(any_heading_draws_speed_times_cos_uniform_angle);
     CPPUNIT_TEST(malformed_scenes_are_refused);
     CPPUNIT_TEST_SUITE_END();
 
@@ -58,6 +63,11 @@ public:
         CPPUNIT_ASSERT(s.is_random());
         CPPUNIT_ASSERT_EQUAL(s.to_json().dump(), scene::parse(s.to_json_string()).to_json().dump());
         CPPUNIT_ASSERT_EQUAL(size_t(2), s.label_classes().size());
+        // The heading: written always, "approaching" by default, "any" read back.
+        CPPUNIT_ASSERT_EQUAL(std::string("approaching"), s.to_json()["random"]["heading"].get<std::string>());
+        auto any = scene::parse(head + R"("random": {"heading": "any"}})");
+        CPPUNIT_ASSERT(any.random_settings()->heading == heading_kind::any);
+        CPPUNIT_ASSERT_EQUAL(any.to_json().dump(), scene::parse(any.to_json_string()).to_json().dump());
     }
 
     void random_draws_follow_class_table()
@@ -94,8 +104,63 @@ public:
                 CPPUNIT_ASSERT_EQUAL(0.0, p.md_rate_hz);
     }
 
+    void any_heading_draws_speed_times_cos_uniform_angle()
+    {
+        // Cars: speed s ~ U[10, 20], radial velocity v = s·cos θ with θ ~ U[0, 2π).
+        random_spec spec;
+        spec.classes = { target_class::car };
+        spec.heading = heading_kind::any;
+        channel_model cm(frame_settings{}, scene::random(spec), 8);
+        const int n = 20000;
+        std::vector<double> v(n);
+        for (int f = 0; f < n; ++f)
+            v[f] = cm.draw(f).truth.velocity_mps;
+        // Both signs, and never faster than the class allows.
+        const double positive = std::count_if(v.begin(), v.end(), [](double x) { return x > 0; }) / double(n);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(0.5, positive, 0.015); // sd 0.0035
+        for (double x : v)
+            CPPUNIT_ASSERT(std::fabs(x) <= 20.0);
+        // Moments: E[v] = 0, E[v²] = E[s²]/2 = (20³ - 10³)/(3·10)/2 = 116.67 (sd 0.076 and 0.69).
+        double m1 = 0, m2 = 0;
+        for (double x : v) {
+            m1 += x / n;
+            m2 += x * x / n;
+        }
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(0.0, m1, 0.35);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(7000.0 / 60.0, m2, 3.0);
+        // Kolmogorov–Smirnov against F(x) = E_s[P(cos θ <= x/s)] = E_s[1 - acos(clamp(x/s))/π].
+        std::sort(v.begin(), v.end());
+        auto cdf = [](double x) {
+            const int k = 2000;
+            double sum = 0;
+            for (int i = 0; i < k; ++i) {
+                const double s = 10.0 + 10.0 * (i + 0.5) / k;
+                sum += 1.0 - std::acos(std::clamp(x / s, -1.0, 1.0)) / M_PI;
+            }
+            return sum / k;
+        };
+        double d = 0;
+        for (int i = 0; i < n; i += 7) { // every 7th order statistic: enough for the sup
+            const double f = cdf(v[i]);
+            d = std::max({ d, std::fabs(f - double(i) / n), std::fabs(f - double(i + 1) / n) });
+        }
+        CPPUNIT_ASSERT_MESSAGE("KS distance " + std::to_string(d), d < 1.63 / std::sqrt(double(n))); // 1 % level
+        // Approaching (the default): the same frames' speeds, all positive.
+        spec.heading = heading_kind::approaching;
+        channel_model ap(frame_settings{}, scene::random(spec), 8);
+        for (int f = 0; f < 2000; ++f) {
+            const double x = ap.draw(f).truth.velocity_mps;
+            CPPUNIT_ASSERT(x >= 10.0 && x <= 20.0);
+        }
+        CPPUNIT_ASSERT(heading_from_name("any") == heading_kind::any);
+        CPPUNIT_ASSERT_EQUAL(std::string("approaching"), heading_name(heading_kind::approaching));
+        assert_error([] { heading_from_name("sideways"); }, "unknown heading \"sideways\"", "approaching, any");
+    }
+
     void malformed_scenes_are_refused()
     {
+        assert_error([] { scene::parse(head + R"("random": {"heading": "north"}})", "l.json"); },
+                     "l.json: random.heading", "north");
         assert_error([] { scene::parse("{", "a.json"); }, "a.json: not valid JSON");
         assert_error([] { scene::parse(head + R"("targets": []})", "b.json"); }, "b.json: targets: a fixed scene needs");
         assert_error([] { scene::parse(head + R"("targets": [{"class": "tank", "range_m": 1, "velocity_mps": 1}]})",

@@ -8,7 +8,8 @@
  *                 "micro_doppler": {"rate_hz": 100, "amplitude_m": 0.01, "phase_rad": 0},
  *                 "paths": [{"excess_range_m": 0, "power": 1}, {"excess_range_m": 12, "power": 0.3}]}],
  *    "random": {"classes": ["pedestrian", "car", "drone"], "targets": 1, "paths_per_target": 1,
- *               "excess_range_m": [2, 30], "path_power_decay_db": 3, "micro_doppler": true},
+ *               "excess_range_m": [2, 30], "path_power_decay_db": 3, "micro_doppler": true,
+ *               "heading": "approaching" | "any"},
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]}}
  */
 #include "core/json_read.h"
@@ -54,6 +55,30 @@ void validate_clutter(const clutter_spec& c, const std::string& source)
             check_finite_nonneg(r, source, "clutter.ranges_m");
     }
 }
+
+} // namespace
+
+std::string heading_name(heading_kind h)
+{
+    switch (h) {
+    case heading_kind::approaching:
+        return "approaching";
+    case heading_kind::any:
+        return "any";
+    }
+    throw std::invalid_argument("unknown heading kind " + std::to_string(static_cast<int>(h)));
+}
+
+heading_kind heading_from_name(const std::string& name)
+{
+    if (name == "approaching")
+        return heading_kind::approaching;
+    if (name == "any")
+        return heading_kind::any;
+    throw std::invalid_argument("unknown heading \"" + name + "\" (known: approaching, any)");
+}
+
+namespace {
 
 json range_pair(double lo, double hi) { return json::array({ lo, hi }); }
 
@@ -115,6 +140,8 @@ void scene::validate(const std::string& source) const
         if (r.excess_range_min_m > r.excess_range_max_m)
             fail(source, "random.excess_range_m", "min exceeds max");
         check_finite_nonneg(r.path_power_decay_db, source, "random.path_power_decay_db");
+        if (r.heading != heading_kind::approaching && r.heading != heading_kind::any)
+            fail(source, "random.heading", "unknown heading kind " + std::to_string(static_cast<int>(r.heading)));
         return;
     }
     if (d_targets.empty())
@@ -163,7 +190,8 @@ json scene::to_json() const
                         { "paths_per_target", r.paths_per_target },
                         { "excess_range_m", range_pair(r.excess_range_min_m, r.excess_range_max_m) },
                         { "path_power_decay_db", r.path_power_decay_db },
-                        { "micro_doppler", r.micro_doppler } };
+                        { "micro_doppler", r.micro_doppler },
+                        { "heading", heading_name(r.heading) } };
     } else {
         j["target_of_interest"] = d_toi;
         json targets = json::array();
@@ -254,6 +282,14 @@ scene scene::from_json(const json& j, const std::string& source)
             if (!r["micro_doppler"].is_boolean())
                 fail(source, "random.micro_doppler", "expected true or false");
             spec.micro_doppler = r["micro_doppler"].get<bool>();
+        }
+        if (r.contains("heading")) {
+            const std::string h = string(r["heading"], "random.heading", source);
+            try {
+                spec.heading = heading_from_name(h);
+            } catch (const std::invalid_argument& e) {
+                fail(source, "random.heading", e.what());
+            }
         }
         s.d_random = spec;
     } else {

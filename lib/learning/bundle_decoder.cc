@@ -22,6 +22,7 @@ struct bundle_decoder::impl {
         if (threads > 0 && at::get_num_threads() != threads)
             at::set_num_threads(threads);
     }
+    torch::Tensor mask; // N x M, 1 at the pilots
 
     torch::Tensor grid(const gr_complex* obs, int batch) const
     {
@@ -40,7 +41,7 @@ struct bundle_decoder::impl {
                                         " is a \"" + task_name(bundle.task) + "\" model");
         use_threads();
         torch::NoGradGuard ng;
-        return net->forward(grid(obs, batch));
+        return net->forward(grid(obs, batch), mask);
     }
 };
 
@@ -56,6 +57,9 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     d_impl->net->eval();
     for (int i : bundle.mask.flat_indices())
         d_impl->indices.push_back(i);
+    auto m = torch::zeros({ bundle.frame.n_symbols * bundle.frame.n_subcarriers });
+    m.index_fill_(0, torch::tensor(d_impl->indices, torch::kLong), 1.0f);
+    d_impl->mask = m.view({ bundle.frame.n_symbols, bundle.frame.n_subcarriers });
 }
 
 bundle_decoder::~bundle_decoder() = default;

@@ -39,6 +39,8 @@ torch::Tensor residual_block2d_module::forward(const torch::Tensor& x)
 classifier_decoder_module::classifier_decoder_module(int n, int m, int np, classifier_settings s)
     : d_n(n), d_m(m), d_np(np), d_s(s)
 {
+    d_s.architecture = "resnet"; // what describe() records
+
     if (s.n_classes < 2)
         throw std::invalid_argument("classifier decoder: n_classes must be >= 2");
     d_stem = register_module(

@@ -2,6 +2,7 @@
 /* gr-sems: model bundle directory (bundle.json + the mask and weights files it names; weights via bundle_decoder). */
 #include "core/json_read.h"
 #include <gnuradio/sems/learning/model_bundle.h>
+#include <algorithm>
 #include <sys/stat.h>
 #include <stdexcept>
 
@@ -34,8 +35,13 @@ std::string bundle_file_name(const nlohmann::json& j, const char* key, const cha
     return name;
 }
 
-// The decoder kind each task needs.
-const char* decoder_kind_for(task_kind t) { return t == task_kind::classify ? "classifier_resnet" : "delay_correlation"; }
+// The decoder kinds each task accepts.
+std::vector<std::string> decoder_kinds_for(task_kind t)
+{
+    if (t == task_kind::classify)
+        return { "classifier_spectral", "classifier_resnet" };
+    return { "delay_correlation" };
+}
 } // namespace
 
 std::string task_name(task_kind t) { return t == task_kind::classify ? "classify" : "delay"; }
@@ -95,9 +101,14 @@ model_bundle model_bundle::load(const std::string& dir)
     b.frame = frame_settings::from_json(json_read::require(j, "frame", path), path + ": frame");
     b.decoder = json_read::require(j, "decoder", path);
     const auto kind = json_read::string(json_read::require(b.decoder, "kind", path), "decoder.kind", path);
-    if (kind != decoder_kind_for(b.task))
+    const auto kinds = decoder_kinds_for(b.task);
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
+        std::string known;
+        for (const auto& k : kinds)
+            known += (known.empty() ? "\"" : ", \"") + k + "\"";
         json_read::fail(path, "decoder.kind",
-                        "task \"" + task + "\" needs a \"" + decoder_kind_for(b.task) + "\" decoder, got \"" + kind + "\"");
+                        "task \"" + task + "\" needs a " + known + " decoder, got \"" + kind + "\"");
+    }
     if (b.task == task_kind::classify) {
         const auto& names = json_read::require(j, "class_names", path);
         if (!names.is_array() || names.size() < 2)

@@ -30,6 +30,16 @@ double positive_or(const json& j, const char* key, double fallback, const std::s
     return v;
 }
 
+bool bool_or(const json& j, const char* key, bool fallback, const std::string& source)
+{
+    auto it = j.find(key);
+    if (it == j.end())
+        return fallback;
+    if (!it->is_boolean())
+        json_read::fail(source, key, "expected true or false");
+    return it->get<bool>();
+}
+
 void require_object(const json& j, const std::string& source)
 {
     if (!j.is_object())
@@ -39,12 +49,14 @@ void require_object(const json& j, const std::string& source)
 
 json encoder_settings::to_json() const
 {
-    return { { "embedding", embedding },
+    return { { "kind", kind },
+             { "free_scores", free_scores },
+             { "embedding", embedding },
              { "hidden", hidden },
              { "temperature_start", temperature_start },
              { "temperature_floor", temperature_floor },
              { "temperature_decay", temperature_decay },
-             { "soft_above", soft_above },
+             { "soft_epochs", soft_epochs },
              { "factorized", factorized },
              { "shared", shared },
              { "collision_weight", collision_weight },
@@ -55,42 +67,69 @@ encoder_settings encoder_settings::from_json(const json& j, const std::string& s
 {
     require_object(j, source);
     encoder_settings s;
+    if (j.contains("kind")) {
+        s.kind = json_read::string(j["kind"], "kind", source);
+        if (!known_kind(s.kind))
+            json_read::fail(source, "kind", "unknown encoder \"" + s.kind + "\" (known: gumbel_topk, gumbel_heads)");
+    }
+    if (j.contains("soft_above"))
+        json_read::fail(source, "soft_above",
+                        "is no longer a setting: use soft_epochs (the number of mask epochs with a soft "
+                        "forward pass; 0 = hard masks from the start)");
+    s.free_scores = bool_or(j, "free_scores", s.free_scores, source);
     s.embedding = int_or(j, "embedding", s.embedding, source, 1);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
     s.temperature_start = positive_or(j, "temperature_start", s.temperature_start, source);
     s.temperature_floor = positive_or(j, "temperature_floor", s.temperature_floor, source);
     s.temperature_decay = positive_or(j, "temperature_decay", s.temperature_decay, source);
-    if (j.contains("factorized")) {
-        if (!j["factorized"].is_boolean())
-            json_read::fail(source, "factorized", "expected true or false");
-        s.factorized = j["factorized"].get<bool>();
-    }
-    if (j.contains("shared")) {
-        if (!j["shared"].is_boolean())
-            json_read::fail(source, "shared", "expected true or false");
-        s.shared = j["shared"].get<bool>();
-    }
-    s.soft_above = json_read::number_or(j, "soft_above", s.soft_above, source);
+    s.soft_epochs = int_or(j, "soft_epochs", s.soft_epochs, source, 0);
+    s.factorized = bool_or(j, "factorized", s.factorized, source);
+    s.shared = bool_or(j, "shared", s.shared, source);
     s.collision_weight = json_read::number_or(j, "collision_weight", s.collision_weight, source);
+    if (s.collision_weight < 0.0)
+        json_read::fail(source, "collision_weight", "must be >= 0");
     s.lr_scale = positive_or(j, "lr_scale", s.lr_scale, source);
     return s;
 }
 
 json classifier_settings::to_json() const
 {
-    return { { "n_classes", n_classes }, { "width", width },       { "depth", depth },
-             { "hidden", hidden },       { "features", features } };
+    json j = { { "architecture", architecture }, { "n_classes", n_classes }, { "width", width },
+               { "hidden", hidden },             { "features", features } };
+    if (architecture == "resnet") {
+        j["depth"] = depth;
+    } else {
+        j["doppler_bins"] = doppler_bins;
+        j["kernel"] = kernel;
+        j["mti"] = mti;
+    }
+    return j;
 }
 
 classifier_settings classifier_settings::from_json(const json& j, const std::string& source)
 {
     require_object(j, source);
     classifier_settings s;
+    // (make_decoder sets the architecture from the bundle's decoder kind.)
+    if (j.contains("architecture"))
+        s.architecture = json_read::string(j["architecture"], "architecture", source);
+    if (!known_architecture(s.architecture))
+        json_read::fail(source, "architecture",
+                        "unknown classifier \"" + s.architecture + "\" (known: spectral, resnet)");
     s.n_classes = int_or(j, "n_classes", s.n_classes, source, 2);
     s.width = int_or(j, "width", s.width, source, 1);
     s.depth = int_or(j, "depth", s.depth, source, 0);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
     s.features = int_or(j, "features", s.features, source, 1);
+    s.doppler_bins = int_or(j, "doppler_bins", s.doppler_bins, source, 1);
+    s.kernel = int_or(j, "kernel", s.kernel, source, 1);
+    if (s.kernel % 2 == 0)
+        json_read::fail(source, "kernel", "must be odd");
+    if (j.contains("mti")) {
+        s.mti = json_read::string(j["mti"], "mti", source);
+        if (!known_mti(s.mti))
+            json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");
+    }
     return s;
 }
 

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: learning networks — Gumbel-Softmax numerics, distinct final masks,
- * soft-argmax stability, decoder shapes. */
+/* gr-sems: learning networks — Gumbel-Softmax and Gumbel top-k numerics, distinct
+ * masks, soft-argmax stability, decoder shapes, the spectral classifier's phase
+ * invariance and its zero-Doppler (MTI) stage. */
 #include "learning/classifier_decoder.h"
 #include "learning/delay_decoder.h"
 #include "learning/reconstruction_decoder.h"
 #include "learning/semantic_encoder.h"
+#include "learning/spectral_classifier_decoder.h"
+#include <gnuradio/sems/core/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <set>
@@ -31,6 +34,10 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(gumbel_gradient_flows);
     CPPUNIT_TEST(final_mask_is_distinct);
     CPPUNIT_TEST(encoder_forward_one_hot_at_floor);
+    CPPUNIT_TEST(topk_distinct_and_finite_at_extremes);
+    CPPUNIT_TEST(topk_encoder_mask_is_exactly_np_distinct);
+    CPPUNIT_TEST(mti_removes_static_path_exactly);
+    CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
     CPPUNIT_TEST(decoder_shapes_and_scale_invariance);
     CPPUNIT_TEST_SUITE_END();
@@ -90,6 +97,7 @@ public:
         for (bool factorized : { true, false }) {
             torch::manual_seed(3);
             encoder_settings es;
+            es.kind = "gumbel_heads";
             es.factorized = factorized;
             semantic_encoder enc(32, 32, 64, es);
             auto f = enc->final_indices();
@@ -101,17 +109,192 @@ public:
 
     void encoder_forward_one_hot_at_floor()
     {
-        torch::manual_seed(4);
-        encoder_settings es;
-        semantic_encoder enc(8, 4, 8, es);
-        auto s = enc->sample(es.temperature_floor);
-        CPPUNIT_ASSERT_EQUAL(int64_t(8), s.size(0));
-        CPPUNIT_ASSERT_EQUAL(int64_t(32), s.size(1));
-        assert_exact_one_hot(s);
-        auto mask = semantic_encoder_module::mask_from_selection(s, 4, 8);
-        CPPUNIT_ASSERT_EQUAL(8.0, mask.sum().item<double>());
-        auto pen = enc->collision_penalty(es.temperature_floor);
-        CPPUNIT_ASSERT(all_finite(pen) && pen.item<double>() >= -1e-6);
+        for (const char* kind : { "gumbel_topk", "gumbel_heads" }) {
+            torch::manual_seed(4);
+            encoder_settings es;
+            es.kind = kind;
+            semantic_encoder enc(8, 4, 8, es);
+            // Hard from the start: exact one-hot rows at the start temperature too.
+            for (double t : { es.temperature_start, es.temperature_floor }) {
+                auto s = enc->sample(t);
+                CPPUNIT_ASSERT_EQUAL(int64_t(8), s.size(0));
+                CPPUNIT_ASSERT_EQUAL(int64_t(32), s.size(1));
+                assert_exact_one_hot(s);
+                auto mask = semantic_encoder_module::mask_from_selection(s, 4, 8);
+                CPPUNIT_ASSERT_EQUAL(8.0, mask.sum().item<double>());
+            }
+            // The soft warm-up sample: rows are distributions, not one-hot.
+            auto soft = enc->sample(1.0, false);
+            CPPUNIT_ASSERT(torch::allclose(soft.sum(1), torch::ones({ 8 }), 1e-5, 1e-5));
+            CPPUNIT_ASSERT(soft.max().item<double>() < 1.0);
+            auto pen = enc->collision_penalty(es.temperature_floor);
+            CPPUNIT_ASSERT(all_finite(pen) && pen.item<double>() >= -1e-6);
+        }
+    }
+
+    void topk_distinct_and_finite_at_extremes()
+    {
+        torch::manual_seed(11);
+        const int n = 256, k = 32;
+        auto huge = torch::where(torch::rand({ n }) > 0.5, torch::full({ n }, 1e4), torch::full({ n }, -1e4));
+        for (const auto& z : { huge, torch::zeros({ n }), torch::full({ n }, 1e4), torch::randn({ n }) * 1e4 })
+            for (double temp : { 1e-3, 0.1, 1.0, 1e3 })
+                for (double u : { -1.0, 0.0, 1.0, 0.5 }) {
+                    auto zz = z.clone().requires_grad_(true);
+                    auto uni = u < 0 ? torch::Tensor() : torch::full({ n }, u);
+                    auto s = gumbel_topk_st(zz, k, temp, uni);
+                    CPPUNIT_ASSERT(all_finite(s));
+                    assert_exact_one_hot(s);
+                    // k distinct elements: the column sums are 0/1 and add up to k.
+                    auto cols = s.sum(0);
+                    CPPUNIT_ASSERT((cols.eq(0.0f) | cols.eq(1.0f)).all().item<bool>());
+                    CPPUNIT_ASSERT_EQUAL(double(k), cols.sum().item<double>());
+                    (s * torch::randn({ k, n })).sum().backward();
+                    CPPUNIT_ASSERT(all_finite(zz.grad()));
+                    auto soft = gumbel_topk_st(z, k, temp, uni, false);
+                    CPPUNIT_ASSERT(all_finite(soft));
+                    CPPUNIT_ASSERT(torch::allclose(soft.sum(1), torch::ones({ k }), 1e-4, 1e-4));
+                }
+        // The picks are the k largest of z + g: with g equal everywhere, the k largest of z.
+        auto z = torch::randn({ n });
+        auto s = gumbel_topk_st(z, k, 1.0, torch::full({ n }, 0.5));
+        auto picked = std::get<1>(s.sum(0).topk(k)).sort();
+        auto want = std::get<1>(z.topk(k)).sort();
+        CPPUNIT_ASSERT(torch::equal(std::get<0>(picked), std::get<0>(want)));
+        // Moderate scores: a non-zero gradient reaches them.
+        auto z0 = torch::zeros({ 64 }, torch::requires_grad());
+        (gumbel_topk_st(z0, 8, 1.0) * torch::randn({ 8, 64 })).sum().backward();
+        CPPUNIT_ASSERT(z0.grad().abs().sum().item<double>() > 0.0);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_st(z, 0, 1.0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_st(z, n + 1, 1.0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_st(z, k, 0.0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_st(torch::full({ n }, NAN), k, 1.0), std::invalid_argument);
+    }
+
+    void topk_encoder_mask_is_exactly_np_distinct()
+    {
+        for (bool free : { false, true }) {
+            torch::manual_seed(12);
+            encoder_settings es;
+            es.free_scores = free;
+            semantic_encoder enc(32, 32, 64, es);
+            // Fresh (all-zero scores), then extreme scores: every row wants the same subcarrier.
+            for (double scale : { 0.0, 1e4 }) {
+                {
+                    torch::NoGradGuard ng;
+                    for (auto& p : enc->parameters())
+                        p.copy_(torch::randn(p.sizes()) * scale);
+                    if (scale > 0)
+                        enc->named_parameters()["subcarrier_scores"][5].fill_(1e6);
+                }
+                auto f = enc->final_indices();
+                std::set<int64_t> u(f.begin(), f.end());
+                CPPUNIT_ASSERT_EQUAL(size_t(32), u.size());
+                CPPUNIT_ASSERT(*u.begin() >= 0 && *u.rbegin() < 32 * 64);
+                auto mask = semantic_encoder_module::mask_from_selection(enc->sample(1e-3), 32, 64);
+                CPPUNIT_ASSERT(all_finite(mask));
+                CPPUNIT_ASSERT((mask.eq(0.0f) | mask.eq(1.0f)).all().item<bool>());
+                CPPUNIT_ASSERT_EQUAL(32.0, mask.sum().item<double>());
+                if (scale > 0) // subcarrier 5 over all 32 symbols
+                    CPPUNIT_ASSERT_EQUAL(32.0, mask.select(1, 5).sum().item<double>());
+            }
+        }
+        encoder_settings bad;
+        bad.kind = "magic";
+        CPPUNIT_ASSERT_THROW(semantic_encoder(4, 4, 4, bad), std::invalid_argument);
+    }
+
+    void mti_removes_static_path_exactly()
+    {
+        // A noiseless frame of the channel model: one static path (clutter: zero Doppler)
+        // plus a moving target with micro-Doppler, on a random mask.
+        frame_settings fs;
+        channel_path clutter;
+        clutter.delay_s = fs.delay_from_range(73.0);
+        clutter.gain = { 3.0, -2.0 }; // 10x the target's power
+        channel_path target;
+        target.delay_s = fs.delay_from_range(120.0);
+        target.doppler_hz = fs.doppler_from_velocity(7.0);
+        target.md_rate_hz = 100.0;
+        target.md_amplitude_m = 0.01;
+        target.gain = { 0.6, 0.8 };
+        const int n = fs.n_symbols, m = fs.n_subcarriers, g = fs.grid_size();
+        auto grid_of = [&](const std::vector<channel_path>& paths) {
+            std::vector<gr_complex> h(g);
+            frame_channel(fs, paths, 1234).fill(h.data());
+            auto t = torch::from_blob(h.data(), { n, m, 2 }, torch::kFloat).clone();
+            return t.permute({ 2, 0, 1 }).unsqueeze(0).contiguous(); // 1 x 2 x N x M
+        };
+        torch::manual_seed(13);
+        auto mask = torch::zeros({ n * m });
+        mask.index_fill_(0, torch::randperm(n * m).slice(0, 0, 400), 1.0f);
+        mask = mask.view({ n, m });
+        const auto both = grid_of({ clutter, target }) * mask;
+        const auto only_static = grid_of({ clutter }) * mask;
+        const auto only_target = grid_of({ target }) * mask;
+        // The static path alone: removed (float rounding of |H| ~ 3.6 only).
+        CPPUNIT_ASSERT(remove_zero_doppler(only_static, mask).abs().max().item<double>() < 1e-5);
+        // Static + moving: exactly what the moving target alone gives.
+        CPPUNIT_ASSERT(torch::allclose(remove_zero_doppler(both, mask), remove_zero_doppler(only_target, mask), 0, 1e-5));
+        // ... which is not zero, and zero off the mask.
+        CPPUNIT_ASSERT(remove_zero_doppler(only_target, mask).abs().max().item<double>() > 0.1);
+        CPPUNIT_ASSERT_EQUAL(0.0, (remove_zero_doppler(both, mask) * (1 - mask)).abs().max().item<double>());
+        // The decoder with mti = "mean" sees the same profile with and without the clutter;
+        // with "none" it does not.
+        classifier_settings cs;
+        cs.mti = "mean";
+        spectral_classifier_decoder_module mti(n, m, 400, cs);
+        CPPUNIT_ASSERT(torch::allclose(mti.profile(both, mask), mti.profile(only_target, mask), 1e-3, 1e-3));
+        cs.mti = "none";
+        spectral_classifier_decoder_module raw(n, m, 400, cs);
+        CPPUNIT_ASSERT(!torch::allclose(raw.profile(both, mask), raw.profile(only_target, mask), 1e-2, 1e-2));
+    }
+
+    void spectral_decoder_phase_invariant_on_any_mask()
+    {
+        torch::manual_seed(14);
+        const int n = 16, m = 24, np = 40;
+        for (const char* mti : { "none", "mean", "both" }) {
+            classifier_settings cs;
+            cs.mti = mti;
+            cs.doppler_bins = 32;
+            spectral_classifier_decoder_module dec(n, m, np, cs);
+            dec.eval();
+            for (int trial = 0; trial < 3; ++trial) {
+                auto mask = torch::zeros({ n * m });
+                mask.index_fill_(0, torch::randperm(n * m).slice(0, 0, np), 1.0f);
+                mask = mask.view({ n, m });
+                auto grid = torch::randn({ 4, 2, n, m }) * mask;
+                auto out = dec.forward(grid, mask);
+                CPPUNIT_ASSERT_EQUAL(int64_t(3), out.logits.size(1));
+                CPPUNIT_ASSERT_EQUAL(int64_t(16), out.features.size(1));
+                // A phase per subcarrier (the target's delay) and one per frame (its gain),
+                // and a gain of 1e-20 or 1e20: the same answer.
+                auto phase = torch::rand({ 4, 1, 1, m }) * 2 * M_PI + torch::rand({ 4, 1, 1, 1 }) * 2 * M_PI;
+                auto re = grid.select(1, 0).unsqueeze(1), im = grid.select(1, 1).unsqueeze(1);
+                auto c = torch::cos(phase), s = torch::sin(phase);
+                auto rotated = torch::cat({ re * c - im * s, re * s + im * c }, 1);
+                for (double a : { 1.0, 1e-20, 1e20 }) {
+                    auto o = dec.forward(rotated * a, mask);
+                    CPPUNIT_ASSERT(all_finite(o.logits));
+                    CPPUNIT_ASSERT(torch::allclose(o.logits, out.logits, 1e-3, 1e-3));
+                }
+            }
+            // The per-frame mask form gives the same as the shared one.
+            auto mask = torch::zeros({ n, m });
+            mask.select(1, 3).fill_(1.0f);
+            auto grid = torch::randn({ 2, 2, n, m }) * mask;
+            CPPUNIT_ASSERT(torch::allclose(dec.forward(grid, mask).logits,
+                                           dec.forward(grid, mask.unsqueeze(0).expand({ 2, n, m })).logits, 1e-5, 1e-5));
+            CPPUNIT_ASSERT_THROW(dec.forward(grid), std::invalid_argument);
+            CPPUNIT_ASSERT_THROW(dec.forward(grid, torch::ones({ n + 1, m })), std::invalid_argument);
+        }
+        classifier_settings bad;
+        bad.doppler_bins = n - 1;
+        CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, np, bad), std::invalid_argument);
+        bad = classifier_settings{};
+        bad.mti = "median";
+        CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, np, bad), std::invalid_argument);
     }
 
     void soft_argmax_stable_inside_grid()

@@ -2,6 +2,8 @@
 /* gr-sems: the semantic encoder (see lib/learning/semantic_encoder.h). */
 #include "learning/semantic_encoder.h"
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -58,12 +60,58 @@ std::vector<int64_t> greedy_distinct_assignment(const torch::Tensor& scores)
     return out;
 }
 
+torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
+                             int k,
+                             double temperature,
+                             const torch::Tensor& uniform,
+                             bool hard_forward)
+{
+    if (!(temperature > 0.0) || !std::isfinite(temperature))
+        throw std::invalid_argument("gumbel_topk_st: temperature must be positive and finite");
+    if (scores.dim() != 1)
+        throw std::invalid_argument("gumbel_topk_st: scores must be one row (K), got shape " +
+                                    c10::str(scores.sizes()));
+    const int64_t n = scores.size(0);
+    if (k < 1 || k > n)
+        throw std::invalid_argument("gumbel_topk_st: k must be in [1, " + std::to_string(n) + "], got " +
+                                    std::to_string(k));
+    auto u = uniform.defined() ? uniform.to(scores.dtype()) : torch::rand_like(scores);
+    u = u.clamp(uniform_eps, 1.0 - uniform_eps);
+    const auto perturbed = scores - torch::log(-torch::log(u));
+    // The picks: the k largest of Z + g. NaN scores are refused rather than picked.
+    const auto pd = perturbed.detach();
+    if (torch::isnan(pd).any().item<bool>())
+        throw std::invalid_argument("gumbel_topk_st: NaN score");
+    const auto picks = std::get<1>(pd.topk(k)); // k distinct indices
+    auto hard = torch::zeros({ k, n }, scores.options());
+    hard.scatter_(1, picks.unsqueeze(1), 1.0);
+    // Relaxed draws without replacement: pick i's softmax excludes the picks before it.
+    const auto logits = perturbed / temperature;
+    const auto before = torch::cumsum(hard.detach(), 0) - hard.detach(); // 1 where taken by an earlier pick
+    const auto masked = logits.unsqueeze(0).masked_fill(before > 0.5, -std::numeric_limits<double>::infinity());
+    const auto soft = torch::exp(torch::log_softmax(masked, 1));
+    if (!hard_forward)
+        return soft;
+    return hard + (soft - soft.detach());
+}
+
 semantic_encoder_module::semantic_encoder_module(int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s)
-    : d_np(n_pilots), d_n(n_symbols), d_m(n_subcarriers), d_s(s)
+    : d_np(n_pilots), d_n(n_symbols), d_m(n_subcarriers), d_s(s), d_topk(s.kind == "gumbel_topk")
 {
     if (n_pilots < 1 || n_pilots > n_symbols * n_subcarriers)
         throw std::invalid_argument("semantic encoder: n_pilots must be in [1, N*M], got " +
                                     std::to_string(n_pilots));
+    if (!encoder_settings::known_kind(s.kind))
+        throw std::invalid_argument("semantic encoder: unknown kind \"" + s.kind +
+                                    "\" (known: gumbel_topk, gumbel_heads)");
+    if (d_topk) {
+        // Zero scores: the first masks are uniformly random over the grid.
+        d_a = register_parameter("symbol_scores", torch::zeros({ n_symbols }));
+        d_b = register_parameter("subcarrier_scores", torch::zeros({ n_subcarriers }));
+        if (s.free_scores)
+            d_free = register_parameter("free_scores", torch::zeros({ n_symbols, n_subcarriers }));
+        return;
+    }
     // One extra embedding row: its scores are added to every head's (a preference the
     // heads share, e.g. for a subcarrier or a symbol), see encoder_settings::shared.
     d_embedding = register_parameter("embedding", torch::randn({ n_pilots + (s.shared ? 1 : 0), s.embedding }));
@@ -74,6 +122,12 @@ semantic_encoder_module::semantic_encoder_module(int n_pilots, int n_symbols, in
 
 torch::Tensor semantic_encoder_module::scores()
 {
+    if (d_topk) {
+        auto z = d_a.unsqueeze(1) + d_b.unsqueeze(0);
+        if (d_free.defined())
+            z = z + d_free;
+        return z.view({ 1, d_n * d_m });
+    }
     auto z = d_fc2->forward(torch::relu(d_fc1->forward(d_embedding)));
     if (d_s.shared)
         z = z.slice(0, 0, d_np) + z.slice(0, d_np, d_np + 1);
@@ -85,9 +139,11 @@ torch::Tensor semantic_encoder_module::scores()
     return (a + b).view({ d_np, d_n * d_m });
 }
 
-torch::Tensor semantic_encoder_module::sample(double temperature)
+torch::Tensor semantic_encoder_module::sample(double temperature, bool hard)
 {
-    return gumbel_softmax_st(scores(), temperature, {}, temperature <= d_s.soft_above);
+    if (d_topk)
+        return gumbel_topk_st(scores().squeeze(0), d_np, temperature, {}, hard);
+    return gumbel_softmax_st(scores(), temperature, {}, hard);
 }
 
 torch::Tensor semantic_encoder_module::mask_from_selection(const torch::Tensor& selection, int n, int m)
@@ -97,6 +153,8 @@ torch::Tensor semantic_encoder_module::mask_from_selection(const torch::Tensor& 
 
 torch::Tensor semantic_encoder_module::collision_penalty(double temperature)
 {
+    if (d_topk)
+        return torch::zeros({}); // distinct by construction
     const auto p = torch::exp(torch::log_softmax(scores() / temperature, -1));
     const auto total = p.sum(0);
     return (total * total).sum() - (p * p).sum();
@@ -105,11 +163,20 @@ torch::Tensor semantic_encoder_module::collision_penalty(double temperature)
 std::vector<int64_t> semantic_encoder_module::final_indices()
 {
     torch::NoGradGuard ng;
+    if (d_topk) {
+        const auto z = scores().squeeze(0).to(torch::kDouble);
+        if (torch::isnan(z).any().item<bool>())
+            throw std::invalid_argument("semantic encoder: NaN score");
+        const auto idx = std::get<1>(z.topk(d_np)).contiguous();
+        return std::vector<int64_t>(idx.data_ptr<int64_t>(), idx.data_ptr<int64_t>() + d_np);
+    }
     return greedy_distinct_assignment(scores());
 }
 
 int semantic_encoder_module::distinct_argmax()
 {
+    if (d_topk)
+        return d_np;
     torch::NoGradGuard ng;
     auto a = std::get<0>(torch::_unique(scores().argmax(-1)));
     return static_cast<int>(a.numel());

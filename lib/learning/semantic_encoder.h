@@ -1,27 +1,39 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the semantic encoder, N_p Gumbel-Softmax pilot heads (DESIGN §5).
+/* gr-sems: the semantic encoder, which N_p resource elements carry pilots (DESIGN §5).
  *
- * Each head r has a learned embedding e_r; a small MLP maps it to a score matrix
- * Z_r over the N x M grid (by default factorised, Z_r[n,m] = a_r[n] + b_r[m]; see
- * encoder_settings::factorized). Training draws a relaxed one-hot
- *     S_r = softmax((Z_r + g_r) / τ),   g_r ~ Gumbel(0, 1),
- * and uses the straight-through estimator: the forward value is the exact hard one-hot
- * of argmax S_r (hard + (soft - soft.detach()), which adds an exact zero), the
- * gradient is that of the soft S_r. τ is annealed per epoch down to a floor. While
- * τ is above `soft_above` the forward pass uses the soft S_r itself (a warm-up: the
- * decoder first learns from a dense, weighted grid, and the scores learn which
- * elements it uses); from then on the forward pass is the exact one-hot.
+ * Two kinds (encoder_settings::kind), both trained jointly with the task decoder and
+ * both hard in the forward pass from the first step (exact 0/1 masks; only the gradient
+ * is relaxed) unless encoder_settings::soft_epochs asks for a soft warm-up:
  *
- * Numerics: the uniform draw is clamped to [1e-6, 1 - 1e-6] before g = -log(-log u),
- * so g is finite; the softmax is computed as exp(log_softmax(.)), which subtracts the
- * row maximum, so logits of ±1e4 at the floor temperature give no NaN or Inf.
+ * "gumbel_topk" (the default; deep probabilistic subsampling, Huijben et al. 2020).
+ *   One score matrix with symbol x subcarrier structure,
+ *       Z[n,m] = a[n] + b[m]   (+ F[n,m] with free_scores),
+ *   a, b, F learned directly (zero at the start: the first masks are uniformly random).
+ *   A step draws g ~ Gumbel(0,1) per element and takes the N_p largest of Z + g: N_p
+ *   distinct elements by construction, a sample without replacement from softmax(Z).
+ *   Backward: the i-th pick's relaxed one-hot is softmax((Z + g)/τ) over the elements the
+ *   earlier picks left (Σ_i of them is the soft mask); the forward value is the exact
+ *   hard mask (hard + (soft - soft.detach())). Because a[n] and b[m] collect the gradient
+ *   of a whole row or column, a preference for one subcarrier (Doppler) or one symbol
+ *   (delay) forms within an epoch. The final mask is the N_p largest of Z.
  *
- * No two heads end on the same resource element, guaranteed in two layers:
- *  - during training a collision penalty Σ_{r≠s} <p_r, p_s> (p = softmax(Z/τ)) pushes
- *    heads apart, and
- *  - the final mask is a sequential greedy assignment: heads, most confident first
- *    (largest max score), each take their best-scoring element that no earlier head
- *    took. This yields exactly N_p distinct positions whatever the scores are.
+ * "gumbel_heads" (the paper's form, for comparison). Head r has a learned embedding e_r;
+ *   a small MLP maps it to scores Z_r over the grid (factorised a_r[n] + b_r[m] by
+ *   default), and S_r = softmax((Z_r + g_r)/τ) with the straight-through exact one-hot.
+ *   Heads may pick the same element during training (the mask then holds a 2); an
+ *   optional collision penalty Σ_{r≠s} <p_r, p_s> (p = softmax(Z/τ), weight
+ *   collision_weight, 0 by default: it forbids pilots from sharing a subcarrier while
+ *   the heads still agree) pushes them apart; the final mask is a sequential greedy
+ *   assignment (heads, most confident first, each take their best element no earlier
+ *   head took): exactly N_p distinct positions whatever the scores.
+ *
+ * τ is annealed per epoch down to a floor (it shapes the gradient only; the scores'
+ * scale, set by their learning rate lr_scale, decides how random the hard masks are).
+ *
+ * Numerics: the uniform draw is clamped to [1e-6, 1 - 1e-6] before g = -log(-log u), so
+ * g is finite; every softmax is exp(log_softmax(.)), which subtracts the maximum, and
+ * taken elements are masked with -inf while at least one element stays free, so scores
+ * of ±1e4 at τ = 1e-3 give no NaN or Inf.
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_SEMANTIC_ENCODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_SEMANTIC_ENCODER_H
@@ -44,31 +56,56 @@ SEMS_LEARNING_API torch::Tensor gumbel_softmax_st(const torch::Tensor& scores,
                                          const torch::Tensor& uniform = {},
                                          bool hard = true);
 
+/*!
+ * \brief Gumbel top-k with a relaxed backward pass (deep probabilistic subsampling).
+ * \param scores K scores (one row, e.g. the flat N x M grid).
+ * \param k picks, 1 <= k <= K.
+ * \param temperature τ > 0 of the relaxation (gradient only).
+ * \param uniform optional K uniform draws in [0,1] (tests); clamped to [1e-6, 1-1e-6].
+ * \param hard_forward false: return the relaxed rows themselves (soft warm-up).
+ * \return k x K: row i is the exact one-hot of the i-th largest of scores + g (forward),
+ *         with the gradient of softmax((scores + g)/τ) over the elements rows < i left.
+ *         The rows pick k distinct elements.
+ */
+SEMS_LEARNING_API torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
+                                               int k,
+                                               double temperature,
+                                               const torch::Tensor& uniform = {},
+                                               bool hard_forward = true);
+
 class SEMS_LEARNING_API semantic_encoder_module : public torch::nn::Module
 {
 public:
     semantic_encoder_module(int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s = {});
 
-    // Z: N_p x (N*M) scores.
+    //! Scores: gumbel_heads N_p x (N*M), one row per head; gumbel_topk 1 x (N*M).
     torch::Tensor scores();
-    // One selection S (N_p x N*M) at temperature τ: straight-through exact one-hot rows,
-    // or the soft sample while τ > settings().soft_above.
-    torch::Tensor sample(double temperature);
-    // The 0/1 (or, on a collision, >1) mask N x M seen by the decoder: Σ_r S_r.
+    /*!
+     * \brief One selection at temperature τ: N_p x (N*M), row i one pilot.
+     * \param hard true: exact one-hot rows forward, relaxed gradient (straight-through);
+     *        false: the relaxed rows themselves (soft warm-up).
+     */
+    torch::Tensor sample(double temperature, bool hard = true);
+    //! The mask N x M seen by the decoder: Σ_r S_r (0/1; a 2 where two heads collide).
     static torch::Tensor mask_from_selection(const torch::Tensor& selection, int n_symbols, int n_subcarriers);
-    // Σ_{r≠s} <p_r, p_s> with p = softmax(Z/τ): zero when heads want distinct elements.
+    //! gumbel_heads: Σ_{r≠s} <p_r, p_s> with p = softmax(Z/τ); gumbel_topk: 0 (no collisions).
     torch::Tensor collision_penalty(double temperature);
-    // Greedy distinct assignment (see the header comment): N_p distinct flat indices.
+    //! The final mask: N_p distinct flat indices (top-k of Z, or the greedy assignment).
     std::vector<int64_t> final_indices();
-    // Number of distinct elements the heads' arg-max currently picks (progress display).
+    //! Distinct elements the current argmax picks (gumbel_heads; N_p for gumbel_topk).
     int distinct_argmax();
 
     int n_pilots() const { return d_np; }
     const encoder_settings& settings() const { return d_s; }
+    bool is_topk() const { return d_topk; }
 
 private:
     int d_np, d_n, d_m;
     encoder_settings d_s;
+    bool d_topk;
+    // gumbel_topk
+    torch::Tensor d_a, d_b, d_free;
+    // gumbel_heads
     torch::Tensor d_embedding;
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr };
 };

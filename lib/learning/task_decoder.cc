@@ -5,6 +5,7 @@
 #include "learning/task_decoder.h"
 #include "learning/delay_decoder.h"
 #include "learning/reconstruction_decoder.h"
+#include "learning/spectral_classifier_decoder.h"
 #include <fstream>
 #include <stdexcept>
 
@@ -18,8 +19,11 @@ task_decoder make_decoder(const nlohmann::json& d, int n, int m, int np, const s
     const auto it = d.find("settings");
     const nlohmann::json settings = (it == d.end()) ? nlohmann::json::object() : *it;
     const std::string where = source + ": decoder.settings";
-    if (kind == "classifier_resnet")
-        return std::make_shared<classifier_decoder_module>(n, m, np, classifier_settings::from_json(settings, where));
+    if (kind == "classifier_resnet" || kind == "classifier_spectral") {
+        auto cs = classifier_settings::from_json(settings, where);
+        cs.architecture = kind == "classifier_resnet" ? "resnet" : "spectral";
+        return make_classifier(n, m, np, cs);
+    }
     if (kind == "delay_correlation")
         return std::make_shared<delay_decoder_module>(n, m, np, delay_settings::from_json(settings, where));
     if (kind == "reconstruction_mlp")
@@ -27,7 +31,17 @@ task_decoder make_decoder(const nlohmann::json& d, int n, int m, int np, const s
             n, m, np, reconstruction_settings::from_json(settings, where));
     json_read::fail(source, "decoder.kind",
                     "unknown decoder \"" + kind +
-                        "\" (known: classifier_resnet, delay_correlation, reconstruction_mlp)");
+                        "\" (known: classifier_spectral, classifier_resnet, delay_correlation, reconstruction_mlp)");
+}
+
+task_decoder make_classifier(int n, int m, int np, const classifier_settings& s)
+{
+    if (s.architecture == "resnet")
+        return std::make_shared<classifier_decoder_module>(n, m, np, s);
+    if (s.architecture == "spectral")
+        return std::make_shared<spectral_classifier_decoder_module>(n, m, np, s);
+    throw std::invalid_argument("classifier settings: unknown architecture \"" + s.architecture +
+                                "\" (known: spectral, resnet)");
 }
 
 torch::Tensor scatter_pilots(const torch::Tensor& obs, const std::vector<int64_t>& idx, int n, int m)

@@ -11,6 +11,7 @@
 #define INCLUDED_SEMS_LIB_LEARNING_TASK_DECODER_H
 
 #include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/learning/network_settings.h>
 #include <torch/torch.h>
 #include <nlohmann/json.hpp>
 #include <memory>
@@ -33,7 +34,16 @@ class SEMS_LEARNING_API task_decoder_module : public torch::nn::Module
 public:
     virtual ~task_decoder_module() = default;
     virtual decoder_output forward(const torch::Tensor& grid) = 0;
-    // "classifier_resnet", "delay_correlation" or "reconstruction_mlp".
+    // The same with the pilot mask: `mask` is N x M (or B x N x M), 1 at the pilots (during
+    // mask learning it also carries the encoder's gradient). The trainer and bundle_decoder
+    // call this one. Decoders that need the mask (the spectral classifier's per-subcarrier
+    // counts) override it; the default ignores the mask.
+    virtual decoder_output forward(const torch::Tensor& grid, const torch::Tensor& mask)
+    {
+        (void)mask;
+        return forward(grid);
+    }
+    // "classifier_spectral", "classifier_resnet", "delay_correlation" or "reconstruction_mlp".
     virtual std::string kind() const = 0;
     // {"kind": ..., "settings": {...}} as stored in bundle.json.
     virtual nlohmann::json describe() const = 0;
@@ -47,6 +57,12 @@ SEMS_LEARNING_API task_decoder make_decoder(const nlohmann::json& description,
                                    int n_subcarriers,
                                    int n_pilots,
                                    const std::string& source);
+
+// The classifier decoder of settings.architecture ("spectral" or "resnet").
+SEMS_LEARNING_API task_decoder make_classifier(int n_symbols,
+                                               int n_subcarriers,
+                                               int n_pilots,
+                                               const classifier_settings& settings);
 
 // obs: B x N_p complex as float B x N_p x 2 -> sparse grid B x 2 x N x M.
 SEMS_LEARNING_API torch::Tensor scatter_pilots(const torch::Tensor& obs,

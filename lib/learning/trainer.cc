@@ -76,7 +76,7 @@ private:
         if (d_s.task == task_kind::classify) {
             auto cs = d_s.classifier;
             cs.n_classes = static_cast<int>(d_data.class_names.size());
-            return std::make_shared<nn::classifier_decoder_module>(d_n, d_m, d_s.n_pilots, cs);
+            return nn::make_classifier(d_n, d_m, d_s.n_pilots, cs);
         }
         auto ds = d_s.delay;
         // Dictionary grid from the delays the data contain, with margin, at the set spacing.
@@ -137,7 +137,7 @@ private:
             auto y = noisy.slice(0, a, b);
             // The inference path of bundle_decoder: gather the pilots, scatter, forward.
             auto o = nn::gather_pilots(y, mask_idx);
-            auto out = dec->forward(nn::scatter_pilots(o, mask_idx, d_n, d_m));
+            auto out = dec->forward(nn::scatter_pilots(o, mask_idx, d_n, d_m), mask_grid(mask_idx));
             obs.push_back(o);
             if (out.channel.defined()) {
                 sum += torch::mse_loss(out.channel, sp.h.slice(0, a, b), torch::Reduction::Sum).item<double>() /
@@ -167,6 +167,14 @@ private:
     {
         if (d_log && d_s.verbose && d_dist->rank() == 0)
             *d_log << line << std::endl;
+    }
+
+    // The 0/1 N x M mask of flat indices.
+    torch::Tensor mask_grid(const std::vector<int64_t>& idx) const
+    {
+        auto m = torch::zeros({ d_n * d_m });
+        m.index_fill_(0, torch::tensor(idx, torch::kLong), 1.0f);
+        return m.view({ d_n, d_m });
     }
 
     float d_tau_min = 0.0f;
@@ -287,13 +295,16 @@ training_result trainer::run()
         for (int e = 0; e < d_s.epochs; ++e) {
             const auto te = clock_type::now();
             const double ce_w = d_s.delay_ce_weight;
+            const bool hard = e >= d_s.encoder.soft_epochs; // hard 0/1 masks unless in the soft warm-up
             const double l = train_epoch(
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
-                    auto sel = enc->sample(tau);
+                    auto sel = enc->sample(tau, hard);
                     auto mask = nn::semantic_encoder_module::mask_from_selection(sel, d_n, d_m);
-                    auto out = dec1->forward(y * mask);
+                    auto out = dec1->forward(y * mask, mask);
                     auto task_l = loss(out, d_data.train, idx, h, ce_w);
-                    return task_l + d_s.encoder.collision_weight * enc->collision_penalty(tau);
+                    if (d_s.encoder.collision_weight > 0.0)
+                        task_l = task_l + d_s.encoder.collision_weight * enc->collision_penalty(tau);
+                    return task_l;
                 },
                 opt, { dec1, enc.ptr() });
             const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
@@ -301,14 +312,18 @@ training_result trainer::run()
             const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy);
             const int distinct = enc->distinct_argmax();
             std::ostringstream os;
+            const auto used = mask_grid(mask_idx);
+            const int n_sub = (used.sum(0) > 0).sum().item<int>(), n_sym = (used.sum(1) > 0).sum().item<int>();
             os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [mask+" << (mse ? "mse" : "task")
-               << "] loss " << std::setprecision(4) << l << "  val "
+               << (hard ? "" : ", soft") << "] loss " << std::setprecision(4) << l << "  val "
                << (mse ? "mse " : (hib ? "acc " : "mae ")) << std::setprecision(4) << v.metric << "  temp "
-               << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  "
-               << std::setprecision(1) << since(te) << " s  " << std::setprecision(0) << fps << " frames/s";
+               << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  symbols " << n_sym
+               << " subcarriers " << n_sub << "  " << std::setprecision(1) << since(te) << " s  " << std::setprecision(0)
+               << fps << " frames/s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
-                                  { "temperature", tau }, { "distinct", distinct }, { "seconds", since(te) },
+                                  { "temperature", tau }, { "distinct", distinct }, { "symbols", n_sym },
+                                  { "subcarriers", n_sub }, { "hard", hard }, { "seconds", since(te) },
                                   { "train_frames_per_s", fps } });
             const bool at_floor = tau <= d_s.encoder.temperature_floor * (1 + 1e-9);
             tau = std::max(d_s.encoder.temperature_floor, tau * d_s.encoder.temperature_decay);
@@ -334,7 +349,9 @@ training_result trainer::run()
         mask_origin = { { "kind", "learned" },
                         { "objective", d_s.objective },
                         { "best_val", best },
-                        { "method", "gumbel-softmax heads, greedy distinct assignment" },
+                        { "method", enc->is_topk() ? "gumbel top-k over symbol x subcarrier scores (top N_p of Z)"
+                                                   : "gumbel-softmax heads, greedy distinct assignment" },
+                        { "encoder", d_s.encoder.to_json() },
                         { "seed", d_s.seed } };
     } else {
         for (int i : given_mask->flat_indices())
@@ -343,9 +360,7 @@ training_result trainer::run()
     }
 
     // ---- Phase 2: the task decoder on the fixed mask.
-    auto mask_t = torch::zeros({ d_n * d_m });
-    mask_t.index_fill_(0, torch::tensor(mask_idx, torch::kLong), 1.0f);
-    mask_t = mask_t.view({ d_n, d_m });
+    const auto mask_t = mask_grid(mask_idx);
     const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs;
     {
         torch::optim::Adam opt(task_dec->parameters(), torch::optim::AdamOptions(d_s.lr));
@@ -365,7 +380,7 @@ training_result trainer::run()
             const double ce_w = d_s.delay_ce_weight_final + (d_s.delay_ce_weight - d_s.delay_ce_weight_final) * c;
             const double l = train_epoch(
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
-                    auto out = task_dec->forward(y * mask_t);
+                    auto out = task_dec->forward(y * mask_t, mask_t);
                     return loss(out, d_data.train, idx, h, ce_w);
                 },
                 opt, { task_dec });
@@ -518,6 +533,20 @@ void training_settings::validate() const
         fail("delay_spacing must be positive");
     if (!(encoder.temperature_floor > 0.0) || encoder.temperature_start < encoder.temperature_floor)
         fail("need 0 < temperature floor <= temperature start");
+    if (!nn::encoder_settings::known_kind(encoder.kind))
+        fail("encoder kind must be \"gumbel_topk\" or \"gumbel_heads\", got \"" + encoder.kind + "\"");
+    if (encoder.soft_epochs < 0)
+        fail("soft_epochs must be >= 0");
+    if (!(encoder.lr_scale > 0.0) || !std::isfinite(encoder.lr_scale))
+        fail("encoder lr_scale must be a positive finite number");
+    if (!(encoder.collision_weight >= 0.0) || !std::isfinite(encoder.collision_weight))
+        fail("collision_weight must be a finite number >= 0");
+    if (!nn::classifier_settings::known_architecture(classifier.architecture))
+        fail("classifier architecture must be \"spectral\" or \"resnet\", got \"" + classifier.architecture + "\"");
+    if (!nn::classifier_settings::known_mti(classifier.mti))
+        fail("classifier mti must be \"none\", \"mean\" or \"both\", got \"" + classifier.mti + "\"");
+    if (task == task_kind::classify && classifier.architecture == "spectral" && classifier.doppler_bins < frame.n_symbols)
+        fail("classifier doppler_bins must be >= the frame's " + std::to_string(frame.n_symbols) + " symbols");
 }
 
 json training_settings::to_json() const

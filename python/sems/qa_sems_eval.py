@@ -46,19 +46,24 @@ class qa_sems_eval(gr_unittest.TestCase):
                     self.assertIn(c, rs[0], "%s lacks column %s" % (name, c))
             # Every method and operating point, on the same number of frames with one seed per scene.
             e1 = rows(os.path.join(out, "exp1_recognition.csv"))
-            methods = {r["method"] for r in e1}
-            for m in ("SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)",
-                      "SVM (uniform pilots)", "SVM (doppler pilots)"):
-                self.assertIn(m, methods)
-            self.assertEqual(len(e1), 6 * 3)  # 6 methods x 3 SNR points at test size
+            hand = ["SemS decoder (%s pilots)" % p for p in ("doppler", "uniform", "random")]
+            want = {"default": ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)",
+                                "SVM (uniform pilots)", "SVM (doppler pilots)"] + hand,
+                    "any": ["SemS", "MSE-DL", "Perfect CSI (noiseless)",
+                            "SVM (uniform pilots)", "SVM (doppler pilots)"] + hand}
+            for scen, ms in want.items():
+                got = [r["method"] for r in e1 if r["scenario"] == scen]
+                self.assertEqual(sorted(set(got)), sorted(ms), scen)
+                self.assertEqual(len(got), len(ms) * 3, scen)  # every method at 3 SNR points (test size)
             self.assertEqual({r["n_frames"] for r in e1}, {"24"})
             self.assertEqual(len({r["seed"] for r in e1}), 1)
             for r in e1:
                 self.assertTrue(0.0 <= float(r["accuracy"]) <= 1.0)
                 self.assertTrue(0.0 <= float(r["macro_f1"]) <= 1.0)
             # The noiseless upper bound does not depend on the test SNR.
-            pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)"}
-            self.assertEqual(len(pc), 1)
+            for scen in want:
+                pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)" and r["scenario"] == scen}
+                self.assertEqual(len(pc), 1)
             e4 = rows(os.path.join(out, "exp4_delay.csv"))
             for scen in ("single", "multipath"):
                 ms = {r["method"] for r in e4 if r["scenario"] == scen}

@@ -117,6 +117,16 @@ class qa_target_channel(gr_unittest.TestCase):
         spec = sems.random_spec(classes=[sems.target_class.pedestrian, sems.target_class.drone], micro_doppler=False)
         h, _ = sems.channel_model(settings(), sems.scene.random(spec), SEED).generate(frames)
         np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+        # heading="any": the model's frames with that heading, both signs of velocity.
+        frames = 40
+        x = random_symbols(frames * N)
+        y, tags = run(channel(classes=["car"], heading="any"), x)
+        spec = sems.random_spec(classes=[sems.target_class.car], heading=sems.heading_kind.any)
+        h, truths = sems.channel_model(settings(), sems.scene.random(spec), SEED).generate(frames)
+        np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+        v = [d[sems.keys.velocity_mps] for _, d in truth_tags(tags)]
+        self.assertEqual(v, [t[sems.keys.velocity_mps] for t in truths])
+        self.assertTrue(min(v) < 0 < max(v))
 
     def test_005_snr_extremes(self):
         frames = 50
@@ -194,6 +204,8 @@ class qa_target_channel(gr_unittest.TestCase):
         refuses("unknown target class \"tank\"", classes=["tank"])
         refuses("random scenes", fixed_scene().to_json_string(), classes=["car"])
         refuses("clutter_paths", clutter_paths=-1)
+        refuses("heading", heading="sideways")
+        refuses("random scenes", fixed_scene().to_json_string(), heading="any")
         refuses("snr_db", snr_db=math.nan)
         refuses("snr_db", snr_db=-math.inf)
         refuses("n_symbols", n_symbols=0)

@@ -34,7 +34,7 @@ namespace sems {
  *
  * The scene: `scene` is a scene file path or scene JSON text (starts with '{'),
  * or "" for random scenes drawn per frame from `classes` (empty = every class) with
- * the random options (n_targets, paths_per_target, micro_doppler, clutter_*).
+ * the random options (n_targets, paths_per_target, micro_doppler, heading, clutter_*).
  * The random options must keep their defaults with a fixed scene (a fixed scene
  * carries its own targets and clutter), so nothing is silently ignored.
  *
@@ -55,6 +55,8 @@ public:
      * \param n_targets        random scenes: targets per frame (the first is the target of interest)
      * \param paths_per_target random scenes: paths per target (1 = single path)
      * \param micro_doppler    random scenes: micro-Doppler for the classes that have it
+     * \param heading          random scenes: "approaching" (radial velocity = +speed, the paper)
+     *                         or "any" (speed·cos θ, θ uniform on [0, 2π)); see heading_kind
      * \param clutter_paths    random scenes: static clutter scatterers (0 = no clutter)
      * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
      * \param snr_db           SNR per resource element, +inf = noiseless
@@ -72,6 +74,7 @@ public:
                      int n_targets = 1,
                      int paths_per_target = 1,
                      bool micro_doppler = true,
+                     const std::string& heading = "approaching",
                      int clutter_paths = 0,
                      double clutter_csr_db = 0.0,
                      double snr_db = std::numeric_limits<double>::infinity(),

@@ -55,16 +55,27 @@ struct SEMS_API clutter_spec {
     std::vector<double> ranges_m;       ///< fixed scatterer ranges (then n_paths = ranges_m.size())
 };
 
-/*! \brief How a random scene draws a frame. */
+/// Direction of a random target's motion. approaching: radial velocity = +speed (the
+/// paper: every class in its own positive Doppler band). any: radial velocity =
+/// speed·cos θ with θ ~ U[0, 2π) per frame (approaching, receding and crossing targets;
+/// the bulk Doppler bands overlap, micro-Doppler must tell the classes apart).
+enum class heading_kind { approaching, any };
+/*! \brief "approaching" or "any". */
+SEMS_API std::string heading_name(heading_kind h);
+/*! \brief The heading of a name; throws std::invalid_argument listing the known names. */
+SEMS_API heading_kind heading_from_name(const std::string& name);
+
+/// How a random scene draws a frame.
 struct SEMS_API random_spec {
     /*! \brief Classes the target of interest is drawn from. */
     std::vector<target_class> classes{ target_class::pedestrian, target_class::car, target_class::drone };
     int n_targets = 1;                 ///< the target of interest is target 0
     int paths_per_target = 1;          ///< 1 = single path
     double excess_range_min_m = 2.0;   ///< extra paths: excess range ~ U[min, max]
-    double excess_range_max_m = 30.0;  ///< upper end of the extra paths' excess range
+    double excess_range_max_m = 30.0;
     double path_power_decay_db = 3.0;  ///< path k has mean power 10^(-k·decay/10) relative to path 0
     bool micro_doppler = true;         ///< false: the micro-Doppler-free experiment
+    heading_kind heading = heading_kind::approaching; ///< see heading_kind
 };
 
 /*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */

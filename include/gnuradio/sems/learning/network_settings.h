@@ -19,28 +19,44 @@ namespace sems {
 /*! \brief Settings of the learning networks (Torch-free). */
 namespace nn {
 
-/*! \brief Semantic encoder: N_p Gumbel-Softmax heads over the N x M grid. */
+/// Semantic encoder: which N_p of the N x M resource elements carry pilots (semantic_encoder.h).
+//
+/// Two kinds, the setting `kind`:
+///  - "gumbel_topk" (the default): deep probabilistic subsampling. One score matrix with
+///    symbol x subcarrier structure, Z[n,m] = a[n] + b[m] (+ a free N x M term with
+///    free_scores); each step draws the N_p largest of Z + Gumbel noise, which are N_p
+///    distinct elements by construction (no collision penalty needed), and back-propagates
+///    through N_p sequential relaxed softmax draws (each over the elements not yet taken).
+///  - "gumbel_heads": the paper's N_p Gumbel-Softmax heads (an MLP per-head embedding ->
+///    scores, see `embedding`, `hidden`, `factorized`, `shared`), kept for comparison;
+///    distinctness comes from the final greedy assignment (and, optionally, the collision
+///    penalty, which by default is off: it forbids pilots sharing a subcarrier while the
+///    heads still agree, exactly the structure Doppler needs).
+/// Both use hard (exact 0/1) masks in the forward pass from the first step unless
+/// soft_epochs > 0.
 struct SEMS_LEARNING_API encoder_settings {
-    int embedding = 16;          ///< learned embedding per head
-    int hidden = 64;             ///< MLP hidden width (embedding -> hidden -> N*M scores)
-    double temperature_start = 2.0; ///< initial Gumbel-Softmax temperature τ
+    std::string kind = "gumbel_topk"; ///< "gumbel_topk" | "gumbel_heads"
+    bool free_scores = false;    ///< gumbel_topk: add a free N x M score term to a[n] + b[m]
+    int embedding = 16;          ///< gumbel_heads: learned embedding per head
+    int hidden = 64;             ///< gumbel_heads: MLP hidden width (embedding -> hidden -> scores)
+    double temperature_start = 2.0; ///< relaxation temperature of the backward pass
     double temperature_floor = 0.1; ///< annealing never goes below this
     double temperature_decay = 0.8;  ///< per epoch: tau <- max(floor, tau * decay)
-    double soft_above = 1.0;         ///< while tau > this the forward pass uses the soft selection
-                                     ///< (a dense weighted grid the decoder can learn from first);
-                                     ///< at or below it, the straight-through exact one-hot
-    double collision_weight = 5.0;   ///< penalty on two heads wanting the same element
-    bool factorized = true;          ///< Z_r[n,m] = a_r[n] + b_r[m] (the MLP emits N + M scores per
-                                     ///< head): a head's symbol and subcarrier preferences each
-                                     ///< gather gradient over a whole row/column, which learns
-                                     ///< structured patterns (shared subcarriers or symbols) in
-                                     ///< few epochs; false: a free N*M score matrix
-    bool shared = false;             ///< add one shared score matrix (from an extra embedding)
-                                     ///< to every head's: heads can agree on a subcarrier or
-                                     ///< symbol while the collision penalty keeps them apart
-    double lr_scale = 1.0;           ///< encoder learning rate = lr * lr_scale
+    int soft_epochs = 0;             ///< the first soft_epochs mask epochs feed the decoder the
+                                     /// relaxed (soft, dense) selection; afterwards, and always
+                                     /// when 0 (the default), the forward pass is the exact
+                                     /// hard 0/1 mask and only the gradient is relaxed
+    double collision_weight = 0.0;   ///< gumbel_heads: penalty on two heads wanting the same
+                                     /// element (0 = off; gumbel_topk never collides)
+    bool factorized = true;          ///< gumbel_heads: Z_r[n,m] = a_r[n] + b_r[m] (the MLP emits
+                                     /// N + M scores per head); false: a free N*M matrix per head
+    bool shared = false;             ///< gumbel_heads: add one shared score matrix (from an extra
+                                     /// embedding) to every head's
+    double lr_scale = 30.0;          ///< encoder learning rate = lr * lr_scale: the scores must
+                                     /// sharpen within a few epochs (annealing the temperature
+                                     /// cannot: argmax(Z + g) follows softmax(Z) at any τ)
 
-    /*! \brief The settings as JSON (as bundle.json records them). \return the JSON object. */
+    static bool known_kind(const std::string& k) { return k == "gumbel_topk" || k == "gumbel_heads"; }
     nlohmann::json to_json() const;
     /*!
      * \brief Reads settings from JSON; missing keys keep their defaults.
@@ -51,15 +67,28 @@ struct SEMS_LEARNING_API encoder_settings {
     static encoder_settings from_json(const nlohmann::json& j, const std::string& source);
 };
 
-/*! \brief Classifier decoder: sparse 2 x N x M grid -> 2-D ResNet -> MLP -> 16 -> C. */
+/// Classifier decoder. Two architectures, the setting `architecture`:
+///  - "spectral" (the default, spectral_classifier_decoder.h): phase-invariant Doppler
+///    power profile of the pilots on any mask, an optional zero-Doppler (MTI) stage,
+///    1-D CNN over Doppler bins -> MLP -> features -> C;
+///  - "resnet" (classifier_decoder.h, the paper's): sparse 2 x N x M grid -> 2-D ResNet
+///    -> MLP -> features -> C.
 struct SEMS_LEARNING_API classifier_settings {
-    int n_classes = 3;   ///< C
-    int width = 16;      ///< channels of the stem and the residual blocks
-    int depth = 2;       ///< residual blocks (3 x 1 along slow time)
+    std::string architecture = "spectral"; ///< "spectral" | "resnet"
+    int n_classes = 3;
+    int width = 16;      ///< channels of the convolutions (both architectures)
+    int depth = 2;       ///< resnet: residual blocks (3 x 1 along slow time)
     int hidden = 64;     ///< MLP hidden width
     int features = 16;   ///< the embedding the t-SNE looks at
+    int doppler_bins = 64;  ///< spectral: slow-time DFT size K (>= N; zero-filled beyond N)
+    int kernel = 5;         ///< spectral: 1-D kernel over Doppler bins (odd)
+    std::string mti = "none"; ///< spectral: zero-Doppler stage, "none" | "mean" (each subcarrier
+                              /// minus its mean over its observed symbols: removes static
+                              /// clutter exactly, and with it a target at 0 Hz) | "both"
+                              /// (the two profiles as two input channels)
 
-    /*! \brief The settings as JSON (as bundle.json records them). \return the JSON object. */
+    static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }
+    static bool known_mti(const std::string& m) { return m == "none" || m == "mean" || m == "both"; }
     nlohmann::json to_json() const;
     /*!
      * \brief Reads settings from JSON; missing keys keep their defaults.

@@ -203,21 +203,30 @@ void bind_scene(py::module& m)
         .def_readwrite("csr_db", &clutter_spec::csr_db)
         .def_readwrite("n_paths", &clutter_spec::n_paths);
 
+    py::enum_<heading_kind>(m, "heading_kind")
+        .value("approaching", heading_kind::approaching)
+        .value("any", heading_kind::any);
+    m.def("heading_name", &heading_name, py::arg("heading"));
+    m.def("heading_from_name", &heading_from_name, py::arg("name"));
+
     py::class_<random_spec>(m, "random_spec", D(random_spec))
         .def(py::init([](std::vector<target_class> classes, int n_targets, int paths_per_target,
-                         double excess_min, double excess_max, double decay_db, bool md) {
-                 return random_spec{ classes, n_targets, paths_per_target, excess_min, excess_max, decay_db, md };
+                         double excess_min, double excess_max, double decay_db, bool md, heading_kind heading) {
+                 return random_spec{ classes, n_targets, paths_per_target, excess_min, excess_max, decay_db, md,
+                                     heading };
              }),
              py::arg("classes") = random_spec{}.classes, py::arg("n_targets") = random_spec{}.n_targets,
              py::arg("paths_per_target") = random_spec{}.paths_per_target,
              py::arg("excess_range_min_m") = random_spec{}.excess_range_min_m,
              py::arg("excess_range_max_m") = random_spec{}.excess_range_max_m,
              py::arg("path_power_decay_db") = random_spec{}.path_power_decay_db,
-             py::arg("micro_doppler") = random_spec{}.micro_doppler)
+             py::arg("micro_doppler") = random_spec{}.micro_doppler,
+             py::arg("heading") = random_spec{}.heading)
         .def_readwrite("classes", &random_spec::classes)
         .def_readwrite("n_targets", &random_spec::n_targets)
         .def_readwrite("paths_per_target", &random_spec::paths_per_target)
-        .def_readwrite("micro_doppler", &random_spec::micro_doppler);
+        .def_readwrite("micro_doppler", &random_spec::micro_doppler)
+        .def_readwrite("heading", &random_spec::heading);
 
     py::class_<scene>(m, "scene", D(scene))
         .def_static("fixed", &scene::fixed, py::arg("targets"), py::arg("clutter") = py::none(),

@@ -22,6 +22,7 @@ void bind_target_channel(py::module& m)
              py::arg("n_targets") = 1,
              py::arg("paths_per_target") = 1,
              py::arg("micro_doppler") = true,
+             py::arg("heading") = "approaching",
              py::arg("clutter_paths") = 0,
              py::arg("clutter_csr_db") = 0.0,
              py::arg("snr_db") = std::numeric_limits<double>::infinity(),

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the spectral classifier decoder (DESIGN §5), the default classifier.
+ *
+ *   pilots on any mask: sparse B x 2 x N x M grid (zero off the mask) and the N x M
+ *   (or B x N x M) mask
+ *   -> per-frame normalisation (unit mean pilot power, normalise_frames)
+ *   -> zero-Doppler (MTI) stage, classifier_settings::mti:
+ *        "none": the observations as they are;
+ *        "mean": y[n,m] - P[n,m] · (Σ_n' P[n',m] y[n',m]) / c_m with c_m the pilots on
+ *                subcarrier m: every static (zero-Doppler) path is removed exactly, static
+ *                clutter included (and with it a target at exactly 0 Hz); a subcarrier with
+ *                one pilot becomes zero;
+ *        "both": the two profiles below as two input channels;
+ *   -> slow-time DFT per subcarrier, zero-filled to K = doppler_bins bins:
+ *        F[k,m] = Σ_n y[n,m] exp(-j2π k n / K),   S[k] = Σ_m |F[k,m]|²
+ *   -> x[k] = log(S[k] / mean_k S + 1e-3)
+ *   -> BatchNorm -> two circular 1-D convolutions over the K bins (width channels,
+ *      kernel, ReLU) -> MLP (hidden) -> features -> C logits.
+ *
+ * Why: the class lives in slow time (Doppler, micro-Doppler). |F[k,m]|² does not depend
+ * on the target's delay phase (a constant per subcarrier) nor on its gain phase, and the
+ * sum over subcarriers uses every pilot of any mask, so the same network trains on the
+ * encoder's changing masks and decodes a fixed one. The DFT is a fixed matrix (not learned,
+ * not stored in decoder.pt). Cost per frame: N·K·M multiply-adds for the DFT, then a
+ * network of about width·K·hidden weights.
+ */
+#ifndef INCLUDED_SEMS_LEARNING_SPECTRAL_CLASSIFIER_DECODER_H
+#define INCLUDED_SEMS_LEARNING_SPECTRAL_CLASSIFIER_DECODER_H
+
+#include "learning/task_decoder.h"
+#include <gnuradio/sems/learning/network_settings.h>
+
+namespace gr {
+namespace sems {
+namespace nn {
+
+/*!
+ * \brief Subtract each subcarrier's mean over its observed symbols (the MTI stage).
+ * \param grid B x 2 x N x M pilot grid, zero off the mask (as every decoder input is).
+ * \param mask N x M or B x N x M, 1 at pilots.
+ * \return the grid with every static (zero-Doppler) component removed at the pilots, zero elsewhere.
+ */
+SEMS_LEARNING_API torch::Tensor remove_zero_doppler(const torch::Tensor& grid, const torch::Tensor& mask);
+
+class SEMS_LEARNING_API spectral_classifier_decoder_module : public task_decoder_module
+{
+public:
+    spectral_classifier_decoder_module(int n_symbols, int n_subcarriers, int n_pilots, classifier_settings s);
+    //! Without a mask: refused (the MTI stage and the pilot count need it).
+    decoder_output forward(const torch::Tensor& grid) override;
+    decoder_output forward(const torch::Tensor& grid, const torch::Tensor& mask) override;
+    //! The B x channels x K log Doppler profile the network sees (before BatchNorm).
+    torch::Tensor profile(const torch::Tensor& grid, const torch::Tensor& mask) const;
+    std::string kind() const override { return "classifier_spectral"; }
+    nlohmann::json describe() const override;
+    const classifier_settings& settings() const { return d_s; }
+
+private:
+    torch::Tensor power_profile(const torch::Tensor& grid) const;
+
+    int d_n, d_m, d_np;
+    classifier_settings d_s;
+    torch::Tensor d_cos, d_sin; // K x N DFT matrix (fixed, not a parameter)
+    torch::nn::BatchNorm1d d_bn{ nullptr };
+    torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
+    torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr };
+};
+
+} // namespace nn
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_SPECTRAL_CLASSIFIER_DECODER_H */
