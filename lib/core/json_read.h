@@ -83,6 +83,9 @@ inline long long integer(const nlohmann::json& v, const std::string& field, cons
 {
     if (!v.is_number_integer())
         fail(source, field, "expected an integer, got " + v.dump());
+    // Beyond 64-bit signed, get<long long>() would wrap: refuse before the cast.
+    if (v.is_number_unsigned() && v.get<unsigned long long>() > 9223372036854775807ULL)
+        fail(source, field, "integer " + v.dump() + " is out of range");
     return v.get<long long>();
 }
 

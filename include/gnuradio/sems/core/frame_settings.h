@@ -8,6 +8,7 @@
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
 namespace gr {
@@ -25,7 +26,15 @@ struct SEMS_API frame_settings {
 
     double subcarrier_spacing_hz() const { return bandwidth_hz / n_subcarriers; }
     double wavelength_m() const { return speed_of_light_mps / carrier_hz; }
-    int grid_size() const { return n_symbols * n_subcarriers; }
+    // N*M; validate() bounds it by limits::max_grid, and it never overflows: an
+    // unvalidated product beyond the int range throws std::invalid_argument.
+    int grid_size() const
+    {
+        const long long g = static_cast<long long>(n_symbols) * n_subcarriers;
+        if (g < 0 || g > 2147483647LL)
+            throw std::invalid_argument("frame settings: grid N*M = " + std::to_string(g) + " is out of range");
+        return static_cast<int>(g);
+    }
     // One delay index = 1/B seconds = c/(2B) metres of range.
     double delay_resolution_s() const { return 1.0 / bandwidth_hz; }
     double range_per_delay_index_m() const { return speed_of_light_mps / (2.0 * bandwidth_hz); }
