@@ -176,7 +176,7 @@ public:
 
     static std::string short_dump(const nlohmann::json& v)
     {
-        std::string s = v.dump();
+        std::string s = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
         return s.size() > 60 ? s.substr(0, 57) + "..." : s;
     }
 

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: model bundle directory (bundle.json + mask.json; weights via bundle_decoder). */
-#include "core/json_read.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
+#include <gnuradio/sems/learning/network_settings.h>
+#include <algorithm>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <sys/stat.h>
 #include <stdexcept>
@@ -72,45 +75,67 @@ model_bundle model_bundle::load(const std::string& dir)
 
     model_bundle b;
     b.directory = dir;
-    const auto task = json_read::string(json_read::require(j, "task", path), "task", path);
+    json_read::object_reader r(j, path); // every key is read or refused by r.finish()
+    r.allow("format");
+    r.allow("version");
+    const auto task = r.string("task");
     try {
         b.task = task_from_name(task);
     } catch (const std::invalid_argument& e) {
         json_read::fail(path, "task", e.what());
     }
-    b.frame = frame_settings::from_json(json_read::require(j, "frame", path), path + ": frame");
-    b.decoder = json_read::require(j, "decoder", path);
-    const auto kind = json_read::string(json_read::require(b.decoder, "kind", path), "decoder.kind", path);
+    b.frame = frame_settings::from_json(r.require("frame"), path + ": frame");
+    b.decoder = r.require("decoder");
+    json_read::object_reader rd(b.decoder, path, "decoder");
+    const auto kind = rd.string("kind");
     if (kind != decoder_kind_for(b.task))
         json_read::fail(path, "decoder.kind",
                         "task \"" + task + "\" needs a \"" + decoder_kind_for(b.task) + "\" decoder, got \"" + kind + "\"");
+    // The settings are validated here (unknown keys, ranges), before any weights are read.
+    const auto* settings = rd.find("settings");
+    const nlohmann::json no_settings = nlohmann::json::object();
+    const std::string where = path + ": decoder.settings";
+    rd.finish();
     if (b.task == task_kind::classify) {
-        const auto& names = json_read::require(j, "class_names", path);
-        if (!names.is_array() || names.size() < 2)
-            json_read::fail(path, "class_names", "a classifier needs at least two class names");
-        for (const auto& n : names)
-            b.class_names.push_back(json_read::string(n, "class_names", path));
-        const auto s = b.decoder.find("settings");
-        if (s != b.decoder.end() && s->contains("n_classes") &&
-            json_read::integer((*s)["n_classes"], "decoder.settings.n_classes", path) !=
-                static_cast<long long>(b.class_names.size()))
-            json_read::fail(path, "class_names", "has " + std::to_string(b.class_names.size()) +
-                                                     " names but the decoder has " + s->at("n_classes").dump() +
-                                                     " classes");
+        const auto& names = r.array("class_names", 2, limits::max_classes);
+        for (size_t i = 0; i < names.size(); ++i) {
+            const std::string f = "class_names[" + std::to_string(i) + "]";
+            b.class_names.push_back(json_read::string(names[i], f, path));
+            if (b.class_names.back().empty())
+                json_read::fail(path, f, "is empty");
+            if (std::count(b.class_names.begin(), b.class_names.end(), b.class_names.back()) > 1)
+                json_read::fail(path, f, "\"" + b.class_names.back() + "\" is listed twice");
+        }
+        // The names, n_classes (given or the default) and hence the weights' shape agree:
+        // the sink never reads past the probability vector or mislabels a class.
+        const auto cs = nn::classifier_settings::from_json(settings ? *settings : no_settings, where);
+        if (cs.n_classes != static_cast<int>(b.class_names.size()))
+            json_read::fail(path, "class_names",
+                            "has " + std::to_string(b.class_names.size()) + " names but the decoder has " +
+                                std::to_string(cs.n_classes) + " classes (decoder.settings.n_classes" +
+                                (settings && settings->contains("n_classes") ? "" : ", by default") + ")");
+    } else {
+        if (r.has("class_names") && !r.require("class_names").empty())
+            json_read::fail(path, "class_names", "a delay model has no classes");
+        nn::delay_settings::from_json(settings ? *settings : no_settings, where);
     }
-    const auto mask_name = j.contains("mask_file") ? json_read::string(j["mask_file"], "mask_file", path)
-                                                   : std::string(mask_file);
+    const auto mask_name = r.string_or("mask_file", mask_file);
     b.mask = pilot_mask::load(join(dir, mask_name)); // names mask.json in its errors
     try {
         b.mask.check_frame(b.frame, path);
     } catch (const std::invalid_argument& e) {
         json_read::fail(join(dir, mask_name), "", std::string("does not match bundle.json: ") + e.what());
     }
-    const auto np = json_read::integer(json_read::require(j, "n_pilots", path), "n_pilots", path);
+    const auto np = r.integer("n_pilots", 1, limits::max_grid);
     if (np != b.mask.size())
         json_read::fail(join(dir, mask_name), "pilots",
                         "holds " + std::to_string(b.mask.size()) + " pilots but bundle.json says n_pilots = " +
                             std::to_string(np));
+    r.allow("weights_file"); // read by bundle_decoder
+    // Free-form records of how the bundle was made and what it measured.
+    r.allow("training");
+    r.allow("metrics");
+    r.finish();
     b.training = j.value("training", nlohmann::json::object());
     b.metrics = j.value("metrics", nlohmann::json::object());
     return b;

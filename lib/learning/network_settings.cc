@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: JSON of the network size settings (the bundle's decoder settings). */
-#include "core/json_read.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 
 namespace gr {
@@ -10,30 +11,28 @@ namespace nn {
 namespace {
 using nlohmann::json;
 
-int int_or(const json& j, const char* key, int fallback, const std::string& source, int min_value)
+using reader = json_read::object_reader;
+
+// Every settings object is read through an object_reader: unknown keys are refused
+// by finish(), integers are range-checked before the cast.
+int int_or(reader& r, const char* key, int fallback, const std::string&, int min_value)
 {
-    auto it = j.find(key);
-    if (it == j.end())
-        return fallback;
-    const long long v = json_read::integer(*it, key, source);
-    if (v < min_value || v > 1000000)
-        json_read::fail(source, key, "must be in [" + std::to_string(min_value) + ", 1000000], got " +
-                                         std::to_string(v));
-    return static_cast<int>(v);
+    return r.int_or(key, fallback, min_value, limits::max_network_size);
 }
 
-double positive_or(const json& j, const char* key, double fallback, const std::string& source)
+double positive_or(reader& r, const char* key, double fallback, const std::string& source)
 {
-    const double v = json_read::number_or(j, key, fallback, source);
+    const double v = r.number_or(key, fallback);
     if (v <= 0.0)
         json_read::fail(source, key, "must be positive");
     return v;
 }
 
-void require_object(const json& j, const std::string& source)
+reader open(const json& j, const std::string& source)
 {
     if (!j.is_object())
         json_read::fail(source, "settings", "expected a JSON object");
+    return reader(j, source);
 }
 } // namespace
 
@@ -51,28 +50,23 @@ json encoder_settings::to_json() const
              { "lr_scale", lr_scale } };
 }
 
-encoder_settings encoder_settings::from_json(const json& j, const std::string& source)
+encoder_settings encoder_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     encoder_settings s;
     s.embedding = int_or(j, "embedding", s.embedding, source, 1);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
     s.temperature_start = positive_or(j, "temperature_start", s.temperature_start, source);
     s.temperature_floor = positive_or(j, "temperature_floor", s.temperature_floor, source);
     s.temperature_decay = positive_or(j, "temperature_decay", s.temperature_decay, source);
-    if (j.contains("factorized")) {
-        if (!j["factorized"].is_boolean())
-            json_read::fail(source, "factorized", "expected true or false");
-        s.factorized = j["factorized"].get<bool>();
-    }
-    if (j.contains("shared")) {
-        if (!j["shared"].is_boolean())
-            json_read::fail(source, "shared", "expected true or false");
-        s.shared = j["shared"].get<bool>();
-    }
-    s.soft_above = json_read::number_or(j, "soft_above", s.soft_above, source);
-    s.collision_weight = json_read::number_or(j, "collision_weight", s.collision_weight, source);
+    s.factorized = j.boolean_or("factorized", s.factorized);
+    s.shared = j.boolean_or("shared", s.shared);
+    s.soft_above = j.number_or("soft_above", s.soft_above);
+    s.collision_weight = j.number_or("collision_weight", s.collision_weight);
+    if (s.collision_weight < 0.0) // a negative weight would reward collisions
+        json_read::fail(source, "collision_weight", "must be >= 0, got " + std::to_string(s.collision_weight));
     s.lr_scale = positive_or(j, "lr_scale", s.lr_scale, source);
+    j.finish();
     return s;
 }
 
@@ -82,15 +76,16 @@ json classifier_settings::to_json() const
              { "hidden", hidden },       { "features", features } };
 }
 
-classifier_settings classifier_settings::from_json(const json& j, const std::string& source)
+classifier_settings classifier_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     classifier_settings s;
-    s.n_classes = int_or(j, "n_classes", s.n_classes, source, 2);
+    s.n_classes = j.int_or("n_classes", s.n_classes, 2, limits::max_classes);
     s.width = int_or(j, "width", s.width, source, 1);
     s.depth = int_or(j, "depth", s.depth, source, 0);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
     s.features = int_or(j, "features", s.features, source, 1);
+    j.finish();
     return s;
 }
 
@@ -106,12 +101,12 @@ json delay_settings::to_json() const
              { "window", window } };
 }
 
-delay_settings delay_settings::from_json(const json& j, const std::string& source)
+delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     delay_settings s;
-    s.tau_min_index = json_read::number_or(j, "tau_min_index", s.tau_min_index, source);
-    s.tau_max_index = json_read::number_or(j, "tau_max_index", s.tau_max_index, source);
+    s.tau_min_index = j.number_or("tau_min_index", s.tau_min_index);
+    s.tau_max_index = j.number_or("tau_max_index", s.tau_max_index);
     if (s.tau_max_index <= s.tau_min_index)
         json_read::fail(source, "tau_max_index", "must be greater than tau_min_index");
     s.q = int_or(j, "q", s.q, source, 2);
@@ -122,16 +117,18 @@ delay_settings delay_settings::from_json(const json& j, const std::string& sourc
     if (s.kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd");
     s.window = int_or(j, "window", s.window, source, 0);
+    j.finish();
     return s;
 }
 
 json reconstruction_settings::to_json() const { return { { "hidden", hidden } }; }
 
-reconstruction_settings reconstruction_settings::from_json(const json& j, const std::string& source)
+reconstruction_settings reconstruction_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     reconstruction_settings s;
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
+    j.finish();
     return s;
 }
 

@@ -35,6 +35,7 @@ constexpr const char* abs_error_index = "abs_error_index";
 constexpr const char* frames = "frames";
 constexpr const char* frames_scored = "frames_scored";
 constexpr const char* frames_skipped = "frames_skipped";
+constexpr const char* frames_faulted = "frames_faulted"; // skipped because decoding failed
 constexpr const char* accuracy = "accuracy";
 constexpr const char* mae_index = "mae_index";
 constexpr const char* mae_m = "mae_m";

@@ -53,7 +53,10 @@ public:
 
     virtual uint64_t frames() const = 0;         // handled: answered or skipped
     virtual uint64_t frames_scored() const = 0;  // answered with a truth to compare
-    virtual uint64_t frames_skipped() const = 0; // non-finite, never decoded
+    virtual uint64_t frames_skipped() const = 0; // non-finite or faulted, never answered
+    // Skipped because decoding or the bookkeeping failed (an exception in work(), logged
+    // once per kind); the stream goes on. frames() = answered + frames_skipped().
+    virtual uint64_t frames_faulted() const = 0;
     virtual double mae_index() const = 0;        // mean |error| in delay indices; NaN before the first scored frame
     virtual double mae_m() const = 0;            // the same in metres of range
     virtual void reset_metrics() = 0;
