@@ -23,6 +23,7 @@
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/top_block.h>
 #include <boost/program_options.hpp>
+#include <malloc.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -56,6 +57,7 @@ int main(int argc, char** argv)
     double snr_db = 10.0;
     long max_growth_kib = 1024;
     int batch = 256;
+    bool glibc_dynamic_mmap = false;
     po::options_description opts("sems_soak options");
     opts.add_options()("help", "this text")(
         "frames", po::value(&n_frames)->default_value(n_frames), "frames to stream")(
@@ -63,6 +65,9 @@ int main(int argc, char** argv)
         "models", po::value(&models)->default_value(models), "folder holding classifier/ and delay_single/")(
         "snr", po::value(&snr_db)->default_value(snr_db), "SNR per resource element (dB)")(
         "batch", po::value(&batch)->default_value(batch), "sink batch size")(
+        "glibc-dynamic-mmap", po::bool_switch(&glibc_dynamic_mmap),
+        "keep glibc's dynamic mmap threshold (by default it is fixed at 128 KiB so that freed batch "
+        "tensors go back to the system and resident memory measures leaks, not heap reuse)")(
         "max-growth-kib", po::value(&max_growth_kib)->default_value(max_growth_kib),
         "allowed resident-memory growth after warm-up (KiB)");
     po::variables_map vm;
@@ -82,6 +87,10 @@ int main(int argc, char** argv)
         return 2;
     }
 
+    // glibc raises its mmap threshold after a large block is freed, so later batch tensors
+    // come from the heap and resident memory jitters by tens of MiB without any leak.
+    if (!glibc_dynamic_mmap)
+        ::mallopt(M_MMAP_THRESHOLD, 128 * 1024);
     const auto cls = model_bundle::load(models + "/classifier");
     const auto dly = model_bundle::load(models + "/delay_single");
     const frame_settings fs = cls.frame;
