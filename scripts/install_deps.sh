@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
   python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako
   doxygen
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -12,6 +12,10 @@ void delay_search::validate(const frame_settings& fs, const std::string& who) co
 {
     if (oversample < 1 || oversample > 1024)
         throw std::invalid_argument(who + ": delay oversample must be in [1, 1024], got " + std::to_string(oversample));
+    // -1 (the default) is the one sentinel for "M"; any other negative is a mistake, not M.
+    if (max_index < 0.0 && max_index != -1.0)
+        throw std::invalid_argument(who + ": delay search max_index = " + std::to_string(max_index) +
+                                    " is negative: give an index > min_index, or -1 for the whole window (M)");
     const double hi = max_index < 0.0 ? fs.n_subcarriers : max_index;
     if (!checks::finite(min_index) || !checks::finite(hi))
         throw std::invalid_argument(who + ": delay search window must be finite");

@@ -7,6 +7,7 @@
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
 #include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
 #include <gnuradio/sems/core/channel_model.h>
+#include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cmath>
@@ -192,6 +193,13 @@ public:
         sp.search.min_index = -10.0;
         sp.search.max_index = 60.0; // wider than the unambiguous 64
         CPPUNIT_ASSERT_THROW(periodogram_delay_estimator(fs, mask, sp), std::invalid_argument);
+        // A negative max_index other than the -1 sentinel was silently taken as M.
+        sp.search = delay_search{};
+        sp.search.max_index = -5.0;
+        gr::sems::qa::assert_error([&] { periodogram_delay_estimator(fs, mask, sp); }, "max_index = -5",
+                                   "-1 for the whole window");
+        sp.search.max_index = -1.0; // the sentinel: the whole window
+        periodogram_delay_estimator(fs, mask, sp);
         sp.search = delay_search{};
         sp.search.oversample = 0;
         CPPUNIT_ASSERT_THROW(periodogram_delay_estimator(fs, mask, sp), std::invalid_argument);

@@ -68,6 +68,10 @@ scene channel_block_scene(const char* who,
     if (clutter_paths < 0)
         throw std::invalid_argument(std::string(who) + ": clutter_paths must be >= 0, got " +
                                     std::to_string(clutter_paths));
+    if (clutter_paths == 0 && clutter_csr_db != 0.0)
+        throw std::invalid_argument(std::string(who) + ": clutter_csr_db = " + std::to_string(clutter_csr_db) +
+                                    " has no effect with clutter_paths = 0: set clutter_paths > 0 to add "
+                                    "clutter, or leave clutter_csr_db at 0");
     if (clutter_paths > 0) {
         clutter_spec c;
         c.n_paths = clutter_paths;

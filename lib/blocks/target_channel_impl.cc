@@ -4,6 +4,7 @@
 #include "blocks/stream_values.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/tags.h>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -69,6 +70,7 @@ double target_channel_impl::snr_db() const { return d_snr_db; }
 void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
 {
     d_frame_snr_db = d_snr_db.load();
+    ++d_frames; // started, even if drawing it fails below
     d_model.draw(frame, d_realization); // no allocation once the buffers have grown
     const auto& r = d_realization;
     const uint64_t first_symbol = frame * static_cast<uint64_t>(d_n);
@@ -79,7 +81,6 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
     d_frame = frame;
     d_row = 0;
     d_started = true;
-    ++d_frames;
 
     add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r.truth, frame, d_frame_snr_db), alias_pmt());
 }
@@ -103,17 +104,38 @@ int target_channel_impl::work(int noutput_items,
             tagged = true;
             tagged_frame = index ? *index : (d_started ? d_frame + 1 : 0); // unreadable: keep counting
         }
-        if (tagged)
-            start_frame(tagged_frame, nwritten + i);
-        else if (!d_started || d_row == d_n)
-            start_frame(d_started ? d_frame + 1 : 0, nwritten + i);
-
         const gr_complex* x = in + static_cast<size_t>(i) * d_m;
         gr_complex* y = out + static_cast<size_t>(i) * d_m;
+        // Nothing escapes work(): a frame whose computation throws goes out as NaN (the
+        // extractor counts it as skipped), the fault is counted and logged once per kind.
+        const char* where = "frame start";
+        try {
+            if (tagged || !d_started || d_row == d_n) {
+                const uint64_t frame = tagged ? tagged_frame : (d_started ? d_frame + 1 : 0);
+                d_frame_faulted = false;
+                d_frame = frame; // also when start_frame() throws: the next frame is frame + 1
+                d_row = 0;
+                d_started = true;
+                start_frame(frame, nwritten + i);
+            }
+            where = "channel";
+            if (!d_frame_faulted) {
+                d_channel->apply_row(d_row, x, y);
+                d_model.add_noise(y, static_cast<size_t>(d_m), d_frame_snr_db);
+            }
+        } catch (const std::exception& e) {
+            if (!d_frame_faulted)
+                ++d_faulted;
+            d_frame_faulted = true;
+            if (d_faults.first(where, e))
+                d_logger->error("fault in {}: {}; frame {} is sent as NaN (counted downstream as skipped); "
+                                "further faults of this kind are only counted",
+                                where, e.what(), d_frame);
+        }
+        if (d_frame_faulted)
+            std::fill(y, y + d_m, gr_complex(std::numeric_limits<float>::quiet_NaN(), 0.0f));
         if (!detail::all_finite(x, d_m))
             ++d_nonfinite;
-        d_channel->apply_row(d_row, x, y);
-        d_model.add_noise(y, static_cast<size_t>(d_m), d_frame_snr_db);
         ++d_row;
     }
     return noutput_items;

@@ -5,6 +5,7 @@
 
 #include "blocks/channel_block_common.h"
 #include <gnuradio/sems/core/channel_model.h>
+#include "blocks/fault_log.h"
 #include <gnuradio/sems/blocks/target_channel.h>
 #include <pmt/pmt.h>
 #include <atomic>
@@ -24,6 +25,9 @@ public:
     std::string scene_json() const override { return d_model.scene_spec().to_json_string(); }
     uint64_t frames() const override { return d_frames; }
     uint64_t nonfinite_symbols() const override { return d_nonfinite; }
+    // Frames whose computation threw inside work(): sent as NaN, so the extractor counts
+    // them as skipped; the first fault of each kind is logged.
+    uint64_t frames_faulted() const { return d_faulted; }
 
     int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star& output_items) override;
 
@@ -43,6 +47,9 @@ private:
 
     std::atomic<uint64_t> d_frames{ 0 };    // counters, read from other threads
     std::atomic<uint64_t> d_nonfinite{ 0 };
+    std::atomic<uint64_t> d_faulted{ 0 };   // frames whose computation threw (sent as NaN)
+    bool d_frame_faulted = false;
+    detail::fault_log d_faults;
 
     const pmt::pmt_t d_frame_key;
     detail::truth_dict d_truth; // caches the previous frame's dict

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: frame settings validation and JSON. */
-#include "core/json_read.h"
 #include "core/checks.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <cmath>
 #include <stdexcept>
@@ -21,11 +22,18 @@ void require_positive(double v, const char* name)
 
 void frame_settings::validate() const
 {
-    if (n_symbols < 1)
-        throw std::invalid_argument("frame settings: n_symbols must be >= 1, got " + std::to_string(n_symbols));
-    if (n_subcarriers < 1)
-        throw std::invalid_argument("frame settings: n_subcarriers must be >= 1, got " +
+    if (n_symbols < 1 || n_symbols > limits::max_symbols)
+        throw std::invalid_argument("frame settings: n_symbols must be in [1, " + std::to_string(limits::max_symbols) +
+                                    "], got " + std::to_string(n_symbols));
+    if (n_subcarriers < 1 || n_subcarriers > limits::max_subcarriers)
+        throw std::invalid_argument("frame settings: n_subcarriers must be in [1, " +
+                                    std::to_string(limits::max_subcarriers) + "], got " +
                                     std::to_string(n_subcarriers));
+    const long long grid = static_cast<long long>(n_symbols) * n_subcarriers;
+    if (grid > limits::max_grid)
+        throw std::invalid_argument("frame settings: the grid N*M = " + std::to_string(grid) +
+                                    " exceeds the limit of " + std::to_string(limits::max_grid) +
+                                    " resource elements");
     if (cp_len < 0 || cp_len > n_subcarriers)
         throw std::invalid_argument("frame settings: cp_len must be in [0, n_subcarriers], got " +
                                     std::to_string(cp_len));
@@ -45,18 +53,15 @@ frame_settings frame_settings::from_json(const nlohmann::json& j, const std::str
 {
     if (!j.is_object())
         json_read::fail(source, "frame", "expected a JSON object");
+    json_read::object_reader r(j, source);
     frame_settings fs;
-    auto int_field = [&](const char* key, int& out) {
-        auto it = j.find(key);
-        if (it != j.end())
-            out = static_cast<int>(json_read::integer(*it, key, source));
-    };
-    int_field("n_symbols", fs.n_symbols);
-    int_field("n_subcarriers", fs.n_subcarriers);
-    int_field("cp_len", fs.cp_len);
-    fs.bandwidth_hz = json_read::number_or(j, "bandwidth_hz", fs.bandwidth_hz, source);
-    fs.carrier_hz = json_read::number_or(j, "carrier_hz", fs.carrier_hz, source);
-    fs.symbol_interval_s = json_read::number_or(j, "symbol_interval_s", fs.symbol_interval_s, source);
+    fs.n_symbols = r.int_or("n_symbols", fs.n_symbols, 1, limits::max_symbols);
+    fs.n_subcarriers = r.int_or("n_subcarriers", fs.n_subcarriers, 1, limits::max_subcarriers);
+    fs.cp_len = r.int_or("cp_len", fs.cp_len, 0, limits::max_subcarriers);
+    fs.bandwidth_hz = r.number_or("bandwidth_hz", fs.bandwidth_hz);
+    fs.carrier_hz = r.number_or("carrier_hz", fs.carrier_hz);
+    fs.symbol_interval_s = r.number_or("symbol_interval_s", fs.symbol_interval_s);
+    r.finish();
     try {
         fs.validate();
     } catch (const std::invalid_argument& e) {

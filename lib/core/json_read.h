@@ -29,7 +29,8 @@ inline nlohmann::json parse_text(const std::string& text, const std::string& sou
 {
     try {
         return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // parse_error, and out_of_range for a number beyond double (61e394): found by fuzz_mask.
         fail(source, "", std::string("not valid JSON (") + e.what() + ")");
     }
 }
@@ -84,6 +85,9 @@ inline long long integer(const nlohmann::json& v, const std::string& field, cons
 {
     if (!v.is_number_integer())
         fail(source, field, "expected an integer, got " + v.dump());
+    // Beyond 64-bit signed, get<long long>() would wrap: refuse before the cast.
+    if (v.is_number_unsigned() && v.get<unsigned long long>() > 9223372036854775807ULL)
+        fail(source, field, "integer " + v.dump() + " is out of range");
     return v.get<long long>();
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot mask validation, standard patterns and the JSON file format. */
-#include "core/json_read.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
 #include "core/rng.h"
 #include "core/checks.h"
 #include <gnuradio/sems/core/pilot_mask.h>
@@ -17,10 +18,18 @@ namespace {
 
 void check_dims(int n_symbols, int n_subcarriers, const std::string& source)
 {
-    if (n_symbols < 1)
-        json_read::fail(source, "n_symbols", "must be >= 1, got " + std::to_string(n_symbols));
-    if (n_subcarriers < 1)
-        json_read::fail(source, "n_subcarriers", "must be >= 1, got " + std::to_string(n_subcarriers));
+    if (n_symbols < 1 || n_symbols > limits::max_symbols)
+        json_read::fail(source, "n_symbols",
+                        "must be in [1, " + std::to_string(limits::max_symbols) + "], got " + std::to_string(n_symbols));
+    if (n_subcarriers < 1 || n_subcarriers > limits::max_subcarriers)
+        json_read::fail(source, "n_subcarriers",
+                        "must be in [1, " + std::to_string(limits::max_subcarriers) + "], got " +
+                            std::to_string(n_subcarriers));
+    const long long grid = static_cast<long long>(n_symbols) * n_subcarriers;
+    if (grid > limits::max_grid)
+        json_read::fail(source, "n_symbols * n_subcarriers",
+                        "the grid of " + std::to_string(grid) + " resource elements exceeds the limit of " +
+                            std::to_string(limits::max_grid));
 }
 
 void check_count(int n_symbols, int n_subcarriers, int count, const std::string& source)
@@ -155,38 +164,53 @@ pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& sou
 {
     using namespace json_read;
     check_format(j, format_name, format_version, source);
-    const int n_sym = static_cast<int>(integer(require(j, "n_symbols", source), "n_symbols", source));
-    const int n_sub = static_cast<int>(integer(require(j, "n_subcarriers", source), "n_subcarriers", source));
+    object_reader r(j, source);
+    r.allow("format");
+    r.allow("version");
+    const int n_sym = r.int_required("n_symbols", 1, limits::max_symbols);
+    const int n_sub = r.int_required("n_subcarriers", 1, limits::max_subcarriers);
     check_dims(n_sym, n_sub, source);
 
     gr_complex symbol(1.0f, 0.0f);
-    if (j.contains("pilot_symbol")) {
-        const auto& ps = j["pilot_symbol"];
-        if (!ps.is_array() || ps.size() != 2)
+    if (const auto* ps = r.find("pilot_symbol")) {
+        if (!ps->is_array() || ps->size() != 2)
             fail(source, "pilot_symbol", "expected [re, im]");
-        symbol = gr_complex(static_cast<float>(finite_number(ps[0], "pilot_symbol", source)),
-                            static_cast<float>(finite_number(ps[1], "pilot_symbol", source)));
+        symbol = gr_complex(to_float(finite_number((*ps)[0], "pilot_symbol[0]", source), "pilot_symbol[0]", source),
+                            to_float(finite_number((*ps)[1], "pilot_symbol[1]", source), "pilot_symbol[1]", source));
     }
 
-    const auto& list = require(j, "pilots", source);
+    const long long grid = static_cast<long long>(n_sym) * n_sub;
+    const auto& list = r.require("pilots");
     if (!list.is_array())
         fail(source, "pilots", "expected a list of [n, m] pairs");
+    if (static_cast<long long>(list.size()) > grid)
+        fail(source, "pilots", "lists " + std::to_string(list.size()) + " pilots, more than the N*M = " +
+                                   std::to_string(grid) + " cells of the grid");
     std::vector<pilot_position> pilots;
+    pilots.reserve(list.size());
     for (size_t i = 0; i < list.size(); ++i) {
         const auto& p = list[i];
         const std::string field = "pilots[" + std::to_string(i) + "]";
         if (!p.is_array() || p.size() != 2)
-            fail(source, field, "expected [n, m], got " + p.dump());
-        pilots.push_back({ static_cast<int>(integer(p[0], field, source)),
-                           static_cast<int>(integer(p[1], field, source)) });
+            fail(source, field, "expected [n, m], got " + object_reader::short_dump(p));
+        // Range-checked as 64-bit integers before the cast: [4294967296, 5] must not become [0, 5].
+        const long long n = integer(p[0], field, source), m = integer(p[1], field, source);
+        if (n < 0 || n >= n_sym || m < 0 || m >= n_sub)
+            fail(source, field,
+                 "position [" + std::to_string(n) + ", " + std::to_string(m) + "] is outside the " +
+                     std::to_string(n_sym) + " x " + std::to_string(n_sub) + " grid");
+        pilots.push_back({ static_cast<int>(n), static_cast<int>(m) });
     }
-    if (j.contains("n_pilots")) {
-        const auto declared = integer(j["n_pilots"], "n_pilots", source);
+    if (const auto* np = r.find("n_pilots")) {
+        const auto declared = integer(*np, "n_pilots", source);
         if (declared != static_cast<long long>(pilots.size()))
             fail(source, "n_pilots",
                  "declares " + std::to_string(declared) + " pilots but the list has " + std::to_string(pilots.size()));
     }
-    nlohmann::json origin = j.value("origin", nlohmann::json{ { "kind", "explicit" } });
+    // origin: free-form provenance (how the mask was made), kept as written.
+    const auto* o = r.find("origin");
+    nlohmann::json origin = o ? *o : nlohmann::json{ { "kind", "explicit" } };
+    r.finish();
     return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source);
 }
 

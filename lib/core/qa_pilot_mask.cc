@@ -115,7 +115,7 @@ public:
         assert_error([] { pilot_mask::parse(mask_text("[[0, 1], [0, 1]]"), "dup.json"); }, "dup.json: pilots: duplicate");
         assert_error([] { pilot_mask::parse(mask_text("[[4, 1]]"), "oob.json"); }, "outside the 4 x 8 grid");
         assert_error([] { pilot_mask::parse(mask_text("[[0, -1]]"), "neg.json"); }, "outside");
-        assert_error([] { pilot_mask::parse(mask_text("[[0, 1]]", 0, 8), "dims.json"); }, "n_symbols: must be >= 1");
+        assert_error([] { pilot_mask::parse(mask_text("[[0, 1]]", 0, 8), "dims.json"); }, "n_symbols: must be in [1, 65536], got 0");
         assert_error([] { pilot_mask::parse(mask_text("[[0, 1]]", 4, 8, R"(, "n_pilots": 2)"), "cnt.json"); },
                      "declares 2 pilots but the list has 1");
         assert_error([] { pilot_mask::parse(mask_text("[]"), "empty.json"); }, "at least one pilot");

@@ -36,13 +36,13 @@ public:
         const std::string text = head + R"("fading": "none", "target_of_interest": 1, "targets": [
             {"class": "car", "range_m": 80, "velocity_mps": 15},
             {"class": "drone", "range_m": 50, "velocity_mps": 7, "power": 2,
-             "micro_doppler": {"rate_hz": 100, "phase_rad": 0.5},
+             "micro_doppler": {"rate_hz": 100, "amplitude_m": 0.01, "phase_rad": 0.5},
              "paths": [{"excess_range_m": 0, "power": 1}, {"excess_range_m": 12, "power": 0.3}]}],
             "clutter": {"csr_db": 10, "ranges_m": [20, 40]}})";
         auto s = scene::parse(text, "fixed.json");
         CPPUNIT_ASSERT(!s.is_random());
         CPPUNIT_ASSERT_EQUAL(1, s.target_of_interest());
-        CPPUNIT_ASSERT_DOUBLES_EQUAL(0.01, s.targets()[1].md->amplitude_m, 1e-15); // class default A
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(0.01, s.targets()[1].md->amplitude_m, 1e-15);
         const std::string path = "qa_scene_roundtrip.json";
         s.save(path);
         auto back = scene::load(path);

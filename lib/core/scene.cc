@@ -12,8 +12,9 @@
  *               "heading": "approaching" | "any"},
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]}}
  */
-#include "core/json_read.h"
 #include "core/checks.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/core/scene.h>
 #include <algorithm>
 #include <cmath>
@@ -43,9 +44,13 @@ void validate_clutter(const clutter_spec& c, const std::string& source)
 {
     if (!checks::finite(c.csr_db))
         fail(source, "clutter.csr_db", "must be finite");
+    if (c.ranges_m.size() > static_cast<size_t>(limits::max_clutter_paths))
+        fail(source, "clutter.ranges_m", "has " + std::to_string(c.ranges_m.size()) + " ranges, more than the limit of " +
+                                             std::to_string(limits::max_clutter_paths));
     if (c.ranges_m.empty()) {
-        if (c.n_paths < 1)
-            fail(source, "clutter.paths", "must be >= 1, got " + std::to_string(c.n_paths));
+        if (c.n_paths < 1 || c.n_paths > limits::max_clutter_paths)
+            fail(source, "clutter.paths", "must be in [1, " + std::to_string(limits::max_clutter_paths) + "], got " +
+                                              std::to_string(c.n_paths));
         check_finite_nonneg(c.range_min_m, source, "clutter.range_m[0]");
         check_finite_nonneg(c.range_max_m, source, "clutter.range_m[1]");
         if (c.range_min_m > c.range_max_m)
@@ -131,10 +136,14 @@ void scene::validate(const std::string& source) const
         std::sort(sorted.begin(), sorted.end());
         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
             fail(source, "random.classes", "lists a class twice");
-        if (r.n_targets < 1)
-            fail(source, "random.targets", "must be >= 1, got " + std::to_string(r.n_targets));
-        if (r.paths_per_target < 1)
-            fail(source, "random.paths_per_target", "must be >= 1, got " + std::to_string(r.paths_per_target));
+        if (r.classes.size() > static_cast<size_t>(limits::max_classes))
+            fail(source, "random.classes", "lists more than " + std::to_string(limits::max_classes) + " classes");
+        if (r.n_targets < 1 || r.n_targets > limits::max_targets)
+            fail(source, "random.targets", "must be in [1, " + std::to_string(limits::max_targets) + "], got " +
+                                               std::to_string(r.n_targets));
+        if (r.paths_per_target < 1 || r.paths_per_target > limits::max_paths)
+            fail(source, "random.paths_per_target", "must be in [1, " + std::to_string(limits::max_paths) +
+                                                        "], got " + std::to_string(r.paths_per_target));
         check_finite_nonneg(r.excess_range_min_m, source, "random.excess_range_m[0]");
         check_finite_nonneg(r.excess_range_max_m, source, "random.excess_range_m[1]");
         if (r.excess_range_min_m > r.excess_range_max_m)
@@ -146,6 +155,9 @@ void scene::validate(const std::string& source) const
     }
     if (d_targets.empty())
         fail(source, "targets", "a fixed scene needs at least one target");
+    if (d_targets.size() > static_cast<size_t>(limits::max_targets))
+        fail(source, "targets", "has " + std::to_string(d_targets.size()) + " targets, more than the limit of " +
+                                    std::to_string(limits::max_targets));
     if (d_toi < 0 || d_toi >= static_cast<int>(d_targets.size()))
         fail(source, "target_of_interest",
              "is " + std::to_string(d_toi) + " but the scene has " + std::to_string(d_targets.size()) + " targets");
@@ -165,6 +177,9 @@ void scene::validate(const std::string& source) const
         }
         if (t.paths.empty())
             fail(source, f + ".paths", "needs at least one path");
+        if (t.paths.size() > static_cast<size_t>(limits::max_paths))
+            fail(source, f + ".paths", "has " + std::to_string(t.paths.size()) + " paths, more than the limit of " +
+                                           std::to_string(limits::max_paths));
         if (t.paths[0].excess_range_m != 0.0)
             fail(source, f + ".paths[0].excess_range_m", "the first path is the direct path and must be 0");
         for (size_t k = 0; k < t.paths.size(); ++k) {
@@ -230,14 +245,15 @@ scene scene::from_json(const json& j, const std::string& source)
 {
     using namespace json_read;
     check_format(j, format_name, format_version, source);
-    static const std::vector<std::string> known = { "format", "version", "fading", "target_of_interest",
-                                                    "targets", "random", "clutter", "description" };
-    for (auto it = j.begin(); it != j.end(); ++it)
-        if (std::find(known.begin(), known.end(), it.key()) == known.end())
-            fail(source, it.key(), "unknown key");
+    // Every object is read through an object_reader: a key nobody reads is an error
+    // naming its path (targets[0].powr), at every level.
+    object_reader top(j, source);
+    top.allow("format");
+    top.allow("version");
+    top.allow("description"); // free text for people
 
     scene s;
-    const std::string fading = j.contains("fading") ? string(j["fading"], "fading", source) : "rayleigh";
+    const std::string fading = top.string_or("fading", "rayleigh");
     if (fading == "rayleigh")
         s.d_fading = fading_kind::rayleigh;
     else if (fading == "none")
@@ -255,106 +271,98 @@ scene scene::from_json(const json& j, const std::string& source)
         }
     };
 
-    if (j.contains("targets") == j.contains("random"))
+    const auto* jtargets = top.find("targets");
+    const auto* jrandom = top.find("random");
+    if ((jtargets != nullptr) == (jrandom != nullptr))
         fail(source, "", "give exactly one of \"targets\" (a fixed scene) or \"random\"");
 
-    if (j.contains("random")) {
-        const auto& r = j["random"];
-        if (!r.is_object())
-            fail(source, "random", "expected a JSON object");
+    if (jrandom) {
+        object_reader r(*jrandom, source, "random");
         random_spec spec;
-        if (r.contains("classes")) {
-            if (!r["classes"].is_array())
-                fail(source, "random.classes", "expected a list of class names");
+        if (const auto* classes = r.find("classes")) {
+            object_reader::checked_array(*classes, "random.classes", source, 0, limits::max_classes);
             spec.classes.clear();
-            for (size_t i = 0; i < r["classes"].size(); ++i)
-                spec.classes.push_back(class_of(r["classes"][i], "random.classes[" + std::to_string(i) + "]"));
+            for (size_t i = 0; i < classes->size(); ++i)
+                spec.classes.push_back(class_of((*classes)[i], "random.classes[" + std::to_string(i) + "]"));
         }
-        if (r.contains("targets"))
-            spec.n_targets = static_cast<int>(integer(r["targets"], "random.targets", source));
-        if (r.contains("paths_per_target"))
-            spec.paths_per_target = static_cast<int>(integer(r["paths_per_target"], "random.paths_per_target", source));
-        if (r.contains("excess_range_m"))
+        spec.n_targets = r.int_or("targets", spec.n_targets, 1, limits::max_targets);
+        spec.paths_per_target = r.int_or("paths_per_target", spec.paths_per_target, 1, limits::max_paths);
+        if (const auto* er = r.find("excess_range_m"))
             std::tie(spec.excess_range_min_m, spec.excess_range_max_m) =
-                read_pair(r["excess_range_m"], "random.excess_range_m", source);
-        spec.path_power_decay_db = number_or(r, "path_power_decay_db", spec.path_power_decay_db, source);
-        if (r.contains("micro_doppler")) {
-            if (!r["micro_doppler"].is_boolean())
-                fail(source, "random.micro_doppler", "expected true or false");
-            spec.micro_doppler = r["micro_doppler"].get<bool>();
-        }
-        if (r.contains("heading")) {
-            const std::string h = string(r["heading"], "random.heading", source);
+                read_pair(*er, "random.excess_range_m", source);
+        spec.path_power_decay_db = r.number_or("path_power_decay_db", spec.path_power_decay_db);
+        spec.micro_doppler = r.boolean_or("micro_doppler", spec.micro_doppler);
+        if (r.has("heading")) {
+            const std::string h = r.string("heading");
             try {
                 spec.heading = heading_from_name(h);
             } catch (const std::invalid_argument& e) {
                 fail(source, "random.heading", e.what());
             }
         }
+        r.finish();
+        if (top.has("target_of_interest"))
+            fail(source, "target_of_interest", "applies to fixed scenes only (a random scene's is target 0)");
         s.d_random = spec;
     } else {
-        const auto& list = j["targets"];
-        if (!list.is_array())
-            fail(source, "targets", "expected a list of targets");
+        const auto& list = object_reader::checked_array(*jtargets, "targets", source, 0, limits::max_targets);
         for (size_t i = 0; i < list.size(); ++i) {
-            const auto& jt = list[i];
             const std::string f = "targets[" + std::to_string(i) + "]";
-            if (!jt.is_object())
-                fail(source, f, "expected a JSON object");
+            object_reader rt(list[i], source, f);
             target_spec t;
-            t.cls = class_of(require(jt, "class", source), f + ".class");
-            t.range_m = finite_number(require(jt, "range_m", source), f + ".range_m", source);
-            t.velocity_mps = finite_number(require(jt, "velocity_mps", source), f + ".velocity_mps", source);
-            t.power = number_or(jt, "power", 1.0, source);
-            if (jt.contains("micro_doppler")) {
-                const auto& md = jt["micro_doppler"];
+            t.cls = class_of(rt.require("class"), f + ".class");
+            t.range_m = rt.number("range_m");
+            t.velocity_mps = rt.number("velocity_mps");
+            t.power = rt.number_or("power", 1.0);
+            if (const auto* md = rt.find("micro_doppler")) {
+                object_reader rm(*md, source, f + ".micro_doppler");
                 micro_doppler m;
-                m.rate_hz = finite_number(require(md, "rate_hz", source), f + ".micro_doppler.rate_hz", source);
-                m.amplitude_m = md.contains("amplitude_m")
-                                    ? finite_number(md["amplitude_m"], f + ".micro_doppler.amplitude_m", source)
-                                    : class_info(t.cls).md_amplitude_m;
-                m.phase_rad = number_or(md, "phase_rad", 0.0, source);
+                m.rate_hz = rm.number("rate_hz");
+                // No silent class default: a scene that models micro-Doppler states its size.
+                if (!rm.has("amplitude_m"))
+                    fail(source, rm.field("amplitude_m"),
+                         "missing (the displacement in metres; the table's value for \"" + class_info(t.cls).name +
+                             "\" is " + std::to_string(class_info(t.cls).md_amplitude_m) + ")");
+                m.amplitude_m = rm.number("amplitude_m");
+                m.phase_rad = rm.number_or("phase_rad", 0.0);
+                rm.finish();
                 t.md = m;
             }
-            if (jt.contains("paths")) {
-                const auto& paths = jt["paths"];
-                if (!paths.is_array())
-                    fail(source, f + ".paths", "expected a list of paths");
+            if (const auto* paths = rt.find("paths")) {
+                object_reader::checked_array(*paths, f + ".paths", source, 1, limits::max_paths);
                 t.paths.clear();
-                for (size_t k = 0; k < paths.size(); ++k) {
-                    const std::string pf = f + ".paths[" + std::to_string(k) + "]";
-                    if (!paths[k].is_object())
-                        fail(source, pf, "expected a JSON object");
-                    t.paths.push_back({ number_or(paths[k], "excess_range_m", 0.0, source),
-                                        number_or(paths[k], "power", 1.0, source) });
+                for (size_t k = 0; k < paths->size(); ++k) {
+                    object_reader rp((*paths)[k], source, f + ".paths[" + std::to_string(k) + "]");
+                    t.paths.push_back({ rp.number_or("excess_range_m", 0.0), rp.number_or("power", 1.0) });
+                    rp.finish();
                 }
             }
+            rt.finish();
             s.d_targets.push_back(t);
         }
-        if (j.contains("target_of_interest"))
-            s.d_toi = static_cast<int>(integer(j["target_of_interest"], "target_of_interest", source));
+        s.d_toi = top.int_or("target_of_interest", 0, 0, limits::max_targets - 1);
     }
 
-    if (j.contains("clutter")) {
-        const auto& jc = j["clutter"];
-        if (!jc.is_object())
-            fail(source, "clutter", "expected a JSON object");
+    if (top.has("clutter")) {
+        object_reader rc = top.object("clutter");
         clutter_spec c;
-        c.csr_db = finite_number(require(jc, "csr_db", source), "clutter.csr_db", source);
-        if (jc.contains("ranges_m")) {
-            if (!jc["ranges_m"].is_array() || jc["ranges_m"].empty())
-                fail(source, "clutter.ranges_m", "expected a non-empty list of ranges");
-            for (const auto& r : jc["ranges_m"])
-                c.ranges_m.push_back(finite_number(r, "clutter.ranges_m", source));
+        c.csr_db = rc.number("csr_db");
+        if (const auto* ranges = rc.find("ranges_m")) {
+            object_reader::checked_array(*ranges, "clutter.ranges_m", source, 1, limits::max_clutter_paths);
+            for (size_t i = 0; i < ranges->size(); ++i)
+                c.ranges_m.push_back(finite_number((*ranges)[i], "clutter.ranges_m[" + std::to_string(i) + "]", source));
             c.n_paths = static_cast<int>(c.ranges_m.size());
+            if (rc.has("paths") || rc.has("range_m"))
+                fail(source, "clutter", "give either \"ranges_m\" (fixed scatterers) or \"paths\" and \"range_m\", not both");
         } else {
-            if (jc.contains("paths"))
-                c.n_paths = static_cast<int>(integer(jc["paths"], "clutter.paths", source));
-            if (jc.contains("range_m"))
-                std::tie(c.range_min_m, c.range_max_m) = read_pair(jc["range_m"], "clutter.range_m", source);
+            c.n_paths = rc.int_or("paths", c.n_paths, 1, limits::max_clutter_paths);
+            if (const auto* rr = rc.find("range_m"))
+                std::tie(c.range_min_m, c.range_max_m) = read_pair(*rr, "clutter.range_m", source);
         }
+        rc.finish();
         s.d_clutter = c;
     }
+    top.finish();
     s.validate(source);
     return s;
 }

@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/target_class.h>
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 namespace gr {
 namespace sems {
@@ -27,6 +28,10 @@ std::vector<pmt::pmt_t> classifier_task::decode(const gr_complex* obs, int batch
 {
     const std::vector<float> probs = d_decoder->classify(obs, batch);
     const size_t c = d_names.size();
+    if (probs.size() != static_cast<size_t>(batch) * c) // never step past the probability vector
+        throw std::logic_error("classifier_sink: the decoder returned " + std::to_string(probs.size()) +
+                               " probabilities for " + std::to_string(batch) + " frames of " + std::to_string(c) +
+                               " classes");
     std::vector<pmt::pmt_t> out;
     out.reserve(batch);
     for (int i = 0; i < batch; i++) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: model bundle directory (bundle.json + the mask and weights files it names; weights via bundle_decoder). */
-#include "core/json_read.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
+#include <gnuradio/sems/learning/network_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <algorithm>
 #include <sys/stat.h>
@@ -92,15 +94,19 @@ model_bundle model_bundle::load(const std::string& dir)
 
     model_bundle b;
     b.directory = dir;
-    const auto task = json_read::string(json_read::require(j, "task", path), "task", path);
+    json_read::object_reader r(j, path); // every key is read or refused by r.finish()
+    r.allow("format");
+    r.allow("version");
+    const auto task = r.string("task");
     try {
         b.task = task_from_name(task);
     } catch (const std::invalid_argument& e) {
         json_read::fail(path, "task", e.what());
     }
-    b.frame = frame_settings::from_json(json_read::require(j, "frame", path), path + ": frame");
-    b.decoder = json_read::require(j, "decoder", path);
-    const auto kind = json_read::string(json_read::require(b.decoder, "kind", path), "decoder.kind", path);
+    b.frame = frame_settings::from_json(r.require("frame"), path + ": frame");
+    b.decoder = r.require("decoder");
+    json_read::object_reader rd(b.decoder, path, "decoder");
+    const auto kind = rd.string("kind");
     const auto kinds = decoder_kinds_for(b.task);
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
         std::string known;
@@ -109,21 +115,37 @@ model_bundle model_bundle::load(const std::string& dir)
         json_read::fail(path, "decoder.kind",
                         "task \"" + task + "\" needs a " + known + " decoder, got \"" + kind + "\"");
     }
+    // The settings are validated here (unknown keys, ranges), before any weights are read.
+    const auto* settings = rd.find("settings");
+    const nlohmann::json no_settings = nlohmann::json::object();
+    const std::string where = path + ": decoder.settings";
+    rd.finish();
     if (b.task == task_kind::classify) {
-        const auto& names = json_read::require(j, "class_names", path);
-        if (!names.is_array() || names.size() < 2)
-            json_read::fail(path, "class_names", "a classifier needs at least two class names");
-        for (const auto& n : names)
-            b.class_names.push_back(json_read::string(n, "class_names", path));
-        const auto s = b.decoder.find("settings");
-        if (s != b.decoder.end() && s->contains("n_classes") &&
-            json_read::integer((*s)["n_classes"], "decoder.settings.n_classes", path) !=
-                static_cast<long long>(b.class_names.size()))
-            json_read::fail(path, "class_names", "has " + std::to_string(b.class_names.size()) +
-                                                     " names but the decoder has " + s->at("n_classes").dump() +
-                                                     " classes");
+        const auto& names = r.array("class_names", 2, limits::max_classes);
+        for (size_t i = 0; i < names.size(); ++i) {
+            const std::string f = "class_names[" + std::to_string(i) + "]";
+            b.class_names.push_back(json_read::string(names[i], f, path));
+            if (b.class_names.back().empty())
+                json_read::fail(path, f, "is empty");
+            if (std::count(b.class_names.begin(), b.class_names.end(), b.class_names.back()) > 1)
+                json_read::fail(path, f, "\"" + b.class_names.back() + "\" is listed twice");
+        }
+        // The names, n_classes (given or the default) and hence the weights' shape agree:
+        // the sink never reads past the probability vector or mislabels a class.
+        const auto cs = nn::classifier_settings::from_json(settings ? *settings : no_settings, where);
+        if (cs.n_classes != static_cast<int>(b.class_names.size()))
+            json_read::fail(path, "class_names",
+                            "has " + std::to_string(b.class_names.size()) + " names but the decoder has " +
+                                std::to_string(cs.n_classes) + " classes (decoder.settings.n_classes" +
+                                (settings && settings->contains("n_classes") ? "" : ", by default") + ")");
+    } else {
+        if (r.has("class_names") && !r.require("class_names").empty())
+            json_read::fail(path, "class_names", "a delay model has no classes");
+        nn::delay_settings::from_json(settings ? *settings : no_settings, where);
     }
     // The bundle's own files are the ones bundle.json names (the defaults for older bundles).
+    r.allow("mask_file");
+    r.allow("weights_file");
     b.mask_name = bundle_file_name(j, "mask_file", mask_file, path);
     b.weights_name = bundle_file_name(j, "weights_file", weights_file, path);
     const auto& mask_name = b.mask_name;
@@ -133,11 +155,15 @@ model_bundle model_bundle::load(const std::string& dir)
     } catch (const std::invalid_argument& e) {
         json_read::fail(join(dir, mask_name), "", std::string("does not match bundle.json: ") + e.what());
     }
-    const auto np = json_read::integer(json_read::require(j, "n_pilots", path), "n_pilots", path);
+    const auto np = r.integer("n_pilots", 1, limits::max_grid);
     if (np != b.mask.size())
         json_read::fail(join(dir, mask_name), "pilots",
                         "holds " + std::to_string(b.mask.size()) + " pilots but bundle.json says n_pilots = " +
                             std::to_string(np));
+    // Free-form records of how the bundle was made and what it measured.
+    r.allow("training");
+    r.allow("metrics");
+    r.finish();
     b.training = j.value("training", nlohmann::json::object());
     b.metrics = j.value("metrics", nlohmann::json::object());
     return b;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: JSON of the network size settings (the bundle's decoder settings). */
-#include "core/json_read.h"
+#include "core/json_object.h"
+#include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 
 namespace gr {
@@ -10,40 +11,28 @@ namespace nn {
 namespace {
 using nlohmann::json;
 
-int int_or(const json& j, const char* key, int fallback, const std::string& source, int min_value)
+using reader = json_read::object_reader;
+
+// Every settings object is read through an object_reader: unknown keys are refused
+// by finish(), integers are range-checked before the cast.
+int int_or(reader& r, const char* key, int fallback, const std::string&, int min_value)
 {
-    auto it = j.find(key);
-    if (it == j.end())
-        return fallback;
-    const long long v = json_read::integer(*it, key, source);
-    if (v < min_value || v > 1000000)
-        json_read::fail(source, key, "must be in [" + std::to_string(min_value) + ", 1000000], got " +
-                                         std::to_string(v));
-    return static_cast<int>(v);
+    return r.int_or(key, fallback, min_value, limits::max_network_size);
 }
 
-double positive_or(const json& j, const char* key, double fallback, const std::string& source)
+double positive_or(reader& r, const char* key, double fallback, const std::string& source)
 {
-    const double v = json_read::number_or(j, key, fallback, source);
+    const double v = r.number_or(key, fallback);
     if (v <= 0.0)
         json_read::fail(source, key, "must be positive");
     return v;
 }
 
-bool bool_or(const json& j, const char* key, bool fallback, const std::string& source)
-{
-    auto it = j.find(key);
-    if (it == j.end())
-        return fallback;
-    if (!it->is_boolean())
-        json_read::fail(source, key, "expected true or false");
-    return it->get<bool>();
-}
-
-void require_object(const json& j, const std::string& source)
+reader open(const json& j, const std::string& source)
 {
     if (!j.is_object())
         json_read::fail(source, "settings", "expected a JSON object");
+    return reader(j, source);
 }
 } // namespace
 
@@ -63,32 +52,31 @@ json encoder_settings::to_json() const
              { "lr_scale", lr_scale } };
 }
 
-encoder_settings encoder_settings::from_json(const json& j, const std::string& source)
+encoder_settings encoder_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     encoder_settings s;
-    if (j.contains("kind")) {
-        s.kind = json_read::string(j["kind"], "kind", source);
-        if (!known_kind(s.kind))
-            json_read::fail(source, "kind", "unknown encoder \"" + s.kind + "\" (known: gumbel_topk, gumbel_heads)");
-    }
-    if (j.contains("soft_above"))
+    s.kind = j.string_or("kind", s.kind);
+    if (!known_kind(s.kind))
+        json_read::fail(source, "kind", "unknown encoder \"" + s.kind + "\" (known: gumbel_topk, gumbel_heads)");
+    if (j.has("soft_above"))
         json_read::fail(source, "soft_above",
                         "is no longer a setting: use soft_epochs (the number of mask epochs with a soft "
                         "forward pass; 0 = hard masks from the start)");
-    s.free_scores = bool_or(j, "free_scores", s.free_scores, source);
+    s.free_scores = j.boolean_or("free_scores", s.free_scores);
     s.embedding = int_or(j, "embedding", s.embedding, source, 1);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
     s.temperature_start = positive_or(j, "temperature_start", s.temperature_start, source);
     s.temperature_floor = positive_or(j, "temperature_floor", s.temperature_floor, source);
     s.temperature_decay = positive_or(j, "temperature_decay", s.temperature_decay, source);
     s.soft_epochs = int_or(j, "soft_epochs", s.soft_epochs, source, 0);
-    s.factorized = bool_or(j, "factorized", s.factorized, source);
-    s.shared = bool_or(j, "shared", s.shared, source);
-    s.collision_weight = json_read::number_or(j, "collision_weight", s.collision_weight, source);
-    if (s.collision_weight < 0.0)
-        json_read::fail(source, "collision_weight", "must be >= 0");
+    s.factorized = j.boolean_or("factorized", s.factorized);
+    s.shared = j.boolean_or("shared", s.shared);
+    s.collision_weight = j.number_or("collision_weight", s.collision_weight);
+    if (s.collision_weight < 0.0) // a negative weight would reward collisions
+        json_read::fail(source, "collision_weight", "must be >= 0, got " + std::to_string(s.collision_weight));
     s.lr_scale = positive_or(j, "lr_scale", s.lr_scale, source);
+    j.finish();
     return s;
 }
 
@@ -106,17 +94,16 @@ json classifier_settings::to_json() const
     return j;
 }
 
-classifier_settings classifier_settings::from_json(const json& j, const std::string& source)
+classifier_settings classifier_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     classifier_settings s;
     // (make_decoder sets the architecture from the bundle's decoder kind.)
-    if (j.contains("architecture"))
-        s.architecture = json_read::string(j["architecture"], "architecture", source);
+    s.architecture = j.string_or("architecture", s.architecture);
     if (!known_architecture(s.architecture))
         json_read::fail(source, "architecture",
                         "unknown classifier \"" + s.architecture + "\" (known: spectral, resnet)");
-    s.n_classes = int_or(j, "n_classes", s.n_classes, source, 2);
+    s.n_classes = j.int_or("n_classes", s.n_classes, 2, limits::max_classes);
     s.width = int_or(j, "width", s.width, source, 1);
     s.depth = int_or(j, "depth", s.depth, source, 0);
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
@@ -125,11 +112,10 @@ classifier_settings classifier_settings::from_json(const json& j, const std::str
     s.kernel = int_or(j, "kernel", s.kernel, source, 1);
     if (s.kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd");
-    if (j.contains("mti")) {
-        s.mti = json_read::string(j["mti"], "mti", source);
-        if (!known_mti(s.mti))
-            json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");
-    }
+    s.mti = j.string_or("mti", s.mti);
+    if (!known_mti(s.mti))
+        json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");
+    j.finish();
     return s;
 }
 
@@ -145,12 +131,12 @@ json delay_settings::to_json() const
              { "window", window } };
 }
 
-delay_settings delay_settings::from_json(const json& j, const std::string& source)
+delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     delay_settings s;
-    s.tau_min_index = json_read::number_or(j, "tau_min_index", s.tau_min_index, source);
-    s.tau_max_index = json_read::number_or(j, "tau_max_index", s.tau_max_index, source);
+    s.tau_min_index = j.number_or("tau_min_index", s.tau_min_index);
+    s.tau_max_index = j.number_or("tau_max_index", s.tau_max_index);
     if (s.tau_max_index <= s.tau_min_index)
         json_read::fail(source, "tau_max_index", "must be greater than tau_min_index");
     s.q = int_or(j, "q", s.q, source, 2);
@@ -161,16 +147,18 @@ delay_settings delay_settings::from_json(const json& j, const std::string& sourc
     if (s.kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd");
     s.window = int_or(j, "window", s.window, source, 0);
+    j.finish();
     return s;
 }
 
 json reconstruction_settings::to_json() const { return { { "hidden", hidden } }; }
 
-reconstruction_settings reconstruction_settings::from_json(const json& j, const std::string& source)
+reconstruction_settings reconstruction_settings::from_json(const json& json_in, const std::string& source)
 {
-    require_object(j, source);
+    reader j = open(json_in, source);
     reconstruction_settings s;
     s.hidden = int_or(j, "hidden", s.hidden, source, 1);
+    j.finish();
     return s;
 }
 

@@ -15,6 +15,7 @@
 #include "learning/sink_core.h"
 #include <gnuradio/sems/core/tags.h>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 namespace gr {
@@ -27,9 +28,17 @@ class sink_block : public Base
 public:
     int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star&) override
     {
-        const uint64_t first = this->nitems_read(0);
-        this->get_tags_in_range(d_tags, 0, first, first + noutput_items);
-        d_core.push(static_cast<const gr_complex*>(input_items[0]), noutput_items, first, d_tags);
+        // Nothing escapes work(): GNU Radio would end this block's thread and the flowgraph
+        // would hang. sink_core isolates decoder and scoring faults itself; anything else
+        // (the tag reader, the bookkeeping) is caught here and the frames it touched are
+        // counted as faulted. Either way the fault is logged once per kind.
+        try {
+            const uint64_t first = this->nitems_read(0);
+            this->get_tags_in_range(d_tags, 0, first, first + noutput_items);
+            d_core.push(static_cast<const gr_complex*>(input_items[0]), noutput_items, first, d_tags);
+        } catch (const std::exception& e) {
+            d_core.recover(std::string("work (") + typeid(e).name() + ")", e.what());
+        }
         return noutput_items;
     }
 
@@ -48,6 +57,10 @@ public:
     uint64_t frames() const override { return d_core.frames(); }
     uint64_t frames_scored() const override { return d_core.frames_scored(); }
     uint64_t frames_skipped() const override { return d_core.frames_skipped(); }
+    uint64_t frames_faulted() const override { return d_core.frames_faulted(); }
+
+    // Test hook (not in the public API): see sink_core::set_fault_injection.
+    sink_core& core_for_test() { return d_core; }
     void reset_metrics() override { d_core.reset_metrics(); }
     int batch_size() const override { return d_core.batch_size(); }
     int metrics_period() const override { return d_core.metrics_period(); }
@@ -68,6 +81,11 @@ protected:
               this->message_port_pub(port, msg);
           })
     {
+        d_core.set_fault_reporter([this](const std::string& kind, const std::string& what) {
+            this->d_logger->error("fault in {}: {}; the frames it touched are counted in frames_faulted "
+                                  "and skipped (further faults of this kind are only counted)",
+                                  kind, what);
+        });
         this->message_port_register_out(pmt::intern(keys::result_port));
         this->message_port_register_out(pmt::intern(keys::metrics_port));
     }

@@ -4,8 +4,10 @@
 #include "blocks/stream_values.h"
 
 #include <gnuradio/sems/core/tags.h>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <typeinfo>
 #include <stdexcept>
 
 namespace gr {
@@ -100,6 +102,8 @@ void sink_core::push(const gr_complex* frames,
     static const pmt::pmt_t frame_key = pmt::intern(keys::frame_tag);
     static const pmt::pmt_t truth_key = pmt::intern(keys::truth_tag);
 
+    d_entered += static_cast<uint64_t>(count); // recover() accounts for them if anything below throws
+
     // Tags per item of this call (the extractor puts both on the frame's item).
     std::vector<pmt::pmt_t> truth(count, pmt::PMT_NIL);
     std::vector<int64_t> index(count, -1);
@@ -152,19 +156,60 @@ void sink_core::finish()
 void sink_core::decode_pending()
 {
     // Decode without the lock: getters stay responsive during inference.
-    std::vector<pmt::pmt_t> answers = d_task.decode(d_obs.data(), d_n_obs);
-    if (static_cast<int>(answers.size()) != d_n_obs)
-        throw std::logic_error("sink_core: the decoder returned a wrong number of answers");
+    std::vector<pmt::pmt_t> answers;
+    bool ok = true;
+    try {
+        if (d_inject)
+            d_inject(d_n_obs);
+        answers = d_task.decode(d_obs.data(), d_n_obs);
+        if (static_cast<int>(answers.size()) != d_n_obs)
+            throw std::logic_error("sink_core: the decoder returned " + std::to_string(answers.size()) +
+                                   " answers for " + std::to_string(d_n_obs) + " frames");
+    } catch (const std::exception& e) {
+        fault("decode", e);
+        ok = false;
+    }
     d_n_obs = 0;
     size_t next = 0;
     while (!d_pending.empty()) {
         pending_frame f = std::move(d_pending.front());
         d_pending.pop_front();
-        if (f.skipped)
+        if (f.skipped) {
             emit_skip();
-        else
-            emit_result(f, answers[next++]);
+        } else if (!ok) {
+            emit_skip(true);
+        } else {
+            try {
+                emit_result(f, answers[next++]);
+            } catch (const std::exception& e) {
+                fault("score", e);
+                emit_skip(true);
+            }
+        }
     }
+}
+
+void sink_core::fault(const std::string& where, const std::exception& e)
+{
+    const std::string kind = where + " (" + typeid(e).name() + ")";
+    if (std::find(d_fault_kinds.begin(), d_fault_kinds.end(), kind) != d_fault_kinds.end())
+        return; // reported once per kind; the counters carry the rest
+    d_fault_kinds.push_back(kind);
+    if (d_report)
+        d_report(kind, e.what());
+}
+
+void sink_core::recover(const std::string& kind, const std::string& what)
+{
+    if (std::find(d_fault_kinds.begin(), d_fault_kinds.end(), kind) == d_fault_kinds.end()) {
+        d_fault_kinds.push_back(kind);
+        if (d_report)
+            d_report(kind, what);
+    }
+    d_pending.clear();
+    d_n_obs = 0;
+    while (d_left < d_entered)
+        emit_skip(true);
 }
 
 void sink_core::emit_ready_skips()
@@ -175,11 +220,12 @@ void sink_core::emit_ready_skips()
     }
 }
 
-void sink_core::emit_skip()
+void sink_core::emit_skip(bool faulted)
 {
     {
         std::lock_guard<std::mutex> lock(d_mutex);
         d_skipped++;
+        d_faulted += faulted ? 1 : 0;
     }
     count_frame();
 }
@@ -201,6 +247,7 @@ void sink_core::emit_result(const pending_frame& f, pmt::pmt_t result)
 
 void sink_core::count_frame()
 {
+    d_left++;
     pmt::pmt_t msg = pmt::PMT_NIL;
     {
         std::lock_guard<std::mutex> lock(d_mutex);
@@ -244,6 +291,12 @@ uint64_t sink_core::frames_skipped() const
     return d_skipped;
 }
 
+uint64_t sink_core::frames_faulted() const
+{
+    std::lock_guard<std::mutex> lock(d_mutex);
+    return d_faulted;
+}
+
 pmt::pmt_t sink_core::metrics() const
 {
     std::lock_guard<std::mutex> lock(d_mutex);
@@ -256,6 +309,7 @@ pmt::pmt_t sink_core::metrics_locked() const
     d = pmt::dict_add(d, pmt::intern(keys::frames), pmt::from_uint64(d_frames));
     d = pmt::dict_add(d, pmt::intern(keys::frames_scored), pmt::from_uint64(d_scored));
     d = pmt::dict_add(d, pmt::intern(keys::frames_skipped), pmt::from_uint64(d_skipped));
+    d = pmt::dict_add(d, pmt::intern(keys::frames_faulted), pmt::from_uint64(d_faulted));
     return d_task.add_metrics(d);
 }
 
@@ -269,7 +323,7 @@ pmt::pmt_t sink_core::publish_metrics_locked()
 void sink_core::reset_metrics()
 {
     std::lock_guard<std::mutex> lock(d_mutex);
-    d_frames = d_scored = d_skipped = 0;
+    d_frames = d_scored = d_skipped = d_faulted = 0;
     d_published = false;
     d_task.reset_metrics();
 }

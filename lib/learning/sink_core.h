@@ -7,6 +7,9 @@
  *   - frame index from the `sems_frame` tag on the item, else one past the last index;
  *   - truth from the `sems_truth` tag on the item, carried into the result;
  *   - a frame with a non-finite value is counted as skipped and never decoded;
+ *   - a fault (an exception from the decoder, the scoring or the bookkeeping) never
+ *     escapes: the frames it touches are counted as skipped and as faulted, the
+ *     fault is reported once per kind (the block logs it), and the stream goes on;
  *   - frames are grouped into consecutive batches of exactly `batch_size` valid frames,
  *     whatever the sizes of the work() calls, so the decoder sees the same batches (and
  *     gives bit-identical answers) on every run; finish() decodes the partial last batch;
@@ -93,7 +96,18 @@ public:
 
     uint64_t frames() const;         // handled: answered or skipped
     uint64_t frames_scored() const;  // answered and compared with a truth
-    uint64_t frames_skipped() const; // non-finite, never decoded
+    uint64_t frames_skipped() const; // non-finite or faulted, never answered
+    uint64_t frames_faulted() const; // skipped because decoding or bookkeeping failed
+
+    // Where the first fault of each kind is reported: (kind, message). The block logs it.
+    using fault_fn = std::function<void(const std::string& kind, const std::string& what)>;
+    void set_fault_reporter(fault_fn f) { d_report = std::move(f); }
+    // Test hook: called with the batch size before every decode (block thread); may throw
+    // to inject a fault as a failing decoder would.
+    void set_fault_injection(std::function<void(int batch)> f) { d_inject = std::move(f); }
+    // Accounts for every frame handed to push() but not yet answered or skipped, as
+    // faulted, after an exception escaped push(); the bookkeeping starts clean again.
+    void recover(const std::string& kind, const std::string& what);
     // The metrics message: the counters plus the task's metrics.
     pmt::pmt_t metrics() const;
     void reset_metrics();
@@ -115,7 +129,8 @@ private:
 
     void decode_pending();          // decodes the valid pending frames, then emits them
     void emit_ready_skips();        // skipped frames at the front of the queue go out now
-    void emit_skip();
+    void emit_skip(bool faulted = false);
+    void fault(const std::string& kind, const std::exception& e);
     void emit_result(const pending_frame& f, pmt::pmt_t result);
     void count_frame();             // one frame handled; metrics message every K
     pmt::pmt_t metrics_locked() const;
@@ -131,6 +146,11 @@ private:
     std::vector<gr_complex> d_obs; // the valid pending frames, batch x N_p
     int d_n_obs = 0;
     uint64_t d_next_index = 0;
+    uint64_t d_entered = 0;          // frames handed to push(), ever (block thread only)
+    uint64_t d_left = 0;             // frames answered or skipped, ever (block thread only)
+    fault_fn d_report;
+    std::function<void(int)> d_inject;
+    std::vector<std::string> d_fault_kinds; // reported already
 
     // Shared with the getters.
     mutable std::mutex d_mutex;
@@ -138,6 +158,7 @@ private:
     uint64_t d_frames = 0;
     uint64_t d_scored = 0;
     uint64_t d_skipped = 0;
+    uint64_t d_faulted = 0;
     bool d_published = false;        // a metrics message went out since the last reset
     uint64_t d_published_frames = 0; // d_frames in that message
 };

@@ -35,7 +35,10 @@ data_set make_data(const training_settings& s, const scene& sc)
     for (int64_t i = 0; i < count; ++i) {
         const auto& t = truths[i];
         const auto it = std::find(classes.begin(), classes.end(), static_cast<target_class>(t.class_id));
-        label[i] = static_cast<int64_t>(it == classes.end() ? 0 : it - classes.begin());
+        if (it == classes.end()) // never labelled 0 silently: the scene and its labels disagree
+            throw std::logic_error("training data: frame " + std::to_string(i) + " has target class " +
+                                   std::to_string(t.class_id) + ", which is not among the scene's label classes");
+        label[i] = static_cast<int64_t>(it - classes.begin());
         delay[i] = static_cast<float>(t.delay_index);
         d.delay_min = std::min(d.delay_min, t.delay_index);
         d.delay_max = std::max(d.delay_max, t.delay_index);

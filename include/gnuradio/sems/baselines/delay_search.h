@@ -24,7 +24,7 @@ namespace sems {
 struct SEMS_BASELINES_API delay_search {
     int oversample = 8;      ///< grid points per delay index (per 1/B seconds)
     double min_index = 0.0;  ///< inclusive
-    double max_index = -1.0; ///< exclusive; < 0 means M (the whole unambiguous window)
+    double max_index = -1.0; ///< exclusive; -1 means M (the whole unambiguous window); other negatives are refused
 
     /*!
      * \brief Checks the fields against a frame.

@@ -8,6 +8,7 @@
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
 /*! \brief GNU Radio's namespace. */
@@ -35,8 +36,18 @@ struct SEMS_API frame_settings {
     double subcarrier_spacing_hz() const { return bandwidth_hz / n_subcarriers; }
     /*! \brief λ = c/f_c. \return the carrier wavelength in m. */
     double wavelength_m() const { return speed_of_light_mps / carrier_hz; }
-    /*! \brief N·M. \return the resource elements of one frame. */
-    int grid_size() const { return n_symbols * n_subcarriers; }
+    /*!
+     * \brief N·M; validate() bounds it by limits::max_grid, and it never overflows.
+     * \return the resource elements of one frame.
+     * \throws std::invalid_argument if the (unvalidated) product is beyond the int range.
+     */
+    int grid_size() const
+    {
+        const long long g = static_cast<long long>(n_symbols) * n_subcarriers;
+        if (g < 0 || g > 2147483647LL)
+            throw std::invalid_argument("frame settings: grid N*M = " + std::to_string(g) + " is out of range");
+        return static_cast<int>(g);
+    }
     /*! \brief One delay index, 1/B. \return the delay resolution in s. */
     double delay_resolution_s() const { return 1.0 / bandwidth_hz; }
     /*! \brief One delay index in range, c/(2B). \return metres of range per delay index. */

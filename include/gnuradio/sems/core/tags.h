@@ -37,7 +37,8 @@ constexpr const char* abs_error_index = "abs_error_index"; ///< |estimated - tru
 // Running-metric dictionary keys.
 constexpr const char* frames = "frames";                 ///< frames handled
 constexpr const char* frames_scored = "frames_scored";   ///< frames with a truth to compare
-constexpr const char* frames_skipped = "frames_skipped"; ///< non-finite frames, never decoded
+constexpr const char* frames_skipped = "frames_skipped"; ///< non-finite or faulted frames, never answered
+constexpr const char* frames_faulted = "frames_faulted"; ///< skipped because decoding failed
 constexpr const char* accuracy = "accuracy";             ///< fraction of scored frames classified correctly
 constexpr const char* mae_index = "mae_index";           ///< mean absolute delay error in delay indices
 constexpr const char* mae_m = "mae_m";                   ///< mean absolute range error in m

@@ -62,8 +62,14 @@ public:
     virtual uint64_t frames() const = 0;
     /*! \brief Frames answered with a truth to compare. \return the count. */
     virtual uint64_t frames_scored() const = 0;
-    /*! \brief Non-finite frames, never decoded. \return the count. */
+    /*! \brief Non-finite or faulted frames, never answered. \return the count. */
     virtual uint64_t frames_skipped() const = 0;
+    /*!
+     * \brief Frames skipped because decoding or the bookkeeping failed (an exception in
+     *        work(), logged once per kind); the stream goes on.
+     * \return the count; frames() = answered + frames_skipped().
+     */
+    virtual uint64_t frames_faulted() const = 0;
     /*! \brief Fraction of scored frames classified correctly. \return the accuracy; NaN before the first scored frame. */
     virtual double accuracy() const = 0;
     /*!

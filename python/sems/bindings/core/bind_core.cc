@@ -58,6 +58,7 @@ void bind_keys(py::module& m)
     k.attr("frames") = keys::frames;
     k.attr("frames_scored") = keys::frames_scored;
     k.attr("frames_skipped") = keys::frames_skipped;
+    k.attr("frames_faulted") = keys::frames_faulted;
     k.attr("accuracy") = keys::accuracy;
     k.attr("mae_index") = keys::mae_index;
     k.attr("mae_m") = keys::mae_m;

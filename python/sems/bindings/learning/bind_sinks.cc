@@ -34,6 +34,7 @@ bind_sink(py::module& m, const char* name, const char* doc, const char* make_doc
         .def("frames", &Sink::frames, D(classifier_sink, frames))
         .def("frames_scored", &Sink::frames_scored, D(classifier_sink, frames_scored))
         .def("frames_skipped", &Sink::frames_skipped, D(classifier_sink, frames_skipped))
+        .def("frames_faulted", &Sink::frames_faulted, D(classifier_sink, frames_faulted))
         .def("reset_metrics", &Sink::reset_metrics, D(classifier_sink, reset_metrics))
         .def("batch_size", &Sink::batch_size, D(classifier_sink, batch_size))
         .def("metrics_period", &Sink::metrics_period, D(classifier_sink, metrics_period))

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the upper bounds on every size a file, parameter or stream can ask for.
+ *
+ * One place for them: the readers (mask, scene, frame settings, bundle, network
+ * settings) and the blocks refuse anything larger with the bound in the message,
+ * so a typo such as "targets": 2000000000 is an error, never an allocation without
+ * limit, and N*M can never overflow an int.
+ */
+#ifndef INCLUDED_SEMS_LIMITS_H
+#define INCLUDED_SEMS_LIMITS_H
+
+namespace gr {
+namespace sems {
+namespace limits {
+
+constexpr int max_symbols = 65536;          // N, OFDM symbols per frame
+constexpr int max_subcarriers = 65536;      // M
+constexpr long long max_grid = 1LL << 22;   // N*M resource elements per frame (4 194 304)
+constexpr int max_targets = 256;            // targets per scene
+constexpr int max_paths = 256;              // paths per target
+constexpr int max_clutter_paths = 4096;     // static clutter scatterers per scene
+constexpr int max_classes = 1024;           // classes of a classifier bundle or a random scene
+constexpr int max_network_size = 1000000;   // any width/depth/count in the network settings
+
+} // namespace limits
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LIMITS_H */

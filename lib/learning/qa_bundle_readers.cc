@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: bundle.json and the network settings refuse bad input with the path of
+ * the field: unknown keys at every level, integers beyond their bounds, class names
+ * that disagree with n_classes (and hence the weights), negative collision weights. */
+#include "qa/qa_assert.h"
+#include <gnuradio/sems/learning/model_bundle.h>
+#include <gnuradio/sems/learning/network_settings.h>
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <unistd.h>
+
+using namespace gr::sems;
+using gr::sems::qa::assert_error;
+using nlohmann::json;
+
+namespace {
+std::string models_dir()
+{
+    const char* src = std::getenv("SEMS_SOURCE_DIR");
+    return std::string(src ? src : ".") + "/models/";
+}
+
+// A copy of a shipped bundle (mask and weights linked) whose bundle.json is edited by
+// `edit`; returns the directory.
+std::string edited_bundle(const std::string& name, const std::function<void(json&)>& edit)
+{
+    char tmpl[] = "/tmp/sems_qa_bundle_XXXXXX";
+    const std::string dir = ::mkdtemp(tmpl);
+    const std::string src = models_dir() + name + "/";
+    json j = json::parse(std::ifstream(src + "bundle.json"));
+    edit(j);
+    std::ofstream(dir + "/bundle.json") << j.dump(1);
+    CPPUNIT_ASSERT_EQUAL(0, ::symlink((src + "mask.json").c_str(), (dir + "/mask.json").c_str()));
+    CPPUNIT_ASSERT_EQUAL(0, ::symlink((src + "decoder.pt").c_str(), (dir + "/decoder.pt").c_str()));
+    return dir;
+}
+
+void load(const std::string& dir) { model_bundle::load(dir); }
+} // namespace
+
+class qa_bundle_readers : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_bundle_readers);
+    CPPUNIT_TEST(shipped_bundles_load);
+    CPPUNIT_TEST(class_names_agree_with_the_decoder);
+    CPPUNIT_TEST(unknown_keys_at_every_level);
+    CPPUNIT_TEST(integers_are_bounded);
+    CPPUNIT_TEST(network_settings_are_strict);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void shipped_bundles_load()
+    {
+        for (const char* name : { "classifier", "delay_single", "delay_multipath" })
+            load(edited_bundle(name, [](json&) {}));
+    }
+
+    void class_names_agree_with_the_decoder()
+    {
+        // More names than classes, no n_classes: the sink used to read past the probabilities.
+        auto d = edited_bundle("classifier", [](json& j) {
+            j["class_names"].push_back("tank");
+            j["decoder"]["settings"].erase("n_classes");
+        });
+        assert_error([&] { load(d); }, d + "/bundle.json: class_names: has 4 names but the decoder has 3 classes",
+                     "by default");
+        // Fewer names than classes: the answers were silently wrong.
+        d = edited_bundle("classifier", [](json& j) { j["class_names"] = { "car", "drone" }; });
+        assert_error([&] { load(d); }, "class_names: has 2 names but the decoder has 3 classes (decoder.settings.n_classes)");
+        // n_classes that disagrees with the weights is refused when the weights are read
+        // (bundle_decoder checks every tensor's shape); the names keep to n_classes here.
+        d = edited_bundle("classifier", [](json& j) { j["class_names"] = { "car", "car", "drone" }; });
+        assert_error([&] { load(d); }, "class_names[1]: \"car\" is listed twice");
+        d = edited_bundle("classifier", [](json& j) { j["class_names"] = { "car", "", "drone" }; });
+        assert_error([&] { load(d); }, "class_names[1]: is empty");
+        d = edited_bundle("classifier", [](json& j) { j["class_names"] = { "car", 3, "drone" }; });
+        assert_error([&] { load(d); }, "class_names[1]: expected a string");
+        d = edited_bundle("delay_single", [](json& j) { j["class_names"] = { "car", "drone" }; });
+        assert_error([&] { load(d); }, "class_names: a delay model has no classes");
+    }
+
+    void unknown_keys_at_every_level()
+    {
+        auto d = edited_bundle("classifier", [](json& j) { j["weight_file"] = "other.pt"; });
+        assert_error([&] { load(d); }, d + "/bundle.json: weight_file: unknown key");
+        d = edited_bundle("classifier", [](json& j) { j["decoder"]["setings"] = json::object(); });
+        assert_error([&] { load(d); }, "bundle.json: decoder.setings: unknown key");
+        d = edited_bundle("classifier", [](json& j) { j["decoder"]["settings"]["widht"] = 3; });
+        assert_error([&] { load(d); }, "bundle.json: decoder.settings: widht: unknown key");
+        d = edited_bundle("delay_single", [](json& j) { j["decoder"]["settings"]["windw"] = 3; });
+        assert_error([&] { load(d); }, "bundle.json: decoder.settings: windw: unknown key");
+        d = edited_bundle("classifier", [](json& j) { j["frame"]["n_symbol"] = 32; });
+        assert_error([&] { load(d); }, "bundle.json: frame: n_symbol: unknown key");
+        d = edited_bundle("classifier", [](json& j) { j["decoder"] = 3; });
+        assert_error([&] { load(d); }, "bundle.json: decoder: expected a JSON object");
+    }
+
+    void integers_are_bounded()
+    {
+        auto d = edited_bundle("classifier", [](json& j) { j["n_pilots"] = 4294967328ULL; });
+        assert_error([&] { load(d); }, "bundle.json: n_pilots: must be in [1, 4194304]");
+        d = edited_bundle("classifier", [](json& j) {
+            j["decoder"]["settings"]["n_classes"] = 2000;
+        });
+        assert_error([&] { load(d); }, "decoder.settings: n_classes: must be in [2, 1024], got 2000");
+        d = edited_bundle("classifier", [](json& j) { j["decoder"]["settings"]["width"] = 4294967312ULL; });
+        assert_error([&] { load(d); }, "decoder.settings: width: must be in [1, 1000000]");
+        d = edited_bundle("classifier", [](json& j) { j["frame"]["n_subcarriers"] = 4294967360ULL; });
+        assert_error([&] { load(d); }, "bundle.json: frame: n_subcarriers: must be in [1, 65536]");
+        json names = json::array();
+        for (int i = 0; i < 1025; ++i)
+            names.push_back("c" + std::to_string(i));
+        d = edited_bundle("classifier", [&](json& j) { j["class_names"] = names; });
+        assert_error([&] { load(d); }, "class_names: must have 2 to 1024 entries, got 1025");
+    }
+
+    void network_settings_are_strict()
+    {
+        assert_error([] { nn::encoder_settings::from_json(json{ { "collision_weight", -1.0 } }, "enc"); },
+                     "enc: collision_weight: must be >= 0");
+        assert_error([] { nn::encoder_settings::from_json(json{ { "embeding", 4 } }, "enc"); },
+                     "enc: embeding: unknown key", "embedding");
+        assert_error([] { nn::encoder_settings::from_json(json{ { "factorized", 1 } }, "enc"); },
+                     "enc: factorized: expected true or false");
+        assert_error([] { nn::classifier_settings::from_json(json{ { "depth", -1 } }, "cls"); },
+                     "cls: depth: must be in [0, 1000000], got -1");
+        assert_error([] { nn::delay_settings::from_json(json{ { "q", 18446744073709551615ULL } }, "dl"); },
+                     "dl: q: must be in [2, 1000000]");
+        assert_error([] { nn::reconstruction_settings::from_json(json{ { "hiden", 3 } }, "rec"); },
+                     "rec: hiden: unknown key");
+        assert_error([] { nn::reconstruction_settings::from_json(json::array(), "rec"); }, "rec: settings: expected a JSON object");
+        // Round trips: what to_json writes reads back.
+        nn::encoder_settings e;
+        CPPUNIT_ASSERT(nn::encoder_settings::from_json(e.to_json(), "e").to_json() == e.to_json());
+        nn::delay_settings ds;
+        CPPUNIT_ASSERT(nn::delay_settings::from_json(ds.to_json(), "d").to_json() == ds.to_json());
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_bundle_readers);

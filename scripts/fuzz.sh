@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Builds the libFuzzer harnesses in fuzz/ (clang, ASan+UBSan, torch-free sources only)
+# and runs each for SECONDS seconds (default 60) on its seed corpus, one at a time.
+# Exit status 1 when a harness finds a crash; the reproducer is left in
+# $SEMS_FUZZ_BUILD_DIR/artifacts/<harness>/ and the log in .../<harness>.log.
+#
+#   scripts/fuzz.sh              # 60 s each (what CI runs)
+#   scripts/fuzz.sh 600          # 10 minutes each
+#   scripts/fuzz.sh 600 scene    # one harness
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+seconds="${1:-60}"
+shift || true
+harnesses=("${@:-mask scene bundle extractor}")
+read -r -a harnesses <<< "${harnesses[*]}"
+build="${SEMS_FUZZ_BUILD_DIR:-$root/build-fuzz}"
+cxx="${SEMS_FUZZ_CXX:-$(command -v clang++ || command -v clang++-14 || true)}"
+if [[ -z "$cxx" ]]; then
+  echo "fuzz.sh: clang++ not found (apt-get install clang libfuzzer-14-dev)" >&2
+  exit 2
+fi
+cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build.configure.log"
+cmake --build "$build" -j"$(nproc)" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
+
+status=0
+for h in "${harnesses[@]}"; do
+  corpus="$build/corpus/$h"            # grows while fuzzing; the seeds stay in fuzz/corpus
+  mkdir -p "$corpus" "$build/artifacts/$h"
+  log="$build/fuzz_$h.log"
+  echo "fuzz.sh: fuzz_$h for ${seconds} s (log $log)"
+  dict=()
+  [[ "$h" != extractor ]] && dict=(-dict="$root/fuzz/json.dict") # the extractor's input is binary
+  if ! nice "$build/fuzz_$h" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=8192 \
+       "${dict[@]}" -artifact_prefix="$build/artifacts/$h/" -print_final_stats=1 \
+       "$corpus" "$root/fuzz/corpus/$h" > "$log" 2>&1; then
+    echo "fuzz.sh: fuzz_$h FOUND A CRASH:" >&2
+    grep -E "ERROR|SUMMARY|Test unit written" "$log" >&2 || tail -20 "$log" >&2
+    status=1
+  fi
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" | sed "s/^/fuzz_$h: /" || true
+done
+exit $status
