@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
 #include <gnuradio/sems/learning/bundle_decoder.h>
+#include "learning/delay_decoder.h"
 #include "learning/task_decoder.h"
 #include <stdexcept>
 
@@ -56,6 +57,9 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     d_impl->net->eval();
     for (int i : bundle.mask.flat_indices())
         d_impl->indices.push_back(i);
+    // The delay decoder's refinement stage fits the pilots where the mask put them.
+    if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
+        dd->set_pilot_positions(bundle.frame, d_impl->indices);
 }
 
 bundle_decoder::~bundle_decoder() = default;
