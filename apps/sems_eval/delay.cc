@@ -1,9 +1,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* sems_eval experiments 4 and 5: delay-index MAE against SNR (single path and
+/* sems_eval experiments 4 and 5: delay-index errors against SNR (single path and
  * multipath) for SemS and the classical estimators, with the CRB; and SemS against
- * the pilot budget N_p. */
+ * the pilot budget N_p. Each row reports the mean, RMS and median absolute error and
+ * the fraction of frames off by more than half a delay index (gross errors).
+ *
+ * The classical side is fair: OMP also with off-grid LS refinement, and the oracle-order
+ * least-squares reference (grid search, then nonlinear least squares over all delays and
+ * the shared Doppler, the true number of paths) both on 32 random subcarriers of one
+ * symbol and on the SemS bundle's own pilots. Bounds: the single-path CRB (at the direct
+ * path's mean power in multipath) and, in multipath, the CRB of the direct path with all
+ * paths unknown, evaluated on every test frame's true paths. */
 #include "eval.h"
+#include <gnuradio/sems/baselines/ls_delay_estimator.h>
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
+#include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/baselines/music_delay_estimator.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
 #include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
@@ -20,7 +30,7 @@ namespace sems_eval {
 namespace {
 
 struct errors {
-    double mae = 0, rmse = 0, median = 0;
+    double mae = 0, rmse = 0, median = 0, gross = 0; // gross: fraction with |error| > 0.5 index
 };
 
 errors delay_errors(const std::vector<double>& est, const test_set& ts)
@@ -32,7 +42,9 @@ errors delay_errors(const std::vector<double>& est, const test_set& ts)
         a.push_back(std::abs(d));
         e.mae += std::abs(d);
         e.rmse += d * d;
+        e.gross += std::abs(d) > 0.5 ? 1.0 : 0.0;
     }
+    e.gross /= ts.count;
     e.mae /= ts.count;
     e.rmse = std::sqrt(e.rmse / ts.count);
     std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
@@ -64,6 +76,32 @@ training_settings delay_training(const config& c, const std::string& scen, int p
     return s;
 }
 
+// 32 (np) random subcarriers on the middle symbol: the classical side's one-symbol pattern
+// (pilots on one symbol see no Doppler rotation between them).
+pilot_mask one_symbol_mask(const frame_settings& fs, int np, uint64_t seed)
+{
+    const auto r = pilot_mask::random(1, fs.n_subcarriers, np, seed); // np distinct subcarriers
+    std::vector<pilot_position> pos;
+    for (const auto& p : r.positions())
+        pos.push_back({ fs.n_symbols / 2, p.m });
+    return pilot_mask(fs.n_symbols, fs.n_subcarriers, pos, gr_complex(1.0f, 0.0f),
+                      { { "kind", "random subcarriers, one symbol" }, { "seed", seed } });
+}
+
+// The true paths of every test frame (the draws make_test_set made: same scene, seed, order).
+std::vector<std::vector<crb_path>> test_paths(const frame_settings& fs, const scene& sc, int count, uint64_t seed)
+{
+    channel_model cm(fs, sc, seed);
+    std::vector<std::vector<crb_path>> out;
+    for (int f = 0; f < count; ++f) {
+        std::vector<crb_path> p;
+        for (const auto& cp : cm.draw(f).paths)
+            p.push_back({ fs.delay_index(cp.delay_s), cp.gain });
+        out.push_back(p);
+    }
+    return out;
+}
+
 // The classical estimators' search window: the delay decoder's default dictionary range.
 delay_search classic_window(const config& c)
 {
@@ -83,8 +121,8 @@ void run_delay(const config& c, std::ostream& log)
         return;
     csv_file csv(c.out_dir + "/exp4_delay.csv",
                  { "experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "mae_index", "rmse_index",
-                   "median_abs_error_index", "crb_mae_index", "n_frames", "seed", "us_per_frame", "train_seconds",
-                   "model" });
+                   "median_abs_error_index", "frac_error_over_half_index", "crb_mae_index", "n_frames", "seed",
+                   "us_per_frame", "train_seconds", "model" });
     const int np = 32;
     for (const auto& scenario : std::vector<std::pair<std::string, int>>{ { "single", 1 },
                                                                          { "multipath", c.multipath_paths } }) {
@@ -98,15 +136,25 @@ void run_delay(const config& c, std::ostream& log)
         auto write = [&](const std::string& method, const std::string& mask, int p, double snr, const errors& e,
                          double crb, double us, double train_s, const std::string& model) {
             csv.row({ "4", scen, method, mask, std::to_string(p), num(snr), num(e.mae), num(e.rmse), num(e.median),
-                      num(crb), std::to_string(ts.count), std::to_string(test_seed), num(us, 4), num(train_s, 4),
-                      model });
+                      num(e.gross), num(crb), std::to_string(ts.count), std::to_string(test_seed), num(us, 4),
+                      num(train_s, 4), model });
             cost_rows().push_back({ "4", scen, method, p, snr, "mae_index", e.mae, us, ts.count, train_s });
-            log << "  " << scen << " " << method << " snr " << num(snr) << ": MAE " << num(e.mae, 4) << " (CRB "
-                << num(crb, 3) << ", " << num(us, 3) << " us/frame)" << std::endl;
+            log << "  " << scen << " " << method << " snr " << num(snr) << ": MAE " << num(e.mae, 4) << ", median "
+                << num(e.median, 4) << ", > 0.5: " << num(e.gross, 4) << " (CRB " << num(crb, 3) << ", "
+                << num(us, 3) << " us/frame)" << std::endl;
         };
+        // The direct path's mean power: 1 / Σ_k 10^(-k·decay/10) of the scene's paths.
+        double direct_power = 1.0;
+        {
+            const auto r = *delay_scene(paths).random_settings();
+            double sum = 0.0;
+            for (int k = 0; k < paths; ++k)
+                sum += std::pow(10.0, -k * r.path_power_decay_db / 10.0);
+            direct_power = 1.0 / sum;
+        }
         auto crb_of = [&](const pilot_mask& m, double snr) {
             try {
-                return delay_crb::mae_index(c.fs, m, snr, false, true);
+                return delay_crb::mae_index(c.fs, m, snr, false, true, direct_power);
             } catch (const std::invalid_argument&) {
                 return std::nan("");
             }
@@ -127,6 +175,16 @@ void run_delay(const config& c, std::ostream& log)
             else
                 log << "  shipped delay bundle " << shipped << " does not match the frame: skipped" << std::endl;
         }
+        // A bundle with a refinement stage is also scored without it (the network alone).
+        for (size_t i = 0, n = sems.size(); i < n; ++i) {
+            const auto& st = sems[i].second.bundle.decoder;
+            if (st.contains("settings") && st["settings"].value("refine_paths", 0) > 0) {
+                auto alone = sems[i];
+                alone.first += ", network only";
+                alone.second.bundle.decoder["settings"]["refine_paths"] = 0;
+                sems.push_back(alone);
+            }
+        }
         for (const auto& [method, src] : sems) {
             const bundle_decoder dec(src.bundle, c.threads);
             for (double snr : c.delay_snrs) {
@@ -146,6 +204,11 @@ void run_delay(const config& c, std::ostream& log)
         const auto uniform = pilot_mask::uniform(c.fs.n_symbols, c.fs.n_subcarriers, np);
         const auto rp = random_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np, 1);
         const auto op = nested_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np);
+        const auto one_symbol = one_symbol_mask(c.fs, np, 1);
+        // The SemS bundle's own pilots (the first SemS source), for the LS reference on them.
+        std::shared_ptr<pilot_mask> sems_mask;
+        if (!sems.empty())
+            sems_mask = std::make_shared<pilot_mask>(sems.front().second.bundle.mask);
         struct classic {
             std::string method, mask_label;
             const pilot_mask* mask;
@@ -161,6 +224,23 @@ void run_delay(const config& c, std::ostream& log)
         os.n_atoms = paths;
         auto omp = std::make_shared<omp_delay_estimator>(c.fs, random, os);
         methods.push_back({ "OMP", "random", &random, [omp](const gr_complex* o) { return omp->estimate_index(o); } });
+        os.refine = true;
+        auto ompr = std::make_shared<omp_delay_estimator>(c.fs, random, os);
+        methods.push_back(
+            { "OMP + LS refinement", "random", &random, [ompr](const gr_complex* o) { return ompr->estimate_index(o); } });
+        auto omp1 = std::make_shared<omp_delay_estimator>(c.fs, one_symbol, os);
+        methods.push_back({ "OMP + LS refinement", "random subcarriers, one symbol", &one_symbol,
+                            [omp1](const gr_complex* o) { return omp1->estimate_index(o); } });
+        ls_delay_estimator::settings ls;
+        ls.search = win;
+        ls.n_paths = paths;
+        for (const pilot_mask* m : std::vector<const pilot_mask*>{ &one_symbol, sems_mask.get() }) {
+            if (m == nullptr)
+                continue;
+            auto est = std::make_shared<ls_delay_estimator>(c.fs, *m, ls);
+            methods.push_back({ "LS reference (oracle order)", m == &one_symbol ? "random subcarriers, one symbol" : "SemS pilots",
+                                m, [est](const gr_complex* o) { return est->estimate_index(o); } });
+        }
         for (const auto& [name, label, mask] :
              std::vector<std::tuple<std::string, std::string, const pilot_mask*>>{
                  { "UP-MUSIC", "uniform", &uniform }, { "RP-MUSIC", "random subcarriers", &rp },
@@ -188,12 +268,44 @@ void run_delay(const config& c, std::ostream& log)
                 write(m.method, m.mask_label, np, snr, delay_errors(est, ts), crb_of(*m.mask, snr), us, 0.0,
                       "classical");
             }
-        // The bound itself, for the random pattern the periodogram and OMP use.
-        for (double snr : c.delay_snrs) {
-            const double crb = crb_of(random, snr);
-            csv.row({ "4", scen, "CRB (random pilots)", "random", std::to_string(np), num(snr), num(crb), "nan",
-                      "nan", num(crb), std::to_string(ts.count), std::to_string(test_seed), "nan", "0",
-                      "closed form; single path; unknown Doppler; Rayleigh-averaged MAE" });
+        // The bounds: the single-path closed form (at the direct path's mean power) for the
+        // random pattern, the one-symbol pattern and the SemS pilots; in multipath also the
+        // direct path's bound with every path unknown, on each test frame's true paths
+        // (mean of the MAE of an efficient estimator √(2/π)·√CRB; median √CRB).
+        const auto truth_paths = paths > 1 ? test_paths(c.fs, delay_scene(paths), ts.count, test_seed)
+                                           : std::vector<std::vector<crb_path>>{};
+        for (const auto& [label, m] : std::vector<std::pair<std::string, const pilot_mask*>>{
+                 { "random", &random }, { "random subcarriers, one symbol", &one_symbol }, { "SemS pilots", sems_mask.get() } }) {
+            if (m == nullptr)
+                continue;
+            for (double snr : c.delay_snrs) {
+                const double crb = crb_of(*m, snr);
+                csv.row({ "4", scen, paths > 1 ? "CRB (single path at the direct path's mean power)" : "CRB", label,
+                          std::to_string(np), num(snr), num(crb), "nan", "nan", "nan", num(crb),
+                          std::to_string(ts.count), std::to_string(test_seed), "nan", "0",
+                          "closed form; single path; unknown Doppler; Rayleigh-averaged MAE" });
+                if (paths == 1)
+                    continue;
+                std::vector<double> sd;
+                double mae = 0.0;
+                for (const auto& p : truth_paths) {
+                    double v = std::numeric_limits<double>::infinity();
+                    try {
+                        v = delay_crb::multipath_variance_index(c.fs, *m, snr, p, false);
+                    } catch (const std::invalid_argument&) { // a direct path of zero gain
+                    }
+                    sd.push_back(std::sqrt(v));
+                    mae += std::sqrt(2.0 / M_PI) * std::sqrt(v);
+                }
+                mae /= truth_paths.size();
+                std::nth_element(sd.begin(), sd.begin() + sd.size() / 2, sd.end());
+                csv.row({ "4", scen, "CRB (multipath, direct path)", label, std::to_string(np), num(snr), num(mae),
+                          "nan", num(sd[sd.size() / 2]), "nan", num(mae), std::to_string(ts.count),
+                          std::to_string(test_seed), "nan", "0",
+                          "all paths unknown + shared Doppler; per test frame; mean sqrt(2/pi)*sqrt(CRB), median sqrt(CRB)" });
+                log << "  " << scen << " multipath CRB (" << label << ") snr " << num(snr) << ": mean MAE "
+                    << num(mae, 4) << ", median sqrt(CRB) " << num(sd[sd.size() / 2], 4) << std::endl;
+            }
         }
     }
 }

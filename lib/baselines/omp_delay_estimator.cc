@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: OMP delay estimator on a joint delay–Doppler grid. See omp_delay_estimator.h. */
 #include "baselines/pilot_observations.h"
+#include <gnuradio/sems/baselines/multipath_fit.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
 
 namespace gr {
@@ -17,6 +18,7 @@ struct omp_delay_estimator::impl {
     symbol_groups groups;
     Eigen::MatrixXcd ac; // N_p x Q
     Eigen::MatrixXcd bc; // F x G
+    std::unique_ptr<multipath_fitter> fitter; // when refining
 
     Eigen::VectorXcd atom(int q, int f) const
     {
@@ -61,6 +63,8 @@ omp_delay_estimator::omp_delay_estimator(const frame_settings& fs, const pilot_m
     for (size_t f = 0; f < d.dop.size(); ++f)
         for (size_t g = 0; g < d.groups.symbols.size(); ++g)
             d.bc(f, g) = std::conj(doppler_phasor(d.groups.symbols[g], d.dop[f], fs.symbol_interval_s));
+    if (s.refine)
+        d.fitter = std::make_unique<multipath_fitter>(fs, mask);
 }
 
 omp_delay_estimator::~omp_delay_estimator() = default;
@@ -98,9 +102,30 @@ std::vector<omp_atom> omp_delay_estimator::decompose(const gr_complex* obs) cons
     return out;
 }
 
+std::vector<omp_atom> omp_delay_estimator::refined_atoms(const gr_complex* obs) const
+{
+    auto atoms = decompose(obs);
+    if (!d_impl->fitter || atoms.empty())
+        return atoms;
+    std::vector<double> tau;
+    const omp_atom* strongest = &atoms.front();
+    for (const auto& a : atoms) {
+        tau.push_back(a.delay_index);
+        if (std::norm(a.gain) > std::norm(strongest->gain))
+            strongest = &a;
+    }
+    // The fitter counts slow time from the mask's first pilot symbol, OMP from symbol 0:
+    // the same ν, a different common phase (absorbed by the gains).
+    const auto fit = d_impl->fitter->refine(obs, tau, strongest->doppler_hz);
+    std::vector<omp_atom> out;
+    for (size_t i = 0; i < fit.delay_index.size(); ++i)
+        out.push_back({ fit.delay_index[i], fit.doppler_hz, fit.gain[i] });
+    return out;
+}
+
 double omp_delay_estimator::estimate_index(const gr_complex* obs) const
 {
-    const auto atoms = decompose(obs);
+    const auto atoms = refined_atoms(obs);
     if (atoms.empty())
         return d_impl->grid.front(); // an all-zero frame: nothing to find
     double pmax = 0.0;

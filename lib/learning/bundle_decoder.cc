@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
 #include <gnuradio/sems/learning/bundle_decoder.h>
+#include "learning/delay_decoder.h"
 #include "learning/task_decoder.h"
 #include <stdexcept>
 
@@ -60,6 +61,9 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     auto m = torch::zeros({ bundle.frame.n_symbols * bundle.frame.n_subcarriers });
     m.index_fill_(0, torch::tensor(d_impl->indices, torch::kLong), 1.0f);
     d_impl->mask = m.view({ bundle.frame.n_symbols, bundle.frame.n_subcarriers });
+    // The delay decoder's refinement stage fits the pilots where the mask put them.
+    if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
+        dd->set_pilot_positions(bundle.frame, d_impl->indices);
 }
 
 bundle_decoder::~bundle_decoder() = default;

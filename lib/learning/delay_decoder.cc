@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the correlation-driven delay decoder (see delay_decoder.h). */
 #include "learning/delay_decoder.h"
+#include <gnuradio/sems/core/pilot_mask.h>
 #include <gnuradio/sems/core/steering.h>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,9 +25,9 @@ torch::Tensor soft_argmax(const torch::Tensor& logits, const torch::Tensor& grid
     return (torch::softmax(z, -1) * tau).sum(-1);
 }
 
-residual_block1d_module::residual_block1d_module(int c, int k)
+residual_block1d_module::residual_block1d_module(int c, int k, int dilation)
 {
-    auto opt = torch::nn::Conv1dOptions(c, c, k).padding(k / 2).bias(false);
+    auto opt = torch::nn::Conv1dOptions(c, c, k).padding(dilation * (k / 2)).dilation(dilation).bias(false);
     conv1 = register_module("conv1", torch::nn::Conv1d(opt));
     bn1 = register_module("bn1", torch::nn::BatchNorm1d(c));
     conv2 = register_module("conv2", torch::nn::Conv1d(opt));
@@ -44,6 +46,14 @@ delay_decoder_module::delay_decoder_module(int n, int m, int np, delay_settings 
 {
     if (s.q < 2 || !(s.tau_max_index > s.tau_min_index))
         throw std::invalid_argument("delay decoder: need q >= 2 and tau_max_index > tau_min_index");
+    if (s.dilation_growth < 1 || s.kernel < 1 || s.kernel % 2 == 0)
+        throw std::invalid_argument("delay decoder: need an odd kernel >= 1 and dilation_growth >= 1");
+    if (s.refine_paths < 0)
+        throw std::invalid_argument("delay decoder: refine_paths is " + std::to_string(s.refine_paths) +
+                                    " (\"from the training scene\"): give 0 (off) or the number of paths to fit");
+    if (s.refine_paths > 0 && !(s.refine_span_index > 0.25 && s.refine_trust_index > 0.0))
+        throw std::invalid_argument("delay decoder: refinement needs refine_span_index > 0.25 and "
+                                    "refine_trust_index > 0");
     const int p = s.projections;
     // Start as a plain sum over slow time (real weight 1/N): a sensible matched filter.
     d_proj_re = register_parameter("proj_re", torch::full({ p, n }, 1.0 / n) + 0.01 * torch::randn({ p, n }));
@@ -65,35 +75,143 @@ delay_decoder_module::delay_decoder_module(int n, int m, int np, delay_settings 
     d_tau = register_buffer("tau", tau.to(torch::kFloat));
     d_dict_cos = register_buffer("dict_cos", dict_cos.to(torch::kFloat));
     d_dict_sin = register_buffer("dict_sin", dict_sin.to(torch::kFloat));
-    d_stem = register_module(
-        "stem", torch::nn::Conv1d(torch::nn::Conv1dOptions(3 * p, s.width, s.kernel).padding(s.kernel / 2).bias(false)));
+    if (s.residual_maps < 0 || s.residual_maps > 8)
+        throw std::invalid_argument("delay decoder: residual_maps must be in [0, 8], got " +
+                                    std::to_string(s.residual_maps));
+    d_stem = register_module("stem",
+                             torch::nn::Conv1d(torch::nn::Conv1dOptions(3 * p + s.residual_maps, s.width, s.kernel)
+                                                   .padding(s.kernel / 2)
+                                                   .bias(false)));
     d_stem_bn = register_module("stem_bn", torch::nn::BatchNorm1d(s.width));
     d_blocks = register_module("blocks", torch::nn::Sequential());
-    for (int i = 0; i < s.depth; ++i)
-        d_blocks->push_back(residual_block1d(s.width, s.kernel));
+    // Dilations 1, g, g², ... (capped so a block never dilates past the grid).
+    for (int i = 0, d = 1; i < s.depth; ++i, d = std::min(d * s.dilation_growth, s.q))
+        d_blocks->push_back(residual_block1d(s.width, s.kernel, d));
     d_head = register_module("head", torch::nn::Conv1d(torch::nn::Conv1dOptions(s.width, 1, 1)));
+}
+
+std::pair<torch::Tensor, torch::Tensor> delay_decoder_module::project(const torch::Tensor& x) const
+{
+    auto yr = x.select(1, 0), yi = x.select(1, 1); // B x N x M
+    // Complex projection along slow time: P x N weights -> B x P x M.
+    return { torch::matmul(d_proj_re, yr) - torch::matmul(d_proj_im, yi),
+             torch::matmul(d_proj_re, yi) + torch::matmul(d_proj_im, yr) };
+}
+
+torch::Tensor delay_decoder_module::residual_maps_of(const torch::Tensor& grid)
+{
+    auto x = normalise_frames(grid, d_np);
+    auto [xr, xi] = project(x);
+    return residual_maps(xr.select(1, 0), xi.select(1, 0), (x.abs().sum(1).sum(1) > 0).to(x.dtype()),
+                         1.0 / std::sqrt(static_cast<double>(d_np)));
 }
 
 decoder_output delay_decoder_module::forward(const torch::Tensor& grid)
 {
     auto x = normalise_frames(grid, d_np);
-    auto yr = x.select(1, 0), yi = x.select(1, 1); // B x N x M
-    // Complex projection along slow time: P x N weights -> B x P x M.
-    auto xr = torch::matmul(d_proj_re, yr) - torch::matmul(d_proj_im, yi);
-    auto xi = torch::matmul(d_proj_re, yi) + torch::matmul(d_proj_im, yr);
+    auto [xr, xi] = project(x);
     // r = x · conj(D), D = cos - j sin  =>  conj(D) = cos + j sin.
     const double scale = 1.0 / std::sqrt(static_cast<double>(d_np));
     auto rr = (torch::matmul(xr, d_dict_cos) - torch::matmul(xi, d_dict_sin)) * scale;
     auto ri = (torch::matmul(xr, d_dict_sin) + torch::matmul(xi, d_dict_cos)) * scale;
+    torch::Tensor maps;
+    if (d_s.residual_maps > 0)
+        maps = residual_maps(xr.select(1, 0), xi.select(1, 0), (x.abs().sum(1).sum(1) > 0).to(x.dtype()), scale);
+    if (d_s.phase_reference) {
+        // Rotate by the phase of r_0 at its strongest q: invariant to the common phase.
+        auto k = (rr.select(1, 0).square() + ri.select(1, 0).square()).argmax(1, true); // B x 1
+        auto pr = rr.select(1, 0).gather(1, k), pi = ri.select(1, 0).gather(1, k);
+        auto norm = torch::sqrt(pr * pr + pi * pi + 1e-20);
+        auto c = (pr / norm).unsqueeze(1), sn = (-pi / norm).unsqueeze(1); // e^{-jφ}
+        auto r2 = rr * c - ri * sn;
+        ri = rr * sn + ri * c;
+        rr = r2;
+    }
     auto mag = torch::sqrt(rr * rr + ri * ri + 1e-12);
     auto feat = torch::cat({ rr, ri, mag }, 1); // B x 3P x Q
+    if (maps.defined())
+        feat = torch::cat({ feat, maps }, 1); // B x (3P + K) x Q
     auto h = torch::relu(d_stem_bn->forward(d_stem->forward(feat)));
     if (!d_blocks->is_empty())
         h = d_blocks->forward(h);
     decoder_output out;
     out.logits = d_head->forward(h).squeeze(1);
     out.delay_index = soft_argmax(out.logits, d_tau, d_s.window);
+    if (!is_training() && d_s.refine_paths > 0 && d_fitter)
+        out.delay_index = refine(x, out.delay_index);
     return out;
+}
+
+torch::Tensor delay_decoder_module::residual_maps(const torch::Tensor& xr,
+                                                  const torch::Tensor& xi,
+                                                  const torch::Tensor& support,
+                                                  double scale) const
+{
+    // Orthogonal matching pursuit on the grid, without gradient (a fixed feature extractor):
+    // y (B x M, zero off the pilots' subcarriers), atoms a_q = support ⊙ D[:, q].
+    torch::NoGradGuard ng;
+    const auto y = torch::complex(xr.to(torch::kDouble), xi.to(torch::kDouble));          // B x M
+    const auto steer = torch::complex(d_dict_cos.to(torch::kDouble), -d_dict_sin.to(torch::kDouble)); // M x Q
+    const auto conj_steer = steer.conj();
+    const auto sup = torch::complex(support.to(torch::kDouble), torch::zeros_like(support, torch::kDouble));
+    auto mag = (torch::matmul(y, conj_steer) * scale).abs(); // B x Q
+    std::vector<torch::Tensor> chosen, out;
+    for (int k = 0; k < d_s.residual_maps; ++k) {
+        chosen.push_back(mag.argmax(1)); // B
+        auto idx = torch::stack(chosen, 1);                                         // B x L
+        auto a = steer.t().index_select(0, idx.flatten()).view({ idx.size(0), idx.size(1), d_m }); // B x L x M
+        a = (a * sup.unsqueeze(1)).transpose(1, 2);                                  // B x M x L
+        auto ah = a.conj().transpose(1, 2);
+        auto g = torch::matmul(ah, a);
+        g = g + 1e-9 * torch::eye(g.size(-1), g.options()) * (1.0 + torch::real(g.diagonal(0, 1, 2)).amax(-1)).view({ -1, 1, 1 });
+        auto b = torch::linalg::solve(g, torch::matmul(ah, y.unsqueeze(-1)), true);
+        auto res = y - torch::matmul(a, b).squeeze(-1);
+        mag = (torch::matmul(res, conj_steer) * scale).abs();
+        out.push_back(mag);
+    }
+    return torch::stack(out, 1).to(xr.scalar_type()); // B x K x Q
+}
+
+void delay_decoder_module::set_pilot_positions(const frame_settings& fs, const std::vector<int64_t>& flat)
+{
+    if (fs.n_symbols != d_n || fs.n_subcarriers != d_m)
+        throw std::invalid_argument("delay decoder: pilot positions for a " + std::to_string(fs.n_symbols) + " x " +
+                                    std::to_string(fs.n_subcarriers) + " frame, but the decoder is " +
+                                    std::to_string(d_n) + " x " + std::to_string(d_m));
+    if (static_cast<int>(flat.size()) != d_np)
+        throw std::invalid_argument("delay decoder: " + std::to_string(flat.size()) +
+                                    " pilot positions, but the decoder takes " + std::to_string(d_np));
+    std::vector<pilot_position> pos;
+    for (int64_t f : flat)
+        pos.push_back({ static_cast<int>(f / d_m), static_cast<int>(f % d_m) });
+    // The mask constructor checks range and distinctness; pilots stay in the given order
+    // only if it is mask order, which is what gather_pilots and the trainer use.
+    const pilot_mask mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), { { "kind", "explicit" } },
+                          "delay decoder pilot positions");
+    for (size_t k = 0; k < flat.size(); ++k)
+        if (static_cast<int64_t>(mask.positions()[k].n) * d_m + mask.positions()[k].m != flat[k])
+            throw std::invalid_argument("delay decoder: pilot positions must be in mask order (row-major)");
+    d_positions = flat;
+    d_fitter = std::make_shared<multipath_fitter>(fs, mask);
+}
+
+torch::Tensor delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estimate) const
+{
+    // The pilots of the normalised grid (a common scale does not move a delay), in mask order.
+    auto obs = gather_pilots(x, d_positions).contiguous(); // B x N_p x 2
+    auto est = estimate.to(torch::kDouble).contiguous();
+    const int64_t b = obs.size(0);
+    auto out = torch::empty({ b }, torch::kDouble);
+    const auto* po = reinterpret_cast<const gr_complex*>(obs.data_ptr<float>());
+    const double* pe = est.data_ptr<double>();
+    double* pr = out.data_ptr<double>();
+    for (int64_t i = 0; i < b; ++i) {
+        const auto fit =
+            d_fitter->refine_anchored(po + i * d_np, pe[i], d_s.refine_paths, d_s.refine_span_index);
+        const double first = fit.delay_index.front();
+        pr[i] = std::isfinite(first) && std::abs(first - pe[i]) < d_s.refine_trust_index ? first : pe[i];
+    }
+    return out.to(estimate.scalar_type());
 }
 
 nlohmann::json delay_decoder_module::describe() const

@@ -4,19 +4,43 @@
  *   sparse grid (normalised per frame) -> learned complex projection along slow time,
  *   P outputs (P = 2 gives the paper's 4 x M) -> correlation with the dictionary
  *   D[m,q] = exp(-j2π m Δf τ_q) (r_p[q] = Σ_m x_p[m] conj(D[m,q]), Δf τ_q = τ_q·B / M)
- *   -> features per q: Re r_p, Im r_p and |r_p| (3P x Q) -> 1-D residual CNN -> Q scores
- *   -> soft-argmax τ̂ = Σ_q τ_q softmax(z)_q.
+ *   -> (phase_reference) every r_p rotated by the phase of r_0 at the strongest q, so the
+ *   features do not depend on the frame's common phase
+ *   -> features per q: Re r_p, Im r_p and |r_p| (3P x Q), and `residual_maps` K more maps:
+ *   |correlation| of what is left of projection 0 after orthogonal matching pursuit removed
+ *   its 1..K strongest dictionary atoms (least squares on the pilots' subcarriers; no
+ *   gradient) -> 1-D residual CNN whose block i
+ *   dilates by dilation_growth^i -> Q scores -> soft-argmax τ̂ = Σ_q τ_q softmax(z)_q.
+ *
+ * Why dilated: the target of interest is the FIRST path, which is not always the strongest.
+ * Later paths of the same target arrive up to the scene's largest excess delay after it, so
+ * a score must see that far on both sides; the trainer refuses a network whose receptive
+ * field (delay_settings::receptive_field_index) is below twice the scene's largest excess
+ * delay. With 0.125-index spacing, kernel 3 and 6 blocks of growth 2 it spans ±31 indices.
  *
  * The soft-argmax is local: a window of ±`window` grid points around the arg-max (so
  * the tails cannot bias the estimate); window = 0 means global. Both forms subtract the
  * maximum before exponentiating, so logits of ±1e4 are safe, and τ̂ is a convex
  * combination of grid delays: it always lies inside [τ_min, τ_max].
+ *
+ * Refinement (refine_paths = L > 0; inference only, never in training, and only once the
+ * pilot positions are known through set_pilot_positions): a model-based polish of the
+ * network's estimate, multipath_fitter::refine_anchored of the baselines library — the
+ * same least-squares fit the LS reference ends with. The first path starts at τ̂, L - 1
+ * later paths at the grid delays in (τ̂ + 0.25, τ̂ + refine_span_index] that best explain
+ * the residual, then Levenberg–Marquardt over all delays (and the shared Doppler). The
+ * earliest fitted delay replaces τ̂ when it moved less than refine_trust_index. The
+ * network decides which path is first; the fit only moves it inside that trust region.
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 
 #include "learning/task_decoder.h"
+#include <gnuradio/sems/baselines/multipath_fit.h>
+#include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/learning/network_settings.h>
+#include <memory>
+#include <vector>
 
 namespace gr {
 namespace sems {
@@ -26,7 +50,7 @@ namespace nn {
 SEMS_LEARNING_API torch::Tensor soft_argmax(const torch::Tensor& logits, const torch::Tensor& grid_values, int window);
 
 struct SEMS_LEARNING_API residual_block1d_module : torch::nn::Module {
-    residual_block1d_module(int channels, int kernel);
+    residual_block1d_module(int channels, int kernel, int dilation = 1);
     torch::Tensor forward(const torch::Tensor& x);
     torch::nn::Conv1d conv1{ nullptr }, conv2{ nullptr };
     torch::nn::BatchNorm1d bn1{ nullptr }, bn2{ nullptr };
@@ -43,6 +67,12 @@ public:
     const delay_settings& settings() const { return d_s; }
     // τ_q in delay indices (Q).
     const torch::Tensor& grid_delays() const { return d_tau; }
+    // The frame and pilot positions (flat n·M + m, mask order) the refinement fits; until
+    // they are given, forward() returns the network's estimate. Throws
+    // std::invalid_argument when they do not fit the decoder's frame or pilot count.
+    void set_pilot_positions(const frame_settings& fs, const std::vector<int64_t>& flat_indices);
+    // The residual maps forward() feeds the network (B x residual_maps x Q) for a grid.
+    torch::Tensor residual_maps_of(const torch::Tensor& grid);
 
 private:
     int d_n, d_m, d_np;
@@ -52,6 +82,14 @@ private:
     torch::nn::Conv1d d_stem{ nullptr }, d_head{ nullptr };
     torch::nn::BatchNorm1d d_stem_bn{ nullptr };
     torch::nn::Sequential d_blocks{ nullptr };
+    std::vector<int64_t> d_positions;
+    std::shared_ptr<multipath_fitter> d_fitter;
+    torch::Tensor refine(const torch::Tensor& x, const torch::Tensor& estimate) const;
+    std::pair<torch::Tensor, torch::Tensor> project(const torch::Tensor& x) const;
+    torch::Tensor residual_maps(const torch::Tensor& xr,
+                                const torch::Tensor& xi,
+                                const torch::Tensor& support,
+                                double scale) const;
 };
 
 } // namespace nn

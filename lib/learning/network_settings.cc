@@ -119,6 +119,15 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     return s;
 }
 
+int delay_settings::receptive_field_points() const
+{
+    long long rf = kernel; // the stem
+    long long d = 1;
+    for (int i = 0; i < depth; ++i, d *= dilation_growth)
+        rf += 2LL * (kernel - 1) * d;
+    return static_cast<int>(std::min<long long>(rf, 1 << 30));
+}
+
 json delay_settings::to_json() const
 {
     return { { "tau_min_index", tau_min_index },
@@ -128,7 +137,13 @@ json delay_settings::to_json() const
              { "width", width },
              { "depth", depth },
              { "kernel", kernel },
-             { "window", window } };
+             { "dilation_growth", dilation_growth },
+             { "phase_reference", phase_reference },
+             { "residual_maps", residual_maps },
+             { "window", window },
+             { "refine_paths", refine_paths },
+             { "refine_span_index", refine_span_index },
+             { "refine_trust_index", refine_trust_index } };
 }
 
 delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
@@ -146,7 +161,22 @@ delay_settings delay_settings::from_json(const json& json_in, const std::string&
     s.kernel = int_or(j, "kernel", s.kernel, source, 1);
     if (s.kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd");
+    // Keys added with the dilated decoder: a bundle without them is a legacy bundle.
+    s.dilation_growth = int_or(j, "dilation_growth", 1, source, 1);
+    if (s.dilation_growth > 4)
+        json_read::fail(source, "dilation_growth", "must be in [1, 4]");
+    s.phase_reference = j.boolean_or("phase_reference", false);
+    s.residual_maps = int_or(j, "residual_maps", 0, source, 0);
+    if (s.residual_maps > 8)
+        json_read::fail(source, "residual_maps", "must be in [0, 8]");
     s.window = int_or(j, "window", s.window, source, 0);
+    s.refine_paths = int_or(j, "refine_paths", 0, source, 0);
+    s.refine_span_index = j.number_or("refine_span_index", 8.0);
+    if (!(s.refine_span_index > 0.25))
+        json_read::fail(source, "refine_span_index", "must be > 0.25");
+    s.refine_trust_index = j.number_or("refine_trust_index", s.refine_trust_index);
+    if (!(s.refine_trust_index > 0.0))
+        json_read::fail(source, "refine_trust_index", "must be > 0");
     j.finish();
     return s;
 }

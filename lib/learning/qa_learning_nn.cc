@@ -349,6 +349,7 @@ public:
         }
         delay_settings ds;
         ds.q = 81;
+        ds.refine_paths = 0;
         delay_decoder_module del(n, m, np, ds);
         del.eval();
         auto d = del.forward(grid);

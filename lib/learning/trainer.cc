@@ -31,6 +31,30 @@ void fail(const std::string& what) { throw std::invalid_argument("training setti
 
 scene default_scene() { return scene::random(random_spec{}); }
 
+// How many paths the target of interest has, and how far behind its first path the
+// last one can arrive (delay indices).
+struct reach_of_scene {
+    int paths = 1;
+    double max_excess_index = 0.0;
+};
+reach_of_scene scene_reach(const scene& sc, const frame_settings& fs)
+{
+    reach_of_scene r;
+    double excess_m = 0.0;
+    if (const auto& rs = sc.random_settings()) {
+        r.paths = rs->paths_per_target;
+        if (rs->paths_per_target > 1)
+            excess_m = rs->excess_range_max_m;
+    } else {
+        const auto& toi = sc.targets()[sc.target_of_interest()];
+        r.paths = static_cast<int>(toi.paths.size());
+        for (const auto& p : toi.paths)
+            excess_m = std::max(excess_m, p.excess_range_m);
+    }
+    r.max_excess_index = fs.delay_index(fs.delay_from_range(excess_m));
+    return r;
+}
+
 // Copies of a module's parameters and buffers (best-epoch checkpoint).
 std::vector<torch::Tensor> snapshot(const std::shared_ptr<torch::nn::Module>& m)
 {
@@ -71,7 +95,7 @@ private:
         return !reconstruction && d_s.task == task_kind::classify;
     }
 
-    nn::task_decoder make_task_decoder()
+    nn::task_decoder make_task_decoder(const scene& sc)
     {
         if (d_s.task == task_kind::classify) {
             auto cs = d_s.classifier;
@@ -84,6 +108,18 @@ private:
         ds.tau_max_index = std::ceil(d_data.delay_max + d_s.delay_margin);
         ds.q = static_cast<int>(std::lround((ds.tau_max_index - ds.tau_min_index) / d_s.delay_spacing)) + 1;
         d_spacing = ds.spacing();
+        // The first path must stay in view of the later ones: the receptive field must
+        // cover twice the scene's largest excess delay (a path that far behind on either side).
+        const auto reach = scene_reach(sc, d_s.frame);
+        if (ds.receptive_field_index() < 2.0 * reach.max_excess_index)
+            fail("the delay decoder's receptive field is " + std::to_string(ds.receptive_field_index()) +
+                 " delay indices, below twice the largest excess delay of " + d_s.scene_source + " (2 x " +
+                 std::to_string(reach.max_excess_index) + "): raise --depth, --kernel or --dilation-growth");
+        // Refinement settings left at "from the scene" (-1).
+        if (ds.refine_paths < 0)
+            ds.refine_paths = reach.paths;
+        if (ds.refine_span_index <= 0.0)
+            ds.refine_span_index = reach.max_excess_index + 1.0;
         return std::make_shared<nn::delay_decoder_module>(d_n, d_m, d_s.n_pilots, ds);
     }
 
@@ -129,6 +165,11 @@ private:
     {
         torch::NoGradGuard ng;
         dec->eval();
+        if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(dec)) {
+            auto sorted = mask_idx; // the refinement fits the pilots in mask order
+            std::sort(sorted.begin(), sorted.end());
+            dd->set_pilot_positions(d_s.frame, sorted);
+        }
         const int64_t total = limit > 0 ? std::min<int64_t>(limit, sp.size()) : sp.size();
         std::vector<torch::Tensor> logits, delay, obs;
         double sum = 0.0;
@@ -236,7 +277,7 @@ training_result trainer::run()
     auto val_noisy = training::add_noise(
         d_data.val.h, training::draw_noise_variance(d_data.val.size(), d_s.snr_min_db, d_s.snr_max_db, val_gen), val_gen);
 
-    nn::task_decoder task_dec = make_task_decoder();
+    nn::task_decoder task_dec = make_task_decoder(sc);
     d_dist->broadcast_module(*task_dec); // identical start: rank 0's weights
     if (d_s.task == task_kind::delay)
         d_tau_min = static_cast<float>(

@@ -13,8 +13,12 @@
  * Greedy: pick the atom most correlated with the residual, re-fit all chosen atoms by
  * least squares, repeat `n_atoms` times (the model order). The delay reported for the
  * target of interest is the earliest chosen atom whose fitted power is at least
- * `relative_power` of the strongest (the direct path arrives first). No off-grid
- * refinement: the grid-mismatch floor is part of the method.
+ * `relative_power` of the strongest (the direct path arrives first).
+ *
+ * With `refine` (OMP + LS refinement) the chosen atoms start multipath_fitter: one shared
+ * Doppler (the strongest atom's), the atoms' delays, then Levenberg–Marquardt off the grid
+ * over all delays and ν (multipath_fit.h); the power rule is applied to the refined gains.
+ * Without it the grid-mismatch floor is part of the method.
  */
 #ifndef INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
 #define INCLUDED_SEMS_BASELINES_OMP_DELAY_ESTIMATOR_H
@@ -47,6 +51,7 @@ public:
         int doppler_oversample = 2;  ///< Doppler grid points per 1/(N T)
         int n_atoms = 1;             ///< sparsity (model order), >= 1 and <= N_p
         double relative_power = 0.25; ///< reporting threshold: fraction of the strongest atom, in (0, 1]
+        bool refine = false;          ///< off-grid least-squares refinement of the chosen atoms
     };
 
     /*!
@@ -88,6 +93,9 @@ public:
      * \throws std::invalid_argument on non-finite input.
      */
     std::vector<omp_atom> decompose(const gr_complex* obs) const;
+    // The atoms after the off-grid refinement (sorted by delay, one shared Doppler); the
+    // grid atoms when `refine` is off.
+    std::vector<omp_atom> refined_atoms(const gr_complex* obs) const;
 
 private:
     struct impl;

@@ -99,19 +99,48 @@ struct SEMS_LEARNING_API classifier_settings {
     static classifier_settings from_json(const nlohmann::json& j, const std::string& source);
 };
 
-/*! \brief Delay decoder: time projection -> dictionary correlation -> 1-D ResNet -> soft-argmax. */
+/// Delay decoder: time projection -> dictionary correlation -> dilated 1-D ResNet ->
+/// local soft-argmax -> (optional) model-based refinement of the first path.
+/// Bundles written before a key existed load with its legacy value (noted per key), so
+/// they compute exactly what they computed when they were trained.
 struct SEMS_LEARNING_API delay_settings {
     double tau_min_index = -2.0;  ///< dictionary grid, in delay indices (tau * B)
-    double tau_max_index = 50.0;  ///< upper end of the dictionary grid
+    double tau_max_index = 50.0;
     int q = 417;                  ///< grid points; spacing = (max - min) / (q - 1)
     int projections = 2;          ///< complex time projections (2 -> the 4 x M of the paper)
-    int width = 8;                ///< 1-D CNN channels
-    int depth = 2;                ///< residual blocks
-    int kernel = 5;               ///< 1-D kernel
+    int width = 16;               ///< 1-D CNN channels
+    int depth = 6;                ///< residual blocks
+    int kernel = 3;               ///< 1-D kernel (odd)
+    int dilation_growth = 2;      ///< block i dilates by growth^i (1, 2, 4, ...): the receptive
+                                  /// field grows exponentially with depth; 1 = undilated
+                                  /// (legacy value for bundles without this key)
+    bool phase_reference = true;  ///< rotate the correlations so the strongest one is real: the
+                                  /// features become invariant to the frame's common phase
+                                  /// (legacy: false)
+    int residual_maps = 2;        ///< extra feature maps: |correlation| of the residual after
+                                  /// removing the 1..K strongest dictionary atoms (orthogonal
+                                  /// matching pursuit on the first projection): a weak first
+                                  /// path under a strong later path's sidelobes shows up there
+                                  /// (legacy: 0)
     int window = 8;               ///< local soft-argmax half-window (grid points); 0 = global
+    int refine_paths = -1;        ///< model-based refinement after the network: L paths fitted by
+                                  /// least squares, the first one started at the network's
+                                  /// estimate (see delay_decoder.h); 0 = off (legacy value);
+                                  /// -1 = the training scene's paths per target (the trainer
+                                  /// resolves it; a decoder refuses an unresolved -1)
+    double refine_span_index = -1.0; ///< later paths are searched in (tau1 + 0.25, tau1 + span];
+                                     /// -1 = the training scene's largest excess delay + 1
+                                     /// (resolved by the trainer, like refine_paths)
+    double refine_trust_index = 0.5; ///< the refined delay replaces the network's only when it
+                                     /// moved less than this
 
     /*! \brief The grid spacing. \return (tau_max_index - tau_min_index) / (q - 1) delay indices. */
     double spacing() const { return (tau_max_index - tau_min_index) / (q - 1); }
+    /*! \brief Receptive field of one output score: the stem and two convolutions per residual
+     *         block, block i with dilation dilation_growth^i. \return the width in grid points. */
+    int receptive_field_points() const;
+    /*! \brief The receptive field in delay indices. \return points x spacing. */
+    double receptive_field_index() const { return receptive_field_points() * spacing(); }
     /*! \brief The settings as JSON (as bundle.json records them). \return the JSON object. */
     nlohmann::json to_json() const;
     /*!

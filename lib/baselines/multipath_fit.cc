@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: variable-projection Levenberg–Marquardt multipath fit. See multipath_fit.h. */
+#include "baselines/pilot_observations.h"
+#include <gnuradio/sems/baselines/multipath_fit.h>
+#include <algorithm>
+#include <numeric>
+
+namespace gr {
+namespace sems {
+
+using namespace baseline;
+
+struct multipath_fitter::impl {
+    int np = 0, m_sub = 0;
+    settings s;
+    std::vector<double> dop; // Doppler grid of the anchored start (Hz)
+    Eigen::VectorXd m, n; // per pilot: subcarrier and symbol (relative to the first pilot symbol)
+    bool doppler = false;
+    double t_sym = 1.0;
+    double half_bin = 0.5; // half a Doppler bin in cycles per symbol: 1 / (2 · symbol span)
+
+    // Φ_kl = b(n_k; ν) a(m_k; τ_l); x = ν·T (cycles per symbol).
+    Eigen::MatrixXcd basis(const std::vector<double>& tau, double x) const
+    {
+        Eigen::MatrixXcd phi(np, tau.size());
+        for (int k = 0; k < np; ++k) {
+            const cd b = doppler ? cis_cycles(x * n[k]) : cd(1.0, 0.0);
+            for (size_t l = 0; l < tau.size(); ++l)
+                phi(k, l) = b * delay_phasor(m[k], tau[l], m_sub);
+        }
+        return phi;
+    }
+
+    struct state {
+        Eigen::MatrixXcd phi;
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXcd> qr;
+        Eigen::VectorXcd alpha, res;
+        double cost = 0.0;
+    };
+    state solve(const Eigen::VectorXcd& y, const std::vector<double>& tau, double x) const
+    {
+        state st;
+        st.phi = basis(tau, x);
+        st.qr.compute(st.phi);
+        st.alpha = st.qr.solve(y);
+        st.res = y - st.phi * st.alpha;
+        st.cost = st.res.squaredNorm();
+        return st;
+    }
+
+    multipath_fit finish(const state& st, const std::vector<double>& tau, double x, int it) const
+    {
+        std::vector<size_t> order(tau.size());
+        std::iota(order.begin(), order.end(), 0);
+        std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return tau[a] < tau[b]; });
+        multipath_fit f;
+        for (size_t i : order) {
+            f.delay_index.push_back(tau[i]);
+            f.gain.push_back(gr_complex(static_cast<float>(st.alpha[i].real()), static_cast<float>(st.alpha[i].imag())));
+        }
+        f.doppler_hz = x / t_sym;
+        f.residual = st.cost;
+        f.iterations = it;
+        return f;
+    }
+
+    void check(const gr_complex* obs, const std::vector<double>& tau, const std::string& who) const
+    {
+        if (tau.empty() || static_cast<int>(tau.size()) > np)
+            throw std::invalid_argument(who + ": need 1 to N_p = " + std::to_string(np) + " start delays, got " +
+                                        std::to_string(tau.size()));
+        for (double t : tau)
+            if (!std::isfinite(t))
+                throw std::invalid_argument(who + ": a start delay is not finite");
+        (void)obs;
+    }
+};
+
+multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& mask)
+    : multipath_fitter(fs, mask, settings{})
+{
+}
+
+multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& mask, settings s) : d_impl(new impl)
+{
+    const std::string who = "multipath fitter";
+    check_mask(fs, mask, who);
+    if (s.max_iterations < 1)
+        throw std::invalid_argument(who + ": max_iterations must be >= 1, got " + std::to_string(s.max_iterations));
+    if (!(s.tolerance > 0.0) || !std::isfinite(s.tolerance))
+        throw std::invalid_argument(who + ": tolerance must be finite and > 0");
+    auto& d = *d_impl;
+    d.np = mask.size();
+    d.m_sub = fs.n_subcarriers;
+    d.s = s;
+    d.t_sym = fs.symbol_interval_s;
+    const auto& pos = mask.positions();
+    d.m.resize(d.np);
+    d.n.resize(d.np);
+    for (int k = 0; k < d.np; ++k) {
+        d.m[k] = pos[k].m;
+        d.n[k] = pos[k].n - pos.front().n; // a common phase only: keeps the Doppler phases small
+    }
+    d.doppler = pos.front().n != pos.back().n;
+    d.half_bin = 0.5 / std::max(1, pos.back().n - pos.front().n + 1);
+    d.dop = doppler_grid(fs, 2);
+}
+
+multipath_fitter::~multipath_fitter() = default;
+multipath_fitter::multipath_fitter(multipath_fitter&&) noexcept = default;
+
+bool multipath_fitter::doppler_identifiable() const { return d_impl->doppler; }
+int multipath_fitter::n_pilots() const { return d_impl->np; }
+
+multipath_fit multipath_fitter::evaluate(const gr_complex* obs, const std::vector<double>& tau, double doppler_hz) const
+{
+    const auto& d = *d_impl;
+    d.check(obs, tau, "multipath fitter");
+    const Eigen::VectorXcd y = observations(obs, d.np, "multipath fitter");
+    const double x = doppler_hz * d.t_sym;
+    return d.finish(d.solve(y, tau, x), tau, x, 0);
+}
+
+multipath_fit multipath_fitter::refine_anchored(const gr_complex* obs,
+                                                double first,
+                                                int n_paths,
+                                                double span) const
+{
+    const auto& d = *d_impl;
+    const std::string who = "multipath fitter (anchored)";
+    if (n_paths < 1 || n_paths > d.np)
+        throw std::invalid_argument(who + ": n_paths must be in [1, N_p = " + std::to_string(d.np) + "], got " +
+                                    std::to_string(n_paths));
+    if (!std::isfinite(first))
+        throw std::invalid_argument(who + ": the first delay is not finite");
+    if (!(span > 0.25) || !std::isfinite(span))
+        throw std::invalid_argument(who + ": span_index must be finite and > 0.25");
+    const Eigen::VectorXcd y = observations(obs, d.np, who);
+    std::vector<double> tau{ first };
+    double x = 0.0;
+    if (d.doppler) { // the Doppler that best explains the first path alone
+        const Eigen::MatrixXcd a = d.basis(tau, 0.0);
+        double best = -1.0;
+        for (double f : d.dop) {
+            cd c = 0.0;
+            for (int k = 0; k < d.np; ++k)
+                c += std::conj(a(k, 0) * cis_cycles(f * d.t_sym * d.n[k])) * y[k];
+            if (std::norm(c) > best) {
+                best = std::norm(c);
+                x = f * d.t_sym;
+            }
+        }
+    }
+    if (n_paths > 1) {
+        std::vector<double> cand;
+        for (double t = first + 0.25 + 0.125; t <= first + span + 1e-9; t += 0.125)
+            cand.push_back(t);
+        const Eigen::MatrixXcd c = d.basis(cand, x); // N_p x C
+        for (int l = 1; l < n_paths; ++l) {
+            const auto st = d.solve(y, tau, x);
+            Eigen::Index q;
+            (c.adjoint() * st.res).cwiseAbs2().maxCoeff(&q);
+            tau.push_back(cand[q]);
+        }
+    }
+    return refine(obs, tau, x / d.t_sym);
+}
+
+multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<double>& start, double doppler_hz) const
+{
+    const auto& d = *d_impl;
+    d.check(obs, start, "multipath fitter");
+    const Eigen::VectorXcd y = observations(obs, d.np, "multipath fitter");
+    const int L = static_cast<int>(start.size());
+    const int P = L + (d.doppler ? 1 : 0);
+    std::vector<double> tau = start;
+    double x = doppler_hz * d.t_sym;
+    auto st = d.solve(y, tau, x);
+    double lambda = 1e-3;
+    int it = 0;
+    for (; it < d.s.max_iterations && st.cost > 0.0; ++it) {
+        // Kaufman's Jacobian of the model: ∂(Φα)/∂θ with α held, projected off span(Φ).
+        Eigen::MatrixXcd dm(d.np, P);
+        const Eigen::VectorXcd mu = st.phi * st.alpha;
+        for (int l = 0; l < L; ++l)
+            for (int k = 0; k < d.np; ++k)
+                dm(k, l) = st.alpha[l] * cd(0.0, -2.0 * M_PI * d.m[k] / d.m_sub) * st.phi(k, l);
+        if (d.doppler)
+            for (int k = 0; k < d.np; ++k)
+                dm(k, L) = cd(0.0, 2.0 * M_PI * d.n[k]) * mu[k];
+        const Eigen::MatrixXcd g = dm - st.phi * st.qr.solve(dm);
+        const Eigen::MatrixXd h = (g.adjoint() * g).real();
+        const Eigen::VectorXd grad = (g.adjoint() * st.res).real();
+        bool accepted = false;
+        double moved = 0.0;
+        while (lambda < 1e12) {
+            Eigen::MatrixXd a = h;
+            for (int p = 0; p < P; ++p)
+                a(p, p) += lambda * std::max(h(p, p), 1e-30);
+            Eigen::VectorXd step = a.ldlt().solve(grad);
+            if (!step.allFinite()) {
+                lambda *= 10.0;
+                continue;
+            }
+            // A trust region per step: half a delay index, half a Doppler bin (1/(2·span) cycles per symbol).
+            double shrink = 1.0;
+            for (int l = 0; l < L; ++l)
+                shrink = std::min(shrink, 0.5 / std::max(std::abs(step[l]), 1e-300));
+            if (d.doppler)
+                shrink = std::min(shrink, d.half_bin / std::max(std::abs(step[L]), 1e-300));
+            step *= shrink;
+            std::vector<double> t2 = tau;
+            for (int l = 0; l < L; ++l)
+                t2[l] += step[l];
+            const double x2 = d.doppler ? x + step[L] : x;
+            auto s2 = d.solve(y, t2, x2);
+            if (s2.cost < st.cost) {
+                tau = t2;
+                x = x2;
+                st = std::move(s2);
+                lambda = std::max(lambda / 3.0, 1e-12);
+                moved = step.cwiseAbs().maxCoeff();
+                accepted = true;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if (!accepted || moved < d.s.tolerance)
+            break;
+    }
+    return d.finish(st, tau, x, it);
+}
+
+} // namespace sems
+} // namespace gr

@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the delay decoder — receptive field of the dilated stack, legacy bundle
+ * settings, the refinement stage wired to the baselines' least-squares fit (and off in
+ * training), the residual maps, and the trainer's refusal of a network that cannot see
+ * from the first path to the last. */
+#include "learning/delay_decoder.h"
+#include "qa/qa_assert.h"
+#include <gnuradio/sems/baselines/multipath_fit.h>
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/learning/trainer.h>
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <algorithm>
+
+using namespace gr::sems;
+using namespace gr::sems::nn;
+
+namespace {
+
+const frame_settings fs{};
+
+// 32 subcarriers (every other one, shifted) on symbol 5, in mask order.
+std::vector<int64_t> one_symbol_positions()
+{
+    std::vector<int64_t> flat;
+    for (int m = 1; m < fs.n_subcarriers; m += 2)
+        flat.push_back(5 * fs.n_subcarriers + m);
+    return flat;
+}
+
+// B noisy frames of a 3-path random scene as the sparse decoder grid (B x 2 x N x M).
+torch::Tensor frames(int b, const std::vector<int64_t>& flat, double snr_db)
+{
+    random_spec r;
+    r.paths_per_target = 3;
+    channel_model cm(fs, scene::random(r), 11);
+    std::vector<gr_complex> h(size_t(b) * fs.grid_size());
+    cm.generate(b, h.data());
+    cm.add_noise(h.data(), h.size(), snr_db);
+    auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
+                   .permute({ 0, 3, 1, 2 })
+                   .contiguous();
+    return scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+}
+
+delay_settings small(int refine_paths)
+{
+    delay_settings s;
+    s.tau_min_index = -2.0;
+    s.tau_max_index = 48.0;
+    s.q = 201;
+    s.refine_paths = refine_paths;
+    s.refine_span_index = 7.0;
+    s.refine_trust_index = 0.5;
+    return s;
+}
+
+} // namespace
+
+class qa_learning_delay : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_learning_delay);
+    CPPUNIT_TEST(receptive_field_closed_form);
+    CPPUNIT_TEST(legacy_settings_keep_the_old_network);
+    CPPUNIT_TEST(refinement_is_the_anchored_least_squares_fit);
+    CPPUNIT_TEST(residual_maps_remove_the_strongest_atom);
+    CPPUNIT_TEST(bad_settings_are_refused);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    void receptive_field_closed_form()
+    {
+        delay_settings s;
+        s.kernel = 3;
+        s.depth = 6;
+        s.dilation_growth = 2;
+        // stem 3 + Σ_i 2·(3 − 1)·2^i, i = 0..5 = 3 + 4·63
+        CPPUNIT_ASSERT_EQUAL(255, s.receptive_field_points());
+        s.kernel = 5;
+        s.depth = 2;
+        s.dilation_growth = 1; // the legacy network: ±1.3 index at 0.125 spacing
+        CPPUNIT_ASSERT_EQUAL(21, s.receptive_field_points());
+        s.tau_min_index = 0.0;
+        s.tau_max_index = 50.0;
+        s.q = 401;
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(21 * 0.125, s.receptive_field_index(), 1e-12);
+    }
+
+    void legacy_settings_keep_the_old_network()
+    {
+        // A bundle written before the dilated decoder: none of the new keys.
+        const nlohmann::json old = { { "tau_min_index", -2.0 }, { "tau_max_index", 42.0 }, { "q", 353 },
+                                     { "projections", 2 },      { "width", 8 },           { "depth", 2 },
+                                     { "kernel", 5 },           { "window", 8 } };
+        const auto s = delay_settings::from_json(old, "old bundle.json");
+        CPPUNIT_ASSERT_EQUAL(1, s.dilation_growth);
+        CPPUNIT_ASSERT_EQUAL(false, s.phase_reference);
+        CPPUNIT_ASSERT_EQUAL(0, s.residual_maps);
+        CPPUNIT_ASSERT_EQUAL(0, s.refine_paths);
+        // Its parameters have the old shapes (the stem sees 3P channels).
+        delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+        CPPUNIT_ASSERT(d.named_parameters()["stem.weight"].sizes() == torch::IntArrayRef({ 8, 6, 5 }));
+        // New settings survive the bundle round trip.
+        auto n = small(3);
+        n.residual_maps = 2;
+        const auto back = delay_settings::from_json(n.to_json(), "round trip");
+        CPPUNIT_ASSERT_EQUAL(2, back.residual_maps);
+        CPPUNIT_ASSERT_EQUAL(3, back.refine_paths);
+        CPPUNIT_ASSERT_EQUAL(2, back.dilation_growth);
+        CPPUNIT_ASSERT_EQUAL(true, back.phase_reference);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(7.0, back.refine_span_index, 0.0);
+    }
+
+    void refinement_is_the_anchored_least_squares_fit()
+    {
+        const auto flat = one_symbol_positions();
+        const auto grid = frames(24, flat, 30.0);
+        torch::manual_seed(3);
+        delay_decoder_module plain(fs.n_symbols, fs.n_subcarriers, 32, small(0));
+        torch::manual_seed(3);
+        delay_decoder_module refined(fs.n_symbols, fs.n_subcarriers, 32, small(3));
+        torch::NoGradGuard ng;
+        // Training mode: never refined, even with positions set.
+        refined.set_pilot_positions(fs, flat);
+        CPPUNIT_ASSERT(torch::equal(plain.forward(grid).delay_index, refined.forward(grid).delay_index));
+        plain.eval();
+        refined.eval();
+        const auto est = plain.forward(grid).delay_index.to(torch::kDouble);
+        const auto out = refined.forward(grid).delay_index.to(torch::kDouble);
+        // The same answer from the baselines' fit on the decoder's normalised pilots.
+        std::vector<pilot_position> pos;
+        for (auto f : flat)
+            pos.push_back({ int(f / fs.n_subcarriers), int(f % fs.n_subcarriers) });
+        const multipath_fitter fitter(fs, pilot_mask(fs.n_symbols, fs.n_subcarriers, pos));
+        auto obs = gather_pilots(normalise_frames(grid, 32), flat).contiguous();
+        const auto* po = reinterpret_cast<const gr_complex*>(obs.data_ptr<float>());
+        int moved = 0;
+        for (int i = 0; i < 24; ++i) {
+            const double e = est[i].item<double>();
+            const double first = fitter.refine_anchored(po + i * 32, e, 3, 7.0).delay_index.front();
+            const double expect = std::abs(first - e) < 0.5 ? first : e;
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(expect, out[i].item<double>(), 1e-4);
+            CPPUNIT_ASSERT(std::abs(out[i].item<double>() - e) < 0.5); // the trust region
+            moved += std::abs(out[i].item<double>() - e) > 1e-6;
+        }
+        CPPUNIT_ASSERT(moved > 0); // the stage did something
+        // Without positions no refinement happens (and the eval answer is the network's).
+        torch::manual_seed(3);
+        delay_decoder_module unset(fs.n_symbols, fs.n_subcarriers, 32, small(3));
+        unset.forward(grid); // the same batch-norm statistics as the two above
+        unset.eval();
+        CPPUNIT_ASSERT(torch::allclose(unset.forward(grid).delay_index.to(torch::kDouble), est));
+    }
+
+    void residual_maps_remove_the_strongest_atom()
+    {
+        // One noiseless on-grid path: once its atom is removed nothing is left to correlate;
+        // with two paths the first map still shows the weaker one at its delay.
+        const auto flat = one_symbol_positions();
+        auto s = small(0);
+        s.residual_maps = 2;
+        delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+        auto grid_of = [&](const std::vector<double>& delays) {
+            target_spec t;
+            t.range_m = delays[0] * fs.range_per_delay_index_m();
+            t.paths.clear();
+            for (size_t l = 0; l < delays.size(); ++l)
+                t.paths.push_back({ (delays[l] - delays[0]) * fs.range_per_delay_index_m(), l == 0 ? 1.0 : 0.1 });
+            channel_model cm(fs, scene::fixed({ t }, std::nullopt, 0, fading_kind::none), 1);
+            std::vector<gr_complex> h(fs.grid_size());
+            cm.generate(1, h.data());
+            auto all = torch::from_blob(h.data(), { 1, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
+                           .permute({ 0, 3, 1, 2 })
+                           .contiguous();
+            return scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+        };
+        // Delay 20 is on the 0.25 grid: the first map is round-off.
+        const auto one = d.residual_maps_of(grid_of({ 20.0 }));
+        CPPUNIT_ASSERT(one.sizes() == torch::IntArrayRef({ 1, 2, 201 }));
+        const auto peak = d.residual_maps_of(grid_of({ 20.0 })).abs().max().item<double>();
+        CPPUNIT_ASSERT(peak < 1e-3);
+        // A path 10 dB weaker 3 indices behind: the first map peaks there (delay 23 = q 100).
+        const auto two = d.residual_maps_of(grid_of({ 20.0, 23.0 }));
+        CPPUNIT_ASSERT_EQUAL(int64_t(100), two[0][0].argmax().item<int64_t>());
+        CPPUNIT_ASSERT(two[0][1].max().item<double>() < 1e-3); // both removed: nothing left
+    }
+
+    void bad_settings_are_refused()
+    {
+        delay_settings s; // refine_paths = -1: "from the training scene", unresolved
+        qa::assert_error([&] { delay_decoder_module(fs.n_symbols, fs.n_subcarriers, 32, s); }, "refine_paths");
+        auto r = small(3);
+        delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, r);
+        auto flat = one_symbol_positions();
+        qa::assert_error([&] { d.set_pilot_positions(fs, { 1, 2, 3 }); }, "3 pilot positions", "32");
+        std::reverse(flat.begin(), flat.end());
+        qa::assert_error([&] { d.set_pilot_positions(fs, flat); }, "mask order");
+        frame_settings other = fs;
+        other.n_subcarriers = 128;
+        qa::assert_error([&] { d.set_pilot_positions(other, one_symbol_positions()); }, "128");
+        nlohmann::json j = small(3).to_json();
+        j["residual_maps"] = 9;
+        qa::assert_error([&] { delay_settings::from_json(j, "x/bundle.json"); }, "x/bundle.json", "residual_maps");
+        j = small(3).to_json();
+        j["phase_reference"] = 1;
+        qa::assert_error([&] { delay_settings::from_json(j, "x/bundle.json"); }, "phase_reference");
+        // The trainer refuses a network that cannot see from the first path to the last.
+        training_settings t;
+        t.task = task_kind::delay;
+        random_spec rs;
+        rs.paths_per_target = 3; // excess up to 30 m = 6 delay indices
+        t.scene_spec = scene::random(rs);
+        t.frames = 40;
+        t.epochs = 1;
+        t.batch = 8;
+        t.threads = 1;
+        t.verbose = false;
+        t.delay.depth = 1;
+        t.delay.kernel = 3;
+        t.delay.dilation_growth = 1;
+        qa::assert_error([&] { train(t, nullptr); }, "receptive field", "twice the largest excess delay");
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_learning_delay);
