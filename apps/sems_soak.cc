@@ -99,7 +99,7 @@ int main(int argc, char** argv)
 
     auto mapper = pilot_mapper::make("", all, fs.n_symbols, fs.n_subcarriers);
     auto head = gr::blocks::head::make(sizeof(gr_complex) * fs.n_subcarriers, n_frames * fs.n_symbols);
-    auto channel = target_channel::make("", {}, 1, 1, true, 0, 0.0, snr_db, 1234, fs.n_symbols, fs.n_subcarriers,
+    auto channel = target_channel::make("", {}, 1, 1, true, "approaching", 0, 0.0, snr_db, 1234, fs.n_symbols, fs.n_subcarriers,
                                         fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s);
     auto ex_c = pilot_extractor::make(models + "/classifier/mask.json", {}, fs.n_symbols, fs.n_subcarriers);
     auto ex_d = pilot_extractor::make(models + "/delay_single/mask.json", {}, fs.n_symbols, fs.n_subcarriers);

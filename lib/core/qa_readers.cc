@@ -222,12 +222,12 @@ public:
     void channel_refuses_clutter_ratio_without_clutter()
     {
         // clutter_csr_db was dropped silently when clutter_paths is 0.
-        assert_error([] { target_channel::make("", {}, 1, 1, true, 0, 10.0); },
+        assert_error([] { target_channel::make("", {}, 1, 1, true, "approaching", 0, 10.0); },
                      "clutter_csr_db = 10", "clutter_paths = 0");
-        assert_error([] { target_channel::make("", {}, 1, 1, true, 5000, 10.0); }, "clutter.paths: must be in [1, 4096]");
+        assert_error([] { target_channel::make("", {}, 1, 1, true, "approaching", 5000, 10.0); }, "clutter.paths: must be in [1, 4096]");
         assert_error([] { target_channel::make("", {}, 300); }, "random.targets: must be in [1, 256]");
-        assert_error([] { target_channel::make("", {}, 1, 1, true, 0, 0.0, 10.0, 0, 70000, 64); }, "n_symbols must be in [1, 65536]");
-        CPPUNIT_ASSERT(target_channel::make("", {}, 1, 1, true, 2, 10.0) != nullptr);
+        assert_error([] { target_channel::make("", {}, 1, 1, true, "approaching", 0, 0.0, 10.0, 0, 70000, 64); }, "n_symbols must be in [1, 65536]");
+        CPPUNIT_ASSERT(target_channel::make("", {}, 1, 1, true, "approaching", 2, 10.0) != nullptr);
     }
 
     // Regression tests of what the fuzzers found (fuzz/corpus keeps the inputs too).

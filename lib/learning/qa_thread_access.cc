@@ -40,7 +40,7 @@ public:
 
         auto mapper = pilot_mapper::make("", all, fs.n_symbols, fs.n_subcarriers);
         auto head = gr::blocks::head::make(sizeof(gr_complex) * fs.n_subcarriers, n_frames * fs.n_symbols);
-        auto channel = target_channel::make("", {}, 1, 1, true, 0, 0.0, 10.0, 3, fs.n_symbols, fs.n_subcarriers);
+        auto channel = target_channel::make("", {}, 1, 1, true, "approaching", 0, 0.0, 10.0, 3, fs.n_symbols, fs.n_subcarriers);
         auto ex_c = pilot_extractor::make(models + "classifier/mask.json", {}, fs.n_symbols, fs.n_subcarriers);
         auto ex_d = pilot_extractor::make(models + "delay_single/mask.json", {}, fs.n_symbols, fs.n_subcarriers);
         auto sink_c = classifier_sink::make(cls.directory, cls.mask.size(), 8, 1, 16, fs.n_symbols, fs.n_subcarriers);

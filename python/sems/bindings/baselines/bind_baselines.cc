@@ -104,7 +104,7 @@ void bind_baselines(py::module& m)
         .def_static("variance_index", &delay_crb::variance_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
                     py::arg("doppler_known") = false, py::arg("gain_power") = 1.0)
         .def_static("mae_index", &delay_crb::mae_index, py::arg("fs"), py::arg("mask"), py::arg("snr_db"),
-                    py::arg("doppler_known") = false, py::arg("rayleigh") = true)
+                    py::arg("doppler_known") = false, py::arg("rayleigh") = true, py::arg("mean_power") = 1.0)
         .def_static("spread", &delay_crb::spread, py::arg("mask"), py::arg("doppler_known"));
 
     py::class_<doppler_features>(m, "doppler_features", D(doppler_features))
