@@ -170,10 +170,11 @@ delay_settings delay_settings::from_json(const json& json_in, const std::string&
     if (s.residual_maps > 8)
         json_read::fail(source, "residual_maps", "must be in [0, 8]");
     s.window = int_or(j, "window", s.window, source, 0);
-    s.refine_paths = int_or(j, "refine_paths", 0, source, 0);
+    // -1 (the default) means "resolved by the trainer from the scene"; a decoder refuses it.
+    s.refine_paths = int_or(j, "refine_paths", 0, source, -1);
     s.refine_span_index = j.number_or("refine_span_index", 8.0);
-    if (!(s.refine_span_index > 0.25))
-        json_read::fail(source, "refine_span_index", "must be > 0.25");
+    if (!(s.refine_span_index > 0.25) && s.refine_span_index != -1.0)
+        json_read::fail(source, "refine_span_index", "must be > 0.25 (or -1: from the training scene)");
     s.refine_trust_index = j.number_or("refine_trust_index", s.refine_trust_index);
     if (!(s.refine_trust_index > 0.0))
         json_read::fail(source, "refine_trust_index", "must be > 0");
