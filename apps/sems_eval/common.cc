@@ -149,8 +149,20 @@ void csv_file::row(const std::vector<std::string>& values)
     if (values.size() != d_cols)
         throw std::logic_error(d_path + ": row with " + std::to_string(values.size()) + " values, header has " +
                                std::to_string(d_cols));
-    for (size_t i = 0; i < values.size(); ++i)
-        d_out << (i ? "," : "") << values[i];
+    // RFC 4180: a value with a comma, quote or line break is quoted, its quotes doubled
+    // (method names and notes carry commas; Python's csv module reads it back).
+    for (size_t i = 0; i < values.size(); ++i) {
+        const std::string& v = values[i];
+        d_out << (i ? "," : "");
+        if (v.find_first_of(",\"\r\n") == std::string::npos) {
+            d_out << v;
+            continue;
+        }
+        d_out << '"';
+        for (char ch : v)
+            d_out << (ch == '"' ? "\"\"" : std::string(1, ch));
+        d_out << '"';
+    }
     d_out << "\n";
     d_out.flush();
 }

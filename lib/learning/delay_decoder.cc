@@ -51,6 +51,9 @@ delay_decoder_module::delay_decoder_module(int n, int m, int np, delay_settings 
     if (s.refine_paths < 0)
         throw std::invalid_argument("delay decoder: refine_paths is " + std::to_string(s.refine_paths) +
                                     " (\"from the training scene\"): give 0 (off) or the number of paths to fit");
+    if (s.refine_paths > np)
+        throw std::invalid_argument("delay decoder: refine_paths = " + std::to_string(s.refine_paths) +
+                                    " exceeds the " + std::to_string(np) + " pilots: at most N_p paths can be fitted");
     if (s.refine_paths > 0 && !(s.refine_span_index > 0.25 && s.refine_trust_index > 0.0))
         throw std::invalid_argument("delay decoder: refinement needs refine_span_index > 0.25 and "
                                     "refine_trust_index > 0");

@@ -116,8 +116,18 @@ private:
                  " delay indices, below twice the largest excess delay of " + d_s.scene_source + " (2 x " +
                  std::to_string(reach.max_excess_index) + "): raise --depth, --kernel or --dilation-growth");
         // Refinement settings left at "from the scene" (-1).
-        if (ds.refine_paths < 0)
+        // L paths are 3L + 1 real unknowns (L complex gains, L delays, one Doppler) against
+        // 2 N_p real observations: with no more observations than unknowns the fit
+        // interpolates the noise, so "from the scene" then means no refinement (said in the log).
+        if (ds.refine_paths < 0) {
             ds.refine_paths = reach.paths;
+            if (2 * d_s.n_pilots <= 3 * reach.paths + 1) {
+                ds.refine_paths = 0;
+                if (d_log)
+                    *d_log << "delay refinement off: " << reach.paths << " paths need more than "
+                           << (3 * reach.paths + 1) / 2 << " pilots, the mask has " << d_s.n_pilots << "\n";
+            }
+        }
         if (ds.refine_span_index <= 0.0)
             ds.refine_span_index = reach.max_excess_index + 1.0;
         return std::make_shared<nn::delay_decoder_module>(d_n, d_m, d_s.n_pilots, ds);

@@ -52,6 +52,7 @@ def cxx_defaults():
         "n_targets": spec["targets"],
         "paths_per_target": spec["paths_per_target"],
         "micro_doppler": spec["micro_doppler"],
+        "heading": spec["heading"],
         "clutter_paths": (rnd.get("clutter") or {}).get("paths", 0),
         "classes": [] if sorted(spec["classes"]) == sorted(sems.class_names()) else spec["classes"],
         # seed: no getter; the bindings' default is make()'s (checked through the signature).
@@ -87,6 +88,14 @@ def cxx_defaults():
     sync = {name: bound_default(sems.frame_sync, name)
             for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold")}
     sync.update(pilot_frame)
+    # range_doppler_map: no getters for its settings; the bindings' defaults (make()'s).
+    rd_map = {name: bound_default(sems.range_doppler_map, name)
+              for name in ("window", "n_symbols", "n_subcarriers")}
+    # tag_file_sink / tag_file_replay: Python blocks, their constructors' defaults.
+    from gnuradio.sems.tag_file import tag_file_replay, tag_file_sink
+    tag_files = {cls.__name__: {name: inspect.signature(cls.__init__).parameters[name].default
+                                for name in ("item", "vlen")}
+                 for cls in (tag_file_sink, tag_file_replay)}
     return {
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
@@ -98,6 +107,9 @@ def cxx_defaults():
         "sems_metrics_printer": {},
         "sems_target_channel_td": channel_td,
         "sems_frame_sync": sync,
+        "sems_range_doppler_map": rd_map,
+        "sems_tag_file_sink": tag_files["tag_file_sink"],
+        "sems_tag_file_replay": tag_files["tag_file_replay"],
     }
 
 
@@ -133,6 +145,12 @@ GRC_ONLY = {
     ("sems_frame_sync", "mask_source"): "GRC chooser between a mask file and positions",
     ("sems_frame_sync", "mask_file"): "required in C++ (one of mask_file / positions)",
     ("sems_frame_sync", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_range_doppler_map", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_range_doppler_map", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_range_doppler_map", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_range_doppler_map", "n_pilots"): "GRC-side vector length; C++ takes it from the mask",
+    ("sems_tag_file_sink", "path"): "required in Python",
+    ("sems_tag_file_replay", "path"): "required in Python",
 }
 
 # Deliberate, documented differences: GRC default, C++ default, where the reason is written.
@@ -189,7 +207,8 @@ class qa_grc_defaults(gr_unittest.TestCase):
                 self.assertIn(p["id"], self.cxx[block],
                               f"{block}.{p['id']}: default {p.get('default')!r} is neither compared with a "
                               f"C++ default nor listed as GRC-only")
-                grc = grc_value(p["default"])
+                # An enum's default is an option name, not an expression.
+                grc = str(p["default"]) if p.get("dtype") == "enum" else grc_value(p["default"])
                 cxx = self.cxx[block][p["id"]]
                 self.assertTrue(same(grc, cxx), f"{block}.{p['id']}: GRC default {grc!r} != C++ default {cxx!r}")
                 checked += 1

@@ -65,13 +65,18 @@ class qa_sems_eval(gr_unittest.TestCase):
                 pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)" and r["scenario"] == scen}
                 self.assertEqual(len(pc), 1)
             e4 = rows(os.path.join(out, "exp4_delay.csv"))
+            bounds = {"single": ["CRB"],
+                      "multipath": ["CRB (single path at the direct path's mean power)", "CRB (multipath, direct path)"]}
             for scen in ("single", "multipath"):
                 ms = {r["method"] for r in e4 if r["scenario"] == scen}
-                for m in ("SemS", "OMP", "Periodogram", "UP-MUSIC", "RP-MUSIC", "OP-MUSIC", "CRB (random pilots)"):
+                for m in ["SemS", "OMP", "Periodogram", "UP-MUSIC", "RP-MUSIC", "OP-MUSIC"] + bounds[scen]:
                     self.assertIn(m, ms, "%s: %s missing" % (scen, m))
+                for m in bounds[scen]:  # every bound on the random pattern, at every SNR
+                    self.assertEqual(len([r for r in e4 if r["scenario"] == scen and r["method"] == m
+                                          and r["mask"] == "random"]), 2, (scen, m))
             # The CRB falls by 10x in variance per 10 dB: its MAE by sqrt(1000) from 0 to 30 dB.
             crb = {float(r["snr_db"]): float(r["mae_index"]) for r in e4
-                   if r["method"] == "CRB (random pilots)" and r["scenario"] == "single"}
+                   if r["method"] == "CRB" and r["mask"] == "random" and r["scenario"] == "single"}
             self.assertAlmostEqual(crb[0.0] / crb[30.0], 1000 ** 0.5, delta=1e-3)  # CSV keeps 6 digits
             e5 = rows(os.path.join(out, "exp5_pilot_budget.csv"))
             self.assertEqual(sorted({int(r["n_pilots"]) for r in e5}), [2, 8])

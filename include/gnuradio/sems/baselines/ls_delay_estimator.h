@@ -51,17 +51,36 @@ public:
      * \throws std::invalid_argument naming the bad setting or a mask that does not fit the frame.
      */
     ls_delay_estimator(const frame_settings& fs, const pilot_mask& mask, settings s);
+    /*!
+     * \brief The estimator with the default settings.
+     * \param fs   frame settings (N, M)
+     * \param mask the pilot positions
+     * \throws std::invalid_argument if the mask does not fit the frame.
+     */
     ls_delay_estimator(const frame_settings& fs, const pilot_mask& mask);
     ~ls_delay_estimator();
+    /*! \brief Moves the estimator (its precomputed dictionaries). */
     ls_delay_estimator(ls_delay_estimator&&) noexcept;
 
-    /*! \brief N_p, the observations per frame. */
+    /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const;
-    /*! \brief The grid-search start of one frame (delays in the order found, ν). */
+    /*!
+     * \brief The grid-search start of one frame.
+     * \param obs N_p observations in mask order.
+     * \return the delays in the order found, with ν.
+     */
     multipath_fit grid_search(const gr_complex* obs) const;
-    /*! \brief The full fit of one frame: grid search, then nonlinear least squares. */
+    /*!
+     * \brief The full fit of one frame: grid search, then nonlinear least squares.
+     * \param obs N_p observations in mask order.
+     * \return the fitted paths.
+     */
     multipath_fit fit(const gr_complex* obs) const;
-    /*! \brief The earliest fitted delay, in delay indices. \param obs N_p observations in mask order. */
+    /*!
+     * \brief The earliest fitted delay.
+     * \param obs N_p observations in mask order.
+     * \return the delay, in delay indices.
+     */
     double estimate_index(const gr_complex* obs) const;
 
 private:

@@ -59,13 +59,20 @@ public:
      * \throws std::invalid_argument if the mask does not fit the frame or a setting is out of range.
      */
     multipath_fitter(const frame_settings& fs, const pilot_mask& mask, settings s);
+    /*!
+     * \brief A fitter with the default iteration limits.
+     * \param fs the frame (M, T).
+     * \param mask the pilot positions the observations come from (mask order).
+     * \throws std::invalid_argument if the mask does not fit the frame.
+     */
     multipath_fitter(const frame_settings& fs, const pilot_mask& mask);
     ~multipath_fitter();
+    /*! \brief Moves the fitter (its precomputed pilot positions). */
     multipath_fitter(multipath_fitter&&) noexcept;
 
-    /*! \brief True when the pilots span at least two symbols (then ν is fitted). */
+    /*! \brief Whether ν is fitted. \return true when the pilots span at least two symbols. */
     bool doppler_identifiable() const;
-    /*! \brief N_p, the observations per frame. */
+    /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const;
 
     /*!
@@ -73,6 +80,7 @@ public:
      * \param obs N_p observations Y/s_p in mask order.
      * \param delay_index start delays (delay indices), 1 <= L <= N_p.
      * \param doppler_hz start Doppler.
+     * \return the refined fit.
      * \throws std::invalid_argument on a null or non-finite observation or a bad number of delays.
      */
     multipath_fit refine(const gr_complex* obs, const std::vector<double>& delay_index, double doppler_hz) const;
@@ -88,6 +96,7 @@ public:
      * \param first_delay_index the first path's start delay.
      * \param n_paths L, in [1, N_p].
      * \param span_index how far after the first path later paths are searched (> 0.25).
+     * \return the refined fit.
      * \throws std::invalid_argument on bad observations or arguments.
      */
     multipath_fit refine_anchored(const gr_complex* obs, double first_delay_index, int n_paths, double span_index) const;
@@ -97,6 +106,7 @@ public:
      * \param obs N_p observations in mask order.
      * \param delay_index the delays (delay indices).
      * \param doppler_hz the Doppler.
+     * \return the residual and gains.
      */
     multipath_fit evaluate(const gr_complex* obs, const std::vector<double>& delay_index, double doppler_hz) const;
 

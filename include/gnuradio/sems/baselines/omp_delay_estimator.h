@@ -93,8 +93,12 @@ public:
      * \throws std::invalid_argument on non-finite input.
      */
     std::vector<omp_atom> decompose(const gr_complex* obs) const;
-    // The atoms after the off-grid refinement (sorted by delay, one shared Doppler); the
-    // grid atoms when `refine` is off.
+    /*!
+     * \brief The atoms after the off-grid refinement (sorted by delay, one shared Doppler).
+     * \param obs N_p observations in mask order.
+     * \return the refined atoms; the grid atoms when `refine` is off.
+     * \throws std::invalid_argument on non-finite input.
+     */
     std::vector<omp_atom> refined_atoms(const gr_complex* obs) const;
 
 private:

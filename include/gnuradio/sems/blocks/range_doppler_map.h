@@ -20,10 +20,14 @@
 namespace gr {
 namespace sems {
 
+/*!
+ * \brief Range-Doppler map of each frame's pilot observations (core/range_doppler.h), in dB.
+ * \ingroup sems_blocks
+ */
 class SEMS_API range_doppler_map : virtual public gr::block
 {
 public:
-    typedef std::shared_ptr<range_doppler_map> sptr;
+    typedef std::shared_ptr<range_doppler_map> sptr; //!< shared pointer to the block
 
     /*!
      * \brief gr_complex[N_p] in, float[N·M] (dB) out, one item per frame.
@@ -32,7 +36,8 @@ public:
      * \param n_symbols        N
      * \param n_subcarriers    M
      * \param window           "hann" or "rect" (both axes)
-     * Throws std::invalid_argument naming the parameter and the problem.
+     * \return the block.
+     * \throws std::invalid_argument naming the parameter and the problem.
      */
     static sptr make(const std::string& mask_file = "",
                      const std::vector<int>& pilot_positions = {},
@@ -40,8 +45,11 @@ public:
                      int n_subcarriers = frame_settings{}.n_subcarriers,
                      const std::string& window = "hann");
 
+    /*! \brief N_p. \return the input vector length. */
     virtual int n_pilots() const = 0;
+    /*! \brief Maps written. \return the count. */
     virtual uint64_t frames_out() const = 0;
+    /*! \brief Frames skipped for a NaN/Inf observation. \return the count. */
     virtual uint64_t frames_skipped_nonfinite() const = 0;
 };
 

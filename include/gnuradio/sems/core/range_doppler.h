@@ -42,8 +42,11 @@ public:
     range_doppler(const range_doppler&) = delete;
     range_doppler& operator=(const range_doppler&) = delete;
 
-    int n_doppler() const { return d_n; } //!< rows (N)
-    int n_delay() const { return d_m; }   //!< columns (M)
+    /*! \brief Rows of a map. \return N, the Doppler bins. */
+    int n_doppler() const { return d_n; }
+    /*! \brief Columns of a map. \return M, the delay indices. */
+    int n_delay() const { return d_m; }
+    /*! \brief Floats per map. \return N·M. */
     int map_size() const { return d_n * d_m; }
 
     /*!
@@ -55,6 +58,9 @@ public:
 
     /*!
      * \brief The row of Doppler bin `bin` (any integer; periodic in N): (bin + N/2) mod N.
+     * \param bin       the Doppler bin
+     * \param n_symbols N
+     * \return the row, in [0, N).
      */
     static int doppler_row(int bin, int n_symbols);
 

@@ -60,9 +60,14 @@ struct SEMS_API clutter_spec {
 /// speed·cos θ with θ ~ U[0, 2π) per frame (approaching, receding and crossing targets;
 /// the bulk Doppler bands overlap, micro-Doppler must tell the classes apart).
 enum class heading_kind { approaching, any };
-/*! \brief "approaching" or "any". */
+/*! \brief The name of a heading. \param h the heading. \return "approaching" or "any". */
 SEMS_API std::string heading_name(heading_kind h);
-/*! \brief The heading of a name; throws std::invalid_argument listing the known names. */
+/*!
+ * \brief The heading of a name.
+ * \param name "approaching" or "any".
+ * \return the heading.
+ * \throws std::invalid_argument listing the known names.
+ */
 SEMS_API heading_kind heading_from_name(const std::string& name);
 
 /// How a random scene draws a frame.
@@ -72,7 +77,7 @@ struct SEMS_API random_spec {
     int n_targets = 1;                 ///< the target of interest is target 0
     int paths_per_target = 1;          ///< 1 = single path
     double excess_range_min_m = 2.0;   ///< extra paths: excess range ~ U[min, max]
-    double excess_range_max_m = 30.0;
+    double excess_range_max_m = 30.0;  ///< upper end of the extra paths' excess range
     double path_power_decay_db = 3.0;  ///< path k has mean power 10^(-k·decay/10) relative to path 0
     bool micro_doppler = true;         ///< false: the micro-Doppler-free experiment
     heading_kind heading = heading_kind::approaching; ///< see heading_kind

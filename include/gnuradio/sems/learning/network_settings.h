@@ -56,7 +56,9 @@ struct SEMS_LEARNING_API encoder_settings {
                                      /// sharpen within a few epochs (annealing the temperature
                                      /// cannot: argmax(Z + g) follows softmax(Z) at any τ)
 
+    /*! \brief Whether `k` names an encoder. \param k the name. \return true for "gumbel_topk" or "gumbel_heads". */
     static bool known_kind(const std::string& k) { return k == "gumbel_topk" || k == "gumbel_heads"; }
+    /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
      * \brief Reads settings from JSON; missing keys keep their defaults.
@@ -75,7 +77,7 @@ struct SEMS_LEARNING_API encoder_settings {
 ///    -> MLP -> features -> C.
 struct SEMS_LEARNING_API classifier_settings {
     std::string architecture = "spectral"; ///< "spectral" | "resnet"
-    int n_classes = 3;
+    int n_classes = 3;   ///< C, the decoder's outputs
     int width = 16;      ///< channels of the convolutions (both architectures)
     int depth = 2;       ///< resnet: residual blocks (3 x 1 along slow time)
     int hidden = 64;     ///< MLP hidden width
@@ -87,8 +89,11 @@ struct SEMS_LEARNING_API classifier_settings {
                               /// clutter exactly, and with it a target at 0 Hz) | "both"
                               /// (the two profiles as two input channels)
 
+    /*! \brief Whether `a` names an architecture. \param a the name. \return true for "spectral" or "resnet". */
     static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }
+    /*! \brief Whether `m` names an MTI stage. \param m the name. \return true for "none", "mean" or "both". */
     static bool known_mti(const std::string& m) { return m == "none" || m == "mean" || m == "both"; }
+    /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
      * \brief Reads settings from JSON; missing keys keep their defaults.
@@ -105,7 +110,7 @@ struct SEMS_LEARNING_API classifier_settings {
 /// they compute exactly what they computed when they were trained.
 struct SEMS_LEARNING_API delay_settings {
     double tau_min_index = -2.0;  ///< dictionary grid, in delay indices (tau * B)
-    double tau_max_index = 50.0;
+    double tau_max_index = 50.0;  ///< upper end of the dictionary grid
     int q = 417;                  ///< grid points; spacing = (max - min) / (q - 1)
     int projections = 2;          ///< complex time projections (2 -> the 4 x M of the paper)
     int width = 16;               ///< 1-D CNN channels
