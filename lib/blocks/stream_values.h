@@ -27,20 +27,8 @@ inline std::optional<uint64_t> frame_index_of(const pmt::pmt_t& v)
     return std::nullopt;
 }
 
-// True when no element is NaN or Inf (a bad frame is counted and skipped, never decoded).
-// Branch-free on the exponent bits (all ones = Inf or NaN), so the compiler vectorises it:
-// it runs on every OFDM symbol of the emulator and the extractor.
-inline bool all_finite(const gr_complex* x, size_t n)
-{
-    const auto* f = reinterpret_cast<const float*>(x); // std::complex<float> is float[2]
-    uint32_t bad = 0;
-    for (size_t i = 0; i < 2 * n; ++i) {
-        uint32_t b;
-        std::memcpy(&b, f + i, sizeof b);
-        bad |= static_cast<uint32_t>((b & 0x7f800000u) == 0x7f800000u);
-    }
-    return bad == 0;
-}
+// A bad frame is counted and skipped, never decoded: the finite check is the shared one.
+using checks::all_finite;
 
 } // namespace detail
 } // namespace sems

@@ -51,6 +51,19 @@ public:
         x[63] = gr_complex(0.0f, std::numeric_limits<float>::quiet_NaN());
         CPPUNIT_ASSERT(!checks::all_finite(x.data(), x.size()));
         CPPUNIT_ASSERT(checks::all_finite(x.data(), 63)); // only the first n are read
+        // The single-precision path reads exponent bits: the edges of "finite" on both parts.
+        const float fmax = std::numeric_limits<float>::max(), tiny = std::numeric_limits<float>::denorm_min();
+        for (gr_complex ok : { gr_complex(fmax, -fmax), gr_complex(-0.0f, tiny), gr_complex(-tiny, 0.0f) }) {
+            x[63] = ok;
+            CPPUNIT_ASSERT(checks::all_finite(x.data(), x.size()));
+        }
+        const float finf = std::numeric_limits<float>::infinity();
+        for (gr_complex bad : { gr_complex(finf, 0.0f), gr_complex(0.0f, -finf),
+                                gr_complex(-std::numeric_limits<float>::quiet_NaN(), 0.0f) }) {
+            x[0] = bad;
+            CPPUNIT_ASSERT(!checks::all_finite(x.data(), 1));
+            x[0] = gr_complex(1.0f, 1.0f);
+        }
         std::vector<double> d{ 1.0, 2.0, -inf };
         CPPUNIT_ASSERT(!checks::all_finite(d.data(), d.size()));
         CPPUNIT_ASSERT(checks::all_finite(d.data(), 2));
