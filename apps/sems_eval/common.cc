@@ -202,7 +202,26 @@ std::string write_mask(const config& c, const pilot_mask& mask, const std::strin
     return path;
 }
 
-training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source)
+std::vector<uint64_t> training_seeds(const config& c)
+{
+    std::vector<uint64_t> out;
+    for (int k = 0; k < c.seeds; ++k)
+        out.push_back(c.seed + uint64_t(k));
+    return out;
+}
+
+std::string seeded_name(const std::string& name, uint64_t train_seed)
+{
+    return name + "_s" + std::to_string(train_seed);
+}
+
+std::string train_seed_label(std::optional<uint64_t> train_seed)
+{
+    return train_seed ? std::to_string(*train_seed) : "none";
+}
+
+training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source,
+                                uint64_t train_seed)
 {
     training_settings s;
     s.task = task;
@@ -215,7 +234,7 @@ training_settings base_training(const config& c, task_kind task, const scene& sc
     s.patience = c.patience;
     s.batch = c.batch;
     s.threads = c.threads;
-    s.seed = c.seed;
+    s.seed = train_seed;
     s.eval_snr_db = {};
     s.verbose = false;
     if (task == task_kind::classify) {
@@ -257,7 +276,8 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
         }
     }
     log << "[" << now_utc() << "] model " << name << ": training (" << s.frames << " frames, " << s.epochs << "+"
-        << s.decoder_epochs << " epochs, N_p " << s.n_pilots << ", objective " << s.objective << ")" << std::endl;
+        << s.decoder_epochs << " epochs, N_p " << s.n_pilots << ", objective " << s.objective << ", seed " << s.seed
+        << ")" << std::endl;
     fsys::create_directories(dir);
     const auto t0 = std::chrono::steady_clock::now();
     const auto res = train(s, nullptr);

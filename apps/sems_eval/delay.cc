@@ -67,11 +67,14 @@ std::vector<double> run_bundle(const bundle_decoder& dec, const std::vector<gr_c
     return out;
 }
 
-std::string model_name(const std::string& scen, int np) { return "delay_" + scen + "_np" + std::to_string(np); }
-
-training_settings delay_training(const config& c, const std::string& scen, int paths, int np)
+std::string model_name(const std::string& scen, int np, uint64_t train_seed)
 {
-    auto s = base_training(c, task_kind::delay, delay_scene(paths), "sems_eval delay " + scen);
+    return seeded_name("delay_" + scen + "_np" + std::to_string(np), train_seed);
+}
+
+training_settings delay_training(const config& c, const std::string& scen, int paths, int np, uint64_t train_seed)
+{
+    auto s = base_training(c, task_kind::delay, delay_scene(paths), "sems_eval delay " + scen, train_seed);
     s.n_pilots = np;
     return s;
 }
@@ -122,7 +125,7 @@ void run_delay(const config& c, std::ostream& log)
     csv_file csv(c.out_dir + "/exp4_delay.csv",
                  { "experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "mae_index", "rmse_index",
                    "median_abs_error_index", "frac_error_over_half_index", "crb_mae_index", "n_frames", "seed",
-                   "us_per_frame", "train_seconds", "model" });
+                   "train_seed", "us_per_frame", "train_seconds", "model" });
     const int np = 32;
     for (const auto& scenario : std::vector<std::pair<std::string, int>>{ { "single", 1 },
                                                                          { "multipath", c.multipath_paths } }) {
@@ -134,12 +137,16 @@ void run_delay(const config& c, std::ostream& log)
             << " test frames, seed " << test_seed << std::endl;
 
         auto write = [&](const std::string& method, const std::string& mask, int p, double snr, const errors& e,
-                         double crb, double us, double train_s, const std::string& model) {
+                         double crb, double us, double train_s, const std::string& model,
+                         std::optional<uint64_t> train_seed) {
+            const std::string ts_label = train_seed_label(train_seed);
             csv.row({ "4", scen, method, mask, std::to_string(p), num(snr), num(e.mae), num(e.rmse), num(e.median),
-                      num(e.gross), num(crb), std::to_string(ts.count), std::to_string(test_seed), num(us, 4),
-                      num(train_s, 4), model });
-            cost_rows().push_back({ "4", scen, method, p, snr, "mae_index", e.mae, us, ts.count, train_s });
-            log << "  " << scen << " " << method << " snr " << num(snr) << ": MAE " << num(e.mae, 4) << ", median "
+                      num(e.gross), num(crb), std::to_string(ts.count), std::to_string(test_seed), ts_label,
+                      num(us, 4), num(train_s, 4), model });
+            cost_rows().push_back(
+                { "4", scen, method, test_seed, ts_label, p, snr, "mae_index", e.mae, us, ts.count, train_s });
+            log << "  " << scen << " " << method << " [train seed " << ts_label << "] snr " << num(snr) << ": MAE "
+                << num(e.mae, 4) << ", median "
                 << num(e.median, 4) << ", > 0.5: " << num(e.gross, 4) << " (CRB " << num(crb, 3) << ", "
                 << num(us, 3) << " us/frame)" << std::endl;
         };
@@ -160,10 +167,20 @@ void run_delay(const config& c, std::ostream& log)
             }
         };
 
-        // SemS (trained here; and the shipped bundle when given).
-        std::vector<std::pair<std::string, decoder_source>> sems;
+        // SemS, once per training seed (and the shipped bundle when given: not trained here,
+        // no training seed).
+        struct learned {
+            std::string method;
+            decoder_source src;
+            std::optional<uint64_t> train_seed;
+        };
+        std::vector<learned> sems;
         if (!c.only_shipped)
-            sems.emplace_back("SemS", train_or_load(c, model_name(scen, np), delay_training(c, scen, paths, np), log));
+            for (uint64_t seed : training_seeds(c))
+                sems.push_back(
+                    { "SemS",
+                      train_or_load(c, model_name(scen, np, seed), delay_training(c, scen, paths, np, seed), log),
+                      seed });
         const std::string& shipped = paths == 1 ? c.shipped_delay_single : c.shipped_delay_multi;
         if (!shipped.empty()) {
             decoder_source s;
@@ -171,28 +188,28 @@ void run_delay(const config& c, std::ostream& log)
             s.origin = shipped;
             const std::string kind = s.bundle.mask.origin().value("kind", std::string("unknown"));
             if (s.bundle.task == task_kind::delay && s.bundle.frame == c.fs)
-                sems.emplace_back("Shipped bundle (" + kind + " pilots)", s);
+                sems.push_back({ "Shipped bundle (" + kind + " pilots)", s, std::nullopt });
             else
                 log << "  shipped delay bundle " << shipped << " does not match the frame: skipped" << std::endl;
         }
         // A bundle with a refinement stage is also scored without it (the network alone).
         for (size_t i = 0, n = sems.size(); i < n; ++i) {
-            const auto& st = sems[i].second.bundle.decoder;
+            const auto& st = sems[i].src.bundle.decoder;
             if (st.contains("settings") && st["settings"].value("refine_paths", 0) > 0) {
                 auto alone = sems[i];
-                alone.first += ", network only";
-                alone.second.bundle.decoder["settings"]["refine_paths"] = 0;
+                alone.method += ", network only";
+                alone.src.bundle.decoder["settings"]["refine_paths"] = 0;
                 sems.push_back(alone);
             }
         }
-        for (const auto& [method, src] : sems) {
+        for (const auto& [method, src, train_seed] : sems) {
             const bundle_decoder dec(src.bundle, c.threads);
             for (double snr : c.delay_snrs) {
                 double us = 0;
                 const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
                 write(method, src.bundle.mask.origin().value("kind", std::string("unknown")), dec.n_pilots(), snr,
-                      delay_errors(est, ts), crb_of(src.bundle.mask, snr),
-                      us, src.train_seconds, src.origin);
+                      delay_errors(est, ts), crb_of(src.bundle.mask, snr), us, src.train_seconds, src.origin,
+                      train_seed);
             }
         }
 
@@ -205,14 +222,18 @@ void run_delay(const config& c, std::ostream& log)
         const auto rp = random_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np, 1);
         const auto op = nested_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np);
         const auto one_symbol = one_symbol_mask(c.fs, np, 1);
-        // The SemS bundle's own pilots (the first SemS source), for the LS reference on them.
-        std::shared_ptr<pilot_mask> sems_mask;
-        if (!sems.empty())
-            sems_mask = std::make_shared<pilot_mask>(sems.front().second.bundle.mask);
+        // The pilots of each SemS bundle trained here (one per training seed), for the LS
+        // reference and the bounds on them: rows that carry that training seed, since the
+        // mask is what the training learned.
+        std::vector<std::pair<pilot_mask, uint64_t>> sems_masks;
+        for (const auto& l : sems)
+            if (l.method == "SemS")
+                sems_masks.emplace_back(l.src.bundle.mask, *l.train_seed);
         struct classic {
             std::string method, mask_label;
             const pilot_mask* mask;
             std::function<double(const gr_complex*)> estimate;
+            std::optional<uint64_t> train_seed; // set when the mask is a trained bundle's
         };
         std::vector<classic> methods;
         periodogram_delay_estimator::settings ps;
@@ -234,12 +255,15 @@ void run_delay(const config& c, std::ostream& log)
         ls_delay_estimator::settings ls;
         ls.search = win;
         ls.n_paths = paths;
-        for (const pilot_mask* m : std::vector<const pilot_mask*>{ &one_symbol, sems_mask.get() }) {
-            if (m == nullptr)
-                continue;
-            auto est = std::make_shared<ls_delay_estimator>(c.fs, *m, ls);
-            methods.push_back({ "LS reference (oracle order)", m == &one_symbol ? "random subcarriers, one symbol" : "SemS pilots",
-                                m, [est](const gr_complex* o) { return est->estimate_index(o); } });
+        {
+            auto est = std::make_shared<ls_delay_estimator>(c.fs, one_symbol, ls);
+            methods.push_back({ "LS reference (oracle order)", "random subcarriers, one symbol", &one_symbol,
+                                [est](const gr_complex* o) { return est->estimate_index(o); } });
+        }
+        for (const auto& [m, seed] : sems_masks) {
+            auto est = std::make_shared<ls_delay_estimator>(c.fs, m, ls);
+            methods.push_back({ "LS reference (oracle order)", "SemS pilots", &m,
+                                [est](const gr_complex* o) { return est->estimate_index(o); }, seed });
         }
         for (const auto& [name, label, mask] :
              std::vector<std::tuple<std::string, std::string, const pilot_mask*>>{
@@ -266,7 +290,7 @@ void run_delay(const config& c, std::ostream& log)
                     est[f] = m.estimate(obs.data() + size_t(f) * np);
                 const double us = 1e6 * seconds_between(t0, std::chrono::steady_clock::now()) / ts.count;
                 write(m.method, m.mask_label, np, snr, delay_errors(est, ts), crb_of(*m.mask, snr), us, 0.0,
-                      "classical");
+                      "classical", m.train_seed);
             }
         // The bounds: the single-path closed form (at the direct path's mean power) for the
         // random pattern, the one-symbol pattern and the SemS pilots; in multipath also the
@@ -274,15 +298,22 @@ void run_delay(const config& c, std::ostream& log)
         // (mean of the MAE of an efficient estimator √(2/π)·√CRB; median √CRB).
         const auto truth_paths = paths > 1 ? test_paths(c.fs, delay_scene(paths), ts.count, test_seed)
                                            : std::vector<std::vector<crb_path>>{};
-        for (const auto& [label, m] : std::vector<std::pair<std::string, const pilot_mask*>>{
-                 { "random", &random }, { "random subcarriers, one symbol", &one_symbol }, { "SemS pilots", sems_mask.get() } }) {
-            if (m == nullptr)
-                continue;
+        struct bound_mask {
+            std::string label;
+            const pilot_mask* mask;
+            std::optional<uint64_t> train_seed; // set for a trained bundle's pilots
+        };
+        std::vector<bound_mask> bound_masks{ { "random", &random, std::nullopt },
+                                             { "random subcarriers, one symbol", &one_symbol, std::nullopt } };
+        for (const auto& [m, seed] : sems_masks)
+            bound_masks.push_back({ "SemS pilots", &m, seed });
+        for (const auto& [label, m, train_seed] : bound_masks) {
+            const std::string ts_label = train_seed_label(train_seed);
             for (double snr : c.delay_snrs) {
                 const double crb = crb_of(*m, snr);
                 csv.row({ "4", scen, paths > 1 ? "CRB (single path at the direct path's mean power)" : "CRB", label,
                           std::to_string(np), num(snr), num(crb), "nan", "nan", "nan", num(crb),
-                          std::to_string(ts.count), std::to_string(test_seed), "nan", "0",
+                          std::to_string(ts.count), std::to_string(test_seed), ts_label, "nan", "0",
                           "closed form; single path; unknown Doppler; Rayleigh-averaged MAE" });
                 if (paths == 1)
                     continue;
@@ -301,9 +332,10 @@ void run_delay(const config& c, std::ostream& log)
                 std::nth_element(sd.begin(), sd.begin() + sd.size() / 2, sd.end());
                 csv.row({ "4", scen, "CRB (multipath, direct path)", label, std::to_string(np), num(snr), num(mae),
                           "nan", num(sd[sd.size() / 2]), "nan", num(mae), std::to_string(ts.count),
-                          std::to_string(test_seed), "nan", "0",
+                          std::to_string(test_seed), ts_label, "nan", "0",
                           "all paths unknown + shared Doppler; per test frame; mean sqrt(2/pi)*sqrt(CRB), median sqrt(CRB)" });
-                log << "  " << scen << " multipath CRB (" << label << ") snr " << num(snr) << ": mean MAE "
+                log << "  " << scen << " multipath CRB (" << label << ", train seed " << ts_label << ") snr "
+                    << num(snr) << ": mean MAE "
                     << num(mae, 4) << ", median sqrt(CRB) " << num(sd[sd.size() / 2], 4) << std::endl;
             }
         }
@@ -316,30 +348,35 @@ void run_pilot_budget(const config& c, std::ostream& log)
         return;
     csv_file csv(c.out_dir + "/exp5_pilot_budget.csv",
                  { "experiment", "scenario", "method", "n_pilots", "snr_db", "mae_index", "rmse_index",
-                   "median_abs_error_index", "crb_mae_index", "n_frames", "seed", "us_per_frame", "train_seconds",
-                   "model" });
+                   "median_abs_error_index", "crb_mae_index", "n_frames", "seed", "train_seed", "us_per_frame",
+                   "train_seconds", "model" });
     const std::string scen = "multipath";
     const uint64_t test_seed = c.seed + 304; // experiment 4's multipath frames
     const test_set ts = make_test_set(c.fs, delay_scene(c.multipath_paths), c.test_frames, test_seed);
     log << "[" << now_utc() << "] exp 5: N_p sweep on " << ts.count << " multipath frames" << std::endl;
-    for (int np : c.np_sweep) {
-        const auto src = train_or_load(c, model_name(scen, np), delay_training(c, scen, c.multipath_paths, np), log);
-        const bundle_decoder dec(src.bundle, c.threads);
-        for (double snr : c.delay_snrs) {
-            double us = 0;
-            const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
-            const auto e = delay_errors(est, ts);
-            double crb = std::nan("");
-            try {
-                crb = delay_crb::mae_index(c.fs, src.bundle.mask, snr, false, true);
-            } catch (const std::invalid_argument&) {
+    // Seeds outermost: a stopped run still has every N_p for its first seeds.
+    for (uint64_t seed : training_seeds(c)) {
+        for (int np : c.np_sweep) {
+            const auto src =
+                train_or_load(c, model_name(scen, np, seed), delay_training(c, scen, c.multipath_paths, np, seed), log);
+            const bundle_decoder dec(src.bundle, c.threads);
+            for (double snr : c.delay_snrs) {
+                double us = 0;
+                const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
+                const auto e = delay_errors(est, ts);
+                double crb = std::nan("");
+                try {
+                    crb = delay_crb::mae_index(c.fs, src.bundle.mask, snr, false, true);
+                } catch (const std::invalid_argument&) {
+                }
+                csv.row({ "5", scen, "SemS", std::to_string(np), num(snr), num(e.mae), num(e.rmse), num(e.median),
+                          num(crb), std::to_string(ts.count), std::to_string(test_seed), std::to_string(seed),
+                          num(us, 4), num(src.train_seconds, 4), src.origin });
+                cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np), test_seed, std::to_string(seed),
+                                        np, snr, "mae_index", e.mae, us, ts.count, src.train_seconds });
+                log << "  N_p " << np << " [train seed " << seed << "] snr " << num(snr) << ": MAE " << num(e.mae, 4)
+                    << std::endl;
             }
-            csv.row({ "5", scen, "SemS", std::to_string(np), num(snr), num(e.mae), num(e.rmse), num(e.median), num(crb),
-                      std::to_string(ts.count), std::to_string(test_seed), num(us, 4), num(src.train_seconds, 4),
-                      src.origin });
-            cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np), np, snr, "mae_index", e.mae, us,
-                                    ts.count, src.train_seconds });
-            log << "  N_p " << np << " snr " << num(snr) << ": MAE " << num(e.mae, 4) << std::endl;
         }
     }
 }
@@ -350,11 +387,11 @@ void write_cost(const config& c, std::ostream& log)
         return;
     csv_file csv(c.out_dir + "/exp6_cost.csv",
                  { "experiment", "scenario", "method", "n_pilots", "snr_db", "metric", "value", "us_per_frame",
-                   "n_frames", "seed", "train_seconds" });
+                   "n_frames", "seed", "train_seed", "train_seconds" });
     for (const auto& r : cost_rows())
         csv.row({ r.experiment, r.scenario, r.method, std::to_string(r.n_pilots), num(r.snr_db), r.metric,
-                  num(r.value), num(r.us_per_frame, 4), std::to_string(r.n_frames), std::to_string(c.seed),
-                  num(r.train_seconds, 4) });
+                  num(r.value), num(r.us_per_frame, 4), std::to_string(r.n_frames), std::to_string(r.test_seed),
+                  r.train_seed, num(r.train_seconds, 4) });
     log << "[" << now_utc() << "] exp 6: " << cost_rows().size() << " cost rows" << std::endl;
 }
 

@@ -26,7 +26,8 @@ using namespace gr::sems;
 struct config {
     std::string size = "test";
     std::string out_dir;
-    uint64_t seed = 2026;
+    uint64_t seed = 2026;         // test frames: seed + a per-scene constant; training: see training_seeds
+    int seeds = 1;                // training seeds per learned method: seed, seed + 1, ..., seed + seeds - 1
     int threads = 2;
     int test_frames = 60;         // per operating point (the same frames at every SNR)
     int train_frames = 600;       // DL training frames (the trainer splits 8:1:1)
@@ -110,6 +111,8 @@ std::string num(double v, int precision = 6);
 // Cost rows gathered from every experiment (experiment 6).
 struct cost_row {
     std::string experiment, scenario, method;
+    uint64_t test_seed;
+    std::string train_seed; // the training seed, or "none" (see train_seed_label)
     int n_pilots;
     double snr_db;
     std::string metric;
@@ -128,7 +131,17 @@ struct decoder_source {
     std::string origin; // "trained", "cached", or the shipped path
 };
 decoder_source train_or_load(const config& c, const std::string& name, training_settings s, std::ostream& log);
-training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source);
+// The trainer's settings for one learned method trained with train_seed (one of training_seeds(c)).
+training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source,
+                                uint64_t train_seed);
+
+// Every learned method is trained once per seed c.seed, ..., c.seed + c.seeds - 1 on the same
+// test frames (drawn from c.seed + a constant), so the spread over seeds is the training's alone.
+std::vector<uint64_t> training_seeds(const config& c);
+// The cache name of a bundle trained with train_seed: <name>_s<seed> (one bundle per seed).
+std::string seeded_name(const std::string& name, uint64_t train_seed);
+// The CSVs' train_seed value: the seed, or "none" for a method without training.
+std::string train_seed_label(std::optional<uint64_t> train_seed);
 // Writes a mask file under <out>/masks and returns its path.
 std::string write_mask(const config& c, const pilot_mask& mask, const std::string& name);
 pilot_mask full_grid_mask(const frame_settings& fs);

@@ -17,7 +17,7 @@ namespace {
 
 const std::vector<std::string> header{ "experiment", "scenario",  "method",   "mask",          "n_pilots",
                                        "snr_db",     "accuracy",  "macro_f1", "n_frames",      "seed",
-                                       "us_per_frame", "train_seconds", "model" };
+                                       "train_seed", "us_per_frame", "train_seconds", "model" };
 
 std::vector<int> truth_labels(const test_set& ts)
 {
@@ -60,10 +60,58 @@ std::vector<int> classify_all(const bundle_decoder& dec,
 }
 
 struct dl_method {
-    std::string method, model_name, mask_label;
+    std::string method, model_name, mask_label; // model_name: the cache name before its seed suffix
     training_settings settings;
     bool noiseless_input = false;
 };
+
+// The learned methods of one scenario, trained with train_seed: all by the same trainer at
+// the same data budget.
+std::vector<dl_method> learned_methods(const config& c, const std::string& scen, const scene& sc, bool exp1,
+                                       const std::string& full_mask, int np, uint64_t train_seed)
+{
+    std::vector<dl_method> dl;
+    dl_method m{ "SemS", "cls_" + scen + "_sems", "learned (task)",
+                 base_training(c, task_kind::classify, sc, "sems_eval " + scen, train_seed), false };
+    m.settings.n_pilots = np;
+    dl.push_back(m);
+    dl_method mse = m;
+    mse.method = "MSE-DL";
+    mse.model_name = "cls_" + scen + "_mse";
+    mse.mask_label = "learned (MSE)";
+    mse.settings.objective = "mse";
+    dl.push_back(mse);
+    dl_method pcsi = m;
+    pcsi.method = "Perfect CSI (noiseless)";
+    pcsi.model_name = "cls_" + scen + "_pcsi_noiseless";
+    pcsi.mask_label = "full grid";
+    pcsi.settings.n_pilots = c.fs.grid_size();
+    pcsi.settings.mask_file = full_mask;
+    pcsi.settings.snr_min_db = pcsi.settings.snr_max_db = std::numeric_limits<double>::infinity();
+    pcsi.noiseless_input = true;
+    dl.push_back(pcsi);
+    // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
+    if (exp1 && c.exp1_hand_patterns)
+        for (const std::string pattern : { "doppler", "uniform", "random" }) {
+            dl_method hp = m;
+            hp.method = "SemS decoder (" + pattern + " pilots)";
+            hp.model_name = "cls_" + scen + "_" + pattern;
+            hp.mask_label = pattern;
+            hp.settings.mask_pattern = pattern;
+            hp.settings.epochs = m.settings.epochs + m.settings.decoder_epochs;
+            dl.push_back(hp);
+        }
+    if (scen == "default") {
+        dl_method pn = pcsi;
+        pn.method = "Perfect CSI (test SNR)";
+        pn.model_name = "cls_" + scen + "_pcsi_snr";
+        pn.settings.snr_min_db = c.train_snr_min_db;
+        pn.settings.snr_max_db = c.train_snr_max_db;
+        pn.noiseless_input = false;
+        dl.push_back(pn);
+    }
+    return dl;
+}
 
 } // namespace
 
@@ -94,6 +142,7 @@ void run_recognition(const config& c, std::ostream& log)
         const std::string exp = exp1 ? "1" : "3";
         csv_file& csv = exp1 ? *csv1 : *csv3;
         const scene sc = recognition_scene(scen, c);
+        // The same test frames for every method and every training seed.
         const uint64_t test_seed = c.seed + 101;
         log << "[" << now_utc() << "] exp " << exp << " (" << scen << "): " << c.test_frames
             << " test frames, seed " << test_seed << std::endl;
@@ -102,78 +151,19 @@ void run_recognition(const config& c, std::ostream& log)
         const int n_classes = static_cast<int>(class_table().size());
 
         auto write = [&](const std::string& method, const std::string& mask, int pilots, double snr,
-                         const class_score& s, double us, double train_s, const std::string& model) {
+                         const class_score& s, double us, double train_s, const std::string& model,
+                         std::optional<uint64_t> train_seed) {
+            const std::string ts_label = train_seed_label(train_seed);
             csv.row({ exp, scen, method, mask, std::to_string(pilots), num(snr), num(s.accuracy), num(s.macro_f1),
-                      std::to_string(ts.count), std::to_string(test_seed), num(us, 4), num(train_s, 4), model });
-            cost_rows().push_back({ exp, scen, method, pilots, snr, "accuracy", s.accuracy, us, ts.count, train_s });
-            log << "  " << scen << " " << method << " snr " << num(snr) << ": acc " << num(s.accuracy, 3) << " F1 "
-                << num(s.macro_f1, 3) << " (" << num(us, 3) << " us/frame)" << std::endl;
+                      std::to_string(ts.count), std::to_string(test_seed), ts_label, num(us, 4), num(train_s, 4),
+                      model });
+            cost_rows().push_back(
+                { exp, scen, method, test_seed, ts_label, pilots, snr, "accuracy", s.accuracy, us, ts.count, train_s });
+            log << "  " << scen << " " << method << " [train seed " << ts_label << "] snr " << num(snr) << ": acc "
+                << num(s.accuracy, 3) << " F1 " << num(s.macro_f1, 3) << " (" << num(us, 3) << " us/frame)"
+                << std::endl;
         };
-
-        // Deep-learning methods: all trained by the same trainer, same data budget and seed.
-        std::vector<dl_method> dl;
-        {
-            dl_method m{ "SemS", "cls_" + scen + "_sems", "learned (task)",
-                         base_training(c, task_kind::classify, sc, "sems_eval " + scen), false };
-            m.settings.n_pilots = np;
-            dl.push_back(m);
-            dl_method mse = m;
-            mse.method = "MSE-DL";
-            mse.model_name = "cls_" + scen + "_mse";
-            mse.mask_label = "learned (MSE)";
-            mse.settings.objective = "mse";
-            dl.push_back(mse);
-            dl_method pcsi = m;
-            pcsi.method = "Perfect CSI (noiseless)";
-            pcsi.model_name = "cls_" + scen + "_pcsi_noiseless";
-            pcsi.mask_label = "full grid";
-            pcsi.settings.n_pilots = c.fs.grid_size();
-            pcsi.settings.mask_file = full_mask;
-            pcsi.settings.snr_min_db = pcsi.settings.snr_max_db = std::numeric_limits<double>::infinity();
-            pcsi.noiseless_input = true;
-            dl.push_back(pcsi);
-            // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
-            if (exp1 && c.exp1_hand_patterns)
-                for (const std::string pattern : { "doppler", "uniform", "random" }) {
-                    dl_method hp = m;
-                    hp.method = "SemS decoder (" + pattern + " pilots)";
-                    hp.model_name = "cls_" + scen + "_" + pattern;
-                    hp.mask_label = pattern;
-                    hp.settings.mask_pattern = pattern;
-                    hp.settings.epochs = m.settings.epochs + m.settings.decoder_epochs;
-                    dl.push_back(hp);
-                }
-            if (scen == "default") {
-                dl_method pn = pcsi;
-                pn.method = "Perfect CSI (test SNR)";
-                pn.model_name = "cls_" + scen + "_pcsi_snr";
-                pn.settings.snr_min_db = c.train_snr_min_db;
-                pn.settings.snr_max_db = c.train_snr_max_db;
-                pn.noiseless_input = false;
-                dl.push_back(pn);
-            }
-        }
-        if (c.only_shipped)
-            dl.clear();
-        if (scen == "default" && !c.shipped_classifier.empty()) {
-            // Labelled by what its mask is: a shipped classifier may sit on a fixed pattern.
-            const auto shipped = model_bundle::load(c.shipped_classifier);
-            const std::string kind = shipped.mask.origin().value("kind", std::string("unknown"));
-            dl_method sh{ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false };
-            dl.push_back(sh);
-        }
-        for (auto& m : dl) {
-            decoder_source src;
-            if (m.model_name.empty()) {
-                src.bundle = model_bundle::load(c.shipped_classifier);
-                src.origin = c.shipped_classifier;
-                if (src.bundle.task != task_kind::classify || src.bundle.frame != c.fs) {
-                    log << "  shipped classifier " << c.shipped_classifier << " does not match: skipped" << std::endl;
-                    continue;
-                }
-            } else {
-                src = train_or_load(c, m.model_name, m.settings, log);
-            }
+        auto evaluate = [&](const dl_method& m, const decoder_source& src, std::optional<uint64_t> train_seed) {
             const bundle_decoder dec(src.bundle, c.threads);
             const auto ids = output_classes(src.bundle);
             const int p = dec.n_pilots();
@@ -182,47 +172,66 @@ void run_recognition(const config& c, std::ostream& log)
                 const auto obs = ts.observe(src.bundle.mask, std::numeric_limits<double>::infinity());
                 const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
                 for (double snr : c.snrs) // the input does not depend on the test SNR
-                    write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin);
-                continue;
+                    write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin, train_seed);
+                return;
             }
             for (double snr : c.snrs) {
                 double us = 0.0;
                 const auto obs = ts.observe(src.bundle.mask, snr);
                 const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
-                write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin);
+                write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin, train_seed);
+            }
+        };
+
+        // Seeds outermost: a stopped run still has every method for its first seeds.
+        for (uint64_t seed : c.only_shipped ? std::vector<uint64_t>{} : training_seeds(c)) {
+            for (const auto& m : learned_methods(c, scen, sc, exp1, full_mask, np, seed))
+                evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
+
+            // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots,
+            // trained on their own frames (drawn with the training seed) over the same SNR
+            // range as the networks.
+            const train_set tr =
+                make_train_set(c.fs, sc, c.svm_train_frames, seed + 202, c.train_snr_min_db, c.train_snr_max_db);
+            for (const std::string pattern : { "uniform", "doppler" }) {
+                const auto mask = pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np);
+                const doppler_features fx(c.fs, mask);
+                const auto t0 = std::chrono::steady_clock::now();
+                const auto tr_obs = gather(tr.y, c.svm_train_frames, c.fs, mask);
+                std::vector<std::vector<double>> x;
+                std::vector<int> y;
+                for (int f = 0; f < c.svm_train_frames; ++f) {
+                    x.push_back(fx.extract(tr_obs.data() + size_t(f) * np));
+                    y.push_back(tr.truth[f].class_id);
+                }
+                const feature_svm svm(x, y);
+                const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
+                const std::string method = "SVM (" + pattern + " pilots)";
+                for (double snr : c.snrs) {
+                    const auto obs = ts.observe(mask, snr);
+                    std::vector<int> pred(ts.count);
+                    const auto t1 = std::chrono::steady_clock::now();
+                    for (int f = 0; f < ts.count; ++f)
+                        pred[f] = svm.predict(fx.extract(obs.data() + size_t(f) * np));
+                    const double us = 1e6 * seconds_between(t1, std::chrono::steady_clock::now()) / ts.count;
+                    write(method, pattern, np, snr, score(pred, truth, n_classes), us, train_s,
+                          "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV", seed);
+                }
             }
         }
 
-        if (c.only_shipped)
-            continue;
-        // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots,
-        // trained on their own frames over the same SNR range as the networks.
-        const train_set tr = make_train_set(c.fs, sc, c.svm_train_frames, c.seed + 202, c.train_snr_min_db,
-                                            c.train_snr_max_db);
-        for (const std::string pattern : { "uniform", "doppler" }) {
-            const auto mask = pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np);
-            const doppler_features fx(c.fs, mask);
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto tr_obs = gather(tr.y, c.svm_train_frames, c.fs, mask);
-            std::vector<std::vector<double>> x;
-            std::vector<int> y;
-            for (int f = 0; f < c.svm_train_frames; ++f) {
-                x.push_back(fx.extract(tr_obs.data() + size_t(f) * np));
-                y.push_back(tr.truth[f].class_id);
-            }
-            const feature_svm svm(x, y);
-            const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
-            const std::string method = "SVM (" + pattern + " pilots)";
-            for (double snr : c.snrs) {
-                const auto obs = ts.observe(mask, snr);
-                std::vector<int> pred(ts.count);
-                const auto t1 = std::chrono::steady_clock::now();
-                for (int f = 0; f < ts.count; ++f)
-                    pred[f] = svm.predict(fx.extract(obs.data() + size_t(f) * np));
-                const double us = 1e6 * seconds_between(t1, std::chrono::steady_clock::now()) / ts.count;
-                write(method, pattern, np, snr, score(pred, truth, n_classes), us, train_s,
-                      "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV");
-            }
+        if (scen == "default" && !c.shipped_classifier.empty()) {
+            // Labelled by what its mask is: a shipped classifier may sit on a fixed pattern.
+            // Not trained by this run: no training seed.
+            decoder_source src;
+            src.bundle = model_bundle::load(c.shipped_classifier);
+            src.origin = c.shipped_classifier;
+            const std::string kind = src.bundle.mask.origin().value("kind", std::string("unknown"));
+            if (src.bundle.task != task_kind::classify || src.bundle.frame != c.fs)
+                log << "  shipped classifier " << c.shipped_classifier << " does not match: skipped" << std::endl;
+            else
+                evaluate({ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false }, src,
+                         std::nullopt);
         }
     }
 }

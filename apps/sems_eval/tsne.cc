@@ -23,19 +23,23 @@ void run_tsne(const config& c, std::ostream& log)
         training_settings s;
     };
     std::vector<item> items;
-    auto base = base_training(c, task_kind::classify, sc, "sems_eval default");
+    // The networks of the first training seed: the same bundles experiment 1 trained (cache).
+    const uint64_t train_seed = training_seeds(c).front();
+    auto base = base_training(c, task_kind::classify, sc, "sems_eval default", train_seed);
     base.n_pilots = np;
     for (const std::string pattern : { "uniform", "doppler" }) {
         auto s = base;
         s.mask_file = write_mask(c, pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np), pattern);
-        items.push_back({ pattern == "uniform" ? "Uniform pilots" : "Doppler pilots", "cls_default_" + pattern, s });
+        items.push_back({ pattern == "uniform" ? "Uniform pilots" : "Doppler pilots",
+                          seeded_name("cls_default_" + pattern, train_seed), s });
     }
     auto mse = base;
     mse.objective = "mse";
-    items.push_back({ "MSE-learned pilots", "cls_default_mse", mse });
-    items.push_back({ "SemS pilots", "cls_default_sems", base });
+    items.push_back({ "MSE-learned pilots", seeded_name("cls_default_mse", train_seed), mse });
+    items.push_back({ "SemS pilots", seeded_name("cls_default_sems", train_seed), base });
 
-    std::vector<std::string> header{ "method", "frame", "class_id", "class_name", "snr_db", "predicted", "seed" };
+    std::vector<std::string> header{ "method", "frame",  "class_id",  "class_name",
+                                     "snr_db", "predicted", "seed", "train_seed" };
     const int nf = nn::classifier_settings{}.features;
     for (int i = 0; i < nf; ++i)
         header.push_back("f" + std::to_string(i));
@@ -60,15 +64,16 @@ void run_tsne(const config& c, std::ostream& log)
             correct += pred == ts.truth[f].class_id;
             std::vector<std::string> row{ it.method, std::to_string(f), std::to_string(ts.truth[f].class_id),
                                           ts.truth[f].class_name, num(c.tsne_snr_db), std::to_string(pred),
-                                          std::to_string(test_seed) };
+                                          std::to_string(test_seed), std::to_string(train_seed) };
             for (int i = 0; i < d; ++i)
                 row.push_back(num(feats[size_t(f) * d + i], 6));
             csv.row(row);
         }
         const double acc = double(correct) / ts.count;
-        cost_rows().push_back({ "2", "default", it.method, p, c.tsne_snr_db, "accuracy", acc, us, ts.count,
-                                src.train_seconds });
-        log << "  " << it.method << ": accuracy " << num(acc, 3) << " at " << c.tsne_snr_db << " dB" << std::endl;
+        cost_rows().push_back({ "2", "default", it.method, test_seed, std::to_string(train_seed), p, c.tsne_snr_db,
+                                "accuracy", acc, us, ts.count, src.train_seconds });
+        log << "  " << it.method << ": accuracy " << num(acc, 3) << " at " << c.tsne_snr_db << " dB (train seed "
+            << train_seed << ")" << std::endl;
     }
 }
 
