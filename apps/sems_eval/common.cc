@@ -247,6 +247,13 @@ training_settings base_training(const config& c, task_kind task, const scene& sc
     return s;
 }
 
+training_settings hand_pattern_training(training_settings sems, const std::string& pattern)
+{
+    sems.mask_pattern = pattern;
+    sems.epochs += sems.decoder_epochs;
+    return sems;
+}
+
 decoder_source train_or_load(const config& c, const std::string& name, training_settings s, std::ostream& log)
 {
     decoder_source out;

@@ -134,6 +134,10 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
 // The trainer's settings for one learned method trained with train_seed (one of training_seeds(c)).
 training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source,
                                 uint64_t train_seed);
+// The SemS decoder on a fixed hand pattern (doppler, uniform, random) at the learned mask's
+// budget (its mask and decoder epochs together), from the SemS settings. Experiments 1 and
+// 2 share these bundles (one cache name, one set of settings).
+training_settings hand_pattern_training(training_settings sems, const std::string& pattern);
 
 // Every learned method is trained once per seed c.seed, ..., c.seed + c.seeds - 1 on the same
 // test frames (drawn from c.seed + a constant), so the spread over seeds is the training's alone.

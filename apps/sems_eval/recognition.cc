@@ -97,8 +97,7 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
             hp.method = "SemS decoder (" + pattern + " pilots)";
             hp.model_name = "cls_" + scen + "_" + pattern;
             hp.mask_label = pattern;
-            hp.settings.mask_pattern = pattern;
-            hp.settings.epochs = m.settings.epochs + m.settings.decoder_epochs;
+            hp.settings = hand_pattern_training(m.settings, pattern);
             dl.push_back(hp);
         }
     if (scen == "default") {
