@@ -6,7 +6,11 @@
     /usr/bin/python3 apps/plot_results.py /tmp/eval --out /tmp/png --tsne-iter 250
 
 Missing CSVs are skipped (a partial run still plots what it has); rows in
-shipped_<csv> files (from `sems_eval --only-shipped`) are added to their experiment. The t-SNE of
+shipped_<csv> files (from `sems_eval --only-shipped`) are added to their experiment.
+Learned methods trained with several seeds (the train_seed column, `sems_eval --seeds`) are
+drawn as the mean over the seeds with min–max bars, and tabulated as mean ± half-range;
+rows with train_seed "none" (no training) and CSVs without the column (one seed) are drawn
+as single lines. The t-SNE of
 experiment 2 is an exact t-SNE in numpy (perplexity 30, early exaggeration), so no
 scikit-learn is needed.
 """
@@ -47,16 +51,100 @@ def fnum(s):
         return float("nan")
 
 
+def train_seed(r):
+    """A row's training seed, or None: a method without training, or a CSV written before
+    the train_seed column (one seed)."""
+    s = r.get("train_seed") or "none"
+    return None if s == "none" else s
+
+
+def n_seeds(rows):
+    """How many training seeds the rows hold (0: no trained method, or an old CSV)."""
+    return len({train_seed(r) for r in rows} - {None})
+
+
+def over_seeds(values):
+    """(mean, min, max, n) of one value per training seed, NaNs left out."""
+    v = [x for x in values if not math.isnan(x)]
+    if not v:
+        return float("nan"), float("nan"), float("nan"), 0
+    return sum(v) / len(v), min(v), max(v), len(v)
+
+
 def series(rows, key_fields, x="snr_db", y="accuracy"):
-    """{key: (xs, ys)} sorted by x, key = tuple of key_fields."""
+    """{key: (xs, means, mins, maxs, counts)} sorted by x, key = tuple of key_fields; at each
+    x the statistics are over the rows' training seeds (one value per seed)."""
     out = OrderedDict()
     for r in rows:
         k = tuple(r[f] for f in key_fields)
-        out.setdefault(k, []).append((fnum(r[x]), fnum(r[y])))
-    return OrderedDict((k, tuple(zip(*sorted(v)))) for k, v in out.items())
+        per_seed = out.setdefault(k, {}).setdefault(fnum(r[x]), OrderedDict())
+        per_seed.setdefault(train_seed(r), []).append(fnum(r[y]))
+    result = OrderedDict()
+    for k, by_x in out.items():
+        pts = []
+        for xv in sorted(by_x):
+            # Rows repeated within one seed (none expected) are averaged before the spread.
+            pts.append((xv,) + over_seeds([sum(v) / len(v) for v in by_x[xv].values()]))
+        result[k] = tuple(zip(*pts))
+    return result
 
 
-def style(method):
+def labels(rows):
+    """{(method, mask): legend label}: the method's name, with its mask when the same method
+    runs on several masks in these rows (so their lines are not merged)."""
+    masks = OrderedDict()
+    for r in rows:
+        masks.setdefault(r["method"], OrderedDict())[r.get("mask", "")] = None
+    out = OrderedDict()
+    for method, ms in masks.items():
+        for m in ms:
+            out[(method, m)] = method if len(ms) == 1 else "%s (%s)" % (method, m)
+    return out
+
+
+def draw(ax, xs, means, los, his, counts, label, logy=False, dodge=0.0, **st):
+    """One line; with min–max bars (and shifted by dodge in x) where several training seeds
+    were averaged. Returns the legend handle."""
+    xs, means = list(xs), list(means)
+    if logy:  # a non-positive value has no place on a log axis
+        means = [m if m > 0 else float("nan") for m in means]
+    if max(counts, default=0) <= 1:
+        return ax.plot(xs, means, label=label, **st)[0]
+    lo = [max(m - l, 0.0) if c > 1 else 0.0 for m, l, c in zip(means, los, counts)]
+    hi = [max(h - m, 0.0) if c > 1 else 0.0 for m, h, c in zip(means, his, counts)]
+    if logy:  # a bar reaching zero would run off the axis: stop it at a tenth of the mean
+        lo = [min(d, 0.9 * m) if m > 0 else 0.0 for d, m in zip(lo, means)]
+    return ax.errorbar([x + dodge for x in xs], means, yerr=[lo, hi], label=label, capsize=2.5, elinewidth=0.9,
+                       **st)
+
+
+def dodges(lines):
+    """{key: x shift} for the lines of series() that carry seed bars: spread over a fifth of
+    the smallest SNR step (at most 1.5 dB), so bars at the same SNR do not hide each other."""
+    barred = [k for k, line in lines.items() if max(line[4], default=0) > 1]
+    xs = sorted({x for line in lines.values() for x in line[0]})
+    step = min((b - a for a, b in zip(xs, xs[1:])), default=1.0)
+    n = len(barred)
+    if n < 2:
+        return {}
+    return {k: (i / (n - 1) - 0.5) * min(0.2 * step, 1.5) for i, k in enumerate(barred)}
+
+
+def plot_lines(ax, rows, y, logy=False):
+    """Each (method, mask) of the rows as one line against SNR, in CSV order; returns the
+    legend handles in that order (matplotlib would list bar lines after plain ones)."""
+    names = labels(rows)
+    lines = series(rows, ["method", "mask"], y=y)
+    shift = dodges(lines)
+    return [draw(ax, *line, label=names[k], logy=logy, dodge=shift.get(k, 0.0), **style(*k))
+            for k, line in lines.items()]
+
+
+# Line styles of the bounds by their pilots (several bounds share a panel).
+CRB_LINESTYLE = {"random": "--", "random subcarriers, one symbol": ":", "SemS pilots": "-."}
+
+
+def style(method, mask=""):
     if method.startswith("Perfect CSI"):
         return dict(linestyle="--", marker="s")
     if method.startswith("SVM"):
@@ -64,7 +152,9 @@ def style(method):
     if method.startswith("MSE"):
         return dict(linestyle="-.", marker="v")
     if method.startswith("CRB"):
-        return dict(linestyle="--", color="black", marker=None)
+        # Black: the bound of the scene; grey: the single-path bound drawn in multipath.
+        colour = "dimgrey" if method.startswith("CRB (single path") else "black"
+        return dict(linestyle=CRB_LINESTYLE.get(mask, "--"), color=colour, marker=None)
     if method.startswith("Shipped"):
         return dict(linestyle="-", marker="D", markersize=4, alpha=0.8)
     if method.startswith("SemS"):
@@ -74,22 +164,25 @@ def style(method):
 
 def footer(fig, rows):
     if rows:
-        r = rows[0]
-        fig.text(0.01, 0.005, "test frames per point: %s, seed %s" % (r.get("n_frames", "?"), r.get("seed", "?")),
-                 fontsize=7, color="grey")
+        frames = "/".join(sorted({r.get("n_frames", "?") for r in rows}))
+        seeds = "/".join(sorted({r.get("seed", "?") for r in rows}))
+        text = "test frames per point: %s, seed %s" % (frames, seeds)
+        n = n_seeds(rows)
+        if n > 1:
+            text += "; mean of %d training seeds, bars = min–max (shifted apart in SNR)" % n
+        fig.text(0.01, 0.005, text, fontsize=7, color="grey")
 
 
 def plot_accuracy(rows, scenario, axes, title):
     rs = [r for r in rows if r["scenario"] == scenario]
     for metric, ax in zip(("accuracy", "macro_f1"), axes):
-        for (method,), (xs, ys) in series(rs, ["method"], y=metric).items():
-            ax.plot(xs, ys, label=method, **style(method))
+        handles = plot_lines(ax, rs, metric)
         ax.set_xlabel("SNR (dB)")
         ax.set_ylabel("accuracy" if metric == "accuracy" else "macro-F1")
         ax.set_ylim(0, 1.02)
         ax.grid(alpha=0.3)
         ax.set_title("%s: %s" % (title, "accuracy" if metric == "accuracy" else "macro-F1"), fontsize=10)
-    axes[0].legend(fontsize=7, loc="lower right")
+    axes[0].legend(handles=handles, fontsize=7, loc="lower right")
 
 
 def exp1(d, out):
@@ -113,15 +206,14 @@ def exp3(d, out):
     scen = [s for s in ("no_md", "clutter") if any(r["scenario"] == s for r in rows)]
     fig, axes = plt.subplots(1, len(scen), figsize=(5.5 * len(scen), 4.2), squeeze=False)
     for ax, s in zip(axes[0], scen):
-        rs = [r for r in rows if r["scenario"] == s]
-        for (method,), (xs, ys) in series(rs, ["method"]).items():
-            ax.plot(xs, ys, label=method, **style(method))
+        handles = plot_lines(ax, [r for r in rows if r["scenario"] == s], "accuracy")
+        if ax is axes[0][0]:
+            ax.legend(handles=handles, fontsize=7, loc="lower right")
         ax.set_title({"no_md": "without micro-Doppler", "clutter": "strong clutter"}[s], fontsize=10)
         ax.set_xlabel("SNR (dB)")
         ax.set_ylabel("accuracy")
         ax.set_ylim(0, 1.02)
         ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=7, loc="lower right")
     footer(fig, rows)
     fig.tight_layout()
     path = os.path.join(out, "exp3_conditions.png")
@@ -135,20 +227,19 @@ def exp4(d, out):
     if not rows:
         return None
     scen = [s for s in ("single", "multipath") if any(r["scenario"] == s for r in rows)]
-    fig, axes = plt.subplots(1, len(scen), figsize=(5.5 * len(scen), 4.2), squeeze=False)
-    for ax, s in zip(axes[0], scen):
-        rs = [r for r in rows if r["scenario"] == s]
-        for (method,), (xs, ys) in series(rs, ["method"], y="mae_index").items():
-            ys = [y if y > 0 else float("nan") for y in ys]
-            label = method + (" (single-path bound)" if method.startswith("CRB") and s != "single" else "")
-            ax.semilogy(xs, ys, label=label, **style(method))
+    # Each panel has its own methods and bounds (about 17 lines, long names): one panel per
+    # row, its legend beside it.
+    fig, axes = plt.subplots(len(scen), 1, figsize=(11, 4.4 * len(scen)), squeeze=False)
+    for ax, s in zip(axes[:, 0], scen):
+        ax.set_yscale("log")
+        handles = plot_lines(ax, [r for r in rows if r["scenario"] == s], "mae_index", logy=True)
         ax.set_title("delay MAE, %s" % ("single path" if s == "single" else "multipath"), fontsize=10)
         ax.set_xlabel("SNR (dB)")
         ax.set_ylabel("MAE (delay index, 1 = 5 m)")
         ax.grid(alpha=0.3, which="both")
-    axes[0][0].legend(fontsize=7, loc="lower left")
+        ax.legend(handles=handles, fontsize=6.5, loc="center left", bbox_to_anchor=(1.01, 0.5))
     footer(fig, rows)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.02, 1, 1))
     path = os.path.join(out, "exp4_delay.png")
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -160,9 +251,11 @@ def exp5(d, out):
     if not rows:
         return None
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    by_np = series(rows, ["n_pilots"], y="mae_index")
-    for (np_,), (xs, ys) in sorted(by_np.items(), key=lambda kv: int(kv[0][0])):
-        ax.semilogy(xs, ys, marker="o", label="N_p = %s" % np_)
+    by_np = OrderedDict(sorted(series(rows, ["n_pilots"], y="mae_index").items(), key=lambda kv: int(kv[0][0])))
+    shift = dodges(by_np)
+    ax.set_yscale("log")
+    for k, line in by_np.items():
+        draw(ax, *line, label="N_p = %s" % k[0], logy=True, dodge=shift.get(k, 0.0), marker="o")
     ax.set_title("SemS delay MAE vs pilot budget (multipath)", fontsize=10)
     ax.set_xlabel("SNR (dB)")
     ax.set_ylabel("MAE (delay index)")
@@ -193,12 +286,23 @@ def exp6(d, out):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax, (rs, snr), ylab, logy in ((axes[0], at(acc, 10.0), "accuracy", False),
                                       (axes[1], at(mae, 30.0), "MAE (delay index)", True)):
+        # One point per method (and pilot count): the mean over its training seeds, the
+        # value's min–max over them as a bar.
+        points = OrderedDict()
         for r in rs:
-            x, y = fnum(r["us_per_frame"]), fnum(r["value"])
+            points.setdefault((r["method"], r.get("mask", ""), r["n_pilots"]), []).append(r)
+        names = labels(rs)
+        for (method, mask, _), prs in points.items():
+            x = over_seeds([fnum(r["us_per_frame"]) for r in prs])[0]
+            y, lo, hi, n = over_seeds([fnum(r["value"]) for r in prs])
             if not (x > 0) or math.isnan(y):
                 continue
-            ax.scatter([x], [y], s=40, marker=style(r["method"]).get("marker") or "o")
-            ax.annotate(r["method"], (x, y), fontsize=7, xytext=(4, 2), textcoords="offset points")
+            marker = style(method).get("marker") or "o"
+            if n > 1:
+                ax.errorbar([x], [y], yerr=[[y - lo], [hi - y]], fmt=marker, markersize=6, capsize=2.5)
+            else:
+                ax.scatter([x], [y], s=40, marker=marker)
+            ax.annotate(names[(method, mask)], (x, y), fontsize=7, xytext=(4, 2), textcoords="offset points")
         ax.set_xscale("log")
         if logy:
             ax.set_yscale("log")
@@ -300,27 +404,46 @@ def exp2(d, out, iters):
     return path
 
 
+def cell(values, fmt):
+    """One value per training seed: the value, or mean ± half-range over several seeds."""
+    m, lo, hi, n = over_seeds(values)
+    if n == 0:
+        return "–"
+    if n == 1:
+        return fmt % m
+    return (fmt + " ± " + fmt) % (m, (hi - lo) / 2)
+
+
 def pivot(rows, row_key, value, fmt="%.3f"):
-    """Markdown table: one line per row_key value, one column per SNR."""
+    """Markdown table: one line per row_key value (a method is named with its mask when it
+    runs on several), one column per SNR; several training seeds give mean ± half-range."""
     snrs = sorted({fnum(r["snr_db"]) for r in rows})
+    names = labels(rows) if row_key == "method" else None
     table = OrderedDict()
     for r in rows:
-        table.setdefault(r[row_key], {})[fnum(r["snr_db"])] = fnum(r[value])
+        k = names[(r["method"], r.get("mask", ""))] if names else r[row_key]
+        table.setdefault(k, {}).setdefault(fnum(r["snr_db"]), []).append(fnum(r[value]))
     head = "| %s | %s |" % (row_key, " | ".join("%g dB" % s for s in snrs))
     lines = [head, "|" + "---|" * (len(snrs) + 1)]
     for k, vals in table.items():
-        lines.append("| %s | %s |" % (k, " | ".join(
-            (fmt % vals[s]) if s in vals and not math.isnan(vals[s]) else "–" for s in snrs)))
+        lines.append("| %s | %s |" % (k, " | ".join(cell(vals.get(s, []), fmt) for s in snrs)))
     return "\n".join(lines)
 
 
 def tables(d):
     """All result tables as markdown (what docs/RESULTS.md quotes)."""
     out = []
+    n = max((n_seeds(read_csv(os.path.join(d, f)) or []) for f in (
+        "exp1_recognition.csv", "exp3_conditions.csv", "exp4_delay.csv", "exp5_pilot_budget.csv")), default=0)
+    if n > 1:
+        out += ["Learned methods: mean ± half-range (max − min) / 2 over %d training seeds on the same test "
+                "frames; methods without training: single values." % n, ""]
     e1 = read_csv(os.path.join(d, "exp1_recognition.csv"))
     if e1:
-        out += ["### Experiment 1: accuracy", "", pivot(e1, "method", "accuracy"), "",
-                "### Experiment 1: macro-F1", "", pivot(e1, "method", "macro_f1"), ""]
+        for s in OrderedDict.fromkeys(r["scenario"] for r in e1):  # default, then the "any" heading scene
+            rs = [r for r in e1 if r["scenario"] == s]
+            out += ["### Experiment 1 (%s): accuracy" % s, "", pivot(rs, "method", "accuracy"), "",
+                    "### Experiment 1 (%s): macro-F1" % s, "", pivot(rs, "method", "macro_f1"), ""]
     e3 = read_csv(os.path.join(d, "exp3_conditions.csv"))
     if e3:
         for s in ("no_md", "clutter"):
@@ -342,11 +465,23 @@ def tables(d):
         out += ["### Experiment 6: cost (inference time per frame, this machine) next to the result", "",
                 "| experiment | scenario | method | N_p | SNR (dB) | metric | value | us/frame | training (s) |",
                 "|---|---|---|---|---|---|---|---|---|"]
+        # One line per method and operating point; over training seeds the value is
+        # mean ± half-range, the times are means.
+        groups = OrderedDict()
         for r in e6:
             if fnum(r["snr_db"]) in (10.0, 30.0):
-                out.append("| %s | %s | %s | %s | %s | %s | %.3g | %.3g | %.3g |" % (
-                    r["experiment"], r["scenario"], r["method"], r["n_pilots"], r["snr_db"], r["metric"],
-                    fnum(r["value"]), fnum(r["us_per_frame"]), fnum(r["train_seconds"])))
+                k = (r["experiment"], r["scenario"], r["method"], r.get("mask", ""), r["n_pilots"], r["snr_db"],
+                     r["metric"])
+                groups.setdefault(k, []).append(r)
+        names = {}
+        for k in OrderedDict.fromkeys(k[:2] for k in groups):  # a method on several masks is named with its mask
+            names[k] = labels([r for r in e6 if (r["experiment"], r["scenario"]) == k])
+        for k, rs in groups.items():
+            row = k[:2] + (names[k[:2]][(k[2], k[3])],) + k[4:]
+            out.append("| %s | %s | %s | %s | %s | %s | %s | %.3g | %.3g |" % (row + (
+                cell([fnum(r["value"]) for r in rs], "%.3g"),
+                over_seeds([fnum(r["us_per_frame"]) for r in rs])[0],
+                over_seeds([fnum(r["train_seconds"]) for r in rs])[0])))
         out.append("")
     return "\n".join(out)
 

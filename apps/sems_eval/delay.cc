@@ -144,7 +144,7 @@ void run_delay(const config& c, std::ostream& log)
                       num(e.gross), num(crb), std::to_string(ts.count), std::to_string(test_seed), ts_label,
                       num(us, 4), num(train_s, 4), model });
             cost_rows().push_back(
-                { "4", scen, method, test_seed, ts_label, p, snr, "mae_index", e.mae, us, ts.count, train_s });
+                { "4", scen, method, mask, test_seed, ts_label, p, snr, "mae_index", e.mae, us, ts.count, train_s });
             log << "  " << scen << " " << method << " [train seed " << ts_label << "] snr " << num(snr) << ": MAE "
                 << num(e.mae, 4) << ", median "
                 << num(e.median, 4) << ", > 0.5: " << num(e.gross, 4) << " (CRB " << num(crb, 3) << ", "
@@ -372,8 +372,10 @@ void run_pilot_budget(const config& c, std::ostream& log)
                 csv.row({ "5", scen, "SemS", std::to_string(np), num(snr), num(e.mae), num(e.rmse), num(e.median),
                           num(crb), std::to_string(ts.count), std::to_string(test_seed), std::to_string(seed),
                           num(us, 4), num(src.train_seconds, 4), src.origin });
-                cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np), test_seed, std::to_string(seed),
-                                        np, snr, "mae_index", e.mae, us, ts.count, src.train_seconds });
+                cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np),
+                                        src.bundle.mask.origin().value("kind", std::string("unknown")), test_seed,
+                                        std::to_string(seed), np, snr, "mae_index", e.mae, us, ts.count,
+                                        src.train_seconds });
                 log << "  N_p " << np << " [train seed " << seed << "] snr " << num(snr) << ": MAE " << num(e.mae, 4)
                     << std::endl;
             }
@@ -386,10 +388,10 @@ void write_cost(const config& c, std::ostream& log)
     if (!c.experiments.count(6))
         return;
     csv_file csv(c.out_dir + "/exp6_cost.csv",
-                 { "experiment", "scenario", "method", "n_pilots", "snr_db", "metric", "value", "us_per_frame",
+                 { "experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "metric", "value", "us_per_frame",
                    "n_frames", "seed", "train_seed", "train_seconds" });
     for (const auto& r : cost_rows())
-        csv.row({ r.experiment, r.scenario, r.method, std::to_string(r.n_pilots), num(r.snr_db), r.metric,
+        csv.row({ r.experiment, r.scenario, r.method, r.mask, std::to_string(r.n_pilots), num(r.snr_db), r.metric,
                   num(r.value), num(r.us_per_frame, 4), std::to_string(r.n_frames), std::to_string(r.test_seed),
                   r.train_seed, num(r.train_seconds, 4) });
     log << "[" << now_utc() << "] exp 6: " << cost_rows().size() << " cost rows" << std::endl;

@@ -111,6 +111,7 @@ std::string num(double v, int precision = 6);
 // Cost rows gathered from every experiment (experiment 6).
 struct cost_row {
     std::string experiment, scenario, method;
+    std::string mask; // a method's pilots (some methods run on several)
     uint64_t test_seed;
     std::string train_seed; // the training seed, or "none" (see train_seed_label)
     int n_pilots;

@@ -157,7 +157,8 @@ void run_recognition(const config& c, std::ostream& log)
                       std::to_string(ts.count), std::to_string(test_seed), ts_label, num(us, 4), num(train_s, 4),
                       model });
             cost_rows().push_back(
-                { exp, scen, method, test_seed, ts_label, pilots, snr, "accuracy", s.accuracy, us, ts.count, train_s });
+                { exp, scen, method, mask, test_seed, ts_label, pilots, snr, "accuracy", s.accuracy, us, ts.count,
+                  train_s });
             log << "  " << scen << " " << method << " [train seed " << ts_label << "] snr " << num(snr) << ": acc "
                 << num(s.accuracy, 3) << " F1 " << num(s.macro_f1, 3) << " (" << num(us, 3) << " us/frame)"
                 << std::endl;

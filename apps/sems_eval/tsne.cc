@@ -69,8 +69,10 @@ void run_tsne(const config& c, std::ostream& log)
             csv.row(row);
         }
         const double acc = double(correct) / ts.count;
-        cost_rows().push_back({ "2", "default", it.method, test_seed, std::to_string(train_seed), p, c.tsne_snr_db,
-                                "accuracy", acc, us, ts.count, src.train_seconds });
+        cost_rows().push_back({ "2", "default", it.method,
+                                src.bundle.mask.origin().value("kind", std::string("unknown")), test_seed,
+                                std::to_string(train_seed), p, c.tsne_snr_db, "accuracy", acc, us, ts.count,
+                                src.train_seconds });
         log << "  " << it.method << ": accuracy " << num(acc, 3) << " at " << c.tsne_snr_db << " dB (train seed "
             << train_seed << ")" << std::endl;
     }
