@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""End-to-end: sems_eval --size test writes the six experiment CSVs, and
-plot_results.py draws one PNG per experiment from them; bad options fail clearly."""
+"""End-to-end: sems_eval --size test --seeds 2 writes the six experiment CSVs (every learned
+method once per training seed, on the same test frames), and plot_results.py draws one PNG per
+experiment and the tables from them; bad options fail clearly."""
 import csv
 import os
 import subprocess
@@ -16,14 +17,18 @@ EVAL = os.path.join(BUILD, "apps", "sems_eval")
 PLOT = os.path.join(SOURCE, "apps", "plot_results.py")
 
 CSVS = {
-    "exp1_recognition.csv": ["method", "snr_db", "accuracy", "macro_f1", "n_frames", "seed", "us_per_frame"],
+    "exp1_recognition.csv": ["method", "snr_db", "accuracy", "macro_f1", "n_frames", "seed", "train_seed",
+                             "us_per_frame"],
     "exp2_tsne_features.csv": ["method", "class_id", "f0", "f15"],
-    "exp3_conditions.csv": ["scenario", "method", "snr_db", "accuracy", "n_frames", "seed", "us_per_frame"],
+    "exp3_conditions.csv": ["scenario", "method", "snr_db", "accuracy", "n_frames", "seed", "train_seed",
+                            "us_per_frame"],
     "exp4_delay.csv": ["scenario", "method", "snr_db", "mae_index", "crb_mae_index", "n_frames", "seed",
-                       "us_per_frame"],
-    "exp5_pilot_budget.csv": ["n_pilots", "snr_db", "mae_index", "n_frames", "seed", "us_per_frame"],
-    "exp6_cost.csv": ["method", "snr_db", "metric", "value", "us_per_frame", "n_frames", "seed"],
+                       "train_seed", "us_per_frame"],
+    "exp5_pilot_budget.csv": ["n_pilots", "snr_db", "mae_index", "n_frames", "seed", "train_seed", "us_per_frame"],
+    "exp6_cost.csv": ["method", "snr_db", "metric", "value", "us_per_frame", "n_frames", "seed", "train_seed"],
 }
+SEED = 2026  # sems_eval's default --seed: the training seeds are SEED and SEED + 1
+TRAIN_SEEDS = {str(SEED), str(SEED + 1)}
 
 
 def rows(path):
@@ -34,8 +39,8 @@ def rows(path):
 class qa_sems_eval(gr_unittest.TestCase):
     def test_001_test_size_end_to_end(self):
         with tempfile.TemporaryDirectory() as out:
-            r = subprocess.run([EVAL, "--size", "test", "--out", out, "--threads", "1"], capture_output=True,
-                               text=True, timeout=600)
+            r = subprocess.run([EVAL, "--size", "test", "--seeds", "2", "--out", out, "--threads", "1"],
+                               capture_output=True, text=True, timeout=600)
             self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
             for name, cols in CSVS.items():
                 path = os.path.join(out, name)
@@ -44,7 +49,8 @@ class qa_sems_eval(gr_unittest.TestCase):
                 self.assertGreater(len(rs), 0, name)
                 for c in cols:
                     self.assertIn(c, rs[0], "%s lacks column %s" % (name, c))
-            # Every method and operating point, on the same number of frames with one seed per scene.
+            # Every method and operating point, on the same number of frames with one seed per scene;
+            # every trained method (the networks and the feature SVMs) once per training seed.
             e1 = rows(os.path.join(out, "exp1_recognition.csv"))
             hand = ["SemS decoder (%s pilots)" % p for p in ("doppler", "uniform", "random")]
             want = {"default": ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)",
@@ -54,16 +60,25 @@ class qa_sems_eval(gr_unittest.TestCase):
             for scen, ms in want.items():
                 got = [r["method"] for r in e1 if r["scenario"] == scen]
                 self.assertEqual(sorted(set(got)), sorted(ms), scen)
-                self.assertEqual(len(got), len(ms) * 3, scen)  # every method at 3 SNR points (test size)
+                self.assertEqual(len(got), len(ms) * 3 * 2, scen)  # every method at 3 SNR points x 2 seeds
+                self.assert_per_seed([r for r in e1 if r["scenario"] == scen], ms, TRAIN_SEEDS)
             self.assertEqual({r["n_frames"] for r in e1}, {"24"})
             self.assertEqual(len({r["seed"] for r in e1}), 1)
+            self.assertNotIn(e1[0]["seed"], TRAIN_SEEDS)  # test frames are not drawn with a training seed
+            e3 = rows(os.path.join(out, "exp3_conditions.csv"))
+            for scen in ("no_md", "clutter"):
+                ms = ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "SVM (uniform pilots)", "SVM (doppler pilots)"]
+                self.assert_per_seed([r for r in e3 if r["scenario"] == scen], ms, TRAIN_SEEDS)
+            self.assertEqual({(r["seed"], r["n_frames"]) for r in e3}, {(e1[0]["seed"], "24")})
             for r in e1:
                 self.assertTrue(0.0 <= float(r["accuracy"]) <= 1.0)
                 self.assertTrue(0.0 <= float(r["macro_f1"]) <= 1.0)
-            # The noiseless upper bound does not depend on the test SNR.
+            # The noiseless upper bound does not depend on the test SNR (one network per seed).
             for scen in want:
-                pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)" and r["scenario"] == scen}
-                self.assertEqual(len(pc), 1)
+                for seed in TRAIN_SEEDS:
+                    pc = {r["accuracy"] for r in e1 if r["method"] == "Perfect CSI (noiseless)"
+                          and r["scenario"] == scen and r["train_seed"] == seed}
+                    self.assertEqual(len(pc), 1, (scen, seed))
             e4 = rows(os.path.join(out, "exp4_delay.csv"))
             bounds = {"single": ["CRB"],
                       "multipath": ["CRB (single path at the direct path's mean power)", "CRB (multipath, direct path)"]}
@@ -74,26 +89,67 @@ class qa_sems_eval(gr_unittest.TestCase):
                 for m in bounds[scen]:  # every bound on the random pattern, at every SNR
                     self.assertEqual(len([r for r in e4 if r["scenario"] == scen and r["method"] == m
                                           and r["mask"] == "random"]), 2, (scen, m))
+                rs = [r for r in e4 if r["scenario"] == scen]
+                self.assertEqual(len({(r["seed"], r["n_frames"]) for r in rs}), 1, scen)
+                self.assertEqual(rs[0]["n_frames"], "24")
+                # SemS, and what is computed on its pilots, once per training seed (the mask is learned).
+                on_sems = [r for r in rs if r["method"].startswith("SemS") or r["mask"] == "SemS pilots"]
+                self.assert_per_seed(on_sems, ["SemS", "LS reference (oracle order)"] + bounds[scen], TRAIN_SEEDS,
+                                     key=("method", "mask"))
+                # The classical estimators and the bounds on fixed pilots: no training seed, one row
+                # per method, mask and SNR point.
+                fixed = [r for r in rs if r not in on_sems]
+                self.assertEqual({r["train_seed"] for r in fixed}, {"none"}, scen)
+                self.assertEqual(len(fixed), len({(r["method"], r["mask"], r["snr_db"]) for r in fixed}), scen)
+                self.assertEqual({r["snr_db"] for r in fixed}, {"0", "30"}, scen)
+            self.assertEqual(len({r["seed"] for r in e4}), 2)  # single and multipath: their own frames
             # The CRB falls by 10x in variance per 10 dB: its MAE by sqrt(1000) from 0 to 30 dB.
             crb = {float(r["snr_db"]): float(r["mae_index"]) for r in e4
                    if r["method"] == "CRB" and r["mask"] == "random" and r["scenario"] == "single"}
             self.assertAlmostEqual(crb[0.0] / crb[30.0], 1000 ** 0.5, delta=1e-3)  # CSV keeps 6 digits
             e5 = rows(os.path.join(out, "exp5_pilot_budget.csv"))
             self.assertEqual(sorted({int(r["n_pilots"]) for r in e5}), [2, 8])
+            self.assertEqual(len(e5), 2 * 2 * 2)  # N_p x SNR points x seeds
+            self.assert_per_seed(e5, ["SemS"], TRAIN_SEEDS, key=("method", "n_pilots"))
+            multipath = {(r["seed"], r["n_frames"]) for r in e4 if r["scenario"] == "multipath"}
+            self.assertEqual({(r["seed"], r["n_frames"]) for r in e5}, multipath)  # experiment 4's frames
+            e6 = rows(os.path.join(out, "exp6_cost.csv"))
+            self.assertEqual({r["train_seed"] for r in e6 if r["experiment"] == "5"}, TRAIN_SEEDS)
+            self.assertEqual({r["train_seed"] for r in e6 if r["method"] == "OMP"}, {"none"})
 
             png = os.path.join(out, "png")
-            r = subprocess.run(["/usr/bin/python3", PLOT, out, "--out", png, "--tsne-iter", "60"],
+            tables = os.path.join(out, "tables.md")
+            r = subprocess.run(["/usr/bin/python3", PLOT, out, "--out", png, "--tsne-iter", "60", "--tables", tables],
                                capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stderr)
+            with open(tables) as f:
+                md = f.read()
+            # Learned methods: mean ± half-range over the 2 seeds; classical ones: a single value.
+            self.assertIn("over 2 training seeds", md)
+            semS = [l for l in md.splitlines() if l.startswith("| SemS |")]
+            omp = [l for l in md.splitlines() if l.startswith("| OMP |")]
+            self.assertTrue(semS and all(c.count(" ± ") == 1 for l in semS for c in l.split("|")[2:-1]), semS)
+            self.assertTrue(omp and not any("±" in l for l in omp), omp)
             for name in ("exp1_recognition", "exp2_tsne", "exp3_conditions", "exp4_delay", "exp5_pilot_budget",
                          "exp6_cost"):
                 p = os.path.join(png, name + ".png")
                 self.assertTrue(os.path.exists(p) and os.path.getsize(p) > 1000, name)
 
+    def assert_per_seed(self, rs, methods, seeds, key=("method",)):
+        """rs hold every one of methods (the first key field), and each key has, at every SNR
+        point of its rows, exactly one row per training seed in seeds."""
+        got = {}
+        for r in rs:
+            got.setdefault(tuple(r[k] for k in key) + (r["snr_db"],), []).append(r["train_seed"])
+        missing = set(methods) - {k[0] for k in got}
+        self.assertFalse(missing, "no rows for %s" % sorted(missing))
+        for k, ts in got.items():
+            self.assertEqual(sorted(ts), sorted(seeds), k)
+
     def test_002_bad_options_fail_clearly(self):
         with tempfile.TemporaryDirectory() as out:
             for args, word in ((["--size", "huge"], "--size"), (["--experiments", "7"], "--experiments"),
-                               (["--np-sweep", "0"], "--np-sweep")):
+                               (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds")):
                 r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
                 self.assertNotEqual(r.returncode, 0)
                 self.assertIn(word, r.stderr)
