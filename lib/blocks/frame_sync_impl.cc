@@ -41,7 +41,21 @@ frame_sync_impl::frame_sync_impl(frame_search search)
       d_port(pmt::intern("sync"))
 {
     message_port_register_out(d_port);
-    set_tag_propagation_policy(TPP_DONT); // tags are placed by hand (input and output offsets differ)
+    // Tags are placed by hand: input and output offsets differ by the offset found. Incoming
+    // frame tags are dropped (this block numbers the frames it finds); every other tag (a
+    // replayed sems_truth, ...) goes out on the same sample, at input offset − offset().
+    set_tag_propagation_policy(TPP_DONT);
+}
+
+void frame_sync_impl::carry_tags(const std::vector<gr::tag_t>& tags, uint64_t first, uint64_t n)
+{
+    for (const auto& t : tags) {
+        if (t.offset < static_cast<uint64_t>(d_offset))
+            continue; // before the first frame: dropped with its samples
+        const uint64_t out = t.offset - static_cast<uint64_t>(d_offset);
+        if (out >= first && out < first + n)
+            add_item_tag(0, out, t.key, t.value, t.srcid);
+    }
 }
 
 void frame_sync_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
@@ -63,6 +77,12 @@ int frame_sync_impl::general_work(int noutput_items,
     const size_t window = static_cast<size_t>(d_search.window_len());
     const size_t frame = static_cast<size_t>(d_search.frame_len());
     if (!d_locked) {
+        const uint64_t read = nitems_read(0);
+        std::vector<gr::tag_t> tags;
+        get_tags_in_range(tags, 0, read, read + static_cast<uint64_t>(ninput_items[0]));
+        for (auto& t : tags)
+            if (!pmt::eqv(t.key, d_frame_key))
+                d_buf_tags.push_back(std::move(t));
         d_buf.insert(d_buf.end(), in, in + ninput_items[0]);
         consume_each(ninput_items[0]);
         while (!d_locked && d_buf.size() >= window) {
@@ -72,6 +92,10 @@ int frame_sync_impl::general_work(int noutput_items,
                 ++d_failures;
                 d_buf.erase(d_buf.begin(), d_buf.begin() + static_cast<std::ptrdiff_t>(frame));
                 d_buf_start += frame;
+                d_buf_tags.erase(std::remove_if(d_buf_tags.begin(),
+                                                d_buf_tags.end(),
+                                                [this](const gr::tag_t& t) { return t.offset < d_buf_start; }),
+                                 d_buf_tags.end());
                 continue;
             }
             d_offset = static_cast<int64_t>(d_buf_start) + r.lag;
@@ -87,21 +111,30 @@ int frame_sync_impl::general_work(int noutput_items,
             return 0;
     }
     int n = 0;
+    const uint64_t first = nitems_written(0), L = frame;
     if (d_pending_pos < d_buf.size()) { // the found frames, from the window
         n = static_cast<int>(std::min<size_t>(noutput_items, d_buf.size() - d_pending_pos));
         std::memcpy(out, d_buf.data() + d_pending_pos, sizeof(gr_complex) * n);
+        carry_tags(d_buf_tags, first, static_cast<uint64_t>(n));
         d_pending_pos += n;
         if (d_pending_pos == d_buf.size()) {
             d_buf.clear();
             d_buf.shrink_to_fit();
+            d_buf_tags.clear();
             d_pending_pos = 0;
         }
     } else {
         n = std::min(noutput_items, ninput_items[0]);
         std::memcpy(out, in, sizeof(gr_complex) * n);
+        std::vector<gr::tag_t> tags;
+        get_tags_in_range(tags, 0, nitems_read(0), nitems_read(0) + static_cast<uint64_t>(n));
+        tags.erase(std::remove_if(tags.begin(),
+                                  tags.end(),
+                                  [this](const gr::tag_t& t) { return pmt::eqv(t.key, d_frame_key); }),
+                   tags.end());
+        carry_tags(tags, first, static_cast<uint64_t>(n));
         consume_each(n);
     }
-    const uint64_t first = nitems_written(0), L = frame;
     for (uint64_t t = (first + L - 1) / L * L; t < first + static_cast<uint64_t>(n); t += L)
         add_item_tag(0, t, d_frame_key, pmt::from_uint64(d_next_frame++));
     return n;

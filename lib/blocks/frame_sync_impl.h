@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/frame_search.h>
 #include <pmt/pmt.h>
 #include <atomic>
+#include <vector>
 
 namespace gr {
 namespace sems {
@@ -40,7 +41,13 @@ private:
     std::vector<gr_complex> d_buf;
     uint64_t d_buf_start = 0;
     size_t d_pending_pos = 0;
+    // The tags of the buffered input (d_buf), other than frame tags, at their input offsets:
+    // they go out at input offset − d_offset once locked (those before the frame are dropped).
+    std::vector<gr::tag_t> d_buf_tags;
     const pmt::pmt_t d_frame_key, d_port;
+
+    //! Adds `tags` at output offsets (input offset − d_offset) that fall in [first, first + n).
+    void carry_tags(const std::vector<gr::tag_t>& tags, uint64_t first, uint64_t n);
 };
 
 } // namespace sems

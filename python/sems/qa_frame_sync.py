@@ -1,13 +1,17 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: frame_sync finds a random frame offset exactly from the pilots at 10 dB, and on
-noise alone tags nothing and counts its failed searches."""
+noise alone tags nothing and counts its failed searches; a recording that starts mid-frame,
+replayed with its tags through frame_sync, scores every whole frame against its own truth."""
+import json
 import math
 import os
+import tempfile
 
 import numpy as np
 import pmt
 from gnuradio import analog, blocks, digital, gr, gr_unittest, sems
+from gnuradio.sems.tag_file import tag_file_replay, tag_file_sink
 
 MODELS = os.path.join(os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..")),
                       "models")
@@ -94,6 +98,69 @@ class qa_frame_sync(gr_unittest.TestCase):
             with self.subTest(needle=needle):
                 with self.assertRaisesRegex(ValueError, "frame_sync.*" + needle):
                     sems.frame_sync(**kw)
+
+    def test_004_replay_mid_frame_scores_every_whole_frame(self):
+        """record (target_channel_td plus the direct path, drop a random number of samples),
+        replay file_source -> tag_file_replay -> frame_sync -> ofdm_rx -> extractor -> delay
+        sink: frame_sync drops the replayed sems_frame tags, numbers the frames it finds, and
+        carries each sems_truth to the same sample, so frame k of the sync is recorded frame
+        k + first, where first = (offset found + samples dropped) / L."""
+        n, m, cp, frames = 32, 64, 16, 10
+        L = n * (m + cp)
+        bundle = os.path.join(MODELS, "delay_single")
+        with open(os.path.join(bundle, "bundle.json")) as f:
+            scene = json.dumps(json.load(f)["training"]["scene"])
+        frame_key, truth_key = pmt.intern(sems.keys.frame_tag), pmt.intern(sems.keys.truth_tag)
+        rng = np.random.default_rng(12)
+        with tempfile.TemporaryDirectory() as tmp:
+            for trial in range(3):
+                skip = int(rng.integers(1, 2 * L))
+                with self.subTest(trial=trial, skip=skip):
+                    path = os.path.join(tmp, "rec%d.c64" % trial)
+                    tb = gr.top_block()
+                    mapper = sems.pilot_mapper(mask_file=MASK)
+                    head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
+                    tx = sems.ofdm_tx(m, cp)
+                    channel = sems.target_channel_td(scene=scene, snr_db=10.0, seed=trial + 1, cp_len=cp)
+                    # the direct path (TX leakage, 6 dB below the echo): the coherent part
+                    # frame_sync locks to; the echo's delay and Doppler change every frame
+                    direct = blocks.multiply_const_cc(0.5)
+                    rx = blocks.add_cc()
+                    drop = blocks.skiphead(gr.sizeof_gr_complex, skip)  # shifts the tags too
+                    samples = blocks.file_sink(gr.sizeof_gr_complex, path)
+                    tags = tag_file_sink(path + ".tags")
+                    tb.connect(analog.random_uniform_source_b(0, 4, trial + 1),
+                               digital.chunks_to_symbols_bc(QPSK, 1), mapper, head, tx, channel, (rx, 0))
+                    tb.connect(tx, direct, (rx, 1))
+                    tb.connect(rx, drop, samples)
+                    tb.connect(drop, tags)
+                    tb.run()
+                    samples.close()
+
+                    tb = gr.top_block()
+                    replay = tag_file_replay(path + ".tags")
+                    fs = sems.frame_sync(mask_file=MASK, cp_len=cp)
+                    seen = blocks.vector_sink_c()
+                    sink = sems.delay_estimator_sink(bundle, 32, 1, 1, 0)
+                    tb.connect(blocks.file_source(gr.sizeof_gr_complex, path), replay, fs, seen)
+                    tb.connect(fs, sems.ofdm_rx(m, cp), sems.pilot_extractor(mask_file=MASK), sink)
+                    tb.run()
+
+                    self.assertTrue(fs.locked())
+                    self.assertEqual((fs.offset() + skip) % L, 0, "the lock is on a recorded frame start")
+                    first = (fs.offset() + skip) // L
+                    whole = frames - first
+                    self.assertGreater(whole, frames // 2)
+                    got = seen.tags()
+                    sync = sorted((t.offset, pmt.to_uint64(t.value)) for t in got if pmt.eqv(t.key, frame_key))
+                    truth = sorted((t.offset, pmt.to_uint64(pmt.dict_ref(t.value, pmt.intern(sems.keys.frame),
+                                                                         pmt.PMT_NIL)))
+                                   for t in got if pmt.eqv(t.key, truth_key))
+                    self.assertEqual(sync, [(k * L, k) for k in range(whole)])  # no replayed frame tag
+                    self.assertEqual(truth, [(k * L, k + first) for k in range(whole)])
+                    self.assertEqual(sink.frames(), whole)
+                    self.assertEqual(sink.frames_scored(), whole)
+                    self.assertEqual(sink.frames_skipped(), 0)
 
 
 if __name__ == "__main__":

@@ -10,6 +10,10 @@
  * The offset found (samples from the stream start) is offset() and goes out as a dict
  * {offset, metric, failures} on the message port "sync". Once locked it stays locked (an
  * offset calibrated once, as on a loopback); frame_search.h states what the search assumes.
+ *
+ * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
+ * output offset = input offset − offset(); tags on the dropped samples are dropped with them,
+ * and incoming keys::frame_tag tags are dropped (the frames are numbered here).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
 #define INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
