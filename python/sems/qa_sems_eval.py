@@ -4,6 +4,7 @@
 method once per training seed, on the same test frames), and plot_results.py draws one PNG per
 experiment and the tables from them; bad options fail clearly."""
 import csv
+import json
 import os
 import subprocess
 import sys
@@ -68,7 +69,17 @@ class qa_sems_eval(gr_unittest.TestCase):
             e3 = rows(os.path.join(out, "exp3_conditions.csv"))
             for scen in ("no_md", "clutter"):
                 ms = ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "SVM (uniform pilots)", "SVM (doppler pilots)"]
+                if scen == "clutter":  # the SVMs also with the classical MTI in front
+                    ms += ["SVM (uniform pilots, MTI)", "SVM (doppler pilots, MTI)"]
                 self.assert_per_seed([r for r in e3 if r["scenario"] == scen], ms, TRAIN_SEEDS)
+                self.assertEqual({r["method"] for r in e3 if r["scenario"] == scen}, set(ms), scen)
+            # Under clutter every network was trained with the zero-Doppler (MTI) stage; elsewhere without.
+            for name in os.listdir(os.path.join(out, "bundles")):
+                if name.startswith("cls_"):
+                    with open(os.path.join(out, "bundles", name, "bundle.json")) as f:
+                        mti = json.load(f)["decoder"]["settings"].get("mti")
+                    if mti is not None:  # the spectral classifier
+                        self.assertEqual(mti, "mean" if name.startswith("cls_clutter_") else "none", name)
             self.assertEqual({(r["seed"], r["n_frames"]) for r in e3}, {(e1[0]["seed"], "24")})
             for r in e1:
                 self.assertTrue(0.0 <= float(r["accuracy"]) <= 1.0)
