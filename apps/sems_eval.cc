@@ -95,7 +95,7 @@ void apply_size(config& c)
 int main(int argc, char** argv)
 {
     config c;
-    std::string experiments = "1,2,3,4,5,6", snrs, delay_snrs, np_sweep;
+    std::string experiments = "1,2,3,4,5,6", snrs, delay_snrs, np_sweep, delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
     // clang-format off
     opts.add_options()
@@ -123,7 +123,8 @@ int main(int argc, char** argv)
         ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no settings check)")
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
         ("no-any-heading", "experiment 1: skip the \"any\" heading scene")
-        ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)");
+        ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)")
+        ("delay-scenarios", po::value(&delay_scenarios)->default_value(delay_scenarios), "experiment 4: comma-separated subset of single,multipath (to split a run over processes)");
     // clang-format on
     try {
         po::variables_map vm;
@@ -136,6 +137,15 @@ int main(int argc, char** argv)
         apply_size(c);
         c.exp1_any_heading = !vm.count("no-any-heading");
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
+        c.delay_scenarios.clear();
+        for (std::string rest = delay_scenarios; !rest.empty();) {
+            const auto comma = rest.find(',');
+            const std::string name = rest.substr(0, comma);
+            if (name != "single" && name != "multipath")
+                throw std::invalid_argument("--delay-scenarios: \"" + name + "\" is not single or multipath");
+            c.delay_scenarios.insert(name);
+            rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        }
         if (vm.count("test-frames"))
             c.test_frames = vm["test-frames"].as<int>();
         if (vm.count("train-frames"))

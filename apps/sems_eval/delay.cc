@@ -130,6 +130,8 @@ void run_delay(const config& c, std::ostream& log)
     for (const auto& scenario : std::vector<std::pair<std::string, int>>{ { "single", 1 },
                                                                          { "multipath", c.multipath_paths } }) {
         const std::string scen = scenario.first;
+        if (!c.delay_scenarios.count(scen))
+            continue;
         const int paths = scenario.second;
         const uint64_t test_seed = c.seed + (paths == 1 ? 303 : 304);
         const test_set ts = make_test_set(c.fs, delay_scene(paths), c.test_frames, test_seed);

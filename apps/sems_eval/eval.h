@@ -52,6 +52,8 @@ struct config {
     bool only_shipped = false; // evaluate only the shipped bundles (rows to add to a full run)
     bool exp1_any_heading = true;   // experiment 1 also on the "any" heading scene
     bool exp1_hand_patterns = true; // experiment 1: the SemS decoder also on Doppler/uniform/random pilots
+    std::set<std::string> delay_scenarios{ "single", "multipath" }; // experiment 4's scenes (one per process
+                                                                    // lets two cores share a full run)
     frame_settings fs;
     std::string command_line;
 };
