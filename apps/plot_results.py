@@ -430,6 +430,43 @@ def pivot(rows, row_key, value, fmt="%.3f"):
     return "\n".join(lines)
 
 
+def learned_vs_hand(rows, scenario):
+    """Markdown: the learned mask (SemS) against the best hand pattern with the same decoder,
+    per SNR: means over training seeds and whether SemS >= best - 2 standard errors.
+
+    The standard error of a method's mean is the seeds' standard deviation over sqrt(seeds),
+    floored by the binomial error of that mean on the test frames (sqrt(p(1-p)/(frames·seeds)));
+    the difference's error adds the two in quadrature (the test frames are the same, so this
+    is conservative)."""
+    rs = [r for r in rows if r["scenario"] == scenario]
+    hands = sorted({r["method"] for r in rs if r["method"].startswith("SemS decoder (")})
+    if not hands or not any(r["method"] == "SemS" for r in rs):
+        return None
+
+    def stats(method, snr):
+        v = [fnum(r["accuracy"]) for r in rs if r["method"] == method and fnum(r["snr_db"]) == snr]
+        if not v:
+            return None
+        n, m = len(v), sum(v) / len(v)
+        sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1)) if n > 1 else 0.0
+        frames = max(int(fnum(r["n_frames"])) for r in rs)
+        se = max(sd / math.sqrt(n), math.sqrt(max(m * (1 - m), 1e-12) / (frames * n)))
+        return m, se, n
+
+    lines = ["| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | SemS ≥ best − 2 SE |",
+             "|---|---|---|---|---|"]
+    for snr in sorted({fnum(r["snr_db"]) for r in rs}):
+        sems = stats("SemS", snr)
+        best = max(((h,) + stats(h, snr) for h in hands if stats(h, snr)), key=lambda t: t[1])
+        if sems is None:
+            continue
+        diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
+        lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s |" % (
+            snr, sems[0], best[1], best[0][len("SemS decoder ("):-len(" pilots)")], diff, two_se,
+            "yes" if diff >= -two_se else "**no**"))
+    return "\n".join(lines)
+
+
 def tables(d):
     """All result tables as markdown (what docs/RESULTS.md quotes)."""
     out = []
@@ -444,6 +481,10 @@ def tables(d):
             rs = [r for r in e1 if r["scenario"] == s]
             out += ["### Experiment 1 (%s): accuracy" % s, "", pivot(rs, "method", "accuracy"), "",
                     "### Experiment 1 (%s): macro-F1" % s, "", pivot(rs, "method", "macro_f1"), ""]
+            claim = learned_vs_hand(e1, s)
+            if claim:
+                out += ["### Experiment 1 (%s): the learned mask against the best hand pattern" % s, "",
+                        claim, ""]
     e3 = read_csv(os.path.join(d, "exp3_conditions.csv"))
     if e3:
         for s in ("no_md", "clutter"):
