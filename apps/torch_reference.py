@@ -1,0 +1,298 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""PyTorch (Python) reference of the shipped decoders, the anchor of the decoder benchmarks.
+
+The same networks as lib/learning/spectral_classifier_decoder.cc (kind "classifier_spectral")
+and lib/learning/delay_decoder.cc (kind "delay_correlation": projection, dictionary
+correlation, orthogonal-matching-pursuit residual maps, phase reference, dilated residual
+CNN, local soft-argmax), written with torch.nn.functional and reading the SAME weights: the
+bundle's decoder.pt (written by LibTorch's torch::save of the module) loads with
+torch.jit.load, whose state_dict() holds every parameter and buffer under the C++ names.
+The input is prepared as bundle_decoder.cc does: the (batch, N_p) complex pilots, in mask
+order (sorted by symbol, then subcarrier), scattered into a zero B x 2 x N x M grid, then
+normalised per frame (nn::normalise_frames).
+
+Not reproduced: the delay decoder's least-squares refinement (refine_paths > 0), which is
+C++ only (baselines' multipath_fitter). Compare against a bundle with refine_paths = 0
+(with_refinement_off() writes one); `check` and `bench` do so.
+
+Usage (GNU Radio's Python; `from gnuradio import sems` must import, e.g. with
+PYTHONPATH=build/python_pkg):
+  torch_reference.py check [--models DIR]   C++ bundle_decoder == this reference, and a
+                                            perturbed weight breaks the agreement
+  torch_reference.py bench [--models DIR] [--batches 1,32,256] [--frames 2048] [--repeat 5]
+                                            frames/s of both, 1 intra-op thread, same run
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import time
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+
+
+class Reference:
+    """A bundle's decoder in PyTorch: __call__(obs) takes (batch, N_p) complex64 pilots."""
+
+    def __init__(self, bundle_dir):
+        with open(os.path.join(bundle_dir, "bundle.json")) as f:
+            self.info = json.load(f)
+        with open(os.path.join(bundle_dir, self.info.get("mask_file", "mask.json"))) as f:
+            mask = json.load(f)
+        fr = self.info["frame"]
+        self.n, self.m = fr["n_symbols"], fr["n_subcarriers"]
+        self.index = torch.tensor(sorted(n * self.m + m for n, m in mask["pilots"]), dtype=torch.long)
+        self.np = len(self.index)
+        self.mask = torch.zeros(self.n * self.m)
+        self.mask[self.index] = 1.0
+        self.mask = self.mask.view(self.n, self.m)
+        weights = os.path.join(bundle_dir, self.info.get("weights_file", "decoder.pt"))
+        self.w = {k: v.detach().clone() for k, v in torch.jit.load(weights).state_dict().items()}
+        self.kind = self.info["decoder"]["kind"]
+        self.s = self.info["decoder"]["settings"]
+        if self.kind == "classifier_spectral":
+            k = self.s["doppler_bins"]
+            kn = torch.remainder(torch.arange(k).unsqueeze(1) * torch.arange(self.n).unsqueeze(0), k)
+            arg = kn.double() * (2.0 * math.pi / k)  # exact phases, as the C++ builds them
+            self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
+        elif self.kind == "delay_correlation":
+            if self.s.get("refine_paths", 0) > 0:
+                print("torch_reference: %s has refine_paths = %d; the reference runs the network only "
+                      "(refinement off)" % (bundle_dir, self.s["refine_paths"]), file=sys.stderr)
+        else:
+            raise ValueError("torch_reference: %s: decoder kind %r has no reference (known: "
+                             "classifier_spectral, delay_correlation)" % (bundle_dir, self.kind))
+
+    # -- input, as bundle_decoder.cc and task_decoder.cc prepare it
+    def grid(self, obs):
+        o = torch.view_as_real(torch.from_numpy(np.ascontiguousarray(obs, dtype=np.complex64)))  # B x N_p x 2
+        g = torch.zeros(o.shape[0], 2, self.n * self.m)
+        g.index_copy_(2, self.index, o.permute(0, 2, 1))
+        g = g.view(-1, 2, self.n, self.m)
+        peak = g.abs().flatten(1).amax(1).clamp_min(1e-30).view(-1, 1, 1, 1)
+        g = g / peak
+        power = (g * g).flatten(1).sum(1) / self.np
+        return g / torch.sqrt(power + 1e-12).view(-1, 1, 1, 1)
+
+    def bn(self, x, name):
+        w = self.w
+        return F.batch_norm(x, w[name + ".running_mean"], w[name + ".running_var"], w[name + ".weight"],
+                            w[name + ".bias"], False, 0.0, 1e-5)
+
+    # -- classifier_spectral
+    def profile(self, g):
+        re, im = g[:, 0], g[:, 1]
+        fr = torch.matmul(self.dft_cos, re) + torch.matmul(self.dft_sin, im)
+        fi = torch.matmul(self.dft_cos, im) - torch.matmul(self.dft_sin, re)
+        s = (fr * fr + fi * fi).sum(2)
+        s = s / (s.mean(1, True) + 1e-12)
+        return torch.log(s + 1e-3)
+
+    def classifier(self, g):
+        w, mti = self.w, self.s.get("mti", "none")
+        if mti != "none":  # remove_zero_doppler: each subcarrier's mean over its pilots
+            clean = g - self.mask * (g.sum(2, True) / self.mask.sum(0, True).clamp_min(1.0))
+        x = (self.profile(g).unsqueeze(1) if mti == "none" else self.profile(clean).unsqueeze(1) if mti == "mean"
+             else torch.stack([self.profile(g), self.profile(clean)], 1))
+        x = self.bn(x, "bn")
+        p = self.s["kernel"] // 2
+        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv1.weight"], w["conv1.bias"]))
+        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv2.weight"], w["conv2.bias"]))
+        x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
+        features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
+        logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])
+        return torch.softmax(logits, -1), features
+
+    # -- delay_correlation
+    def residual_maps(self, xr, xi, support, scale):
+        y = torch.complex(xr.double(), xi.double())  # B x M
+        steer = torch.complex(self.w["dict_cos"].double(), -self.w["dict_sin"].double())  # M x Q
+        conj_steer = steer.conj()
+        sup = torch.complex(support.double(), torch.zeros_like(support, dtype=torch.double))
+        mag = (torch.matmul(y, conj_steer) * scale).abs()
+        chosen, out = [], []
+        for _ in range(self.s["residual_maps"]):
+            chosen.append(mag.argmax(1))
+            idx = torch.stack(chosen, 1)
+            a = steer.t().index_select(0, idx.flatten()).view(idx.shape[0], idx.shape[1], self.m)
+            a = (a * sup.unsqueeze(1)).transpose(1, 2)  # B x M x L
+            ah = a.conj().transpose(1, 2)
+            g = torch.matmul(ah, a)
+            g = g + 1e-9 * torch.eye(g.shape[-1], dtype=g.dtype) * (
+                1.0 + torch.real(g.diagonal(0, 1, 2)).amax(-1)).view(-1, 1, 1)
+            b = torch.linalg.solve(g, torch.matmul(ah, y.unsqueeze(-1)))
+            res = y - torch.matmul(a, b).squeeze(-1)
+            mag = (torch.matmul(res, conj_steer) * scale).abs()
+            out.append(mag)
+        return torch.stack(out, 1).to(xr.dtype)
+
+    def delay(self, x):
+        w, s = self.w, self.s
+        yr, yi = x[:, 0], x[:, 1]
+        xr = torch.matmul(w["proj_re"], yr) - torch.matmul(w["proj_im"], yi)  # B x P x M
+        xi = torch.matmul(w["proj_re"], yi) + torch.matmul(w["proj_im"], yr)
+        scale = 1.0 / math.sqrt(self.np)
+        rr = (torch.matmul(xr, w["dict_cos"]) - torch.matmul(xi, w["dict_sin"])) * scale
+        ri = (torch.matmul(xr, w["dict_sin"]) + torch.matmul(xi, w["dict_cos"])) * scale
+        maps = None
+        if s["residual_maps"] > 0:
+            support = (x.abs().sum(1).sum(1) > 0).to(x.dtype)
+            maps = self.residual_maps(xr[:, 0], xi[:, 0], support, scale)
+        if s["phase_reference"]:
+            k = (rr[:, 0].square() + ri[:, 0].square()).argmax(1, True)
+            pr, pi = rr[:, 0].gather(1, k), ri[:, 0].gather(1, k)
+            norm = torch.sqrt(pr * pr + pi * pi + 1e-20)
+            c, sn = (pr / norm).unsqueeze(1), (-pi / norm).unsqueeze(1)
+            rr, ri = rr * c - ri * sn, rr * sn + ri * c
+        mag = torch.sqrt(rr * rr + ri * ri + 1e-12)
+        feat = torch.cat([rr, ri, mag] + ([maps] if maps is not None else []), 1)
+        kern, q = s["kernel"], s["q"]
+        h = F.relu(self.bn(F.conv1d(feat, w["stem.weight"], None, padding=kern // 2), "stem_bn"))
+        d = 1
+        for i in range(s["depth"]):
+            b = "blocks.%d." % i
+            y = F.relu(self.bn(F.conv1d(h, w[b + "conv1.weight"], None, padding=d * (kern // 2), dilation=d), b + "bn1"))
+            y = self.bn(F.conv1d(y, w[b + "conv2.weight"], None, padding=d * (kern // 2), dilation=d), b + "bn2")
+            h = F.relu(h + y)
+            d = min(d * s["dilation_growth"], q)
+        logits = F.conv1d(h, w["head.weight"], w["head.bias"]).squeeze(1)
+        return self.soft_argmax(logits, w["tau"], s["window"])
+
+    @staticmethod
+    def soft_argmax(logits, tau, window):
+        q = logits.shape[-1]
+        if window <= 0 or 2 * window + 1 >= q:
+            return (torch.softmax(logits, -1) * tau).sum(-1)
+        center = logits.argmax(-1, True).clamp(window, q - 1 - window)
+        idx = center + torch.arange(-window, window + 1).unsqueeze(0)
+        z = logits.gather(-1, idx)
+        return (torch.softmax(z, -1) * tau.index_select(0, idx.flatten()).view(idx.shape)).sum(-1)
+
+    def __call__(self, obs):
+        """Class probabilities (batch x C) or delay indices (batch,), as numpy."""
+        with torch.no_grad():
+            g = self.grid(obs)
+            if self.kind == "classifier_spectral":
+                return self.classifier(g)[0].numpy()
+            return self.delay(g).double().numpy()
+
+
+def with_refinement_off(bundle_dir, out_dir):
+    """A copy of bundle_dir in out_dir with decoder.settings.refine_paths = 0; returns out_dir."""
+    with open(os.path.join(bundle_dir, "bundle.json")) as f:
+        info = json.load(f)
+    info["decoder"]["settings"]["refine_paths"] = 0
+    os.makedirs(out_dir, exist_ok=True)
+    for name in (info.get("mask_file", "mask.json"), info.get("weights_file", "decoder.pt")):
+        shutil.copy(os.path.join(bundle_dir, name), os.path.join(out_dir, name))
+    with open(os.path.join(out_dir, "bundle.json"), "w") as f:
+        json.dump(info, f, indent=2)
+    return out_dir
+
+
+def decoders(models, tmp):
+    """(label, C++ call, reference) for the shipped classifier and single-path delay bundles."""
+    from gnuradio import sems
+    cls_dir = os.path.join(models, "classifier")
+    delay_dir = with_refinement_off(os.path.join(models, "delay_single"), os.path.join(tmp, "delay_single"))
+    cls, delay = sems.bundle_decoder(cls_dir, 1), sems.bundle_decoder(delay_dir, 1)
+    return [("classifier", cls.classify, Reference(cls_dir)),
+            ("delay_single, refine off", delay.estimate_delay_index, Reference(delay_dir))]
+
+
+def observations(rng, batch, n_pilots, snr_db=None):
+    """Random pilot observations: a random-phase tone over the pilots plus noise, or pure noise."""
+    z = (rng.standard_normal((batch, n_pilots)) + 1j * rng.standard_normal((batch, n_pilots))) / math.sqrt(2)
+    if snr_db is not None:
+        phase = rng.uniform(0, 2 * math.pi, (batch, 1)) + rng.uniform(-0.6, 0.6, (batch, 1)) * np.arange(n_pilots)
+        z = np.exp(1j * phase) + z * 10 ** (-snr_db / 20)
+    return z.astype(np.complex64)
+
+
+def check(models):
+    """Assert C++ == reference on random frames, and that one perturbed weight breaks it."""
+    torch.set_num_threads(1)
+    rng = np.random.default_rng(7)
+    tol = {"classifier": 1e-4, "delay_single, refine off": 1e-3}
+    failures = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for label, cpp, ref in decoders(models, tmp):
+            obs = np.concatenate([observations(rng, 64, ref.np), observations(rng, 64, ref.np, 20.0),
+                                  observations(rng, 64, ref.np, 0.0) * np.float32(1e3)])
+            a, b = np.asarray(cpp(obs)), ref(obs)
+            err = float(np.max(np.abs(a - b)))
+            print("%-34s %d frames  max |C++ - PyTorch| = %.3g (tolerance %g)" % (label, len(obs), err, tol[label]))
+            if a.shape != b.shape or not err <= tol[label]:
+                failures.append("%s: C++ and the reference disagree by %g" % (label, err))
+            # A test that can fail: one weight of the last layer moved must break the agreement.
+            name = "out.bias" if "out.bias" in ref.w else "head.weight"
+            ref.w[name].view(-1)[0] += 0.5
+            err_p = float(np.max(np.abs(a - ref(obs))))
+            ref.w[name].view(-1)[0] -= 0.5
+            print("%-34s perturbed %s: max difference %.3g" % (label, name, err_p))
+            if not err_p > 10 * tol[label]:
+                failures.append("%s: perturbing %s did not break the agreement (%g)" % (label, name, err_p))
+    for f in failures:
+        print("FAIL", f)
+    return 1 if failures else 0
+
+
+def bench(models, batches, frames, repeat):
+    """Frames/s of the C++ bundle_decoder (through its Python binding, one batch call per
+    batch) and of the reference, 1 intra-op thread, interleaved, best of `repeat`: per wall
+    second and per CPU second of the calling thread (steadier on a shared machine)."""
+    torch.set_num_threads(1)
+    rng = np.random.default_rng(1)
+
+    def rate(fn, obs, calls):
+        t, c = time.perf_counter(), time.thread_time()
+        for _ in range(calls):
+            fn(obs)
+        n = calls * len(obs)
+        return np.array([n / (time.perf_counter() - t), n / max(time.thread_time() - c, 1e-9)])
+
+    print("%-32s %5s %12s %12s %8s %12s %12s %8s" % ("decoder", "batch", "C++ fps", "PyTorch fps", "C++/Py",
+                                                     "C++ fps/CPU", "Py fps/CPU", "C++/Py"))
+    with tempfile.TemporaryDirectory() as tmp:
+        for label, cpp, ref in decoders(models, tmp):
+            for batch in batches:
+                obs = observations(rng, batch, ref.np, 20.0)
+                calls = max(1, frames // batch)
+                for fn in (cpp, ref):  # warm-up
+                    for _ in range(min(calls, 3)):
+                        fn(obs)
+                c, p = np.zeros(2), np.zeros(2)
+                for _ in range(repeat):
+                    c = np.maximum(c, rate(cpp, obs, calls))
+                    p = np.maximum(p, rate(ref, obs, calls))
+                print("%-32s %5d %12.0f %12.0f %7.2fx %12.0f %12.0f %7.2fx"
+                      % (label, batch, c[0], p[0], c[0] / p[0], c[1], p[1], c[1] / p[1]))
+    print("(best of %d runs of max(1, %d // batch) batch calls each, C++ and PyTorch interleaved; "
+          "torch %s, %d intra-op thread; fps/CPU: per CPU second of the calling thread)"
+          % (repeat, frames, torch.__version__, torch.get_num_threads()))
+    return 0
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    default_models = os.path.join(os.environ.get("SEMS_SOURCE_DIR", os.path.join(here, "..")), "models")
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("mode", choices=("check", "bench"))
+    ap.add_argument("--models", default=default_models, help="the bundles' directory")
+    ap.add_argument("--batches", default="1,32,256")
+    ap.add_argument("--frames", type=int, default=2048, help="frames per timed run (bench)")
+    ap.add_argument("--repeat", type=int, default=5, help="timed runs per row; the best counts (bench)")
+    a = ap.parse_args()
+    if a.mode == "check":
+        return check(a.models)
+    return bench(a.models, [int(b) for b in a.batches.split(",")], a.frames, a.repeat)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
