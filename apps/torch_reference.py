@@ -176,7 +176,7 @@ class Reference:
 
     def __call__(self, obs):
         """Class probabilities (batch x C) or delay indices (batch,), as numpy."""
-        with torch.no_grad():
+        with torch.inference_mode():  # as bundle_decoder (c10::InferenceMode)
             g = self.grid(obs)
             if self.kind == "classifier_spectral":
                 return self.classifier(g)[0].numpy()

@@ -12,6 +12,7 @@ struct bundle_decoder::impl {
     model_bundle bundle;
     nn::task_decoder net;
     std::vector<int64_t> indices;
+    torch::Tensor index; // the same as a kLong tensor, built once
     int threads = 0; // intra-op threads of this decoder's inference; 0 = LibTorch's own
 
     // LibTorch's intra-op thread count is per calling thread with its OpenMP backend
@@ -32,7 +33,7 @@ struct bundle_decoder::impl {
         const int np = bundle.mask.size();
         // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
         auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
-        return nn::scatter_pilots(o, indices, bundle.frame.n_symbols, bundle.frame.n_subcarriers);
+        return nn::scatter_pilots(o, index, bundle.frame.n_symbols, bundle.frame.n_subcarriers);
     }
 
     nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
@@ -41,7 +42,9 @@ struct bundle_decoder::impl {
             throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
                                         " is a \"" + task_name(bundle.task) + "\" model");
         use_threads();
-        torch::NoGradGuard ng;
+        // Inference mode: no autograd bookkeeping at all (no version counters or view
+        // tracking), cheaper per op than NoGradGuard; the outputs are copied out below.
+        c10::InferenceMode im;
         return net->forward(grid(obs, batch), mask);
     }
 };
@@ -58,8 +61,9 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     d_impl->net->eval();
     for (int i : bundle.mask.flat_indices())
         d_impl->indices.push_back(i);
+    d_impl->index = torch::tensor(d_impl->indices, torch::kLong);
     auto m = torch::zeros({ bundle.frame.n_symbols * bundle.frame.n_subcarriers });
-    m.index_fill_(0, torch::tensor(d_impl->indices, torch::kLong), 1.0f);
+    m.index_fill_(0, d_impl->index, 1.0f);
     d_impl->mask = m.view({ bundle.frame.n_symbols, bundle.frame.n_subcarriers });
     // The delay decoder's refinement stage fits the pilots where the mask put them.
     if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))

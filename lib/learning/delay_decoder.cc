@@ -131,9 +131,8 @@ decoder_output delay_decoder_module::forward(const torch::Tensor& grid)
         rr = r2;
     }
     auto mag = torch::sqrt(rr * rr + ri * ri + 1e-12);
-    auto feat = torch::cat({ rr, ri, mag }, 1); // B x 3P x Q
-    if (maps.defined())
-        feat = torch::cat({ feat, maps }, 1); // B x (3P + K) x Q
+    // B x (3P + K) x Q, one copy.
+    auto feat = maps.defined() ? torch::cat({ rr, ri, mag, maps }, 1) : torch::cat({ rr, ri, mag }, 1);
     auto h = torch::relu(d_stem_bn->forward(d_stem->forward(feat)));
     if (!d_blocks->is_empty())
         h = d_blocks->forward(h);

@@ -46,8 +46,12 @@ task_decoder make_classifier(int n, int m, int np, const classifier_settings& s)
 
 torch::Tensor scatter_pilots(const torch::Tensor& obs, const std::vector<int64_t>& idx, int n, int m)
 {
+    return scatter_pilots(obs, torch::tensor(idx, torch::kLong), n, m);
+}
+
+torch::Tensor scatter_pilots(const torch::Tensor& obs, const torch::Tensor& index, int n, int m)
+{
     const int64_t b = obs.size(0);
-    auto index = torch::tensor(idx, torch::kLong);
     auto grid = torch::zeros({ b, 2, n * m }, obs.options());
     grid.index_copy_(2, index, obs.permute({ 0, 2, 1 }));
     return grid.view({ b, 2, n, m });

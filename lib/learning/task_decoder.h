@@ -69,6 +69,11 @@ SEMS_LEARNING_API torch::Tensor scatter_pilots(const torch::Tensor& obs,
                                       const std::vector<int64_t>& flat_indices,
                                       int n_symbols,
                                       int n_subcarriers);
+//! The same with the flat indices already a kLong tensor (N_p), for callers that keep one.
+SEMS_LEARNING_API torch::Tensor scatter_pilots(const torch::Tensor& obs,
+                                      const torch::Tensor& flat_index,
+                                      int n_symbols,
+                                      int n_subcarriers);
 // grid B x 2 x N x M -> obs B x N_p x 2 at the given flat indices (mask order).
 SEMS_LEARNING_API torch::Tensor gather_pilots(const torch::Tensor& grid, const std::vector<int64_t>& flat_indices);
 
