@@ -144,7 +144,23 @@ def plot_lines(ax, rows, y, logy=False):
 CRB_LINESTYLE = {"random": "--", "random subcarriers, one symbol": ":", "SemS pilots": "-."}
 
 
+# One colour per (method, mask) for the whole run, so a method keeps its colour across panels
+# and figures (matplotlib's cycle restarts per axes, in each panel's own line order).
+_COLOURS = {}
+
+
+def colour(method, mask=""):
+    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"] + ["#393b79", "#8c6d31", "#843c39", "#7b4173"]
+    return _COLOURS.setdefault((method, mask), palette[len(_COLOURS) % len(palette)])
+
+
 def style(method, mask=""):
+    st = _style(method, mask)
+    st.setdefault("color", colour(method, mask))
+    return st
+
+
+def _style(method, mask=""):
     if method.startswith("Perfect CSI"):
         return dict(linestyle="--", marker="s")
     if method.startswith("SVM"):
@@ -189,8 +205,11 @@ def exp1(d, out):
     rows = read_csv(os.path.join(d, "exp1_recognition.csv"))
     if not rows:
         return None
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    plot_accuracy(rows, "default", axes, "Recognition")
+    # One row per scene: the paper's (approaching targets), then the "any" heading scene.
+    scenes = [s for s in ("default", "any") if any(r["scenario"] == s for r in rows)]
+    fig, axes = plt.subplots(len(scenes), 2, figsize=(11, 4.2 * len(scenes)), squeeze=False)
+    for ax_row, s in zip(axes, scenes):
+        plot_accuracy(rows, s, ax_row, "Recognition" if s == "default" else "Any heading")
     footer(fig, rows)
     fig.tight_layout()
     path = os.path.join(out, "exp1_recognition.png")
