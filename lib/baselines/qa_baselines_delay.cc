@@ -2,6 +2,7 @@
 /* gr-sems: the classical delay estimators (periodogram, OMP, co-array MUSIC) on
  * channels drawn by THE channel model: exact recovery of a noiseless on-grid path,
  * and clear errors on bad input. */
+#include "baselines/qa_baselines_frames.h"
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
 #include <gnuradio/sems/baselines/music_delay_estimator.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
@@ -20,18 +21,6 @@ using namespace gr::sems;
 namespace {
 
 const frame_settings fs{};
-
-// Noiseless pilot observations of a fixed scene, in mask order.
-std::vector<gr_complex> observe(const scene& sc, const pilot_mask& mask)
-{
-    channel_model cm(fs, sc, 5);
-    std::vector<gr_complex> h(fs.grid_size());
-    cm.generate(1, h.data(), 3);
-    std::vector<gr_complex> obs;
-    for (int i : mask.flat_indices())
-        obs.push_back(h[i]);
-    return obs;
-}
 
 // One path, deterministic gain. Delay index idx -> range idx · c/(2B) = idx · 5 m.
 scene one_path(double delay_index, double doppler_hz, bool md = false)
@@ -65,12 +54,12 @@ public:
     {
         // 23.25 is on the 1/8 grid; 125 Hz is on the 1/(2NT) = 15.625 Hz Doppler grid.
         const auto mask = pilot_mask::random(fs.n_symbols, fs.n_subcarriers, 32, 7);
-        const auto obs = observe(one_path(23.25, 125.0), mask);
+        const auto obs = qa::noiseless_observations(fs, one_path(23.25, 125.0), mask);
         periodogram_delay_estimator est(fs, mask);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(23.25, est.estimate_index(obs.data()), 1e-6);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(23.25 / fs.bandwidth_hz, est.estimate_delay_s(obs.data()), 1e-15);
         // Off the grid, the parabola brings the estimate within a small fraction of a step.
-        const auto off = observe(one_path(17.41, 125.0), mask);
+        const auto off = qa::noiseless_observations(fs, one_path(17.41, 125.0), mask);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(17.41, est.estimate_index(off.data()), 0.02);
     }
 
@@ -82,7 +71,7 @@ public:
             for (int j = 0; j < 16; ++j)
                 pos.push_back({ n, 4 * j });
         const pilot_mask mask(fs.n_symbols, fs.n_subcarriers, pos);
-        const auto obs = observe(one_path(2.5, -300.0, true), mask);
+        const auto obs = qa::noiseless_observations(fs, one_path(2.5, -300.0, true), mask);
         periodogram_delay_estimator::settings s;
         s.slow_time = slow_time_model::per_symbol;
         s.search.max_index = 16.0; // one alias period of the spacing-4 lattice
@@ -94,7 +83,7 @@ public:
     {
         const auto mask = pilot_mask::random(fs.n_symbols, fs.n_subcarriers, 32, 7);
         for (double idx : { 0.0, 11.5, 39.875, 63.875 }) {
-            const auto obs = observe(one_path(idx, -250.0), mask);
+            const auto obs = qa::noiseless_observations(fs, one_path(idx, -250.0), mask);
             omp_delay_estimator est(fs, mask);
             CPPUNIT_ASSERT_DOUBLES_EQUAL(idx, est.estimate_index(obs.data()), 1e-12);
             const auto atoms = est.decompose(obs.data());
@@ -113,7 +102,7 @@ public:
         t.paths = { path_spec{ 0.0, 1.0 }, path_spec{ 6.0 * fs.range_per_delay_index_m(), 2.0 } };
         const auto sc = scene::fixed({ t }, std::nullopt, 0, fading_kind::none);
         const auto mask = pilot_mask::random(fs.n_symbols, fs.n_subcarriers, 48, 3);
-        const auto obs = observe(sc, mask);
+        const auto obs = qa::noiseless_observations(fs, sc, mask);
         omp_delay_estimator::settings s;
         s.n_atoms = 2;
         omp_delay_estimator est(fs, mask, s);
@@ -131,7 +120,7 @@ public:
         for (const auto* mask : { &op, &rp })
             for (double idx : { 0.5, 23.25, 47.0 }) {
                 // MUSIC works within symbols: Doppler and micro-Doppler do not matter.
-                const auto obs = observe(one_path(idx, 300.0, true), *mask);
+                const auto obs = qa::noiseless_observations(fs, one_path(idx, 300.0, true), *mask);
                 music_delay_estimator est(fs, *mask);
                 CPPUNIT_ASSERT_DOUBLES_EQUAL(idx, est.estimate_index(obs.data()), 1e-12);
             }
@@ -154,7 +143,7 @@ public:
         // Spacing 8 repeats the pseudo-spectrum every 64/8 = 8 delay indices: exact
         // inside one period, ambiguous over the whole window.
         const auto up = pilot_mask::uniform(fs.n_symbols, fs.n_subcarriers, 32);
-        const auto obs = observe(one_path(21.5, 100.0), up);
+        const auto obs = qa::noiseless_observations(fs, one_path(21.5, 100.0), up);
         music_delay_estimator::settings s;
         s.search.max_index = 8.0;
         music_delay_estimator est(fs, up, s);

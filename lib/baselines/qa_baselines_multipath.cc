@@ -4,6 +4,7 @@
  * LS estimator (exact grid recovery on the grid, exact off it), OMP + LS refinement
  * (removes OMP's grid floor), the multipath CRB (the single-path closed form with one
  * path, never below it with more), and clear errors on bad input. */
+#include "baselines/qa_baselines_frames.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <gnuradio/sems/baselines/ls_delay_estimator.h>
@@ -53,18 +54,6 @@ scene paths_at(const std::vector<double>& delays, double doppler_hz)
     return scene::fixed({ t }, std::nullopt, 0, fading_kind::none);
 }
 
-// Noiseless observations of frame 3 (rows at symbol 3·N: Doppler phases far from zero).
-std::vector<gr_complex> observe(const scene& sc, const pilot_mask& mask)
-{
-    channel_model cm(fs, sc, 5);
-    std::vector<gr_complex> h(fs.grid_size());
-    cm.generate(1, h.data(), 3);
-    std::vector<gr_complex> obs;
-    for (int i : mask.flat_indices())
-        obs.push_back(h[i]);
-    return obs;
-}
-
 double energy(const std::vector<gr_complex>& y)
 {
     double e = 0.0;
@@ -93,7 +82,7 @@ public:
     {
         const auto mask = subcarrier_mask(1, 16);
         const std::vector<double> truth{ 10.3, 11.9, 14.45 };
-        const auto y = observe(paths_at(truth, 150.0), mask);
+        const auto y = qa::noiseless_observations(fs, paths_at(truth, 150.0), mask);
         const multipath_fitter f(fs, mask);
         CPPUNIT_ASSERT(!f.doppler_identifiable());
         const auto fit = f.refine(y.data(), { 10.15, 12.1, 14.3 }, 0.0);
@@ -112,7 +101,7 @@ public:
     {
         const auto mask = subcarrier_mask(2, 4, 20); // two symbols, 16 apart
         const std::vector<double> truth{ 22.2, 24.7 };
-        const auto y = observe(paths_at(truth, 130.0), mask);
+        const auto y = qa::noiseless_observations(fs, paths_at(truth, 130.0), mask);
         const multipath_fitter f(fs, mask);
         CPPUNIT_ASSERT(f.doppler_identifiable());
         const auto fit = f.refine(y.data(), { 22.0, 24.9 }, 125.0);
@@ -125,7 +114,7 @@ public:
     {
         const auto mask = subcarrier_mask(3, 8);
         const std::vector<double> truth{ 30.1, 31.6, 35.2 };
-        const auto y = observe(paths_at(truth, 60.0), mask);
+        const auto y = qa::noiseless_observations(fs, paths_at(truth, 60.0), mask);
         const multipath_fitter f(fs, mask);
         const auto fit = f.refine_anchored(y.data(), 30.3, 3, 7.0);
         for (int l = 0; l < 3; ++l)
@@ -142,7 +131,7 @@ public:
         const ls_delay_estimator est(fs, mask, s);
         // On the 1/8 grid: the grid search alone is exact.
         const std::vector<double> on{ 12.625, 14.0, 16.375 };
-        const auto y_on = observe(paths_at(on, 80.0), mask);
+        const auto y_on = qa::noiseless_observations(fs, paths_at(on, 80.0), mask);
         auto g = est.grid_search(y_on.data()).delay_index;
         std::sort(g.begin(), g.end());
         for (int l = 0; l < 3; ++l)
@@ -151,7 +140,7 @@ public:
         CPPUNIT_ASSERT_DOUBLES_EQUAL(on[0], est.estimate_index(y_on.data()), 1e-6);
         // Off the grid: the least-squares stage removes the grid mismatch.
         const std::vector<double> off{ 7.31, 8.77, 12.04 };
-        const auto y_off = observe(paths_at(off, 80.0), mask);
+        const auto y_off = qa::noiseless_observations(fs, paths_at(off, 80.0), mask);
         const auto fit = est.fit(y_off.data());
         for (int l = 0; l < 3; ++l)
             CPPUNIT_ASSERT_DOUBLES_EQUAL(off[l], fit.delay_index[l], 1e-6);
@@ -162,7 +151,7 @@ public:
     {
         const auto mask = pilot_mask::random(fs.n_symbols, fs.n_subcarriers, 32, 1);
         const std::vector<double> truth{ 20.37, 23.81 };
-        const auto y = observe(paths_at(truth, 170.0), mask);
+        const auto y = qa::noiseless_observations(fs, paths_at(truth, 170.0), mask);
         omp_delay_estimator::settings s;
         s.n_atoms = 2;
         const omp_delay_estimator grid_only(fs, mask, s);

@@ -24,6 +24,22 @@ uint64_t splitmix64(uint64_t& x)
     return z ^ (z >> 31);
 }
 
+// One xoshiro128+ output of a lane's state, and the state advanced (inlined into the lane
+// loop below, which the compiler vectorises across lanes).
+inline __attribute__((always_inline)) uint32_t
+xoshiro128plus(uint32_t& s0, uint32_t& s1, uint32_t& s2, uint32_t& s3)
+{
+    const uint32_t out = s0 + s3;
+    const uint32_t t = s1 << 9;
+    s2 ^= s0;
+    s3 ^= s1;
+    s1 ^= s2;
+    s0 ^= s3;
+    s2 ^= t;
+    s3 = (s3 << 11) | (s3 >> 21);
+    return out;
+}
+
 constexpr int L = gaussian_generator::lanes;
 constexpr int steps = gaussian_generator::block / L;
 
@@ -41,22 +57,8 @@ void generate_block(uint32_t* __restrict s0,
         float* __restrict o = out + 2 * step * L;
         for (int k = 0; k < L; ++k) {
             // xoshiro128+, twice: a for the radius, b for the angle (upper bits used).
-            uint32_t a = s0[k] + s3[k];
-            uint32_t t = s1[k] << 9;
-            s2[k] ^= s0[k];
-            s3[k] ^= s1[k];
-            s1[k] ^= s2[k];
-            s0[k] ^= s3[k];
-            s2[k] ^= t;
-            s3[k] = (s3[k] << 11) | (s3[k] >> 21);
-            const uint32_t b = s0[k] + s3[k];
-            t = s1[k] << 9;
-            s2[k] ^= s0[k];
-            s3[k] ^= s1[k];
-            s1[k] ^= s2[k];
-            s0[k] ^= s3[k];
-            s2[k] ^= t;
-            s3[k] = (s3[k] << 11) | (s3[k] >> 21);
+            const uint32_t a = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
+            const uint32_t b = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
 
             // u in [2^-32, 1]: 31 random bits, never 0.
             const float u = static_cast<float>(static_cast<int32_t>(a >> 1)) * 0x1p-31f + 0x1p-32f;
