@@ -52,6 +52,7 @@ class Reference:
         self.mask = torch.zeros(self.n * self.m)
         self.mask[self.index] = 1.0
         self.mask = self.mask.view(self.n, self.m)
+        self.cols = (self.mask.sum(0) > 0).nonzero().squeeze(1)  # the subcarriers with pilots
         weights = os.path.join(bundle_dir, self.info.get("weights_file", "decoder.pt"))
         self.w = {k: v.detach().clone() for k, v in torch.jit.load(weights).state_dict().items()}
         self.kind = self.info["decoder"]["kind"]
@@ -75,6 +76,11 @@ class Reference:
         g = torch.zeros(o.shape[0], 2, self.n * self.m)
         g.index_copy_(2, self.index, o.permute(0, 2, 1))
         g = g.view(-1, 2, self.n, self.m)
+        if self.kind == "classifier_spectral":
+            # As the C++ does with a fixed mask: only the subcarriers that carry pilots (the
+            # others are zero and add nothing to the normalisation, the profile or the
+            # zero-Doppler means).
+            g = g.index_select(3, self.cols)
         peak = g.abs().flatten(1).amax(1).clamp_min(1e-30).view(-1, 1, 1, 1)
         g = g / peak
         power = (g * g).flatten(1).sum(1) / self.np
@@ -96,8 +102,9 @@ class Reference:
 
     def classifier(self, g):
         w, mti = self.w, self.s.get("mti", "none")
+        mask = self.mask.index_select(1, self.cols)  # g has only these columns (see grid)
         if mti != "none":  # remove_zero_doppler: each subcarrier's mean over its pilots
-            clean = g - self.mask * (g.sum(2, True) / self.mask.sum(0, True).clamp_min(1.0))
+            clean = g - mask * (g.sum(2, True) / mask.sum(0, True).clamp_min(1.0))
         x = (self.profile(g).unsqueeze(1) if mti == "none" else self.profile(clean).unsqueeze(1) if mti == "mean"
              else torch.stack([self.profile(g), self.profile(clean)], 1))
         x = self.bn(x, "bn")

@@ -24,7 +24,10 @@ struct bundle_decoder::impl {
         if (threads > 0 && at::get_num_threads() != threads)
             at::set_num_threads(threads);
     }
-    torch::Tensor mask; // N x M, 1 at the pilots
+    torch::Tensor mask; // N x M, 1 at the pilots (N x M' for a compact grid, see below)
+    // The spectral classifier reads only the subcarriers that carry pilots: its input grid
+    // is built with those M' columns alone (no dense N x M grid per frame).
+    int grid_columns = 0; // M, or M' for the spectral classifier
 
     torch::Tensor grid(const gr_complex* obs, int batch) const
     {
@@ -33,7 +36,7 @@ struct bundle_decoder::impl {
         const int np = bundle.mask.size();
         // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
         auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
-        return nn::scatter_pilots(o, index, bundle.frame.n_symbols, bundle.frame.n_subcarriers);
+        return nn::scatter_pilots(o, index, bundle.frame.n_symbols, grid_columns);
     }
 
     nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
@@ -59,12 +62,29 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
                                    bundle.mask.size(), source);
     nn::load_module(d_impl->net, bundle.weights_path()); // the weights file bundle.json names
     d_impl->net->eval();
+    const int n = bundle.frame.n_symbols, msub = bundle.frame.n_subcarriers;
     for (int i : bundle.mask.flat_indices())
         d_impl->indices.push_back(i);
-    d_impl->index = torch::tensor(d_impl->indices, torch::kLong);
-    auto m = torch::zeros({ bundle.frame.n_symbols * bundle.frame.n_subcarriers });
+    // Grid columns: all M, or for the spectral classifier only the occupied subcarriers
+    // (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
+    std::vector<int64_t> grid_indices = d_impl->indices;
+    d_impl->grid_columns = msub;
+    if (bundle.decoder.value("kind", std::string()) == "classifier_spectral") {
+        std::vector<int> column(msub, -1);
+        for (int64_t i : d_impl->indices)
+            column[i % msub] = 0;
+        int next = 0;
+        for (auto& c : column)
+            if (c == 0)
+                c = next++;
+        d_impl->grid_columns = next;
+        for (auto& i : grid_indices)
+            i = (i / msub) * next + column[i % msub];
+    }
+    d_impl->index = torch::tensor(grid_indices, torch::kLong);
+    auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });
     m.index_fill_(0, d_impl->index, 1.0f);
-    d_impl->mask = m.view({ bundle.frame.n_symbols, bundle.frame.n_subcarriers });
+    d_impl->mask = m.view({ n, d_impl->grid_columns });
     // The delay decoder's refinement stage fits the pilots where the mask put them.
     if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
         dd->set_pilot_positions(bundle.frame, d_impl->indices);

@@ -55,6 +55,7 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     auto arg = kn.to(torch::kDouble) * (2.0 * M_PI / k);
     d_cos = torch::cos(arg).to(torch::kFloat);
     d_sin = torch::sin(arg).to(torch::kFloat);
+    d_dft = torch::cat({ torch::cat({ d_cos, d_sin }, 1), torch::cat({ -d_sin, d_cos }, 1) }, 0); // 2K x 2N
     const int ch = s.mti == "both" ? 2 : 1;
     d_bn = register_module("bn", torch::nn::BatchNorm1d(ch));
     auto conv = [&](int in, int out) {
@@ -71,24 +72,44 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
 torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& g) const
 {
     // g: B x 2 x N x M. F = W y over slow time: (re + j im)(cos - j sin).
-    const auto re = g.select(1, 0), im = g.select(1, 1); // B x N x M
-    const auto fr = torch::matmul(d_cos, re) + torch::matmul(d_sin, im); // B x K x M
-    const auto fi = torch::matmul(d_cos, im) - torch::matmul(d_sin, re);
-    auto s = (fr * fr + fi * fi).sum(2); // B x K
+    // One real product: [fr; fi] = [[cos, sin], [-sin, cos]] [re; im] (2K x 2N times B x 2N x M).
+    const auto b = g.size(0), m = g.size(3);
+    const auto f = torch::matmul(d_dft, g.reshape({ b, 2 * d_n, m })); // B x 2K x M
+    auto s = f.square().view({ b, 2, d_s.doppler_bins, m }).sum({ 1, 3 }); // B x K
     s = s / (s.mean(1, true) + 1e-12);
     return torch::log(s + 1e-3);
 }
 
 torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& grid, const torch::Tensor& mask) const
 {
-    if (grid.dim() != 4 || grid.size(1) != 2 || grid.size(2) != d_n || grid.size(3) != d_m)
+    // A compact grid (only some subcarriers, with the mask of those columns, no gradient)
+    // is accepted too: the profile sums over subcarriers, so absent ones count as zeros.
+    const bool compact = grid.dim() == 4 && grid.size(3) < d_m && mask.dim() == 2 &&
+                         mask.size(1) == grid.size(3) && !grid.requires_grad();
+    if (grid.dim() != 4 || grid.size(1) != 2 || grid.size(2) != d_n || (grid.size(3) != d_m && !compact))
         throw std::invalid_argument("spectral classifier: grid of shape " + c10::str(grid.sizes()) +
-                                    " is not B x 2 x " + std::to_string(d_n) + " x " + std::to_string(d_m));
+                                    " is not B x 2 x " + std::to_string(d_n) + " x " + std::to_string(d_m) +
+                                    " (nor B x 2 x N x M' with an N x M' mask of the same columns)");
     mask4(mask, grid); // shape check
-    const auto g = normalise_frames(grid, d_np);
+    auto g = grid;
+    auto m = mask;
+    // A fixed mask and no gradient to carry (inference, decoder-only training): the grid is
+    // zero on the subcarriers without pilots, which add nothing to the profile's sum over
+    // subcarriers nor to the zero-Doppler means, so only the occupied columns are transformed
+    // (a mask on 2 of 64 subcarriers costs 1/32 of the dense DFT and of the normalisation's
+    // temporaries). A learned mask keeps the
+    // dense path: its gradient reaches the encoder through every element.
+    if (!compact && mask.dim() == 2 && !g.requires_grad() && !mask.requires_grad()) {
+        const auto cols = (mask.sum(0) > 0).nonzero().squeeze(1);
+        if (cols.size(0) < g.size(3)) {
+            g = g.index_select(3, cols);
+            m = mask.index_select(1, cols);
+        }
+    }
+    g = normalise_frames(g, d_np); // per frame, over its pilots (the zeros add nothing)
     if (d_s.mti == "none")
         return power_profile(g).unsqueeze(1);
-    const auto clean = remove_zero_doppler(g, mask);
+    const auto clean = remove_zero_doppler(g, m);
     if (d_s.mti == "mean")
         return power_profile(clean).unsqueeze(1);
     return torch::stack({ power_profile(g), power_profile(clean) }, 1);

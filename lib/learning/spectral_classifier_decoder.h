@@ -61,6 +61,7 @@ private:
     int d_n, d_m, d_np;
     classifier_settings d_s;
     torch::Tensor d_cos, d_sin; // K x N DFT matrix (fixed, not a parameter)
+    torch::Tensor d_dft;        // [[cos, sin], [-sin, cos]], 2K x 2N: the real form of the complex DFT
     torch::nn::BatchNorm1d d_bn{ nullptr };
     torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr };
