@@ -53,15 +53,23 @@ class Reference:
         self.mask[self.index] = 1.0
         self.mask = self.mask.view(self.n, self.m)
         self.cols = (self.mask.sum(0) > 0).nonzero().squeeze(1)  # the subcarriers with pilots
+        self.grid_m, self.grid_index = self.m, self.index
+        if self.info["decoder"]["kind"] == "classifier_spectral":
+            column = torch.full((self.m,), -1, dtype=torch.long)
+            column[self.cols] = torch.arange(len(self.cols))
+            self.grid_m = len(self.cols)
+            self.grid_index = (self.index // self.m) * self.grid_m + column[self.index % self.m]
         weights = os.path.join(bundle_dir, self.info.get("weights_file", "decoder.pt"))
         self.w = {k: v.detach().clone() for k, v in torch.jit.load(weights).state_dict().items()}
         self.kind = self.info["decoder"]["kind"]
+        self.dense = {}  # the small convolutions' dense matrices, built on first use
         self.s = self.info["decoder"]["settings"]
         if self.kind == "classifier_spectral":
             k = self.s["doppler_bins"]
             kn = torch.remainder(torch.arange(k).unsqueeze(1) * torch.arange(self.n).unsqueeze(0), k)
             arg = kn.double() * (2.0 * math.pi / k)  # exact phases, as the C++ builds them
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
+            self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
         elif self.kind == "delay_correlation":
             if self.s.get("refine_paths", 0) > 0:
                 print("torch_reference: %s has refine_paths = %d; the reference runs the network only "
@@ -73,14 +81,12 @@ class Reference:
     # -- input, as bundle_decoder.cc and task_decoder.cc prepare it
     def grid(self, obs):
         o = torch.view_as_real(torch.from_numpy(np.ascontiguousarray(obs, dtype=np.complex64)))  # B x N_p x 2
-        g = torch.zeros(o.shape[0], 2, self.n * self.m)
-        g.index_copy_(2, self.index, o.permute(0, 2, 1))
-        g = g.view(-1, 2, self.n, self.m)
-        if self.kind == "classifier_spectral":
-            # As the C++ does with a fixed mask: only the subcarriers that carry pilots (the
-            # others are zero and add nothing to the normalisation, the profile or the
-            # zero-Doppler means).
-            g = g.index_select(3, self.cols)
+        # As bundle_decoder does: the spectral classifier's grid holds only the subcarriers that
+        # carry pilots (the others are zero and add nothing to the normalisation, the profile
+        # or the zero-Doppler means).
+        g = torch.zeros(o.shape[0], 2, self.n * self.grid_m)
+        g.index_copy_(2, self.grid_index, o.permute(0, 2, 1))
+        g = g.view(-1, 2, self.n, self.grid_m)
         peak = g.abs().flatten(1).amax(1).clamp_min(1e-30).view(-1, 1, 1, 1)
         g = g / peak
         power = (g * g).flatten(1).sum(1) / self.np
@@ -93,12 +99,31 @@ class Reference:
 
     # -- classifier_spectral
     def profile(self, g):
-        re, im = g[:, 0], g[:, 1]
-        fr = torch.matmul(self.dft_cos, re) + torch.matmul(self.dft_sin, im)
-        fi = torch.matmul(self.dft_cos, im) - torch.matmul(self.dft_sin, re)
-        s = (fr * fr + fi * fi).sum(2)
+        # As the C++: one real product [fr; fi] = [[cos, sin], [-sin, cos]] [re; im].
+        b, m, k = g.shape[0], g.shape[3], self.dft_cos.shape[0]
+        f = torch.matmul(self.dft, g.reshape(b, 2 * self.n, m))
+        s = f.square().view(b, 2, k, m).sum((1, 3))
         s = s / (s.mean(1, True) + 1e-12)
         return torch.log(s + 1e-3)
+
+    # The C++ inference's convolution: small ones as one product with their dense circulant
+    # matrix (spectral_classifier_decoder.cc, dense_conv_max_macs), large ones through conv1d.
+    def conv(self, x, name, p):
+        w, b = self.w[name + ".weight"], self.w[name + ".bias"]
+        co, ci, k = w.shape
+        bins = x.shape[2]
+        if co * ci * bins * bins > 65536:
+            return F.conv1d(F.pad(x, (p, p), mode="circular"), w, b)
+        if name not in self.dense:
+            shift = torch.zeros(k, bins, bins)  # [j, s, t]
+            for j in range(k):
+                for t in range(bins):
+                    shift[j, (t + j - k // 2) % bins, t] = 1.0
+            d = torch.matmul(w.reshape(co * ci, k), shift.reshape(k, bins * bins))
+            self.dense[name] = (d.view(co, ci, bins, bins).permute(1, 2, 0, 3).reshape(ci * bins, co * bins)
+                                .contiguous(), b.repeat_interleave(bins).contiguous())
+        m, bias = self.dense[name]
+        return torch.addmm(bias, x.reshape(x.shape[0], ci * bins), m).view(x.shape[0], co, bins)
 
     def classifier(self, g):
         w, mti = self.w, self.s.get("mti", "none")
@@ -109,8 +134,8 @@ class Reference:
              else torch.stack([self.profile(g), self.profile(clean)], 1))
         x = self.bn(x, "bn")
         p = self.s["kernel"] // 2
-        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv1.weight"], w["conv1.bias"]))
-        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv2.weight"], w["conv2.bias"]))
+        x = F.relu(self.conv(x, "conv1", p))
+        x = F.relu(self.conv(x, "conv2", p))
         x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
         logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])
@@ -209,8 +234,12 @@ def decoders(models, tmp):
     cls_dir = os.path.join(models, "classifier")
     delay_dir = with_refinement_off(os.path.join(models, "delay_single"), os.path.join(tmp, "delay_single"))
     cls, delay = sems.bundle_decoder(cls_dir, 1), sems.bundle_decoder(delay_dir, 1)
-    return [("classifier", cls.classify, Reference(cls_dir)),
-            ("delay_single, refine off", delay.estimate_delay_index, Reference(delay_dir))]
+    out = [("classifier", cls.classify, Reference(cls_dir)),
+           ("delay_single, refine off", delay.estimate_delay_index, Reference(delay_dir))]
+    fast_dir = os.path.join(models, "classifier_fast")  # small convolutions: the dense-matrix path
+    if os.path.exists(os.path.join(fast_dir, "bundle.json")):
+        out.append(("classifier_fast", sems.bundle_decoder(fast_dir, 1).classify, Reference(fast_dir)))
+    return out
 
 
 def observations(rng, batch, n_pilots, snr_db=None):
@@ -226,7 +255,7 @@ def check(models):
     """Assert C++ == reference on random frames, and that one perturbed weight breaks it."""
     torch.set_num_threads(1)
     rng = np.random.default_rng(7)
-    tol = {"classifier": 1e-4, "delay_single, refine off": 1e-3}
+    tol = {"classifier": 1e-4, "classifier_fast": 1e-4, "delay_single, refine off": 1e-3}
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, cpp, ref in decoders(models, tmp):

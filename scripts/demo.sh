@@ -6,9 +6,10 @@
 # models/delay_single) — at several SNRs. Prints the running accuracy and delay MAE of each
 # run, then one table.
 #
-#   bash scripts/demo.sh [--frames N] [--snrs "0 10 20 30"] [--no-build]
+#   bash scripts/demo.sh [--frames N] [--snrs "0 10 20 30"] [--fast] [--no-build]
 #
-# --no-build skips the package check and the build (for a second run). The build directory
+# --fast runs the fast bundles instead (models/classifier_fast, models/delay_single_fast:
+# smaller decoders on the same pilots, see docs/PERFORMANCE.md). --no-build skips the package check and the build (for a second run). The build directory
 # is $SEMS_BUILD_DIR, default ./build; the compiled flowgraph and the logs go to <build>/demo.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -16,12 +17,14 @@ build="${SEMS_BUILD_DIR:-$root/build}"
 frames=2000
 snrs="0 10 20 30"
 do_build=1
+suffix=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
     --snrs) snrs="$2"; shift 2 ;;
     --no-build) do_build=0; shift ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --fast) suffix=_fast; shift ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -31,9 +34,11 @@ if [ "$do_build" -eq 1 ]; then
   "$root/scripts/install_deps.sh"
   "$root/scripts/build.sh"
 fi
-for bundle in classifier delay_single; do
-  if [ ! -f "$root/models/$bundle/bundle.json" ]; then
-    echo "demo.sh: the shipped bundle models/$bundle is missing" >&2
+classifier="$root/models/classifier$suffix"
+delay="$root/models/delay_single$suffix"
+for bundle in "$classifier" "$delay"; do
+  if [ ! -f "$bundle/bundle.json" ]; then
+    echo "demo.sh: the shipped bundle $bundle is missing" >&2
     exit 1
   fi
 done
@@ -51,11 +56,12 @@ fi
 
 for snr in $snrs; do
   echo "== SNR $snr dB, $frames frames =="
-  /usr/bin/python3 -u "$out/sems_demo.py" --frames "$frames" --snr-db "$snr" | tee "$out/snr_$snr.log"
+  /usr/bin/python3 -u "$out/sems_demo.py" --frames "$frames" --snr-db "$snr" \
+    --classifier-bundle "$classifier" --delay-bundle "$delay" | tee "$out/snr_$snr.log"
 done
 
 echo
-echo "SemS demo: $frames random-scene frames per SNR (models/classifier, models/delay_single)"
+echo "SemS demo: $frames random-scene frames per SNR (models/classifier$suffix, models/delay_single$suffix)"
 printf '%8s  %10s  %16s  %12s\n' "SNR (dB)" "accuracy" "delay MAE (idx)" "MAE (m)"
 for snr in $snrs; do
   sed -n 's/^sems_demo: //p' "$out/snr_$snr.log" | tr ' ' '\n' | awk -F= '

@@ -38,6 +38,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(topk_encoder_mask_is_exactly_np_distinct);
     CPPUNIT_TEST(mti_removes_static_path_exactly);
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
+    CPPUNIT_TEST(spectral_decoder_inference_paths_match);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
     CPPUNIT_TEST(decoder_shapes_and_scale_invariance);
     CPPUNIT_TEST_SUITE_END();
@@ -248,6 +249,50 @@ public:
         cs.mti = "none";
         spectral_classifier_decoder_module raw(n, m, 400, cs);
         CPPUNIT_ASSERT(!torch::allclose(raw.profile(both, mask), raw.profile(only_target, mask), 1e-2, 1e-2));
+    }
+
+    // The inference shortcuts compute what the training path computes: the occupied
+    // columns only (dense grid and compact grid), the small convolutions as dense circulant
+    // products (refreshed when the weights change), the large ones through conv1d.
+    void spectral_decoder_inference_paths_match()
+    {
+        torch::manual_seed(15);
+        const int n = 32, m = 64, np = 32;
+        auto mask = torch::zeros({ n, m });
+        mask.select(1, 14).slice(0, 0, 15).fill_(1.0f);
+        mask.select(1, 17).slice(0, 15, 32).fill_(1.0f);
+        const auto cols = torch::tensor({ 14, 17 }, torch::kLong);
+        for (int width : { 4, 16 }) { // 4: both convolutions dense; 16: the second through conv1d
+            for (const char* mti : { "none", "both" }) {
+                classifier_settings cs;
+                cs.width = width;
+                cs.mti = mti;
+                cs.doppler_bins = 32;
+                spectral_classifier_decoder_module dec(n, m, np, cs);
+                dec.eval();
+                auto grid = torch::randn({ 5, 2, n, m }) * mask;
+                grid.requires_grad_(true); // the reference: the dense path with autograd on
+                const auto ref = dec.forward(grid, mask).logits.detach();
+                torch::NoGradGuard ng;
+                const auto dense = dec.forward(grid.detach(), mask).logits;
+                const auto compact = dec.forward(grid.detach().index_select(3, cols).contiguous(),
+                                                 mask.index_select(1, cols).contiguous()).logits;
+                CPPUNIT_ASSERT(torch::allclose(dense, ref, 1e-4, 1e-5));
+                CPPUNIT_ASSERT(torch::allclose(compact, ref, 1e-4, 1e-5));
+                // New weights: the cached dense matrices follow them.
+                for (auto& p : dec.parameters())
+                    p.add_(0.1 * torch::randn_like(p));
+                grid.requires_grad_(false);
+                torch::Tensor ref2;
+                {
+                    torch::AutoGradMode on(true);
+                    auto g2 = grid.detach().clone().requires_grad_(true);
+                    ref2 = dec.forward(g2, mask).logits.detach();
+                }
+                CPPUNIT_ASSERT(!torch::allclose(ref2, ref, 1e-3, 1e-3));
+                CPPUNIT_ASSERT(torch::allclose(dec.forward(grid, mask).logits, ref2, 1e-4, 1e-5));
+            }
+        }
     }
 
     void spectral_decoder_phase_invariant_on_any_mask()

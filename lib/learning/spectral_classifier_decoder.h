@@ -29,6 +29,7 @@
 
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/learning/network_settings.h>
+#include <mutex>
 
 namespace gr {
 namespace sems {
@@ -57,6 +58,15 @@ public:
 
 private:
     torch::Tensor power_profile(const torch::Tensor& grid) const;
+    // A convolution's output without autograd: a small one as one product with its dense
+    // circulant matrix (cached per weight version), a large one through conv1d.
+    struct dense_conv {
+        std::mutex lock;
+        torch::Tensor matrix, bias; // (C_in K) x (C_out K) and C_out K, (channel, bin) order
+        int64_t version = -1;
+        const void* data = nullptr;
+    };
+    torch::Tensor inference_conv(torch::nn::Conv1d conv, dense_conv& cache, const torch::Tensor& x) const;
 
     int d_n, d_m, d_np;
     classifier_settings d_s;
@@ -65,6 +75,7 @@ private:
     torch::nn::BatchNorm1d d_bn{ nullptr };
     torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr };
+    mutable dense_conv d_dense1, d_dense2;
 };
 
 } // namespace nn
