@@ -108,11 +108,13 @@ class Reference:
 
     # The C++ inference's convolution: small ones as one product with their dense circulant
     # matrix (spectral_classifier_decoder.cc, dense_conv_max_macs), large ones through conv1d.
-    def conv(self, x, name, p):
+    def conv(self, x, name, p, with_bn=False):
         w, b = self.w[name + ".weight"], self.w[name + ".bias"]
         co, ci, k = w.shape
         bins = x.shape[2]
         if co * ci * bins * bins > 65536:
+            if with_bn:
+                x = self.bn(x, "bn")
             return F.conv1d(F.pad(x, (p, p), mode="circular"), w, b)
         if name not in self.dense:
             shift = torch.zeros(k, bins, bins)  # [j, s, t]
@@ -120,8 +122,14 @@ class Reference:
                 for t in range(bins):
                     shift[j, (t + j - k // 2) % bins, t] = 1.0
             d = torch.matmul(w.reshape(co * ci, k), shift.reshape(k, bins * bins))
-            self.dense[name] = (d.view(co, ci, bins, bins).permute(1, 2, 0, 3).reshape(ci * bins, co * bins)
-                                .contiguous(), b.repeat_interleave(bins).contiguous())
+            m = d.view(co, ci, bins, bins).permute(1, 2, 0, 3).reshape(ci * bins, co * bins)
+            bias = b.repeat_interleave(bins)
+            if with_bn:  # the BatchNorm in front folded in, as the C++ does
+                scale = self.w["bn.weight"] / torch.sqrt(self.w["bn.running_var"] + 1e-5)
+                offset = self.w["bn.bias"] - self.w["bn.running_mean"] * scale
+                bias = bias + torch.matmul(offset.repeat_interleave(bins), m)
+                m = m * scale.repeat_interleave(bins).unsqueeze(1)
+            self.dense[name] = (m.contiguous(), bias.contiguous())
         m, bias = self.dense[name]
         return torch.addmm(bias, x.reshape(x.shape[0], ci * bins), m).view(x.shape[0], co, bins)
 
@@ -132,9 +140,8 @@ class Reference:
             clean = g - mask * (g.sum(2, True) / mask.sum(0, True).clamp_min(1.0))
         x = (self.profile(g).unsqueeze(1) if mti == "none" else self.profile(clean).unsqueeze(1) if mti == "mean"
              else torch.stack([self.profile(g), self.profile(clean)], 1))
-        x = self.bn(x, "bn")
         p = self.s["kernel"] // 2
-        x = F.relu(self.conv(x, "conv1", p))
+        x = F.relu(self.conv(x, "conv1", p, with_bn=True))  # BatchNorm, conv1
         x = F.relu(self.conv(x, "conv2", p))
         x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])

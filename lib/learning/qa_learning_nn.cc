@@ -270,6 +270,15 @@ public:
                 cs.doppler_bins = 32;
                 spectral_classifier_decoder_module dec(n, m, np, cs);
                 dec.eval();
+                {
+                    torch::NoGradGuard ng; // trained-looking BatchNorm statistics (folded at inference)
+                    for (auto& b : dec.named_buffers()) {
+                        if (b.key().find("running_mean") != std::string::npos)
+                            b.value().uniform_(-1.0, 1.0);
+                        if (b.key().find("running_var") != std::string::npos)
+                            b.value().uniform_(0.5, 2.0);
+                    }
+                }
                 auto grid = torch::randn({ 5, 2, n, m }) * mask;
                 grid.requires_grad_(true); // the reference: the dense path with autograd on
                 const auto ref = dec.forward(grid, mask).logits.detach();

@@ -129,15 +129,22 @@ constexpr int64_t dense_conv_max_macs = 65536;
 
 torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv1d conv,
                                                                  dense_conv& cache,
-                                                                 const torch::Tensor& x) const
+                                                                 const torch::Tensor& x,
+                                                                 bool with_bn) const
 {
+    auto bn = d_bn; // a non-const holder
     const auto& w = conv->weight; // C_out x C_in x k
     const int64_t co = w.size(0), ci = w.size(1), k = w.size(2), bins = x.size(2);
     const bool no_grad = c10::InferenceMode::is_enabled() || !torch::GradMode::is_enabled();
     if (is_training() || !no_grad || co * ci * bins * bins > dense_conv_max_macs)
-        return conv->forward(x);
+        return conv->forward(with_bn ? bn->forward(x) : x);
+    std::vector<int64_t> versions{ w._version(), conv->bias._version() };
+    if (with_bn)
+        for (const auto* t : { &bn->weight, &bn->bias, &bn->running_mean, &bn->running_var })
+            versions.push_back(t->_version());
     std::lock_guard<std::mutex> guard(cache.lock);
-    if (!cache.matrix.defined() || cache.version != w._version() || cache.data != w.data_ptr()) {
+    if (!cache.matrix.defined() || cache.versions != versions || cache.data != w.data_ptr()) {
+        torch::NoGradGuard ng;
         // y[o, t] = b[o] + sum_{i, j} w[o, i, j] x[i, (t + j - k/2) mod K] (circular padding):
         // D[(i, s), (o, t)] = sum_j w[o, i, j] [s == (t + j - k/2) mod K].
         auto shift = torch::zeros({ k, bins, bins }); // [j, s, t]
@@ -146,9 +153,18 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
             for (int64_t t = 0; t < bins; ++t)
                 ps[j][((t + j - k / 2) % bins + bins) % bins][t] = 1.0f;
         auto d = torch::matmul(w.detach().reshape({ co * ci, k }), shift.reshape({ k, bins * bins })); // (o,i),(s,t)
-        cache.matrix = d.view({ co, ci, bins, bins }).permute({ 1, 2, 0, 3 }).reshape({ ci * bins, co * bins }).contiguous();
-        cache.bias = conv->bias.detach().repeat_interleave(bins).contiguous();
-        cache.version = w._version();
+        auto m = d.view({ co, ci, bins, bins }).permute({ 1, 2, 0, 3 }).reshape({ ci * bins, co * bins });
+        auto b = conv->bias.detach().repeat_interleave(bins);
+        if (with_bn) {
+            // The BatchNorm in front (inference: x_i -> scale_i x_i + offset_i) folded in.
+            const auto scale = bn->weight.detach() / torch::sqrt(bn->running_var + bn->options.eps());
+            const auto offset = bn->bias.detach() - bn->running_mean * scale;
+            b = b + torch::matmul(offset.repeat_interleave(bins), m);
+            m = m * scale.repeat_interleave(bins).unsqueeze(1);
+        }
+        cache.matrix = m.contiguous();
+        cache.bias = b.contiguous();
+        cache.versions = versions;
         cache.data = w.data_ptr();
     }
     return torch::addmm(cache.bias, x.reshape({ x.size(0), ci * bins }), cache.matrix).view({ x.size(0), co, bins });
@@ -156,9 +172,8 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
 
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
-    auto x = d_bn->forward(profile(grid, mask));
-    x = torch::relu(inference_conv(d_conv1, d_dense1, x));
-    x = torch::relu(inference_conv(d_conv2, d_dense2, x));
+    auto x = torch::relu(inference_conv(d_conv1, d_dense1, profile(grid, mask), true)); // BatchNorm, conv1
+    x = torch::relu(inference_conv(d_conv2, d_dense2, x, false));
     x = torch::leaky_relu(d_fc1->forward(x.flatten(1)), 0.1);
     decoder_output out;
     out.features = d_fc2->forward(x);

@@ -30,6 +30,7 @@
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/learning/network_settings.h>
 #include <mutex>
+#include <vector>
 
 namespace gr {
 namespace sems {
@@ -63,10 +64,11 @@ private:
     struct dense_conv {
         std::mutex lock;
         torch::Tensor matrix, bias; // (C_in K) x (C_out K) and C_out K, (channel, bin) order
-        int64_t version = -1;
+        std::vector<int64_t> versions; // of the weights it was built from
         const void* data = nullptr;
     };
-    torch::Tensor inference_conv(torch::nn::Conv1d conv, dense_conv& cache, const torch::Tensor& x) const;
+    // with_bn: the BatchNorm first (folded into the dense matrix when there is one).
+    torch::Tensor inference_conv(torch::nn::Conv1d conv, dense_conv& cache, const torch::Tensor& x, bool with_bn) const;
 
     int d_n, d_m, d_np;
     classifier_settings d_s;
