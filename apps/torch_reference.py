@@ -61,6 +61,13 @@ class Reference:
             kn = torch.remainder(torch.arange(k).unsqueeze(1) * torch.arange(self.n).unsqueeze(0), k)
             arg = kn.double() * (2.0 * math.pi / k)  # exact phases, as the C++ builds them
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
+            # The mask's subcarriers only (the others add zeros), and the range gate's DFT.
+            self.used = (self.mask.sum(0) > 0).nonzero().squeeze(1)
+            nl = self.s.get("range_bins", 0)
+            if nl > 0:
+                ml = torch.remainder(self.used.unsqueeze(1) * torch.arange(nl).unsqueeze(0), nl)
+                rarg = ml.double() * (2.0 * math.pi / nl)
+                self.range_cos, self.range_sin = torch.cos(rarg).float(), torch.sin(rarg).float()
         elif self.kind == "delay_correlation":
             if self.s.get("refine_paths", 0) > 0:
                 print("torch_reference: %s has refine_paths = %d; the reference runs the network only "
@@ -87,10 +94,18 @@ class Reference:
 
     # -- classifier_spectral
     def profile(self, g):
+        g = g.index_select(3, self.used)
         re, im = g[:, 0], g[:, 1]
         fr = torch.matmul(self.dft_cos, re) + torch.matmul(self.dft_sin, im)
         fi = torch.matmul(self.dft_cos, im) - torch.matmul(self.dft_sin, re)
-        s = (fr * fr + fi * fi).sum(2)
+        if self.s.get("range_bins", 0) > 0:  # range gate: the Doppler profile of the strongest delay bin
+            rr = torch.matmul(fr, self.range_cos) - torch.matmul(fi, self.range_sin)
+            ri = torch.matmul(fr, self.range_sin) + torch.matmul(fi, self.range_cos)
+            p = rr * rr + ri * ri
+            gate = p.sum(1).argmax(1)
+            s = p.gather(2, gate.view(-1, 1, 1).expand(p.shape[0], p.shape[1], 1)).squeeze(2)
+        else:
+            s = (fr * fr + fi * fi).sum(2)
         s = s / (s.mean(1, True) + 1e-12)
         return torch.log(s + 1e-3)
 

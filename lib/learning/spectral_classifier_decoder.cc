@@ -55,6 +55,19 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     auto arg = kn.to(torch::kDouble) * (2.0 * M_PI / k);
     d_cos = torch::cos(arg).to(torch::kFloat);
     d_sin = torch::sin(arg).to(torch::kFloat);
+    if (s.range_bins < -1)
+        throw std::invalid_argument("spectral classifier decoder: range_bins must be -1 (2·M), 0 (off) or a "
+                                    "bin count, got " + std::to_string(s.range_bins));
+    if (s.range_bins == -1)
+        d_s.range_bins = 2 * m; // recorded resolved in bundle.json (describe())
+    if (d_s.range_bins > 0) {
+        // exp(+j2π m l / L): subcarrier m's delay phase exp(-j2π m τB/M) undone for τB = l·M/L.
+        const int l = d_s.range_bins;
+        auto ml = torch::remainder(torch::arange(m, torch::kLong).unsqueeze(1) * torch::arange(l, torch::kLong).unsqueeze(0), l);
+        auto rarg = ml.to(torch::kDouble) * (2.0 * M_PI / l);
+        d_rcos = torch::cos(rarg).to(torch::kFloat);
+        d_rsin = torch::sin(rarg).to(torch::kFloat);
+    }
     const int ch = s.mti == "both" ? 2 : 1;
     d_bn = register_module("bn", torch::nn::BatchNorm1d(ch));
     auto conv = [&](int in, int out) {
@@ -68,13 +81,28 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
 }
 
-torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& g) const
+torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& grid,
+                                                                const torch::Tensor& used) const
 {
-    // g: B x 2 x N x M. F = W y over slow time: (re + j im)(cos - j sin).
-    const auto re = g.select(1, 0), im = g.select(1, 1); // B x N x M
+    // g: B x 2 x N x M_used. F = W y over slow time: (re + j im)(cos - j sin).
+    const auto g = used.defined() ? grid.index_select(3, used) : grid;
+    const auto rcos = used.defined() && d_rcos.defined() ? d_rcos.index_select(0, used) : d_rcos;
+    const auto rsin = used.defined() && d_rsin.defined() ? d_rsin.index_select(0, used) : d_rsin;
+    const auto re = g.select(1, 0), im = g.select(1, 1); // B x N x M_used
     const auto fr = torch::matmul(d_cos, re) + torch::matmul(d_sin, im); // B x K x M
     const auto fi = torch::matmul(d_cos, im) - torch::matmul(d_sin, re);
-    auto s = (fr * fr + fi * fi).sum(2); // B x K
+    torch::Tensor s;
+    if (d_s.range_bins == 0) {
+        s = (fr * fr + fi * fi).sum(2); // B x K: the subcarriers pooled in power
+    } else {
+        // Range gate: R[k,l] = Σ_m F[k,m] exp(+j2π m l / L), then the Doppler profile of the
+        // delay bin with the most energy (a single target sits in one bin at every Doppler).
+        const auto rr = torch::matmul(fr, rcos) - torch::matmul(fi, rsin); // B x K x L
+        const auto ri = torch::matmul(fr, rsin) + torch::matmul(fi, rcos);
+        const auto p = rr * rr + ri * ri;
+        const auto gate = std::get<1>(p.detach().sum(1).max(1)); // B: the strongest delay bin
+        s = p.gather(2, gate.view({ -1, 1, 1 }).expand({ p.size(0), p.size(1), 1 })).squeeze(2);
+    }
     s = s / (s.mean(1, true) + 1e-12);
     return torch::log(s + 1e-3);
 }
@@ -85,13 +113,20 @@ torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& g
         throw std::invalid_argument("spectral classifier: grid of shape " + c10::str(grid.sizes()) +
                                     " is not B x 2 x " + std::to_string(d_n) + " x " + std::to_string(d_m));
     mask4(mask, grid); // shape check
+    // A fixed mask (a sink's, or the decoder phase of training): only its subcarriers carry
+    // pilots, so the transforms skip the empty ones (exact: they add zeros). While the
+    // encoder learns, the mask carries a gradient and every subcarrier stays in, because
+    // the encoder's gradient at an unpicked element flows through the decoder's input there.
+    torch::Tensor used;
+    if (mask.dim() == 2 && !mask.requires_grad())
+        used = (mask.detach().sum(0) > 0).nonzero().squeeze(1);
     const auto g = normalise_frames(grid, d_np);
     if (d_s.mti == "none")
-        return power_profile(g).unsqueeze(1);
+        return power_profile(g, used).unsqueeze(1);
     const auto clean = remove_zero_doppler(g, mask);
     if (d_s.mti == "mean")
-        return power_profile(clean).unsqueeze(1);
-    return torch::stack({ power_profile(g), power_profile(clean) }, 1);
+        return power_profile(clean, used).unsqueeze(1);
+    return torch::stack({ power_profile(g, used), power_profile(clean, used) }, 1);
 }
 
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor&)
