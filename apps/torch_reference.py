@@ -117,8 +117,9 @@ class Reference:
              else torch.stack([self.profile(g), self.profile(clean)], 1))
         x = self.bn(x, "bn")
         p = self.s["kernel"] // 2
-        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv1.weight"], w["conv1.bias"]))
-        x = F.relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv2.weight"], w["conv2.bias"]))
+        slope = self.s.get("conv_slope", 0.0)  # absent: the legacy ReLU
+        x = F.leaky_relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv1.weight"], w["conv1.bias"]), slope)
+        x = F.leaky_relu(F.conv1d(F.pad(x, (p, p), mode="circular"), w["conv2.weight"], w["conv2.bias"]), slope)
         x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
         logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])

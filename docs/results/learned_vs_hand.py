@@ -35,12 +35,17 @@ def name(scene, method, seed):
 def run(a):
     os.makedirs(a.out, exist_ok=True)
     jobs = [(sc, me, sd) for sd in a.seeds for sc in a.scenes for me in METHODS]
-    for i, (sc, me, sd) in enumerate(jobs):
-        if i % a.parts != a.part:
+    order = list(enumerate(jobs))
+    if a.reverse:
+        order.reverse()
+    for i, (sc, me, sd) in order:
+        if a.parts > 1 and i % a.parts != a.part:
             continue
         d = os.path.join(a.out, name(sc, me, sd))
-        if os.path.exists(os.path.join(d, "bundle.json")):
-            print("have", d, flush=True)
+        try:  # a job's log claims it: several processes share one list
+            os.close(os.open(d + ".log", os.O_CREAT | os.O_EXCL))
+        except FileExistsError:
+            print("taken", d, flush=True)
             continue
         cmd = [a.train, "--task", "classify", "--snr-min", "-10", "--snr-max", "30", "--frames", "30000",
                "--batch", "256", "--threads", "1", "--seed", str(sd), "--eval-snr=" + SNRS, "--out", d]
@@ -88,6 +93,7 @@ def main():
     p.add_argument("--scenes", default="default,any")
     p.add_argument("--part", type=int, default=0, help="run: this process's share (0..parts-1)")
     p.add_argument("--parts", type=int, default=1)
+    p.add_argument("--reverse", action="store_true", help="run: take the jobs from the end")
     a = p.parse_args()
     a.seeds = [int(s) for s in a.seeds.split(",")]
     a.scenes = a.scenes.split(",")

@@ -55,6 +55,9 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     auto arg = kn.to(torch::kDouble) * (2.0 * M_PI / k);
     d_cos = torch::cos(arg).to(torch::kFloat);
     d_sin = torch::sin(arg).to(torch::kFloat);
+    if (!(s.conv_slope >= 0.0 && s.conv_slope < 1.0))
+        throw std::invalid_argument("spectral classifier decoder: conv_slope must be in [0, 1), got " +
+                                    std::to_string(s.conv_slope));
     if (s.range_bins < -1)
         throw std::invalid_argument("spectral classifier decoder: range_bins must be -1 (2·M), 0 (off) or a "
                                     "bin count, got " + std::to_string(s.range_bins));
@@ -137,8 +140,8 @@ decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor&)
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
     auto x = d_bn->forward(profile(grid, mask));
-    x = torch::relu(d_conv1->forward(x));
-    x = torch::relu(d_conv2->forward(x));
+    x = torch::leaky_relu(d_conv1->forward(x), d_s.conv_slope); // slope 0: ReLU
+    x = torch::leaky_relu(d_conv2->forward(x), d_s.conv_slope);
     x = torch::leaky_relu(d_fc1->forward(x.flatten(1)), 0.1);
     decoder_output out;
     out.features = d_fc2->forward(x);

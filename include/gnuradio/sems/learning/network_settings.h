@@ -94,6 +94,10 @@ struct SEMS_LEARNING_API classifier_settings {
                             /// decoder: half-bin delay steps); 0 = no gate, the subcarriers'
                             /// Doppler profiles summed in power (the legacy value for bundles
                             /// without this key)
+    double conv_slope = 0.1; ///< spectral: negative slope of the convolutions' activations (leaky
+                             /// ReLU): a cold start on uninformative random masks cannot kill
+                             /// every unit (with 0, plain ReLU, the legacy value for bundles
+                             /// without this key, some seeds never left chance)
     std::string mti = "none"; ///< spectral: zero-Doppler stage, "none" | "mean" (each subcarrier
                               /// minus its mean over its observed symbols: removes static
                               /// clutter exactly, and with it a target at 0 Hz) | "both"
