@@ -70,6 +70,7 @@ class Reference:
             arg = kn.double() * (2.0 * math.pi / k)  # exact phases, as the C++ builds them
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
             self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
+            self.range_bins = self.s.get("range_bins", 0)  # absent: the legacy pooled profile
         elif self.kind == "delay_correlation":
             if self.s.get("refine_paths", 0) > 0:
                 print("torch_reference: %s has refine_paths = %d; the reference runs the network only "
@@ -102,7 +103,19 @@ class Reference:
         # As the C++: one real product [fr; fi] = [[cos, sin], [-sin, cos]] [re; im].
         b, m, k = g.shape[0], g.shape[3], self.dft_cos.shape[0]
         f = torch.matmul(self.dft, g.reshape(b, 2 * self.n, m))
-        s = f.square().view(b, 2, k, m).sum((1, 3))
+        if self.range_bins > 0:  # range gate: the Doppler profile of the strongest delay bin
+            nl = self.range_bins
+            ml = torch.remainder(self.cols.unsqueeze(1) * torch.arange(nl).unsqueeze(0), nl)
+            rarg = ml.double() * (2.0 * math.pi / nl)
+            rc, rs = torch.cos(rarg).float(), torch.sin(rarg).float()
+            fr, fi = f[:, :k], f[:, k:]
+            rr = torch.matmul(fr, rc) - torch.matmul(fi, rs)
+            ri = torch.matmul(fr, rs) + torch.matmul(fi, rc)
+            p = rr * rr + ri * ri
+            gate = p.sum(1).argmax(1)
+            s = p.gather(2, gate.view(-1, 1, 1).expand(p.shape[0], p.shape[1], 1)).squeeze(2)
+        else:
+            s = f.square().view(b, 2, k, m).sum((1, 3))
         s = s / (s.mean(1, True) + 1e-12)
         return torch.log(s + 1e-3)
 
@@ -141,8 +154,9 @@ class Reference:
         x = (self.profile(g).unsqueeze(1) if mti == "none" else self.profile(clean).unsqueeze(1) if mti == "mean"
              else torch.stack([self.profile(g), self.profile(clean)], 1))
         p = self.s["kernel"] // 2
-        x = F.relu(self.conv(x, "conv1", p, with_bn=True))  # BatchNorm, conv1
-        x = F.relu(self.conv(x, "conv2", p))
+        slope = self.s.get("conv_slope", 0.0)  # absent: the legacy ReLU
+        x = F.leaky_relu(self.conv(x, "conv1", p, with_bn=True), slope)  # BatchNorm, conv1
+        x = F.leaky_relu(self.conv(x, "conv2", p), slope)
         x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
         logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])

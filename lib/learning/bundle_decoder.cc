@@ -2,6 +2,7 @@
 /* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include "learning/delay_decoder.h"
+#include "learning/spectral_classifier_decoder.h"
 #include "learning/task_decoder.h"
 #include <stdexcept>
 
@@ -80,6 +81,12 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
         d_impl->grid_columns = next;
         for (auto& i : grid_indices)
             i = (i / msub) * next + column[i % msub];
+        std::vector<int64_t> occupied; // the subcarrier of each compact column (the range gate's phases)
+        for (int m = 0; m < msub; ++m)
+            if (column[m] >= 0)
+                occupied.push_back(m);
+        if (auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net))
+            sc->set_compact_columns(occupied);
     }
     d_impl->index = torch::tensor(grid_indices, torch::kLong);
     auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });

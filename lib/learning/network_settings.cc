@@ -89,6 +89,8 @@ json classifier_settings::to_json() const
     } else {
         j["doppler_bins"] = doppler_bins;
         j["kernel"] = kernel;
+        j["range_bins"] = range_bins;
+        j["conv_slope"] = conv_slope;
         j["mti"] = mti;
     }
     return j;
@@ -112,6 +114,10 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     s.kernel = int_or(j, "kernel", s.kernel, source, 1);
     if (s.kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd");
+    s.range_bins = j.int_or("range_bins", 0, -1, limits::max_network_size); // absent: legacy, no range gate
+    s.conv_slope = j.number_or("conv_slope", 0.0); // absent: legacy, plain ReLU
+    if (!(s.conv_slope >= 0.0 && s.conv_slope < 1.0))
+        json_read::fail(source, "conv_slope", "must be in [0, 1), got " + std::to_string(s.conv_slope));
     s.mti = j.string_or("mti", s.mti);
     if (!known_mti(s.mti))
         json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");

@@ -39,6 +39,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(mti_removes_static_path_exactly);
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
     CPPUNIT_TEST(spectral_decoder_inference_paths_match);
+    CPPUNIT_TEST(spectral_range_gate_closed_forms);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
     CPPUNIT_TEST(decoder_shapes_and_scale_invariance);
     CPPUNIT_TEST_SUITE_END();
@@ -262,14 +263,22 @@ public:
         mask.select(1, 14).slice(0, 0, 15).fill_(1.0f);
         mask.select(1, 17).slice(0, 15, 32).fill_(1.0f);
         const auto cols = torch::tensor({ 14, 17 }, torch::kLong);
+        for (int range_bins : { 0, -1 })
         for (int width : { 4, 16 }) { // 4: both convolutions dense; 16: the second through conv1d
             for (const char* mti : { "none", "both" }) {
                 classifier_settings cs;
                 cs.width = width;
                 cs.mti = mti;
                 cs.doppler_bins = 32;
+                cs.range_bins = range_bins;
                 spectral_classifier_decoder_module dec(n, m, np, cs);
                 dec.eval();
+                if (range_bins != 0) { // the gate's phases need the compact columns' subcarriers
+                    torch::NoGradGuard ng;
+                    CPPUNIT_ASSERT_THROW(dec.forward(torch::zeros({ 1, 2, n, 2 }), mask.index_select(1, cols).contiguous()),
+                                         std::invalid_argument);
+                }
+                dec.set_compact_columns({ 14, 17 });
                 {
                     torch::NoGradGuard ng; // trained-looking BatchNorm statistics (folded at inference)
                     for (auto& b : dec.named_buffers()) {
@@ -308,10 +317,12 @@ public:
     {
         torch::manual_seed(14);
         const int n = 16, m = 24, np = 40;
+        for (const int range_bins : { 0, -1 })
         for (const char* mti : { "none", "mean", "both" }) {
             classifier_settings cs;
             cs.mti = mti;
             cs.doppler_bins = 32;
+            cs.range_bins = range_bins;
             spectral_classifier_decoder_module dec(n, m, np, cs);
             dec.eval();
             for (int trial = 0; trial < 3; ++trial) {
@@ -322,9 +333,15 @@ public:
                 auto out = dec.forward(grid, mask);
                 CPPUNIT_ASSERT_EQUAL(int64_t(3), out.logits.size(1));
                 CPPUNIT_ASSERT_EQUAL(int64_t(16), out.features.size(1));
-                // A phase per subcarrier (the target's delay) and one per frame (its gain),
-                // and a gain of 1e-20 or 1e20: the same answer.
-                auto phase = torch::rand({ 4, 1, 1, m }) * 2 * M_PI + torch::rand({ 4, 1, 1, 1 }) * 2 * M_PI;
+                // A phase per subcarrier (the target's delay: without the range gate any
+                // phase per subcarrier, with it a delay ramp exp(-j2π m l0 / L) on the gate's
+                // grid, which moves the target to another delay bin) and one per frame (its
+                // gain), and a gain of 1e-20 or 1e20: the same answer.
+                const auto mm = torch::arange(m, torch::kDouble).view({ 1, 1, 1, m });
+                const auto l0 = torch::randint(0, 2 * m, { 4, 1, 1, 1 }, torch::kLong).to(torch::kDouble);
+                auto per_subcarrier = range_bins == 0 ? torch::rand({ 4, 1, 1, m }) * 2 * M_PI
+                                                      : (-2 * M_PI / (2 * m) * torch::remainder(mm * l0, 2 * m)).to(torch::kFloat);
+                auto phase = per_subcarrier + torch::rand({ 4, 1, 1, 1 }) * 2 * M_PI;
                 auto re = grid.select(1, 0).unsqueeze(1), im = grid.select(1, 1).unsqueeze(1);
                 auto c = torch::cos(phase), s = torch::sin(phase);
                 auto rotated = torch::cat({ re * c - im * s, re * s + im * c }, 1);
@@ -347,8 +364,46 @@ public:
         bad.doppler_bins = n - 1;
         CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, np, bad), std::invalid_argument);
         bad = classifier_settings{};
+        bad.range_bins = -2;
+        CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, np, bad), std::invalid_argument);
+        bad = classifier_settings{};
         bad.mti = "median";
         CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, np, bad), std::invalid_argument);
+    }
+
+    void spectral_range_gate_closed_forms()
+    {
+        // One target on an on-grid Doppler bin k0 and delay bin l0 (noiseless):
+        // y[n,m] = exp(j2π k0 n / K) exp(-j2π m l0 / L) on the mask's elements.
+        const int n = 16, m = 12, k = 32, l = 2 * m, k0 = 5, l0 = 7;
+        classifier_settings gated, pooled;
+        gated.doppler_bins = pooled.doppler_bins = k;
+        gated.range_bins = -1; // resolves to 2·M
+        pooled.range_bins = 0;
+        spectral_classifier_decoder_module g(n, m, 2 * n, gated), p(n, m, 2 * n, pooled);
+        CPPUNIT_ASSERT_EQUAL(l, g.settings().range_bins);
+        CPPUNIT_ASSERT_EQUAL(l, g.describe()["settings"]["range_bins"].get<int>());
+        auto frame = [&](const torch::Tensor& mask) {
+            const auto nn = torch::arange(n, torch::kDouble).view({ n, 1 });
+            const auto mm = torch::arange(m, torch::kDouble).view({ 1, m });
+            const auto ph = 2 * M_PI * (torch::remainder(nn * k0, k) / k - torch::remainder(mm * l0, l) / l);
+            return torch::stack({ torch::cos(ph), torch::sin(ph) }, 0).to(torch::kFloat).unsqueeze(0) * mask;
+        };
+        // One subcarrier: the gate has nothing to combine, the profiles are equal.
+        auto one = torch::zeros({ n, m });
+        one.select(1, 4).fill_(1.0f);
+        CPPUNIT_ASSERT(torch::allclose(g.profile(frame(one), one), p.profile(frame(one), one), 1e-5, 1e-5));
+        // Two subcarriers: coherent |2F|² against pooled 2|F|², the same shape after the
+        // per-frame normalisation; the peak at k0 in both.
+        auto two = one.clone();
+        two.select(1, 9).fill_(1.0f);
+        const auto pg = g.profile(frame(two), two), pp = p.profile(frame(two), two);
+        CPPUNIT_ASSERT(torch::allclose(pg, pp, 1e-4, 1e-4));
+        CPPUNIT_ASSERT_EQUAL(int64_t(k0), pg.flatten().argmax().item<int64_t>());
+        // A mask that carries a gradient (the encoder's, while it learns) gives the same
+        // profile as the fixed mask, whose empty subcarriers the decoder skips.
+        auto learning = two.clone().requires_grad_(true);
+        CPPUNIT_ASSERT(torch::allclose(g.profile(frame(two), learning), pg, 1e-5, 1e-5));
     }
 
     void soft_argmax_stable_inside_grid()

@@ -49,6 +49,22 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     if (!classifier_settings::known_mti(s.mti))
         throw std::invalid_argument("spectral classifier decoder: unknown mti \"" + s.mti +
                                     "\" (known: none, mean, both)");
+    if (!(s.conv_slope >= 0.0 && s.conv_slope < 1.0))
+        throw std::invalid_argument("spectral classifier decoder: conv_slope must be in [0, 1), got " +
+                                    std::to_string(s.conv_slope));
+    if (s.range_bins < -1)
+        throw std::invalid_argument("spectral classifier decoder: range_bins must be -1 (2·M), 0 (off) or a "
+                                    "bin count, got " + std::to_string(s.range_bins));
+    if (s.range_bins == -1)
+        d_s.range_bins = 2 * m; // recorded resolved in bundle.json (describe())
+    if (d_s.range_bins > 0) {
+        // exp(+j2π m l / L): subcarrier m's delay phase exp(-j2π m τB/M) undone for τB = l·M/L.
+        const int l = d_s.range_bins;
+        auto ml = torch::remainder(torch::arange(m, torch::kLong).unsqueeze(1) * torch::arange(l, torch::kLong).unsqueeze(0), l);
+        auto rarg = ml.to(torch::kDouble) * (2.0 * M_PI / l);
+        d_rcos = torch::cos(rarg).to(torch::kFloat);
+        d_rsin = torch::sin(rarg).to(torch::kFloat);
+    }
     const int k = s.doppler_bins;
     // exp(-j2π k n / K) with k·n reduced mod K in integers first: exact phases.
     auto kn = torch::remainder(torch::arange(k, torch::kLong).unsqueeze(1) * torch::arange(n, torch::kLong).unsqueeze(0), k);
@@ -69,13 +85,29 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
 }
 
-torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& g) const
+torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& g,
+                                                                const torch::Tensor& cols) const
 {
-    // g: B x 2 x N x M. F = W y over slow time: (re + j im)(cos - j sin).
-    // One real product: [fr; fi] = [[cos, sin], [-sin, cos]] [re; im] (2K x 2N times B x 2N x M).
+    // g: B x 2 x N x M' (M' = M, or the subcarriers `cols`). F = W y over slow time:
+    // (re + j im)(cos - j sin), one real product:
+    // [fr; fi] = [[cos, sin], [-sin, cos]] [re; im] (2K x 2N times B x 2N x M').
     const auto b = g.size(0), m = g.size(3);
-    const auto f = torch::matmul(d_dft, g.reshape({ b, 2 * d_n, m })); // B x 2K x M
-    auto s = f.square().view({ b, 2, d_s.doppler_bins, m }).sum({ 1, 3 }); // B x K
+    const auto f = torch::matmul(d_dft, g.reshape({ b, 2 * d_n, m })); // B x 2K x M'
+    torch::Tensor s;
+    if (d_s.range_bins == 0) {
+        s = f.square().view({ b, 2, d_s.doppler_bins, m }).sum({ 1, 3 }); // B x K: subcarriers pooled in power
+    } else {
+        // Range gate: R[k,l] = Σ_m F[k,m] exp(+j2π m l / L), then the Doppler profile of the
+        // delay bin with the most energy (a single target sits in one bin at every Doppler).
+        const auto rcos = cols.defined() ? d_rcos.index_select(0, cols) : d_rcos;
+        const auto rsin = cols.defined() ? d_rsin.index_select(0, cols) : d_rsin;
+        const auto fr = f.slice(1, 0, d_s.doppler_bins), fi = f.slice(1, d_s.doppler_bins);
+        const auto rr = torch::matmul(fr, rcos) - torch::matmul(fi, rsin); // B x K x L
+        const auto ri = torch::matmul(fr, rsin) + torch::matmul(fi, rcos);
+        const auto p = rr * rr + ri * ri;
+        const auto gate = std::get<1>(p.detach().sum(1).max(1)); // B: the strongest delay bin
+        s = p.gather(2, gate.view({ -1, 1, 1 }).expand({ p.size(0), p.size(1), 1 })).squeeze(2);
+    }
     s = s / (s.mean(1, true) + 1e-12);
     return torch::log(s + 1e-3);
 }
@@ -93,6 +125,13 @@ torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& g
     mask4(mask, grid); // shape check
     auto g = grid;
     auto m = mask;
+    torch::Tensor cols; // the subcarriers of g's columns (undefined: all M)
+    if (compact) {
+        if (!d_compact_cols.defined() || d_compact_cols.size(0) != grid.size(3))
+            throw std::invalid_argument("spectral classifier: a compact grid of " + std::to_string(grid.size(3)) +
+                                        " columns needs set_compact_columns() with its subcarriers first");
+        cols = d_compact_cols;
+    }
     // A fixed mask and no gradient to carry (inference, decoder-only training): the grid is
     // zero on the subcarriers without pilots, which add nothing to the profile's sum over
     // subcarriers nor to the zero-Doppler means, so only the occupied columns are transformed
@@ -100,19 +139,29 @@ torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& g
     // temporaries). A learned mask keeps the
     // dense path: its gradient reaches the encoder through every element.
     if (!compact && mask.dim() == 2 && !g.requires_grad() && !mask.requires_grad()) {
-        const auto cols = (mask.sum(0) > 0).nonzero().squeeze(1);
-        if (cols.size(0) < g.size(3)) {
-            g = g.index_select(3, cols);
-            m = mask.index_select(1, cols);
+        const auto used = (mask.sum(0) > 0).nonzero().squeeze(1);
+        if (used.size(0) < g.size(3)) {
+            g = g.index_select(3, used);
+            m = mask.index_select(1, used);
+            cols = used;
         }
     }
     g = normalise_frames(g, d_np); // per frame, over its pilots (the zeros add nothing)
     if (d_s.mti == "none")
-        return power_profile(g).unsqueeze(1);
+        return power_profile(g, cols).unsqueeze(1);
     const auto clean = remove_zero_doppler(g, m);
     if (d_s.mti == "mean")
-        return power_profile(clean).unsqueeze(1);
-    return torch::stack({ power_profile(g), power_profile(clean) }, 1);
+        return power_profile(clean, cols).unsqueeze(1);
+    return torch::stack({ power_profile(g, cols), power_profile(clean, cols) }, 1);
+}
+
+void spectral_classifier_decoder_module::set_compact_columns(const std::vector<int64_t>& subcarriers)
+{
+    for (auto c : subcarriers)
+        if (c < 0 || c >= d_m)
+            throw std::invalid_argument("spectral classifier: compact column subcarrier " + std::to_string(c) +
+                                        " outside [0, " + std::to_string(d_m) + ")");
+    d_compact_cols = torch::tensor(subcarriers, torch::kLong);
 }
 
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor&)
@@ -172,8 +221,9 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
 
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
-    auto x = torch::relu(inference_conv(d_conv1, d_dense1, profile(grid, mask), true)); // BatchNorm, conv1
-    x = torch::relu(inference_conv(d_conv2, d_dense2, x, false));
+    // Leaky ReLU with conv_slope (0: ReLU, the legacy bundles).
+    auto x = torch::leaky_relu(inference_conv(d_conv1, d_dense1, profile(grid, mask), true), d_s.conv_slope);
+    x = torch::leaky_relu(inference_conv(d_conv2, d_dense2, x, false), d_s.conv_slope);
     x = torch::leaky_relu(d_fc1->forward(x.flatten(1)), 0.1);
     decoder_output out;
     out.features = d_fc2->forward(x);

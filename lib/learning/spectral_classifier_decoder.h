@@ -13,13 +13,19 @@
  *        "both": the two profiles below as two input channels;
  *   -> slow-time DFT per subcarrier, zero-filled to K = doppler_bins bins:
  *        F[k,m] = Σ_n y[n,m] exp(-j2π k n / K),   S[k] = Σ_m |F[k,m]|²
+ *      or, with a range gate (classifier_settings::range_bins = L > 0, the default 2·M),
+ *      coherently across subcarriers: R[k,l] = Σ_m F[k,m] exp(+j2π m l / L),
+ *        l* = argmax_l Σ_k |R[k,l]|²,   S[k] = |R[k,l*]|²  (the target's delay bin)
  *   -> x[k] = log(S[k] / mean_k S + 1e-3)
  *   -> BatchNorm -> two circular 1-D convolutions over the K bins (width channels,
- *      kernel, ReLU) -> MLP (hidden) -> features -> C logits.
+ *      kernel, leaky ReLU of slope conv_slope) -> MLP (hidden) -> features -> C logits.
  *
  * Why: the class lives in slow time (Doppler, micro-Doppler). |F[k,m]|² does not depend
  * on the target's delay phase (a constant per subcarrier) nor on its gain phase, and the
- * sum over subcarriers uses every pilot of any mask, so the same network trains on the
+ * sum over subcarriers uses every pilot of any mask (the range gate sums them coherently at
+ * the target's delay bin; on one subcarrier it changes nothing, on several its search over
+ * the delay bins costs at low SNR, so a mask learned through it keeps its pilots on one
+ * subcarrier: the Doppler structure, found from a cold start), so the same network trains on the
  * encoder's changing masks and decodes a fixed one. The DFT is a fixed matrix (not learned,
  * not stored in decoder.pt). Cost per frame: N·K·M multiply-adds for the DFT, then a
  * network of about width·K·hidden weights.
@@ -56,9 +62,13 @@ public:
     std::string kind() const override { return "classifier_spectral"; }
     nlohmann::json describe() const override;
     const classifier_settings& settings() const { return d_s; }
+    //! The subcarriers of a compact grid's columns (bundle_decoder's input: the mask's
+    //! occupied subcarriers only, in increasing order); the range gate needs them.
+    void set_compact_columns(const std::vector<int64_t>& subcarriers);
 
 private:
-    torch::Tensor power_profile(const torch::Tensor& grid) const;
+    // cols: the subcarriers of grid's columns (undefined: all M).
+    torch::Tensor power_profile(const torch::Tensor& grid, const torch::Tensor& cols) const;
     // A convolution's output without autograd: a small one as one product with its dense
     // circulant matrix (cached per weight version), a large one through conv1d.
     struct dense_conv {
@@ -74,6 +84,8 @@ private:
     classifier_settings d_s;
     torch::Tensor d_cos, d_sin; // K x N DFT matrix (fixed, not a parameter)
     torch::Tensor d_dft;        // [[cos, sin], [-sin, cos]], 2K x 2N: the real form of the complex DFT
+    torch::Tensor d_rcos, d_rsin; // M x L range-gate DFT (range_bins > 0)
+    torch::Tensor d_compact_cols; // set_compact_columns()
     torch::nn::BatchNorm1d d_bn{ nullptr };
     torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr };

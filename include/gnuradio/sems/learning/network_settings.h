@@ -84,6 +84,20 @@ struct SEMS_LEARNING_API classifier_settings {
     int features = 16;   ///< the embedding the t-SNE looks at
     int doppler_bins = 64;  ///< spectral: slow-time DFT size K (>= N; zero-filled beyond N)
     int kernel = 5;         ///< spectral: 1-D kernel over Doppler bins (odd)
+    int range_bins = -1;    ///< spectral: the range gate, a DFT across subcarriers into L delay
+                            /// bins and the Doppler profile of the strongest bin (coherent over
+                            /// subcarriers, as a radar range-gates before Doppler processing).
+                            /// Exact on a one-subcarrier mask; on pilots spread over several
+                            /// subcarriers the search over L bins costs at low SNR, which steers
+                            /// the mask learner to the one-subcarrier structure classification
+                            /// needs (docs/RESULTS.md). L > 0 bins; -1 = 2·M (resolved by the
+                            /// decoder: half-bin delay steps); 0 = no gate, the subcarriers'
+                            /// Doppler profiles summed in power (the legacy value for bundles
+                            /// without this key)
+    double conv_slope = 0.1; ///< spectral: negative slope of the convolutions' activations (leaky
+                             /// ReLU): a cold start on uninformative random masks cannot kill
+                             /// every unit (with 0, plain ReLU, the legacy value for bundles
+                             /// without this key, some seeds never left chance)
     std::string mti = "none"; ///< spectral: zero-Doppler stage, "none" | "mean" (each subcarrier
                               /// minus its mean over its observed symbols: removes static
                               /// clutter exactly, and with it a target at 0 Hz) | "both"
