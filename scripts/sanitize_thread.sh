@@ -16,8 +16,9 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEMS_TSAN_BUILD_DIR:-$root/build-tsan}"
 repeats="${1:-3}"
 case "$repeats" in ''|*[!0-9]*|0) echo "sanitize_thread.sh: repeats must be a positive integer, got '$repeats'" >&2; exit 2 ;; esac
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DSEMS_SANITIZE=thread > "$build.configure.log" 2>&1 \
-  || { cat "$build.configure.log" >&2; exit 1; }
+mkdir -p "$build"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DSEMS_SANITIZE=thread > "$build/configure.log" 2>&1 \
+  || { cat "$build/configure.log" >&2; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target qa_sems_learning
 export SEMS_SOURCE_DIR="$root"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/cmake/tsan.supp"
