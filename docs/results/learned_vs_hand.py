@@ -75,6 +75,11 @@ def table(a):
             se2 = 2 * math.sqrt(var)
             ok = (ml - md) >= -se2
             print("| %g | %.3f | %.3f | %+.3f ± %.3f | %s |" % (snr, ml, md, ml - md, se2, "yes" if ok else "**no**"))
+        for snr in (0.0,):
+            print("\nAt %g dB per seed (%s): learned %s; Doppler pattern %s." % (
+                snr, ", ".join(str(sd) for sd in a.seeds),
+                " / ".join("%.3f" % p for p, _ in acc[("learned", snr)]),
+                " / ".join("%.3f" % p for p, _ in acc[("doppler", snr)])))
         masks = []
         for sd in a.seeds:
             m = json.load(open(os.path.join(a.out, name(sc, "learned", sd), "mask.json")))
