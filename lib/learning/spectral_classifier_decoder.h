@@ -15,7 +15,10 @@
  *        F[k,m] = Σ_n y[n,m] exp(-j2π k n / K),   S[k] = Σ_m |F[k,m]|²
  *      or, with a range gate (classifier_settings::range_bins = L > 0, the default 2·M),
  *      coherently across subcarriers: R[k,l] = Σ_m F[k,m] exp(+j2π m l / L),
- *        l* = argmax_l Σ_k |R[k,l]|²,   S[k] = |R[k,l*]|²  (the target's delay bin)
+ *        l* = argmax_l Σ_k |R[k,l]|²,   S[k] = |R[k,l*]|²  (the target's delay bin;
+ *      on subcarriers that share no symbol the energy is the same in every bin, by
+ *      Parseval, and the first maximum as rounded decides: the gate is meant for masks
+ *      whose subcarriers overlap in slow time, and exact on one subcarrier)
  *   -> x[k] = log(S[k] / mean_k S + 1e-3)
  *   -> BatchNorm -> two circular 1-D convolutions over the K bins (width channels,
  *      kernel, leaky ReLU of slope conv_slope) -> MLP (hidden) -> features -> C logits.
