@@ -71,6 +71,14 @@ class Reference:
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
             self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
             self.range_bins = self.s.get("range_bins", 0)  # absent: the legacy pooled profile
+            if self.range_bins > 0:  # the range gate's exp(+j2π m l / L) on the mask's subcarriers, once
+                nl = self.range_bins
+                # conj(delay_phasor(m, l·M/L, M)) as core/steering.h computes it: cis of the
+                # cycles -m·l/L reduced to [0, 1) in double, then conjugated.
+                x = -self.cols.double().unsqueeze(1) * (torch.arange(nl).double() * self.m / nl).unsqueeze(0) / self.m
+                cycles = x - torch.floor(x)
+                self.range_cos = torch.cos(2.0 * math.pi * cycles).float()
+                self.range_sin = (-torch.sin(2.0 * math.pi * cycles)).float()
         elif self.kind == "delay_correlation":
             if self.s.get("refine_paths", 0) > 0:
                 print("torch_reference: %s has refine_paths = %d; the reference runs the network only "
@@ -104,10 +112,7 @@ class Reference:
         b, m, k = g.shape[0], g.shape[3], self.dft_cos.shape[0]
         f = torch.matmul(self.dft, g.reshape(b, 2 * self.n, m))
         if self.range_bins > 0:  # range gate: the Doppler profile of the strongest delay bin
-            nl = self.range_bins
-            ml = torch.remainder(self.cols.unsqueeze(1) * torch.arange(nl).unsqueeze(0), nl)
-            rarg = ml.double() * (2.0 * math.pi / nl)
-            rc, rs = torch.cos(rarg).float(), torch.sin(rarg).float()
+            rc, rs = self.range_cos, self.range_sin
             fr, fi = f[:, :k], f[:, k:]
             rr = torch.matmul(fr, rc) - torch.matmul(fi, rs)
             ri = torch.matmul(fr, rs) + torch.matmul(fi, rc)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the spectral classifier decoder (see spectral_classifier_decoder.h). */
 #include "learning/spectral_classifier_decoder.h"
+#include <gnuradio/sems/core/steering.h>
 #include <cmath>
 #include <stdexcept>
 
@@ -58,12 +59,18 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     if (s.range_bins == -1)
         d_s.range_bins = 2 * m; // recorded resolved in bundle.json (describe())
     if (d_s.range_bins > 0) {
-        // exp(+j2π m l / L): subcarrier m's delay phase exp(-j2π m τB/M) undone for τB = l·M/L.
+        // G[m,l] = conj(delay_phasor(m, l·M/L)) = exp(+j2π m l / L): subcarrier m's delay
+        // phase undone for the delay index l·M/L (the steering phasor of core/steering.h).
         const int l = d_s.range_bins;
-        auto ml = torch::remainder(torch::arange(m, torch::kLong).unsqueeze(1) * torch::arange(l, torch::kLong).unsqueeze(0), l);
-        auto rarg = ml.to(torch::kDouble) * (2.0 * M_PI / l);
-        d_rcos = torch::cos(rarg).to(torch::kFloat);
-        d_rsin = torch::sin(rarg).to(torch::kFloat);
+        d_rcos = torch::empty({ m, l });
+        d_rsin = torch::empty({ m, l });
+        auto c = d_rcos.accessor<float, 2>(), sn = d_rsin.accessor<float, 2>();
+        for (int sub = 0; sub < m; ++sub)
+            for (int bin = 0; bin < l; ++bin) {
+                const auto g = std::conj(delay_phasor(sub, static_cast<double>(bin) * m / l, m));
+                c[sub][bin] = static_cast<float>(g.real());
+                sn[sub][bin] = static_cast<float>(g.imag());
+            }
     }
     const int k = s.doppler_bins;
     // exp(-j2π k n / K) with k·n reduced mod K in integers first: exact phases.
