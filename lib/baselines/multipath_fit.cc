@@ -14,6 +14,9 @@ struct multipath_fitter::impl {
     int np = 0, m_sub = 0;
     settings s;
     std::vector<double> dop; // Doppler grid of the anchored start (Hz)
+    // The grid's Doppler phasors at the pilots' symbols: dop_phasor[q·N_p + k] = b(n_k; ν_q).
+    // Built once (F·N_p values; a mask too large for that computes them per frame).
+    std::vector<cd> dop_phasor;
     Eigen::VectorXd m, n; // per pilot: subcarrier and symbol (relative to the first pilot symbol)
     bool doppler = false;
     double t_sym = 1.0;
@@ -104,6 +107,12 @@ multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& m
     d.doppler = pos.front().n != pos.back().n;
     d.half_bin = 0.5 / std::max(1, pos.back().n - pos.front().n + 1);
     d.dop = doppler_grid(fs, 2);
+    if (d.doppler && d.dop.size() * size_t(d.np) <= (size_t(1) << 18)) {
+        d.dop_phasor.resize(d.dop.size() * size_t(d.np));
+        for (size_t q = 0; q < d.dop.size(); ++q)
+            for (int k = 0; k < d.np; ++k)
+                d.dop_phasor[q * d.np + k] = cis_cycles(d.dop[q] * d.t_sym * d.n[k]);
+    }
 }
 
 multipath_fitter::~multipath_fitter() = default;
@@ -140,11 +149,21 @@ multipath_fit multipath_fitter::refine_anchored(const gr_complex* obs,
     double x = 0.0;
     if (d.doppler) { // the Doppler that best explains the first path alone
         const Eigen::MatrixXcd a = d.basis(tau, 0.0);
+        Eigen::VectorXcd ay(d.np); // conj(a_k) y_k: the Doppler search correlates it with b(n_k; ν)
+        for (int k = 0; k < d.np; ++k)
+            ay[k] = std::conj(a(k, 0)) * y[k];
         double best = -1.0;
-        for (double f : d.dop) {
+        for (size_t q = 0; q < d.dop.size(); ++q) {
+            const double f = d.dop[q];
             cd c = 0.0;
-            for (int k = 0; k < d.np; ++k)
-                c += std::conj(a(k, 0) * cis_cycles(f * d.t_sym * d.n[k])) * y[k];
+            if (!d.dop_phasor.empty()) {
+                const cd* b = d.dop_phasor.data() + q * d.np;
+                for (int k = 0; k < d.np; ++k)
+                    c += std::conj(b[k]) * ay[k];
+            } else {
+                for (int k = 0; k < d.np; ++k)
+                    c += std::conj(cis_cycles(f * d.t_sym * d.n[k])) * ay[k];
+            }
             if (std::norm(c) > best) {
                 best = std::norm(c);
                 x = f * d.t_sym;
@@ -209,6 +228,10 @@ multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<
             if (d.doppler)
                 shrink = std::min(shrink, d.half_bin / std::max(std::abs(step[L]), 1e-300));
             step *= shrink;
+            // Converged: a larger λ only shortens the step, so escalating it further (up to
+            // 1e12, one solve per factor 10) would spend ~20 solves to move by less than this.
+            if (step.cwiseAbs().maxCoeff() < d.s.tolerance)
+                break;
             std::vector<double> t2 = tau;
             for (int l = 0; l < L; ++l)
                 t2[l] += step[l];

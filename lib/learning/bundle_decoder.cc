@@ -2,6 +2,7 @@
 /* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include "learning/delay_decoder.h"
+#include "learning/malloc_tuning.h"
 #include "learning/spectral_classifier_decoder.h"
 #include "learning/task_decoder.h"
 #include <stdexcept>
@@ -55,6 +56,7 @@ struct bundle_decoder::impl {
 
 bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl(std::make_unique<impl>())
 {
+    tune_malloc_for_tensors(); // decoding allocates and frees every intermediate tensor
     d_impl->threads = threads;
     d_impl->use_threads(); // the constructing thread too (single-threaded callers)
     d_impl->bundle = bundle;

@@ -4,6 +4,7 @@
 #include "learning/classifier_decoder.h"
 #include "learning/delay_decoder.h"
 #include "learning/distributed_context.h"
+#include "learning/malloc_tuning.h"
 #include "learning/reconstruction_decoder.h"
 #include "learning/semantic_encoder.h"
 #include <gnuradio/sems/learning/trainer.h>
@@ -239,7 +240,10 @@ training_result trainer::run()
     if (d_s.threads > 0) {
         torch::set_num_threads(d_s.threads);
     }
+    const std::string heap = tune_malloc_for_tensors(); // before the first tensor
     d_dist = std::make_unique<training::distributed_context>(d_s.distributed);
+    if (d_log && d_s.verbose && d_dist->rank() == 0)
+        *d_log << "allocator: " << heap << std::endl;
     const uint64_t rank_seed = d_dist->rank_seed(d_s.seed); // d_s.seed on rank 0
     torch::manual_seed(rank_seed);
     d_n = d_s.frame.n_symbols;

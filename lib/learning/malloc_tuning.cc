@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: glibc's allocator set up for tensor work. See malloc_tuning.h. */
+#include "malloc_tuning.h"
+#include <cstdlib>
+#include <cstring>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace gr {
+namespace sems {
+
+namespace {
+std::string apply()
+{
+#if defined(__GLIBC__)
+    const char* off = std::getenv("SEMS_MALLOC_TUNING");
+    if (off && std::strcmp(off, "0") == 0)
+        return "not tuned: SEMS_MALLOC_TUNING=0";
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    if ((tunables && std::strstr(tunables, "glibc.malloc.")) || std::getenv("MALLOC_MMAP_THRESHOLD_") ||
+        std::getenv("MALLOC_TRIM_THRESHOLD_"))
+        return "not tuned: the environment sets glibc's malloc parameters";
+    // Setting either threshold disables glibc's dynamic threshold, so both are set. The top
+    // pad matters in the block threads: their arenas grow in 64 MiB heaps, and a heap left
+    // empty is unmapped whatever the trim threshold, unless the pad asks to keep it.
+    constexpr int mmap_threshold = 32 << 20; // glibc's upper limit on 64-bit systems
+    constexpr int trim_threshold = 128 << 20;
+    constexpr int top_pad = 64 << 20;
+    if (::mallopt(M_MMAP_THRESHOLD, mmap_threshold) != 1 || ::mallopt(M_TRIM_THRESHOLD, trim_threshold) != 1 ||
+        ::mallopt(M_TOP_PAD, top_pad) != 1)
+        return "not tuned: mallopt refused the thresholds";
+    return "mmap threshold 32 MiB, trim threshold 128 MiB, top pad 64 MiB";
+#else
+    return "not tuned: not glibc";
+#endif
+}
+} // namespace
+
+std::string tune_malloc_for_tensors()
+{
+    static const std::string done = apply(); // once per process, thread-safe
+    return done;
+}
+
+} // namespace sems
+} // namespace gr

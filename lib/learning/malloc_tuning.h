@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: glibc's allocator set up for tensor work (private to the learning library). */
+#ifndef INCLUDED_SEMS_LEARNING_MALLOC_TUNING_H
+#define INCLUDED_SEMS_LEARNING_MALLOC_TUNING_H
+
+#include <string>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief Once per process: let glibc keep freed tensor memory for reuse.
+ *
+ * LibTorch on the CPU allocates every intermediate tensor with malloc and frees it at once.
+ * With glibc's defaults, blocks above the (dynamic) mmap threshold are mmapped and unmapped
+ * per call, and freed memory at the top of a heap is given back to the system when it
+ * exceeds the trim threshold; the next call then page-faults it in again. Measured on this
+ * project's decoders and trainer (docs/PERFORMANCE.md, "The allocator"): the page faults
+ * made inference 3-28x and training 2.4-3.7x slower. Raising both thresholds (mmap at
+ * 32 MiB, glibc's maximum; trim at 128 MiB) and the top pad (64 MiB: a block thread's arena
+ * keeps an emptied heap instead of unmapping it) keeps the working set in the heap:
+ * resident memory stays at the peak working set instead of being returned between calls.
+ *
+ * Called by bundle_decoder and the trainer. It changes nothing if the user already set
+ * glibc's malloc parameters (GLIBC_TUNABLES with "glibc.malloc.", MALLOC_MMAP_THRESHOLD_,
+ * MALLOC_TRIM_THRESHOLD_) or SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
+ *
+ * \return what was done, for logs: "mmap threshold 32 MiB, trim threshold 128 MiB, top pad
+ *         64 MiB" or why not.
+ */
+std::string tune_malloc_for_tensors();
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_MALLOC_TUNING_H */
