@@ -16,8 +16,10 @@
  * Resident memory is read at a quiet point of the one continuous stream: at each report
  * the gate (a head whose budget the main thread raises) holds the next frames back until
  * every frame let through has left both extractors and the sinks' counters have stopped
- * moving (they hold at most a partial batch). Read at any other moment, the figure would
- * include the batches in flight (the decoders' working tensors, ~10 MiB), not what stays.
+ * moving. The gate stops at a whole number of batches (a report at 10^6 frames reads at
+ * 999 936 with batch 256), so the sinks hold no partial batch either. Read at any other
+ * moment, the figure would include the batches in flight (the decoders' working tensors,
+ * ~10 MiB) or pending frames, not what stays.
  *
  *   sems_soak --frames 10000000 --report 1000000      (the issue's soak)
  *   sems_soak --frames 100000 --report 10000          (the CI version, a CTest test)
@@ -217,7 +219,11 @@ int main(int argc, char** argv)
     tb->start();
     bool stalled = false;
     for (uint64_t next = std::min(report, n_frames); next <= n_frames; next += report) {
-        gate_->set_budget(next * fs.n_symbols);
+        // Read where both sinks hold no partial batch: the pending frames (each with its truth
+        // tag, ~1-2 KiB) would otherwise add (at mod batch) frames' worth to the reading, a
+        // swing of up to ~1 MiB from one report to the next that is not memory kept.
+        const uint64_t at = next >= uint64_t(batch) ? next / uint64_t(batch) * uint64_t(batch) : next;
+        gate_->set_budget(at * fs.n_symbols);
         // Quiet: every frame let through has left both extractors, the sinks' counters have
         // not moved for 200 ms and each sink holds less than a batch (so it is not decoding
         // one; frames skipped behind a partial batch can hold more: then 3 s without a move).
@@ -233,7 +239,7 @@ int main(int argc, char** argv)
         while (still < 10 || !idle()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
             const uint64_t fc = sink_c->frames(), fd = sink_d->frames();
-            const bool drained = through(ex_c) >= next && through(ex_d) >= next;
+            const bool drained = through(ex_c) >= at && through(ex_d) >= at;
             still = drained && fc == last_c && fd == last_d ? still + 1 : 0;
             if (fc != last_c || fd != last_d)
                 progress = std::chrono::steady_clock::now();
@@ -245,14 +251,14 @@ int main(int argc, char** argv)
             }
         }
         if (stalled) {
-            std::printf("# the stream stalled before frame %llu\n", static_cast<unsigned long long>(next));
+            std::printf("# the stream stalled before frame %llu\n", static_cast<unsigned long long>(at));
             tb->stop();
             break;
         }
         heap.push_back(heap_in_use_kib());
         ::malloc_trim(0); // give back what the arenas keep for reuse: resident memory is then what is held
         rss.push_back(rss_kib());
-        std::printf("%12llu %10ld %10ld %10.1f\n", static_cast<unsigned long long>(next), rss.back(), heap.back(),
+        std::printf("%12llu %10ld %10ld %10.1f\n", static_cast<unsigned long long>(at), rss.back(), heap.back(),
                     seconds());
         std::fflush(stdout);
         if (next == n_frames)

@@ -18,9 +18,11 @@ std::string apply()
     if (off && std::strcmp(off, "0") == 0)
         return "not tuned: SEMS_MALLOC_TUNING=0";
     const char* tunables = std::getenv("GLIBC_TUNABLES");
-    if ((tunables && std::strstr(tunables, "glibc.malloc.")) || std::getenv("MALLOC_MMAP_THRESHOLD_") ||
-        std::getenv("MALLOC_TRIM_THRESHOLD_"))
-        return "not tuned: the environment sets glibc's malloc parameters";
+    for (const char* name : { "glibc.malloc.mmap_threshold", "glibc.malloc.trim_threshold", "glibc.malloc.top_pad" })
+        if (tunables && std::strstr(tunables, name))
+            return std::string("not tuned: GLIBC_TUNABLES sets ") + name;
+    if (std::getenv("MALLOC_MMAP_THRESHOLD_") || std::getenv("MALLOC_TRIM_THRESHOLD_") || std::getenv("MALLOC_TOP_PAD_"))
+        return "not tuned: the environment sets glibc's malloc thresholds (MALLOC_*_)";
     // Setting either threshold disables glibc's dynamic threshold, so both are set. The top
     // pad matters in the block threads: their arenas grow in 64 MiB heaps, and a heap left
     // empty is unmapped whatever the trim threshold, unless the pad asks to keep it.

@@ -21,9 +21,10 @@ namespace sems {
  * keeps an emptied heap instead of unmapping it) keeps the working set in the heap:
  * resident memory stays at the peak working set instead of being returned between calls.
  *
- * Called by bundle_decoder and the trainer. It changes nothing if the user already set
- * glibc's malloc parameters (GLIBC_TUNABLES with "glibc.malloc.", MALLOC_MMAP_THRESHOLD_,
- * MALLOC_TRIM_THRESHOLD_) or SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
+ * Called by bundle_decoder and the trainer. It changes nothing if the user already set one
+ * of these three (GLIBC_TUNABLES with glibc.malloc.mmap_threshold, .trim_threshold or
+ * .top_pad; MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, MALLOC_TOP_PAD_), with
+ * SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
  *
  * \return what was done, for logs: "mmap threshold 32 MiB, trim threshold 128 MiB, top pad
  *         64 MiB" or why not.
