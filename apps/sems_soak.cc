@@ -135,19 +135,15 @@ int main(int argc, char** argv)
     double snr_db = 10.0;
     long max_growth_kib = 1024, max_rss_growth_kib = 65536;
     int batch = 256;
-    bool fixed_mmap = false;
     po::options_description opts("sems_soak options");
     opts.add_options()("help", "this text")(
         "frames", po::value(&n_frames)->default_value(n_frames), "frames to stream")(
-        "report", po::value(&report)->default_value(report), "print resident memory every this many frames")(
+        "report", po::value(&report)->default_value(report), "print heap in use and resident memory every this many frames")(
         "models", po::value(&models)->default_value(models), "folder holding classifier/ and delay_single/")(
         "classifier", po::value(&classifier_dir), "classifier bundle (default: <models>/classifier)")(
         "delay", po::value(&delay_dir), "delay bundle (default: <models>/delay_single)")(
         "snr", po::value(&snr_db)->default_value(snr_db), "SNR per resource element (dB)")(
         "batch", po::value(&batch)->default_value(batch), "sink batch size")(
-        "fixed-mmap-threshold", po::bool_switch(&fixed_mmap),
-        "fix glibc's mmap threshold at 128 KiB (freed batch tensors go back to the system at once: "
-        "a lower resident memory, but about half the speed from the mmap/munmap churn)")(
         "max-growth-kib", po::value(&max_growth_kib)->default_value(max_growth_kib),
         "allowed growth of the heap in use after warm-up (KiB): the leak criterion")(
         "max-rss-growth-kib", po::value(&max_rss_growth_kib)->default_value(max_rss_growth_kib),
@@ -170,11 +166,8 @@ int main(int argc, char** argv)
         return 2;
     }
 
-    // glibc raises its mmap threshold after a large block is freed, so later batch tensors
-    // come from the heap: resident memory settles ~90 MiB higher (the heap kept for reuse),
-    // and flat, since it is read at quiet points of the stream.
-    if (fixed_mmap)
-        ::mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+    // The sinks' decoders set glibc's thresholds for tensor work (lib/learning/malloc_tuning.h):
+    // the heap keeps the peak working set, so resident memory is flat from the first report.
     const auto cls = model_bundle::load(classifier_dir.empty() ? models + "/classifier" : classifier_dir);
     const auto dly = model_bundle::load(delay_dir.empty() ? models + "/delay_single" : delay_dir);
     if (dly.frame.n_symbols != cls.frame.n_symbols || dly.frame.n_subcarriers != cls.frame.n_subcarriers) {
