@@ -46,7 +46,9 @@
 #define SEMS_SOAK_ASAN 0
 #endif
 #if SEMS_SOAK_ASAN
-#include <sanitizer/allocator_interface.h>
+// The sanitizer runtime's count of bytes allocated and not freed (GCC's libasan and clang's
+// both export it; GCC does not install compiler-rt's sanitizer/allocator_interface.h).
+extern "C" size_t __sanitizer_get_current_allocated_bytes(void);
 #endif
 #include <algorithm>
 #include <atomic>
