@@ -10,6 +10,23 @@ namespace sems {
 
 using namespace baseline;
 
+namespace {
+// w^e for an integer e >= 0 by squaring: log2(e) products (a few ulps), instead of a sincos
+// per pilot (the table below is cheaper where the exponents are few and small). a·b written out: std::complex's operator* keeps a NaN-recovery branch.
+inline cd mul(cd a, cd b)
+{
+    return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
+}
+inline cd ipow(cd w, int e)
+{
+    cd r(1.0, 0.0);
+    for (; e > 0; e >>= 1, w = mul(w, w))
+        if (e & 1)
+            r = mul(r, w);
+    return r;
+}
+} // namespace
+
 struct multipath_fitter::impl {
     int np = 0, m_sub = 0;
     settings s;
@@ -18,34 +35,69 @@ struct multipath_fitter::impl {
     // Built once (F·N_p values; a mask too large for that computes them per frame).
     std::vector<cd> dop_phasor;
     Eigen::VectorXd m, n; // per pilot: subcarrier and symbol (relative to the first pilot symbol)
+    std::vector<int> mi, ni; // the same, as integers (both >= 0)
+    int max_mi = 0, max_ni = 0;
     bool doppler = false;
     double t_sym = 1.0;
     double half_bin = 0.5; // half a Doppler bin in cycles per symbol: 1 / (2 · symbol span)
 
-    // Φ_kl = b(n_k; ν) a(m_k; τ_l); x = ν·T (cycles per symbol).
+    // Φ_kl = b(n_k; ν) a(m_k; τ_l); x = ν·T (cycles per symbol). The pilots' subcarriers and
+    // symbols are integers, so a(m_k; τ) = a(1; τ)^m_k and b(n_k; ν) = b(1; ν)^n_k: two
+    // phasors from core/steering.h per path instead of 2·N_p (the fit's hot loop).
     Eigen::MatrixXcd basis(const std::vector<double>& tau, double x) const
     {
         Eigen::MatrixXcd phi(np, tau.size());
-        for (int k = 0; k < np; ++k) {
-            const cd b = doppler ? cis_cycles(x * n[k]) : cd(1.0, 0.0);
-            for (size_t l = 0; l < tau.size(); ++l)
-                phi(k, l) = b * delay_phasor(m[k], tau[l], m_sub);
+        const cd b1 = doppler ? cis_cycles(x) : cd(1.0, 0.0);
+        cd b_pow[table_size], a_pow[table_size];
+        const bool b_table = doppler && powers(b1, max_ni, b_pow);
+        for (size_t l = 0; l < tau.size(); ++l) {
+            const cd a1 = delay_phasor(1.0, tau[l], m_sub);
+            const bool a_table = powers(a1, max_mi, a_pow);
+            for (int k = 0; k < np; ++k) {
+                const cd a = a_table ? a_pow[mi[k]] : ipow(a1, mi[k]);
+                phi(k, l) = doppler ? mul(b_table ? b_pow[ni[k]] : ipow(b1, ni[k]), a) : a;
+            }
         }
         return phi;
+    }
+    // w^0..w^max_e by running products when that is cheaper than a power per pilot and fits
+    // the table (max_e + 1 <= table_size, a few ulps per step: ~1e-14 at 256).
+    static constexpr int table_size = 256;
+    bool powers(cd w, int max_e, cd* out) const
+    {
+        if (max_e >= table_size || max_e > 4 * np)
+            return false;
+        out[0] = cd(1.0, 0.0);
+        for (int e = 1; e <= max_e; ++e)
+            out[e] = mul(out[e - 1], w);
+        return true;
     }
 
     struct state {
         Eigen::MatrixXcd phi;
-        Eigen::ColPivHouseholderQR<Eigen::MatrixXcd> qr;
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXcd> qr; // more than one path
+        double norm2 = 0.0;                              // one path: ‖φ‖² (= N_p, unit phasors)
         Eigen::VectorXcd alpha, res;
         double cost = 0.0;
+        // Least-squares coefficients of b's columns on span(Φ).
+        Eigen::MatrixXcd ls(const Eigen::MatrixXcd& b) const
+        {
+            if (phi.cols() == 1)
+                return (phi.adjoint() * b) / norm2;
+            return qr.solve(b);
+        }
     };
     state solve(const Eigen::VectorXcd& y, const std::vector<double>& tau, double x) const
     {
         state st;
         st.phi = basis(tau, x);
-        st.qr.compute(st.phi);
-        st.alpha = st.qr.solve(y);
+        if (tau.size() == 1) { // one column: the projection in closed form, no QR
+            st.norm2 = st.phi.col(0).squaredNorm();
+            st.alpha = (st.phi.adjoint() * y) / st.norm2;
+        } else {
+            st.qr.compute(st.phi);
+            st.alpha = st.qr.solve(y);
+        }
         st.res = y - st.phi * st.alpha;
         st.cost = st.res.squaredNorm();
         return st;
@@ -100,9 +152,15 @@ multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& m
     const auto& pos = mask.positions();
     d.m.resize(d.np);
     d.n.resize(d.np);
+    d.mi.resize(d.np);
+    d.ni.resize(d.np);
     for (int k = 0; k < d.np; ++k) {
-        d.m[k] = pos[k].m;
-        d.n[k] = pos[k].n - pos.front().n; // a common phase only: keeps the Doppler phases small
+        d.mi[k] = pos[k].m;
+        d.ni[k] = pos[k].n - pos.front().n; // a common phase only: keeps the Doppler phases small
+        d.m[k] = d.mi[k];
+        d.n[k] = d.ni[k];
+        d.max_mi = std::max(d.max_mi, d.mi[k]);
+        d.max_ni = std::max(d.max_ni, d.ni[k]);
     }
     d.doppler = pos.front().n != pos.back().n;
     d.half_bin = 0.5 / std::max(1, pos.back().n - pos.front().n + 1);
@@ -207,7 +265,7 @@ multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<
         if (d.doppler)
             for (int k = 0; k < d.np; ++k)
                 dm(k, L) = cd(0.0, 2.0 * M_PI * d.n[k]) * mu[k];
-        const Eigen::MatrixXcd g = dm - st.phi * st.qr.solve(dm);
+        const Eigen::MatrixXcd g = dm - st.phi * st.ls(dm);
         const Eigen::MatrixXd h = (g.adjoint() * g).real();
         const Eigen::VectorXd grad = (g.adjoint() * st.res).real();
         bool accepted = false;
