@@ -46,7 +46,13 @@ struct multipath_fitter::impl {
     // phasors from core/steering.h per path instead of 2·N_p (the fit's hot loop).
     Eigen::MatrixXcd basis(const std::vector<double>& tau, double x) const
     {
-        Eigen::MatrixXcd phi(np, tau.size());
+        Eigen::MatrixXcd phi;
+        basis_into(phi, tau, x);
+        return phi;
+    }
+    void basis_into(Eigen::MatrixXcd& phi, const std::vector<double>& tau, double x) const
+    {
+        phi.resize(np, static_cast<Eigen::Index>(tau.size())); // no reallocation at the same size
         const cd b1 = doppler ? cis_cycles(x) : cd(1.0, 0.0);
         cd b_pow[table_size], a_pow[table_size];
         const bool b_table = doppler && powers(b1, max_ni, b_pow);
@@ -58,7 +64,6 @@ struct multipath_fitter::impl {
                 phi(k, l) = doppler ? mul(b_table ? b_pow[ni[k]] : ipow(b1, ni[k]), a) : a;
             }
         }
-        return phi;
     }
     // w^0..w^max_e by running products when that is cheaper than a power per pilot and fits
     // the table (max_e + 1 <= table_size, a few ulps per step: ~1e-14 at 256).
@@ -90,17 +95,24 @@ struct multipath_fitter::impl {
     state solve(const Eigen::VectorXcd& y, const std::vector<double>& tau, double x) const
     {
         state st;
-        st.phi = basis(tau, x);
+        solve_into(st, y, tau, x);
+        return st;
+    }
+    // The same into st, reusing its buffers (the LM loop's trials).
+    void solve_into(state& st, const Eigen::VectorXcd& y, const std::vector<double>& tau, double x) const
+    {
+        basis_into(st.phi, tau, x);
         if (tau.size() == 1) { // one column: the projection in closed form, no QR
             st.norm2 = st.phi.col(0).squaredNorm();
-            st.alpha = (st.phi.adjoint() * y) / st.norm2;
+            st.alpha.resize(1);
+            st.alpha[0] = st.phi.col(0).dot(y) / st.norm2; // dot() conjugates its left side
         } else {
             st.qr.compute(st.phi);
             st.alpha = st.qr.solve(y);
         }
-        st.res = y - st.phi * st.alpha;
+        st.res = y;
+        st.res.noalias() -= st.phi * st.alpha;
         st.cost = st.res.squaredNorm();
-        return st;
     }
 
     multipath_fit finish(const state& st, const std::vector<double>& tau, double x, int it) const
@@ -253,28 +265,36 @@ multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<
     std::vector<double> tau = start;
     double x = doppler_hz * d.t_sym;
     auto st = d.solve(y, tau, x);
+    // Buffers of the loop, allocated once per fit (the loop runs per frame in the decoders).
+    impl::state s2;
+    std::vector<double> t2(tau.size());
+    Eigen::MatrixXcd dm(d.np, P), g(d.np, P);
+    Eigen::VectorXcd mu(d.np);
+    Eigen::MatrixXd h(P, P), a(P, P);
+    Eigen::VectorXd grad(P), step(P);
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(P);
     double lambda = 1e-3;
     int it = 0;
     for (; it < d.s.max_iterations && st.cost > 0.0; ++it) {
         // Kaufman's Jacobian of the model: ∂(Φα)/∂θ with α held, projected off span(Φ).
-        Eigen::MatrixXcd dm(d.np, P);
-        const Eigen::VectorXcd mu = st.phi * st.alpha;
+        mu.noalias() = st.phi * st.alpha;
         for (int l = 0; l < L; ++l)
             for (int k = 0; k < d.np; ++k)
                 dm(k, l) = st.alpha[l] * cd(0.0, -2.0 * M_PI * d.m[k] / d.m_sub) * st.phi(k, l);
         if (d.doppler)
             for (int k = 0; k < d.np; ++k)
                 dm(k, L) = cd(0.0, 2.0 * M_PI * d.n[k]) * mu[k];
-        const Eigen::MatrixXcd g = dm - st.phi * st.ls(dm);
-        const Eigen::MatrixXd h = (g.adjoint() * g).real();
-        const Eigen::VectorXd grad = (g.adjoint() * st.res).real();
+        g = dm;
+        g.noalias() -= st.phi * st.ls(dm);
+        h = (g.adjoint() * g).real();
+        grad = (g.adjoint() * st.res).real();
         bool accepted = false;
         double moved = 0.0;
         while (lambda < 1e12) {
-            Eigen::MatrixXd a = h;
+            a = h;
             for (int p = 0; p < P; ++p)
                 a(p, p) += lambda * std::max(h(p, p), 1e-30);
-            Eigen::VectorXd step = a.ldlt().solve(grad);
+            step = ldlt.compute(a).solve(grad);
             if (!step.allFinite()) {
                 lambda *= 10.0;
                 continue;
@@ -290,15 +310,14 @@ multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<
             // 1e12, one solve per factor 10) would spend ~20 solves to move by less than this.
             if (step.cwiseAbs().maxCoeff() < d.s.tolerance)
                 break;
-            std::vector<double> t2 = tau;
             for (int l = 0; l < L; ++l)
-                t2[l] += step[l];
+                t2[l] = tau[l] + step[l];
             const double x2 = d.doppler ? x + step[L] : x;
-            auto s2 = d.solve(y, t2, x2);
+            d.solve_into(s2, y, t2, x2);
             if (s2.cost < st.cost) {
-                tau = t2;
+                tau.swap(t2);
                 x = x2;
-                st = std::move(s2);
+                std::swap(st, s2); // s2 keeps the old buffers for the next trial
                 lambda = std::max(lambda / 3.0, 1e-12);
                 moved = step.cwiseAbs().maxCoeff();
                 accepted = true;
