@@ -20,6 +20,8 @@ namespace sems {
  * 32 MiB, glibc's maximum; trim at 128 MiB) and the top pad (64 MiB: a block thread's arena
  * keeps an emptied heap instead of unmapping it) keeps the working set in the heap:
  * resident memory stays at the peak working set instead of being returned between calls.
+ * Fast bins are switched off (M_MXFAST 0): with large blocks freed into the heap, glibc
+ * consolidated them on every such free, which halved small decoders' batch-1 speed.
  *
  * Called by bundle_decoder and the trainer. It changes nothing if the user already set one
  * of these three (GLIBC_TUNABLES with glibc.malloc.mmap_threshold, .trim_threshold or
@@ -27,7 +29,7 @@ namespace sems {
  * SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
  *
  * \return what was done, for logs: "mmap threshold 32 MiB, trim threshold 128 MiB, top pad
- *         64 MiB" or why not.
+ *         64 MiB, no fast bins" or why not.
  */
 std::string tune_malloc_for_tensors();
 
