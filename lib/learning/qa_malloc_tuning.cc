@@ -57,7 +57,7 @@ public:
             obs[i] = gr_complex(std::cos(0.1f * i), std::sin(0.37f * i));
         long faults = -1;
         std::thread worker([&] {
-            for (int i = 0; i < 3; ++i) // warm-up: the arena grows to the working set
+            for (int i = 0; i < 5; ++i) // warm-up: the arena grows to the working set
                 dec.estimate_delay_index(obs.data(), batch);
             const long before = thread_minor_faults();
             for (int i = 0; i < 5; ++i)
@@ -66,10 +66,11 @@ public:
         });
         worker.join();
         std::cerr << "qa_malloc_tuning: " << faults << " minor page faults in 5 batch-256 decodes\n";
-        // A few pages may still be touched for the first time; a working set given back to
-        // the kernel between calls costs thousands per call.
+        // Pages may still be touched for the first time (0 alone, 1 412 after the rest of this
+        // runner in a CI run: the thread's arena is shared with earlier threads); a working set
+        // given back to the kernel between calls costs ~26 000 per call (132 176 for these 5).
         CPPUNIT_ASSERT(faults >= 0);
-        CPPUNIT_ASSERT(faults < 500);
+        CPPUNIT_ASSERT(faults < 10000);
     }
 };
 
