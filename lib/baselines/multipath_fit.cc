@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: variable-projection Levenberg–Marquardt multipath fit. See multipath_fit.h. */
 #include "baselines/pilot_observations.h"
+#include "core/complex_mul.h"
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <algorithm>
 #include <numeric>
@@ -11,12 +12,9 @@ namespace sems {
 using namespace baseline;
 
 namespace {
+using detail::mul;
 // w^e for an integer e >= 0 by squaring: log2(e) products (a few ulps), instead of a sincos
-// per pilot (the table below is cheaper where the exponents are few and small). a·b written out: std::complex's operator* keeps a NaN-recovery branch.
-inline cd mul(cd a, cd b)
-{
-    return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
-}
+// per pilot (the table below is cheaper where the exponents are few and small).
 inline cd ipow(cd w, int e)
 {
     cd r(1.0, 0.0);
@@ -34,8 +32,7 @@ struct multipath_fitter::impl {
     // The grid's Doppler phasors at the pilots' symbols: dop_phasor[q·N_p + k] = b(n_k; ν_q).
     // Built once (F·N_p values; a mask too large for that computes them per frame).
     std::vector<cd> dop_phasor;
-    Eigen::VectorXd m, n; // per pilot: subcarrier and symbol (relative to the first pilot symbol)
-    std::vector<int> mi, ni; // the same, as integers (both >= 0)
+    std::vector<int> mi, ni; // per pilot: subcarrier and symbol (relative to the first pilot symbol), >= 0
     int max_mi = 0, max_ni = 0;
     bool doppler = false;
     double t_sym = 1.0;
@@ -162,15 +159,11 @@ multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& m
     d.s = s;
     d.t_sym = fs.symbol_interval_s;
     const auto& pos = mask.positions();
-    d.m.resize(d.np);
-    d.n.resize(d.np);
     d.mi.resize(d.np);
     d.ni.resize(d.np);
     for (int k = 0; k < d.np; ++k) {
         d.mi[k] = pos[k].m;
         d.ni[k] = pos[k].n - pos.front().n; // a common phase only: keeps the Doppler phases small
-        d.m[k] = d.mi[k];
-        d.n[k] = d.ni[k];
         d.max_mi = std::max(d.max_mi, d.mi[k]);
         d.max_ni = std::max(d.max_ni, d.ni[k]);
     }
@@ -181,7 +174,7 @@ multipath_fitter::multipath_fitter(const frame_settings& fs, const pilot_mask& m
         d.dop_phasor.resize(d.dop.size() * size_t(d.np));
         for (size_t q = 0; q < d.dop.size(); ++q)
             for (int k = 0; k < d.np; ++k)
-                d.dop_phasor[q * d.np + k] = cis_cycles(d.dop[q] * d.t_sym * d.n[k]);
+                d.dop_phasor[q * d.np + k] = doppler_phasor(d.ni[k], d.dop[q], d.t_sym);
     }
 }
 
@@ -232,7 +225,7 @@ multipath_fit multipath_fitter::refine_anchored(const gr_complex* obs,
                     c += std::conj(b[k]) * ay[k];
             } else {
                 for (int k = 0; k < d.np; ++k)
-                    c += std::conj(cis_cycles(f * d.t_sym * d.n[k])) * ay[k];
+                    c += std::conj(doppler_phasor(d.ni[k], f, d.t_sym)) * ay[k];
             }
             if (std::norm(c) > best) {
                 best = std::norm(c);
@@ -280,10 +273,10 @@ multipath_fit multipath_fitter::refine(const gr_complex* obs, const std::vector<
         mu.noalias() = st.phi * st.alpha;
         for (int l = 0; l < L; ++l)
             for (int k = 0; k < d.np; ++k)
-                dm(k, l) = st.alpha[l] * cd(0.0, -2.0 * M_PI * d.m[k] / d.m_sub) * st.phi(k, l);
+                dm(k, l) = st.alpha[l] * cd(0.0, -2.0 * M_PI * d.mi[k] / d.m_sub) * st.phi(k, l);
         if (d.doppler)
             for (int k = 0; k < d.np; ++k)
-                dm(k, L) = cd(0.0, 2.0 * M_PI * d.n[k]) * mu[k];
+                dm(k, L) = cd(0.0, 2.0 * M_PI * d.ni[k]) * mu[k];
         g = dm;
         g.noalias() -= st.phi * st.ls(dm);
         h = (g.adjoint() * g).real();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model at sample level (see td_channel.h for the equations). */
 #include "core/checks.h"
+#include "core/complex_mul.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <volk/volk.h>
@@ -22,11 +23,7 @@ constexpr double md_phase_tolerance_rad = 1e-7;
 
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
-// a·b without the NaN/Inf recovery of operator* (__muldc3): the operands here are finite.
-inline std::complex<double> mul(std::complex<double> a, std::complex<double> b)
-{
-    return { a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real() };
-}
+using detail::mul; // the operands here are finite
 
 // out[k] += c · d[k] · x[k], k < n: the per-sample Doppler of a path without micro-Doppler
 // (d precomputed per frame, c the symbol's phase). Plain float arithmetic, so the compiler
