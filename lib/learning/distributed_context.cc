@@ -126,14 +126,12 @@ struct distributed_context::impl {
            << " s)";
         throw std::runtime_error(os.str());
     }
+    // Gloo's errors (c10::Error, std::runtime_error) become fail(): one message naming the rank.
     template <class F>
-    void run(const std::string& op, F&& start)
+    auto guarded(const std::string& op, F&& f) -> decltype(f())
     {
         try {
-            auto work = start();
-            // Gloo's own timeout (the context's) fires first; this one is the backstop.
-            if (!work->wait(timeout + std::chrono::seconds(5)))
-                fail(op, "no answer");
+            return f();
         } catch (const c10::Error& e) {
             fail(op, e.what_without_backtrace());
         } catch (const std::runtime_error& e) {
@@ -144,6 +142,19 @@ struct distributed_context::impl {
             fail(op, e.what());
         }
     }
+    void wait(const std::string& op, const c10::intrusive_ptr<c10d::Work>& work)
+    {
+        guarded(op, [&] {
+            // Gloo's own timeout (the context's) fires first; this one is the backstop.
+            if (!work->wait(timeout + std::chrono::seconds(5)))
+                fail(op, "no answer");
+        });
+    }
+    template <class F>
+    void run(const std::string& op, F&& start)
+    {
+        wait(op, guarded(op, std::forward<F>(start)));
+    }
     void all_reduce(torch::Tensor& t, c10d::ReduceOp op, const std::string& what)
     {
         std::vector<torch::Tensor> v{ t };
@@ -151,6 +162,15 @@ struct distributed_context::impl {
         o.reduceOp = op;
         run(what, [&] { return pg->allreduce(v, o); });
     }
+
+    // The gradient all-reduce in flight between start_gradient_all_reduce() and
+    // finish_gradient_all_reduce(): the bucket and where its slices go back.
+    struct pending_gradients {
+        c10::intrusive_ptr<c10d::Work> work;
+        torch::Tensor bucket;
+        std::vector<torch::Tensor> params, buffers;
+    };
+    std::unique_ptr<pending_gradients> pending;
 };
 #else
 struct distributed_context::impl {
@@ -245,32 +265,41 @@ void distributed_context::broadcast_module(torch::nn::Module& mod)
 void distributed_context::all_reduce_gradients(const torch::optim::Optimizer& opt,
                                                const std::vector<std::shared_ptr<torch::nn::Module>>& modules)
 {
+    start_gradient_all_reduce(opt, modules);
+    finish_gradient_all_reduce();
+}
+
+void distributed_context::start_gradient_all_reduce(const torch::optim::Optimizer& opt,
+                                                    const std::vector<std::shared_ptr<torch::nn::Module>>& modules)
+{
     if (!active())
         return;
+    if (d_impl->pending)
+        throw std::logic_error("start_gradient_all_reduce: the previous one was not finished");
     const auto t0 = clock_type::now();
     torch::NoGradGuard ng;
-    std::vector<torch::Tensor> params, buffers;
+    auto p = std::make_unique<impl::pending_gradients>();
     for (const auto& g : opt.param_groups())
-        for (const auto& p : g.params())
-            params.push_back(p);
+        for (const auto& t : g.params())
+            p->params.push_back(t);
     for (const auto& m : modules)
         for (auto& b : m->buffers())
             if (b.is_floating_point())
-                buffers.push_back(b);
-    int64_t total = static_cast<int64_t>(params.size()); // one "gradient defined" flag per parameter
-    for (const auto& p : params)
-        total += p.numel();
-    for (const auto& b : buffers)
+                p->buffers.push_back(b);
+    int64_t total = static_cast<int64_t>(p->params.size()); // one "gradient defined" flag per parameter
+    for (const auto& t : p->params)
+        total += t.numel();
+    for (const auto& b : p->buffers)
         total += b.numel();
-    auto bucket = torch::empty({ total }, torch::kFloat);
-    float* flag = bucket.data_ptr<float>();
-    int64_t off = static_cast<int64_t>(params.size());
-    for (size_t i = 0; i < params.size(); ++i) {
-        const auto& p = params[i];
-        const int64_t n = p.numel();
-        auto slot = bucket.slice(0, off, off + n);
-        if (p.grad().defined()) {
-            slot.copy_(p.grad().reshape({ -1 }));
+    p->bucket = torch::empty({ total }, torch::kFloat);
+    float* flag = p->bucket.data_ptr<float>();
+    int64_t off = static_cast<int64_t>(p->params.size());
+    for (size_t i = 0; i < p->params.size(); ++i) {
+        const auto& t = p->params[i];
+        const int64_t n = t.numel();
+        auto slot = p->bucket.slice(0, off, off + n);
+        if (t.grad().defined()) {
+            slot.copy_(t.grad().reshape({ -1 }));
             flag[i] = 1.0f;
         } else {
             slot.zero_();
@@ -278,30 +307,48 @@ void distributed_context::all_reduce_gradients(const torch::optim::Optimizer& op
         }
         off += n;
     }
-    for (const auto& b : buffers) {
-        bucket.slice(0, off, off + b.numel()).copy_(b.reshape({ -1 }));
+    for (const auto& b : p->buffers) {
+        p->bucket.slice(0, off, off + b.numel()).copy_(b.reshape({ -1 }));
         off += b.numel();
     }
-    d_impl->all_reduce(bucket, c10d::ReduceOp::SUM, "gradient all-reduce");
-    bucket.div_(static_cast<double>(d_s.world_size));
-    off = static_cast<int64_t>(params.size());
-    for (size_t i = 0; i < params.size(); ++i) {
-        auto p = params[i];
-        const int64_t n = p.numel();
+    std::vector<torch::Tensor> v{ p->bucket };
+    c10d::AllreduceOptions o;
+    o.reduceOp = c10d::ReduceOp::SUM;
+    p->work = d_impl->guarded("gradient all-reduce", [&] { return d_impl->pg->allreduce(v, o); });
+    d_impl->pending = std::move(p);
+    d_grad_seconds += std::chrono::duration<double>(clock_type::now() - t0).count();
+    d_grad_floats = total;
+}
+
+void distributed_context::finish_gradient_all_reduce()
+{
+    if (!active())
+        return;
+    if (!d_impl->pending)
+        throw std::logic_error("finish_gradient_all_reduce: no gradient all-reduce was started");
+    const auto t0 = clock_type::now();
+    torch::NoGradGuard ng;
+    const auto p = std::move(d_impl->pending);
+    d_impl->wait("gradient all-reduce", p->work);
+    p->bucket.div_(static_cast<double>(d_s.world_size));
+    const float* flag = p->bucket.data_ptr<float>();
+    int64_t off = static_cast<int64_t>(p->params.size());
+    for (size_t i = 0; i < p->params.size(); ++i) {
+        auto t = p->params[i];
+        const int64_t n = t.numel();
         if (flag[i] > 0.0f) { // some rank has this gradient
-            if (!p.grad().defined())
-                p.mutable_grad() = torch::zeros_like(p);
-            p.mutable_grad().copy_(bucket.slice(0, off, off + n).view(p.sizes()));
+            if (!t.grad().defined())
+                t.mutable_grad() = torch::zeros_like(t);
+            t.mutable_grad().copy_(p->bucket.slice(0, off, off + n).view(t.sizes()));
         }
         off += n;
     }
-    for (auto& b : buffers) {
-        b.copy_(bucket.slice(0, off, off + b.numel()).view(b.sizes()));
+    for (auto& b : p->buffers) {
+        b.copy_(p->bucket.slice(0, off, off + b.numel()).view(b.sizes()));
         off += b.numel();
     }
     d_grad_seconds += std::chrono::duration<double>(clock_type::now() - t0).count();
     d_grad_calls += 1;
-    d_grad_floats = total;
 }
 
 namespace {
@@ -388,6 +435,11 @@ void distributed_context::all_reduce_gradients(const torch::optim::Optimizer&,
                                                const std::vector<std::shared_ptr<torch::nn::Module>>&)
 {
 }
+void distributed_context::start_gradient_all_reduce(const torch::optim::Optimizer&,
+                                                    const std::vector<std::shared_ptr<torch::nn::Module>>&)
+{
+}
+void distributed_context::finish_gradient_all_reduce() {}
 std::vector<double> distributed_context::all_reduce_sum(std::vector<double> v) { return v; }
 std::vector<double> distributed_context::all_reduce_min(std::vector<double> v) { return v; }
 std::vector<double> distributed_context::all_reduce_max(std::vector<double> v) { return v; }

@@ -46,6 +46,13 @@ public:
     //! step(). A gradient undefined on every rank stays undefined.
     void all_reduce_gradients(const torch::optim::Optimizer& opt,
                               const std::vector<std::shared_ptr<torch::nn::Module>>& modules);
+    //! all_reduce_gradients() in two halves, so the caller can work while the gradients
+    //! travel (and while a slower rank catches up): start copies the gradients into the
+    //! bucket and starts the exchange; finish waits for it and writes the means back. At
+    //! most one is in flight; nothing may touch the gradients or buffers in between.
+    void start_gradient_all_reduce(const torch::optim::Optimizer& opt,
+                                   const std::vector<std::shared_ptr<torch::nn::Module>>& modules);
+    void finish_gradient_all_reduce();
     //! Element-wise sums over the ranks (float64: metric sums and counts).
     std::vector<double> all_reduce_sum(std::vector<double> v);
     //! Element-wise min / max over the ranks.
@@ -56,7 +63,8 @@ public:
     //! Throws if the ranks' parameters differ (they must stay bit-identical).
     void check_in_sync(const std::vector<std::shared_ptr<torch::nn::Module>>& modules, const std::string& what);
 
-    //! Time spent in the gradient all-reduce (flatten, exchange, unflatten) and its calls.
+    //! Time the trainer spent in the gradient all-reduce (flatten and start, then waiting and
+    //! unflattening: the part the overlapped work did not hide) and its calls.
     double gradient_seconds() const { return d_grad_seconds; }
     int64_t gradient_calls() const { return d_grad_calls; }
     int64_t gradient_floats() const { return d_grad_floats; }

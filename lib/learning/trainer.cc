@@ -310,16 +310,32 @@ training_result trainer::run()
                            const std::vector<std::shared_ptr<torch::nn::Module>>& modules) {
         double sum = 0.0;
         auto perm = torch::randperm(n_train, torch::kLong);
-        for (int64_t st = 0; st < steps; ++st) {
-            auto idx = perm.slice(0, st * batch, std::min<int64_t>(n_train, (st + 1) * batch));
-            auto h = d_data.train.h.index_select(0, idx);
-            auto y = training::add_noise(
-                h, training::draw_noise_variance(idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
+        struct step_batch {
+            torch::Tensor idx, h, y;
+        };
+        auto batch_of_step = [&](int64_t st) {
+            step_batch b;
+            b.idx = perm.slice(0, st * batch, std::min<int64_t>(n_train, (st + 1) * batch));
+            b.h = d_data.train.h.index_select(0, b.idx);
+            b.y = training::add_noise(
+                b.h, training::draw_noise_variance(b.idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
                 c10::nullopt);
+            return b;
+        };
+        step_batch next = batch_of_step(0);
+        for (int64_t st = 0; st < steps; ++st) {
+            const step_batch cur = std::move(next);
             opt.zero_grad();
-            torch::Tensor l = forward_loss(y, h, idx);
+            torch::Tensor l = forward_loss(cur.y, cur.h, cur.idx);
             l.backward();
-            d_dist->all_reduce_gradients(opt, modules); // mean over the ranks; batch-norm statistics too
+            // Mean over the ranks (batch-norm statistics too). The next step's batch is
+            // drawn while the gradients travel and a slower rank catches up; the random
+            // draws keep their order (this step's forward, then the next batch), so a
+            // single rank trains bit-identically either way.
+            d_dist->start_gradient_all_reduce(opt, modules);
+            if (st + 1 < steps)
+                next = batch_of_step(st + 1);
+            d_dist->finish_gradient_all_reduce();
             opt.step();
             sum += l.item<double>();
         }
