@@ -4,13 +4,13 @@
 
     combine_runs.py RUNS_DIR RESULTS_DIR
 
-RUNS_DIR holds the processes' output folders as docs/RESULTS.md runs them: full (experiment
-1), full3 (experiment 3), full4 (experiment 4, single path), full4b (experiment 4,
-multipath), shipped (the --only-shipped rows). Writes exp1_recognition.csv,
-exp3_conditions.csv, exp4_delay.csv, shipped_exp1_recognition.csv, shipped_exp4_delay.csv
-and exp6_cost.csv (the cost rows of experiments 1, 3 and 4, rebuilt from their CSVs: the
-processes ran without experiment 6) into RESULTS_DIR. Fails if a part is missing or the
-headers differ.
+RUNS_DIR holds the processes' output folders as scripts/eval_full.sh runs them: full
+(experiments 1 and 2), full4 (experiment 4 single path, experiment 3), full4b (experiment 4
+multipath, experiment 5), shipped (the --only-shipped rows); each of the first three also
+wrote the cost rows of its own experiments (experiment 6). Writes exp1_recognition.csv,
+exp2_tsne_features.csv, exp3_conditions.csv, exp4_delay.csv, exp5_pilot_budget.csv,
+exp6_cost.csv, shipped_exp1_recognition.csv and shipped_exp4_delay.csv into RESULTS_DIR.
+Fails if a part is missing or the headers differ.
 """
 import csv
 import os
@@ -18,12 +18,13 @@ import sys
 
 PARTS = {
     "exp1_recognition.csv": ["full"],
-    "exp3_conditions.csv": ["full3"],
+    "exp2_tsne_features.csv": ["full"],
+    "exp3_conditions.csv": ["full4"],
     "exp4_delay.csv": ["full4", "full4b"],
+    "exp5_pilot_budget.csv": ["full4b"],
+    "exp6_cost.csv": ["full", "full4", "full4b"],
 }
 SHIPPED = {"shipped_exp1_recognition.csv": "exp1_recognition.csv", "shipped_exp4_delay.csv": "exp4_delay.csv"}
-COST = ["experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "metric", "value", "us_per_frame",
-        "n_frames", "seed", "train_seed", "train_seconds"]
 
 
 def read(path):
@@ -53,15 +54,6 @@ def main(runs, out):
         write(os.path.join(out, name), header, rows)
     for name, source in SHIPPED.items():
         write(os.path.join(out, name), *read(os.path.join(runs, "shipped", source)))
-    cost = []
-    for name, metric in (("exp1_recognition.csv", "accuracy"), ("exp3_conditions.csv", "accuracy"),
-                         ("exp4_delay.csv", "mae_index")):
-        with open(os.path.join(out, name), newline="") as f:
-            for r in csv.DictReader(f):
-                cost.append([r["experiment"], r["scenario"], r["method"], r["mask"], r["n_pilots"], r["snr_db"],
-                             metric, r[metric], r["us_per_frame"], r["n_frames"], r["seed"], r["train_seed"],
-                             r["train_seconds"]])
-    write(os.path.join(out, "exp6_cost.csv"), COST, cost)
 
 
 if __name__ == "__main__":

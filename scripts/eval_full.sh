@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The documented full evaluation (docs/RESULTS.md): all six experiments of `sems_eval --size
+# full` at the paper's budget, split over three processes of one LibTorch thread each so both
+# cores stay busy, then the shipped bundles' rows, one set of CSVs and the figures.
+#
+#   bash scripts/eval_full.sh [--out DIR] [--results DIR] [--size full|test]
+#
+# Processes (each its own output folder under DIR, default out/eval_full):
+#   full   experiments 1, 2 (t-SNE of experiment 1's networks, from the same cache), 6
+#   full4  experiment 4 single path, then experiment 3 (clutter, SNR, velocity), 6
+#   full4b experiment 4 multipath, then experiment 5 (N_p sweep; N_p = 32 is experiment 4's
+#          network from the same cache), 6
+# then `--only-shipped` for models/, docs/results/combine_runs.py and apps/plot_results.py into
+# RESULTS (default docs/results). Prints the wall time of each part and of the whole run.
+# The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test
+# runs the same plumbing in a minute (numbers meaningless).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+out="$root/out/eval_full"
+results="$root/docs/results"
+size=full
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --out) out="$2"; shift 2 ;;
+    --results) results="$2"; shift 2 ;;
+    --size) size="$2"; shift 2 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    *) echo "eval_full.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+eval_bin="${SEMS_EVAL:-$root/build/apps/sems_eval}"
+[ -x "$eval_bin" ] || { echo "eval_full.sh: $eval_bin is missing: build first (scripts/build.sh) or set SEMS_EVAL" >&2; exit 2; }
+mkdir -p "$out" "$results"
+start=$(date +%s)
+stamp() { echo "[$(date -u +%H:%M:%S)] $*"; }
+
+run_part() { # name, then sems_eval arguments
+  local name="$1"; shift
+  local t0; t0=$(date +%s)
+  if OMP_NUM_THREADS=1 "$eval_bin" --size "$size" --threads 1 --out "$out/$name" "$@" >"$out/$name.log" 2>&1; then
+    stamp "$name done in $(( $(date +%s) - t0 )) s"
+  else
+    stamp "$name FAILED after $(( $(date +%s) - t0 )) s, see $out/$name.log"; return 1
+  fi
+}
+
+stamp "sems_eval --size $size, 3 processes, logs in $out/*.log"
+pids=()
+run_part full --experiments 1,2,6 & pids+=($!)
+run_part full4 --experiments 3,4,6 --delay-scenarios single & pids+=($!)
+run_part full4b --experiments 4,5,6 --delay-scenarios multipath & pids+=($!)
+failed=0
+for p in "${pids[@]}"; do wait "$p" || failed=1; done
+[ "$failed" -eq 0 ] || { stamp "a part failed"; exit 1; }
+run_part shipped --experiments 1,4 --only-shipped --shipped-classifier "$root/models/classifier" \
+  --shipped-delay-single "$root/models/delay_single" --shipped-delay-multipath "$root/models/delay_multipath"
+/usr/bin/python3 "$root/docs/results/combine_runs.py" "$out" "$results"
+/usr/bin/python3 "$root/apps/plot_results.py" "$results" --tables "$results/tables.md"
+for f in "$out"/*.log; do cp "$f" "$results/eval_full_$(basename "$f")"; done
+stamp "whole run: $(( ($(date +%s) - start) / 60 )) min $(( ($(date +%s) - start) % 60 )) s"
