@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the libFuzzer harnesses in fuzz/ (clang, ASan+UBSan, torch-free sources only)
-# and runs each for SECONDS seconds (default 60) on its seed corpus, one at a time.
+# and runs each for SECONDS seconds (default 60) on its seed corpus, as many at once as there
+# are cores (each harness is one process on one core; $SEMS_FUZZ_JOBS overrides the count).
 # Exit status 1 when a harness finds a crash; the reproducer is left in
 # $SEMS_FUZZ_BUILD_DIR/artifacts/<harness>/ and the log in .../<harness>.log.
 #
@@ -23,21 +24,35 @@ fi
 cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build.configure.log"
 cmake --build "$build" -j"$(nproc)" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
-status=0
-for h in "${harnesses[@]}"; do
-  corpus="$build/corpus/$h"            # grows while fuzzing; the seeds stay in fuzz/corpus
+fuzz_one() { # harness: fuzzes, then prints its summary; exit 1 on a crash
+  local h="$1"
+  local corpus="$build/corpus/$h"      # grows while fuzzing; the seeds stay in fuzz/corpus
   mkdir -p "$corpus" "$build/artifacts/$h"
-  log="$build/fuzz_$h.log"
-  echo "fuzz.sh: fuzz_$h for ${seconds} s (log $log)"
-  dict=()
+  local log="$build/fuzz_$h.log"
+  local dict=()
   [[ "$h" != extractor ]] && dict=(-dict="$root/fuzz/json.dict") # the extractor's input is binary
-  if ! nice "$build/fuzz_$h" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=8192 \
+  local rc=0
+  nice "$build/fuzz_$h" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -max_len=8192 \
        "${dict[@]}" -artifact_prefix="$build/artifacts/$h/" -print_final_stats=1 \
-       "$corpus" "$root/fuzz/corpus/$h" > "$log" 2>&1; then
+       "$corpus" "$root/fuzz/corpus/$h" > "$log" 2>&1 || rc=1
+  if [[ $rc -ne 0 ]]; then
     echo "fuzz.sh: fuzz_$h FOUND A CRASH:" >&2
     grep -E "ERROR|SUMMARY|Test unit written" "$log" >&2 || tail -20 "$log" >&2
-    status=1
   fi
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" | sed "s/^/fuzz_$h: /" || true
+  return $rc
+}
+
+jobs="${SEMS_FUZZ_JOBS:-$(nproc)}"
+status=0
+pids=()
+for h in "${harnesses[@]}"; do
+  echo "fuzz.sh: fuzz_$h for ${seconds} s (log $build/fuzz_$h.log)"
+  fuzz_one "$h" & pids+=($!)
+  if [[ ${#pids[@]} -ge $jobs ]]; then # a batch of `jobs` harnesses at a time
+    for p in "${pids[@]}"; do wait "$p" || status=1; done
+    pids=()
+  fi
 done
+for p in "${pids[@]}"; do wait "$p" || status=1; done
 exit $status
