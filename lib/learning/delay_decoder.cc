@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the correlation-driven delay decoder (see delay_decoder.h). */
 #include "learning/delay_decoder.h"
+#include "learning/grid_omp.h"
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <gnuradio/sems/core/steering.h>
 #include <algorithm>
@@ -150,28 +151,17 @@ torch::Tensor delay_decoder_module::residual_maps(const torch::Tensor& xr,
                                                   double scale) const
 {
     // Orthogonal matching pursuit on the grid, without gradient (a fixed feature extractor):
-    // y (B x M, zero off the pilots' subcarriers), atoms a_q = support ⊙ D[:, q].
+    // lib/learning/grid_omp.h, in double precision from the float dictionary.
     torch::NoGradGuard ng;
-    const auto y = torch::complex(xr.to(torch::kDouble), xi.to(torch::kDouble));          // B x M
-    const auto steer = torch::complex(d_dict_cos.to(torch::kDouble), -d_dict_sin.to(torch::kDouble)); // M x Q
-    const auto conj_steer = steer.conj();
-    const auto sup = torch::complex(support.to(torch::kDouble), torch::zeros_like(support, torch::kDouble));
-    auto mag = (torch::matmul(y, conj_steer) * scale).abs(); // B x Q
-    std::vector<torch::Tensor> chosen, out;
-    for (int k = 0; k < d_s.residual_maps; ++k) {
-        chosen.push_back(mag.argmax(1)); // B
-        auto idx = torch::stack(chosen, 1);                                         // B x L
-        auto a = steer.t().index_select(0, idx.flatten()).view({ idx.size(0), idx.size(1), d_m }); // B x L x M
-        a = (a * sup.unsqueeze(1)).transpose(1, 2);                                  // B x M x L
-        auto ah = a.conj().transpose(1, 2);
-        auto g = torch::matmul(ah, a);
-        g = g + 1e-9 * torch::eye(g.size(-1), g.options()) * (1.0 + torch::real(g.diagonal(0, 1, 2)).amax(-1)).view({ -1, 1, 1 });
-        auto b = torch::linalg::solve(g, torch::matmul(ah, y.unsqueeze(-1)), true);
-        auto res = y - torch::matmul(a, b).squeeze(-1);
-        mag = (torch::matmul(res, conj_steer) * scale).abs();
-        out.push_back(mag);
-    }
-    return torch::stack(out, 1).to(xr.scalar_type()); // B x K x Q
+    const auto yr = xr.detach().to(torch::kFloat).contiguous(), yi = xi.detach().to(torch::kFloat).contiguous();
+    const auto sup = support.detach().to(torch::kFloat).contiguous();
+    const auto dc = d_dict_cos.to(torch::kDouble).contiguous(), ds = d_dict_sin.to(torch::kDouble).contiguous();
+    const int64_t b = yr.size(0);
+    auto maps = torch::empty({ b, d_s.residual_maps, d_s.q }, torch::kFloat);
+    grid_omp_maps(yr.data_ptr<float>(), yi.data_ptr<float>(), sup.data_ptr<float>(), b, d_m,
+                  dc.data_ptr<double>(), ds.data_ptr<double>(), d_s.q, d_s.residual_maps, scale,
+                  maps.data_ptr<float>());
+    return maps.to(xr.scalar_type()); // B x K x Q
 }
 
 void delay_decoder_module::set_pilot_positions(const frame_settings& fs, const std::vector<int64_t>& flat)

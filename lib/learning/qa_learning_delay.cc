@@ -64,6 +64,7 @@ class qa_learning_delay : public CppUnit::TestFixture
     CPPUNIT_TEST(legacy_settings_keep_the_old_network);
     CPPUNIT_TEST(refinement_is_the_anchored_least_squares_fit);
     CPPUNIT_TEST(residual_maps_remove_the_strongest_atom);
+    CPPUNIT_TEST(residual_maps_match_the_operator_form);
     CPPUNIT_TEST(bad_settings_are_refused);
     CPPUNIT_TEST_SUITE_END();
 
@@ -183,6 +184,53 @@ public:
         const auto two = d.residual_maps_of(grid_of({ 20.0, 23.0 }));
         CPPUNIT_ASSERT_EQUAL(int64_t(100), two[0][0].argmax().item<int64_t>());
         CPPUNIT_ASSERT(two[0][1].max().item<double>() < 1e-3); // both removed: nothing left
+    }
+
+    void residual_maps_match_the_operator_form()
+    {
+        // grid_omp_maps (plain loops) against the LibTorch form it replaced (complex double,
+        // a batched solve per round), on noisy 3-path frames and trained-looking projections.
+        torch::manual_seed(5);
+        const auto flat = one_symbol_positions();
+        auto s = small(0);
+        s.residual_maps = 3;
+        delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+        const auto grid = frames(24, flat, 10.0);
+        const auto got = d.residual_maps_of(grid);
+
+        torch::NoGradGuard ng;
+        const auto params = d.named_parameters();
+        const auto buffers = d.named_buffers();
+        const auto pr = params["proj_re"].select(0, 0), pi = params["proj_im"].select(0, 0); // N
+        const auto x = normalise_frames(grid, 32);                                             // B x 2 x N x M
+        const auto xr = torch::matmul(pr, x.select(1, 0)) - torch::matmul(pi, x.select(1, 1)); // B x M
+        const auto xi = torch::matmul(pr, x.select(1, 1)) + torch::matmul(pi, x.select(1, 0));
+        const auto support = (x.abs().sum(1).sum(1) > 0).to(torch::kDouble);
+        const double scale = 1.0 / std::sqrt(32.0);
+        const auto y = torch::complex(xr.to(torch::kDouble), xi.to(torch::kDouble));
+        const auto steer = torch::complex(buffers["dict_cos"].to(torch::kDouble), -buffers["dict_sin"].to(torch::kDouble));
+        const auto sup = torch::complex(support, torch::zeros_like(support));
+        auto mag = (torch::matmul(y, steer.conj()) * scale).abs();
+        std::vector<torch::Tensor> chosen, want;
+        for (int k = 0; k < s.residual_maps; ++k) {
+            chosen.push_back(mag.argmax(1));
+            auto idx = torch::stack(chosen, 1);
+            auto a = steer.t().index_select(0, idx.flatten()).view({ idx.size(0), idx.size(1), fs.n_subcarriers });
+            a = (a * sup.unsqueeze(1)).transpose(1, 2);
+            auto ah = a.conj().transpose(1, 2);
+            auto g = torch::matmul(ah, a);
+            g = g + 1e-9 * torch::eye(g.size(-1), g.options()) *
+                        (1.0 + torch::real(g.diagonal(0, 1, 2)).amax(-1)).view({ -1, 1, 1 });
+            auto b = torch::linalg::solve(g, torch::matmul(ah, y.unsqueeze(-1)), true);
+            mag = (torch::matmul(y - torch::matmul(a, b).squeeze(-1), steer.conj()) * scale).abs();
+            want.push_back(mag);
+        }
+        const auto ref = torch::stack(want, 1).to(torch::kFloat);
+        CPPUNIT_ASSERT(got.sizes() == ref.sizes());
+        const double err = (got - ref).abs().max().item<double>(), top = ref.abs().max().item<double>();
+        CPPUNIT_ASSERT_MESSAGE("max difference " + std::to_string(err) + " of " + std::to_string(top),
+                               err <= 1e-5 * top);
+        CPPUNIT_ASSERT_MESSAGE("largest map value " + std::to_string(top), top > 0.01); // not all zero (~0.1)
     }
 
     void bad_settings_are_refused()
