@@ -226,8 +226,7 @@ def exp3(d, out):
     fig, axes = plt.subplots(1, len(scen), figsize=(5.5 * len(scen), 4.2), squeeze=False)
     for ax, s in zip(axes[0], scen):
         handles = plot_lines(ax, [r for r in rows if r["scenario"] == s], "accuracy")
-        if ax is axes[0][0]:
-            ax.legend(handles=handles, fontsize=7, loc="lower right")
+        ax.legend(handles=handles, fontsize=7, loc="lower right") # each panel: clutter adds the MTI rows
         ax.set_title({"no_md": "without micro-Doppler", "clutter": "strong clutter"}[s], fontsize=10)
         ax.set_xlabel("SNR (dB)")
         ax.set_ylabel("accuracy")

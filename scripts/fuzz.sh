@@ -21,7 +21,8 @@ if [[ -z "$cxx" ]]; then
   echo "fuzz.sh: clang++ not found (apt-get install clang libfuzzer-14-dev)" >&2
   exit 2
 fi
-cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build.configure.log"
+mkdir -p "$build"
+cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build/configure.log"
 cmake --build "$build" -j"$(nproc)" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 fuzz_one() { # harness: fuzzes, then prints its summary; exit 1 on a crash
