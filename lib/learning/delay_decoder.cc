@@ -151,15 +151,15 @@ torch::Tensor delay_decoder_module::residual_maps(const torch::Tensor& xr,
                                                   double scale) const
 {
     // Orthogonal matching pursuit on the grid, without gradient (a fixed feature extractor):
-    // lib/learning/grid_omp.h, in double precision from the float dictionary.
+    // lib/learning/grid_omp.h, in double precision from the float dictionary buffers.
     torch::NoGradGuard ng;
     const auto yr = xr.detach().to(torch::kFloat).contiguous(), yi = xi.detach().to(torch::kFloat).contiguous();
     const auto sup = support.detach().to(torch::kFloat).contiguous();
-    const auto dc = d_dict_cos.to(torch::kDouble).contiguous(), ds = d_dict_sin.to(torch::kDouble).contiguous();
+    const auto dc = d_dict_cos.contiguous(), ds = d_dict_sin.contiguous(); // float, M x Q: no copy
     const int64_t b = yr.size(0);
     auto maps = torch::empty({ b, d_s.residual_maps, d_s.q }, torch::kFloat);
     grid_omp_maps(yr.data_ptr<float>(), yi.data_ptr<float>(), sup.data_ptr<float>(), b, d_m,
-                  dc.data_ptr<double>(), ds.data_ptr<double>(), d_s.q, d_s.residual_maps, scale,
+                  dc.data_ptr<float>(), ds.data_ptr<float>(), d_s.q, d_s.residual_maps, scale,
                   maps.data_ptr<float>());
     return maps.to(xr.scalar_type()); // B x K x Q
 }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: orthogonal matching pursuit on the delay grid (see lib/learning/grid_omp.h). */
 #include "learning/grid_omp.h"
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -15,12 +17,16 @@ namespace nn {
 namespace {
 using cd = std::complex<double>;
 constexpr int max_rounds = 8;
+// At most max_rounds atoms: Gram matrices and coefficients live on the stack.
+using gram = Eigen::Matrix<cd, Eigen::Dynamic, Eigen::Dynamic, 0, max_rounds, max_rounds>;
+using coeffs = Eigen::Matrix<cd, Eigen::Dynamic, 1, 0, max_rounds, 1>;
 
-// |Σ_s r[s] conj(D[m_s, q])| · scale for every q, over the support's subcarriers m_s.
+// |Σ_s r[s] conj(D[m_s, q])| · scale for every q, over the support's subcarriers m_s (the
+// float dictionary promoted to double, as the operator form did).
 void correlate(const std::vector<int>& sup,
                const cd* r,
-               const double* dc,
-               const double* ds,
+               const float* dc,
+               const float* ds,
                int q,
                double scale,
                double* __restrict cr,
@@ -31,8 +37,8 @@ void correlate(const std::vector<int>& sup,
     std::fill(ci, ci + q, 0.0);
     for (size_t s = 0; s < sup.size(); ++s) {
         const double a = r[s].real(), b = r[s].imag();
-        const double* __restrict c = dc + static_cast<size_t>(sup[s]) * q;
-        const double* __restrict sn = ds + static_cast<size_t>(sup[s]) * q;
+        const float* __restrict c = dc + static_cast<size_t>(sup[s]) * q;
+        const float* __restrict sn = ds + static_cast<size_t>(sup[s]) * q;
         for (int k = 0; k < q; ++k) { // (a + jb)(c + j sn)
             cr[k] += a * c[k] - b * sn[k];
             ci[k] += a * sn[k] + b * c[k];
@@ -54,37 +60,6 @@ int argmax(const double* v, int n)
     }
     return best;
 }
-
-// Solves G x = r in place for a Hermitian positive definite L x L matrix G (Cholesky;
-// the caller regularises G). G is row-major, overwritten by its factor.
-void solve_hpd(cd* g, cd* r, int l)
-{
-    for (int j = 0; j < l; ++j) {
-        double d = g[j * l + j].real();
-        for (int k = 0; k < j; ++k)
-            d -= std::norm(g[j * l + k]);
-        d = std::sqrt(std::max(d, 0.0));
-        g[j * l + j] = d;
-        for (int i = j + 1; i < l; ++i) {
-            cd v = g[i * l + j];
-            for (int k = 0; k < j; ++k)
-                v -= g[i * l + k] * std::conj(g[j * l + k]);
-            g[i * l + j] = d > 0.0 ? v / d : cd(0.0);
-        }
-    }
-    for (int i = 0; i < l; ++i) { // L z = r
-        cd v = r[i];
-        for (int k = 0; k < i; ++k)
-            v -= g[i * l + k] * r[k];
-        r[i] = g[i * l + i].real() > 0.0 ? v / g[i * l + i].real() : cd(0.0);
-    }
-    for (int i = l - 1; i >= 0; --i) { // L^H x = z
-        cd v = r[i];
-        for (int k = i + 1; k < l; ++k)
-            v -= std::conj(g[k * l + i]) * r[k];
-        r[i] = g[i * l + i].real() > 0.0 ? v / g[i * l + i].real() : cd(0.0);
-    }
-}
 } // namespace
 
 void grid_omp_maps(const float* yr,
@@ -92,8 +67,8 @@ void grid_omp_maps(const float* yr,
                    const float* support,
                    int64_t frames,
                    int m,
-                   const double* dict_cos,
-                   const double* dict_sin,
+                   const float* dict_cos,
+                   const float* dict_sin,
                    int q,
                    int rounds,
                    double scale,
@@ -104,7 +79,7 @@ void grid_omp_maps(const float* yr,
                                     ", m >= 1, q >= 1 (got rounds " + std::to_string(rounds) + ", m " +
                                     std::to_string(m) + ", q " + std::to_string(q) + ")");
     std::vector<int> sup;
-    std::vector<cd> y, res, atoms(static_cast<size_t>(max_rounds) * m), g(max_rounds * max_rounds), b(max_rounds);
+    std::vector<cd> y, res, atoms(static_cast<size_t>(max_rounds) * m);
     std::vector<double> cr(q), ci(q), mag(q);
     int chosen[max_rounds];
     for (int64_t f = 0; f < frames; ++f) {
@@ -129,7 +104,8 @@ void grid_omp_maps(const float* yr,
                 a[s] = cd(dict_cos[at], -dict_sin[at]);
             }
             const int n = l + 1;
-            double top = 0.0;
+            gram g(n, n);
+            coeffs b(n);
             for (int i = 0; i < n; ++i) {
                 const cd* ai = atoms.data() + static_cast<size_t>(i) * m;
                 cd rhs = 0.0;
@@ -141,14 +117,12 @@ void grid_omp_maps(const float* yr,
                     cd v = 0.0;
                     for (size_t s = 0; s < s_n; ++s)
                         v += std::conj(ai[s]) * aj[s];
-                    g[i * n + j] = v;
+                    g(i, j) = v;
                 }
-                top = std::max(top, g[i * n + i].real());
             }
-            const double ridge = 1e-9 * (1.0 + top); // as the LibTorch version: keeps a repeated atom solvable
-            for (int i = 0; i < n; ++i)
-                g[i * n + i] += ridge;
-            solve_hpd(g.data(), b.data(), n);
+            // As the LibTorch version: a ridge keeps a repeated atom solvable (G stays positive definite).
+            g.diagonal().array() += cd(1e-9 * (1.0 + g.diagonal().real().maxCoeff()), 0.0);
+            b = g.llt().solve(b).eval();
             for (size_t s = 0; s < s_n; ++s) {
                 cd v = y[s];
                 for (int i = 0; i < n; ++i)

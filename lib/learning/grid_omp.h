@@ -8,7 +8,8 @@
  * Round 1 picks the q of the largest |Σ_m y[m] conj(D[m, q])|; every round refits all the
  * atoms picked so far (restricted to the frame's pilot subcarriers) by least squares,
  * writes the map |Σ_m r[m] conj(D[m, q])| · scale of the residual r, and picks the next q
- * from it. Written as plain loops over the pilots' subcarriers: as LibTorch operators
+ * from it (a Cholesky solve of the L x L Gram matrix). Written as plain loops over the pilots'
+ * subcarriers: as LibTorch operators
  * (complex double, a batched solve per round) it was ~50 small calls per batch, most of
  * the small decoder's time.
  */
@@ -38,8 +39,8 @@ void grid_omp_maps(const float* yr,
                    const float* support,
                    int64_t frames,
                    int m,
-                   const double* dict_cos,
-                   const double* dict_sin,
+                   const float* dict_cos,
+                   const float* dict_sin,
                    int q,
                    int rounds,
                    double scale,
