@@ -134,15 +134,94 @@ decoder_output delay_decoder_module::forward(const torch::Tensor& grid)
     auto mag = torch::sqrt(rr * rr + ri * ri + 1e-12);
     // B x (3P + K) x Q, one copy.
     auto feat = maps.defined() ? torch::cat({ rr, ri, mag, maps }, 1) : torch::cat({ rr, ri, mag }, 1);
-    auto h = torch::relu(d_stem_bn->forward(d_stem->forward(feat)));
-    if (!d_blocks->is_empty())
-        h = d_blocks->forward(h);
     decoder_output out;
-    out.logits = d_head->forward(h).squeeze(1);
+    out.logits = folded_logits(feat);
+    if (!out.logits.defined()) {
+        auto h = torch::relu(d_stem_bn->forward(d_stem->forward(feat)));
+        if (!d_blocks->is_empty())
+            h = d_blocks->forward(h);
+        out.logits = d_head->forward(h).squeeze(1);
+    }
     out.delay_index = soft_argmax(out.logits, d_tau, d_s.window);
     if (!is_training() && d_s.refine_paths > 0 && d_fitter)
         out.delay_index = refine(x, out.delay_index);
     return out;
+}
+
+namespace {
+// The folded loops run where the network costs at most this many multiply-adds per frame:
+// there one LibTorch convolution call (~10-150 us whatever its size) costs more than the
+// whole network as loops. The fast bundle's network is ~34 000, the accurate one's ~3.4 million.
+constexpr int64_t folded_network_max_macs = 262144;
+
+folded_conv1d fold(torch::nn::Conv1d conv, torch::nn::BatchNorm1d bn)
+{
+    folded_conv1d f;
+    const auto w = conv->weight.detach().to(torch::kFloat).contiguous(); // out x in x k
+    f.out_channels = static_cast<int>(w.size(0));
+    f.in_channels = static_cast<int>(w.size(1));
+    f.kernel = static_cast<int>(w.size(2));
+    f.dilation = static_cast<int>((*conv->options.dilation())[0]);
+    auto b = conv->bias.defined() ? conv->bias.detach().to(torch::kFloat) : torch::zeros({ w.size(0) });
+    auto wf = w;
+    if (bn) { // y = s (conv(x) - mean) + beta, s = gamma / sqrt(var + eps)
+        const auto s = bn->weight.detach() / torch::sqrt(bn->running_var + bn->options.eps());
+        wf = w * s.view({ -1, 1, 1 });
+        b = (b - bn->running_mean) * s + bn->bias.detach();
+    }
+    wf = wf.contiguous();
+    b = b.contiguous();
+    f.weight.assign(wf.data_ptr<float>(), wf.data_ptr<float>() + wf.numel());
+    f.bias.assign(b.data_ptr<float>(), b.data_ptr<float>() + b.numel());
+    return f;
+}
+} // namespace
+
+torch::Tensor delay_decoder_module::folded_logits(const torch::Tensor& features)
+{
+    const bool no_grad = c10::InferenceMode::is_enabled() || !torch::GradMode::is_enabled();
+    const int64_t q = d_s.q, w = d_s.width, k = d_s.kernel;
+    const int64_t macs = q * k * w * (features.size(1) + 2 * d_s.depth * w) + q * w;
+    if (is_training() || !no_grad || macs > folded_network_max_macs || features.scalar_type() != torch::kFloat)
+        return {};
+    std::vector<int64_t> versions;
+    std::vector<const void*> data;
+    for (const auto& t : parameters()) {
+        versions.push_back(t._version());
+        data.push_back(t.data_ptr());
+    }
+    for (const auto& t : buffers()) {
+        versions.push_back(t._version());
+        data.push_back(t.data_ptr());
+    }
+    std::lock_guard<std::mutex> guard(d_folded.lock);
+    if (d_folded.layers.empty() || d_folded.versions != versions || d_folded.data != data) {
+        torch::NoGradGuard ng;
+        d_folded.layers.clear();
+        d_folded.layers.push_back(fold(d_stem, d_stem_bn));
+        for (const auto& m : *d_blocks) {
+            auto block = m.ptr<residual_block1d_module>();
+            d_folded.layers.push_back(fold(block->conv1, block->bn1));
+            d_folded.layers.push_back(fold(block->conv2, block->bn2));
+        }
+        d_folded.layers.push_back(fold(d_head, nullptr));
+        d_folded.versions = versions;
+        d_folded.data = data;
+    }
+    const auto x = features.contiguous();
+    const int64_t b = x.size(0);
+    // Two B x width x Q buffers: h (the block input, updated in place by the residual
+    // layer) and u (the block's middle).
+    auto h = torch::empty({ b, w, q }, torch::kFloat), u = torch::empty({ b, w, q }, torch::kFloat);
+    auto logits = torch::empty({ b, q }, torch::kFloat);
+    const auto& L = d_folded.layers;
+    folded_conv1d_forward(L.front(), x.data_ptr<float>(), b, q, nullptr, true, h.data_ptr<float>());
+    for (size_t i = 1; i + 1 < L.size(); i += 2) {
+        folded_conv1d_forward(L[i], h.data_ptr<float>(), b, q, nullptr, true, u.data_ptr<float>());
+        folded_conv1d_forward(L[i + 1], u.data_ptr<float>(), b, q, h.data_ptr<float>(), true, h.data_ptr<float>());
+    }
+    folded_conv1d_forward(L.back(), h.data_ptr<float>(), b, q, nullptr, false, logits.data_ptr<float>());
+    return logits;
 }
 
 torch::Tensor delay_decoder_module::residual_maps(const torch::Tensor& xr,

@@ -35,11 +35,13 @@
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 
+#include "learning/folded_conv1d.h"
 #include "learning/task_decoder.h"
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace gr {
@@ -85,6 +87,18 @@ private:
     std::vector<int64_t> d_positions;
     std::shared_ptr<multipath_fitter> d_fitter;
     torch::Tensor refine(const torch::Tensor& x, const torch::Tensor& estimate) const;
+    // The network after the features (stem, blocks, head) at inference, when it is small:
+    // its convolutions with their BatchNorms folded in, as plain loops (folded_conv1d.h),
+    // rebuilt when a parameter or buffer changes. Returns an undefined tensor when the
+    // LibTorch path applies (training, autograd on, or a network too large to gain).
+    torch::Tensor folded_logits(const torch::Tensor& features);
+    struct folded_network {
+        std::mutex lock;
+        std::vector<folded_conv1d> layers; // stem, (conv1, conv2) per block, head
+        std::vector<int64_t> versions;     // of every parameter and buffer it was built from
+        std::vector<const void*> data;
+    };
+    folded_network d_folded;
     std::pair<torch::Tensor, torch::Tensor> project(const torch::Tensor& x) const;
     torch::Tensor residual_maps(const torch::Tensor& xr,
                                 const torch::Tensor& xi,

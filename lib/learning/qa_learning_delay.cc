@@ -65,6 +65,7 @@ class qa_learning_delay : public CppUnit::TestFixture
     CPPUNIT_TEST(refinement_is_the_anchored_least_squares_fit);
     CPPUNIT_TEST(residual_maps_remove_the_strongest_atom);
     CPPUNIT_TEST(residual_maps_match_the_operator_form);
+    CPPUNIT_TEST(folded_network_matches_the_modules);
     CPPUNIT_TEST(bad_settings_are_refused);
     CPPUNIT_TEST_SUITE_END();
 
@@ -231,6 +232,57 @@ public:
         CPPUNIT_ASSERT_MESSAGE("max difference " + std::to_string(err) + " of " + std::to_string(top),
                                err <= 1e-5 * top);
         CPPUNIT_ASSERT_MESSAGE("largest map value " + std::to_string(top), top > 0.01); // not all zero (~0.1)
+    }
+
+    void folded_network_matches_the_modules()
+    {
+        // At inference a small network runs as plain loops with its BatchNorms folded in
+        // (folded_conv1d.h); with autograd on it runs LibTorch's modules. Both on the same
+        // frames, with BatchNorm statistics and affine parameters far from the identity, a
+        // dilated stack (depth 3: dilations 1, 2, 4) and the fast bundle's width.
+        torch::manual_seed(9);
+        auto s = small(0);
+        s.q = 89;
+        s.width = 4;
+        s.depth = 3;
+        s.residual_maps = 2;
+        delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+        {
+            torch::NoGradGuard ng;
+            for (auto& p : d.named_parameters())
+                if (p.key().find("bn") != std::string::npos)
+                    p.value().copy_(torch::rand_like(p.value()) * 2.0 - 0.5);
+            for (auto& b : d.named_buffers()) {
+                if (b.key().find("running_mean") != std::string::npos)
+                    b.value().copy_(torch::randn_like(b.value()));
+                if (b.key().find("running_var") != std::string::npos)
+                    b.value().copy_(torch::rand_like(b.value()) * 3.0 + 0.1);
+            }
+        }
+        d.eval();
+        const auto grid = frames(16, one_symbol_positions(), 20.0);
+        const auto compare = [&](const std::string& what) {
+            const auto modules = d.forward(grid).logits; // autograd on: LibTorch's modules
+            torch::Tensor loops;
+            {
+                torch::NoGradGuard ng;
+                loops = d.forward(grid).logits;
+            }
+            CPPUNIT_ASSERT(loops.sizes() == modules.sizes());
+            const double err = (loops - modules.detach()).abs().max().item<double>();
+            const double top = modules.detach().abs().max().item<double>();
+            CPPUNIT_ASSERT_MESSAGE(what + ": max difference " + std::to_string(err) + " of " + std::to_string(top),
+                                   err <= 1e-5 * top && top > 0.1);
+        };
+        compare("as built");
+        // A changed weight or statistic reaches the loops (the folded copy is rebuilt).
+        {
+            torch::NoGradGuard ng;
+            d.named_buffers()["blocks.1.bn2.running_mean"].add_(0.7);
+            d.named_parameters()["head.bias"].add_(-1.5);
+            d.named_parameters()["blocks.2.conv1.weight"].mul_(-2.0);
+        }
+        compare("after changing three tensors");
     }
 
     void bad_settings_are_refused()
