@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: glibc's allocator set up for tensor work. See malloc_tuning.h. */
 #include "malloc_tuning.h"
+#include "learning/asan_tensor_cache.h"
 #include <cstdlib>
 #include <cstring>
 #if defined(__GLIBC__)
@@ -13,10 +14,14 @@ namespace sems {
 namespace {
 std::string apply()
 {
-#if defined(__GLIBC__)
     const char* off = std::getenv("SEMS_MALLOC_TUNING");
     if (off && std::strcmp(off, "0") == 0)
         return "not tuned: SEMS_MALLOC_TUNING=0";
+    // Under AddressSanitizer glibc's malloc is replaced (mallopt does nothing): the same
+    // problem is solved in front of LibTorch instead.
+    if (const std::string asan = install_asan_tensor_cache(); !asan.empty())
+        return asan;
+#if defined(__GLIBC__)
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     for (const char* name : { "glibc.malloc.mmap_threshold", "glibc.malloc.trim_threshold", "glibc.malloc.top_pad" })
         if (tunables && std::strstr(tunables, name))

@@ -23,6 +23,8 @@ namespace sems {
  * Fast bins are switched off (M_MXFAST 0): with large blocks freed into the heap, glibc
  * consolidated them on every such free, which halved small decoders' batch-1 speed.
  *
+ * In a build with AddressSanitizer it installs asan_tensor_cache.h's allocator instead.
+ *
  * Called by bundle_decoder and the trainer. It changes nothing if the user already set one
  * of these three (GLIBC_TUNABLES with glibc.malloc.mmap_threshold, .trim_threshold or
  * .top_pad; MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, MALLOC_TOP_PAD_), with
