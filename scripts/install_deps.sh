@@ -13,6 +13,9 @@ packages=(
   libcppunit-dev pybind11-dev python3-pybind11
   nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
   python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako
+  # The decoders' anchor: the same networks in PyTorch from Python (apps/torch_reference.py;
+  # the tests torch_reference_matches and bench_quick).
+  python3-torch
   doxygen
   clang libclang-rt-14-dev
 )
