@@ -4,9 +4,8 @@
 # the C++ CppUnit suites, the gr_unittest QA of every block, the example flowgraphs).
 # By default on the Release tree ./build (the one scripts/demo.sh builds). With
 # SEMS_SANITIZE=address,undefined the suite runs under AddressSanitizer +
-# UndefinedBehaviorSanitizer (docs/hardening.md) in its own tree, ./build-sanitize: clean,
-# but about 30 minutes on a 2-core machine from a cold build, CI's whole budget, so CI
-# runs the Release suite.
+# UndefinedBehaviorSanitizer (docs/hardening.md) in its own tree, ./build-sanitize: that is
+# what CI runs (.ci/run), about 25 minutes on a 2-core machine from a cold build.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export SEMS_SANITIZE="${SEMS_SANITIZE-}"
