@@ -194,19 +194,24 @@ torch::Tensor delay_decoder_module::folded_logits(const torch::Tensor& features)
         versions.push_back(t._version());
         data.push_back(t.data_ptr());
     }
-    std::lock_guard<std::mutex> guard(d_folded.lock);
-    if (d_folded.layers.empty() || d_folded.versions != versions || d_folded.data != data) {
-        torch::NoGradGuard ng;
-        d_folded.layers.clear();
-        d_folded.layers.push_back(fold(d_stem, d_stem_bn));
-        for (const auto& m : *d_blocks) {
-            auto block = m.ptr<residual_block1d_module>();
-            d_folded.layers.push_back(fold(block->conv1, block->bn1));
-            d_folded.layers.push_back(fold(block->conv2, block->bn2));
+    std::shared_ptr<const std::vector<folded_conv1d>> layers;
+    {
+        std::lock_guard<std::mutex> guard(d_folded.lock);
+        if (!d_folded.layers || d_folded.versions != versions || d_folded.data != data) {
+            torch::NoGradGuard ng;
+            auto built = std::make_shared<std::vector<folded_conv1d>>();
+            built->push_back(fold(d_stem, d_stem_bn));
+            for (const auto& m : *d_blocks) {
+                auto block = m.ptr<residual_block1d_module>();
+                built->push_back(fold(block->conv1, block->bn1));
+                built->push_back(fold(block->conv2, block->bn2));
+            }
+            built->push_back(fold(d_head, nullptr));
+            d_folded.layers = std::move(built);
+            d_folded.versions = versions;
+            d_folded.data = data;
         }
-        d_folded.layers.push_back(fold(d_head, nullptr));
-        d_folded.versions = versions;
-        d_folded.data = data;
+        layers = d_folded.layers; // a snapshot: concurrent calls run without the lock
     }
     const auto x = features.contiguous();
     const int64_t b = x.size(0);
@@ -214,7 +219,7 @@ torch::Tensor delay_decoder_module::folded_logits(const torch::Tensor& features)
     // layer) and u (the block's middle).
     auto h = torch::empty({ b, w, q }, torch::kFloat), u = torch::empty({ b, w, q }, torch::kFloat);
     auto logits = torch::empty({ b, q }, torch::kFloat);
-    const auto& L = d_folded.layers;
+    const auto& L = *layers;
     folded_conv1d_forward(L.front(), x.data_ptr<float>(), b, q, nullptr, true, h.data_ptr<float>());
     for (size_t i = 1; i + 1 < L.size(); i += 2) {
         folded_conv1d_forward(L[i], h.data_ptr<float>(), b, q, nullptr, true, u.data_ptr<float>());

@@ -94,7 +94,7 @@ private:
     torch::Tensor folded_logits(const torch::Tensor& features);
     struct folded_network {
         std::mutex lock;
-        std::vector<folded_conv1d> layers; // stem, (conv1, conv2) per block, head
+        std::shared_ptr<const std::vector<folded_conv1d>> layers; // stem, (conv1, conv2) per block, head
         std::vector<int64_t> versions;     // of every parameter and buffer it was built from
         std::vector<const void*> data;
     };
