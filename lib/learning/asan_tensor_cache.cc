@@ -40,22 +40,22 @@ public:
         if (n == 0)
             return { nullptr, nullptr, &release, c10::Device(c10::DeviceType::CPU) };
         void* p = nullptr;
-        if (n >= min_cached) {
-            std::lock_guard<std::mutex> guard(d_lock);
-            auto it = d_free.find(n);
-            if (it != d_free.end() && !it->second.empty()) {
-                p = it->second.back();
-                it->second.pop_back();
-                d_cached -= n;
-                ASAN_UNPOISON_MEMORY_REGION(p, n);
-            }
+        if (n < min_cached) { // ASan's own allocator serves these well
+            if (::posix_memalign(&p, alignment, n) != 0)
+                throw std::bad_alloc();
+            return { p, p, &release, c10::Device(c10::DeviceType::CPU) };
         }
-        if (!p && ::posix_memalign(&p, alignment, n) != 0)
+        std::lock_guard<std::mutex> guard(d_lock);
+        auto it = d_free.find(n);
+        if (it != d_free.end() && !it->second.empty()) {
+            p = it->second.back();
+            it->second.pop_back();
+            d_cached -= n;
+            ASAN_UNPOISON_MEMORY_REGION(p, n);
+        } else if (::posix_memalign(&p, alignment, n) != 0) {
             throw std::bad_alloc();
-        if (n >= min_cached) {
-            std::lock_guard<std::mutex> guard(d_lock);
-            d_size[p] = n;
         }
+        d_size[p] = n;
         return { p, p, &release, c10::Device(c10::DeviceType::CPU) };
     }
 

@@ -164,10 +164,10 @@ folded_conv1d fold(torch::nn::Conv1d conv, torch::nn::BatchNorm1d bn)
     f.dilation = static_cast<int>((*conv->options.dilation())[0]);
     auto b = conv->bias.defined() ? conv->bias.detach().to(torch::kFloat) : torch::zeros({ w.size(0) });
     auto wf = w;
-    if (bn) { // y = s (conv(x) - mean) + beta, s = gamma / sqrt(var + eps)
-        const auto s = bn->weight.detach() / torch::sqrt(bn->running_var + bn->options.eps());
-        wf = w * s.view({ -1, 1, 1 });
-        b = (b - bn->running_mean) * s + bn->bias.detach();
+    if (bn) { // bn(conv(x)) = scale conv(x) + offset
+        const auto [scale, offset] = batchnorm_inference_affine(bn);
+        wf = w * scale.view({ -1, 1, 1 });
+        b = b * scale + offset;
     }
     wf = wf.contiguous();
     b = b.contiguous();

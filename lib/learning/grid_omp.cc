@@ -82,6 +82,8 @@ void grid_omp_maps(const float* yr,
     std::vector<cd> y, res, atoms(static_cast<size_t>(max_rounds) * m);
     std::vector<double> cr(q), ci(q), mag(q);
     int chosen[max_rounds];
+    gram g_all(max_rounds, max_rounds); // A^H A and A^H y of the atoms so far, grown a row per round
+    coeffs b_all(max_rounds);
     for (int64_t f = 0; f < frames; ++f) {
         const float* fr = yr + f * m;
         const float* fi = yi + f * m;
@@ -104,22 +106,25 @@ void grid_omp_maps(const float* yr,
                 a[s] = cd(dict_cos[at], -dict_sin[at]);
             }
             const int n = l + 1;
-            gram g(n, n);
-            coeffs b(n);
-            for (int i = 0; i < n; ++i) {
-                const cd* ai = atoms.data() + static_cast<size_t>(i) * m;
+            // The earlier atoms' rows are those of the previous round: only atom l's are new.
+            {
                 cd rhs = 0.0;
                 for (size_t s = 0; s < s_n; ++s)
-                    rhs += std::conj(ai[s]) * y[s];
-                b[i] = rhs;
+                    rhs += std::conj(a[s]) * y[s];
+                b_all[l] = rhs;
                 for (int j = 0; j < n; ++j) {
                     const cd* aj = atoms.data() + static_cast<size_t>(j) * m;
-                    cd v = 0.0;
-                    for (size_t s = 0; s < s_n; ++s)
-                        v += std::conj(ai[s]) * aj[s];
-                    g(i, j) = v;
+                    cd v = 0.0, w = 0.0;
+                    for (size_t s = 0; s < s_n; ++s) {
+                        v += std::conj(a[s]) * aj[s];
+                        w += std::conj(aj[s]) * a[s];
+                    }
+                    g_all(l, j) = v;
+                    g_all(j, l) = w;
                 }
             }
+            gram g = g_all.topLeftCorner(n, n);
+            coeffs b = b_all.head(n);
             // As the LibTorch version: a ridge keeps a repeated atom solvable (G stays positive definite).
             g.diagonal().array() += cd(1e-9 * (1.0 + g.diagonal().real().maxCoeff()), 0.0);
             b = g.llt().solve(b).eval();

@@ -213,8 +213,7 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
         auto b = conv->bias.detach().repeat_interleave(bins);
         if (with_bn) {
             // The BatchNorm in front (inference: x_i -> scale_i x_i + offset_i) folded in.
-            const auto scale = bn->weight.detach() / torch::sqrt(bn->running_var + bn->options.eps());
-            const auto offset = bn->bias.detach() - bn->running_mean * scale;
+            const auto [scale, offset] = batchnorm_inference_affine(bn);
             b = b + torch::matmul(offset.repeat_interleave(bins), m);
             m = m * scale.repeat_interleave(bins).unsqueeze(1);
         }

@@ -63,6 +63,14 @@ torch::Tensor gather_pilots(const torch::Tensor& grid, const std::vector<int64_t
     return grid.flatten(2).index_select(2, index).permute({ 0, 2, 1 }).contiguous();
 }
 
+std::pair<torch::Tensor, torch::Tensor> batchnorm_inference_affine(const torch::nn::BatchNorm1d& bn)
+{
+    torch::NoGradGuard ng;
+    auto scale = bn->weight.detach() / torch::sqrt(bn->running_var + bn->options.eps());
+    auto offset = bn->bias.detach() - bn->running_mean * scale;
+    return { scale, offset };
+}
+
 torch::Tensor normalise_frames(const torch::Tensor& grid, int n_pilots)
 {
     auto peak = grid.abs().flatten(1).amax(1).clamp_min(1e-30).view({ -1, 1, 1, 1 });

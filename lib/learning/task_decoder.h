@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gr {
@@ -81,6 +82,11 @@ SEMS_LEARNING_API torch::Tensor gather_pilots(const torch::Tensor& grid, const s
 // on the path gain, and a fixed scale keeps 1e-20 and 1e20 amplitudes equally
 // well-conditioned (max-abs first, so squaring cannot underflow or overflow).
 SEMS_LEARNING_API torch::Tensor normalise_frames(const torch::Tensor& grid, int n_pilots);
+
+// A BatchNorm at inference as the per-channel affine map x -> scale x + offset of its
+// running statistics: scale = gamma / sqrt(var + eps), offset = beta - mean scale (no
+// gradient). What the decoders fold into the convolution next to it.
+SEMS_LEARNING_API std::pair<torch::Tensor, torch::Tensor> batchnorm_inference_affine(const torch::nn::BatchNorm1d& bn);
 
 // Saves / loads a module's parameters and buffers (decoder.pt).
 SEMS_LEARNING_API void save_module(const std::shared_ptr<torch::nn::Module>& module, const std::string& path);
