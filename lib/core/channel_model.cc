@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model (see channel_model.h for the equations). */
+#include "core/complex_kernels.h"
 #include "core/gaussian_generator.h"
 #include "core/rng.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/steering.h>
-#include <volk/volk.h>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -43,7 +43,7 @@ void check_inside_frame(const frame_settings& fs, double range_m, double peak_do
 // --- frame_channel --------------------------------------------------------------
 
 frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
-    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(d_m)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0)
 {
     update(paths, first_symbol);
 }
@@ -54,7 +54,6 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
     d_l = static_cast<int>(paths.size());
     d_slow.resize(size_t(d_l) * d_n);
     d_delay.resize(size_t(d_l) * d_m);
-    d_delay_conj.resize(size_t(d_l) * d_m);
     // A row is recomputed only when its path's delay changed: a fixed scene's delay rows
     // are the same every frame (the same values, not an approximation of them).
     d_delay_s.resize(size_t(d_l), std::numeric_limits<double>::quiet_NaN());
@@ -78,37 +77,27 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
                 const double phase = md_scale * p.md_amplitude_m * std::sin(arg);
                 slow *= std::complex<double>(std::cos(phase), std::sin(phase));
             }
-            d_slow[size_t(l) * d_n + n] = gr_complex(slow);
+            d_slow[size_t(n) * d_l + l] = gr_complex(slow);
         }
         if (d_delay_s[l] == p.delay_s)
             continue;
         d_delay_s[l] = p.delay_s;
         std::complex<double> d(1.0, 0.0);
         const std::complex<double> delay_step = delay_phasor(1.0, fs.delay_index(p.delay_s), d_m);
-        for (int m = 0; m < d_m; ++m, d *= delay_step) {
+        for (int m = 0; m < d_m; ++m, d *= delay_step)
             d_delay[size_t(l) * d_m + m] = gr_complex(d);
-            d_delay_conj[size_t(l) * d_m + m] = gr_complex(std::conj(d));
-        }
     }
 }
 
 void frame_channel::row(int n, gr_complex* h) const
 {
-    volk_32fc_s32fc_multiply_32fc(h, d_delay.data(), d_slow[n], d_m);
-    for (int l = 1; l < d_l; ++l) // h += slow_l[n] · delay_l  (VOLK: a + conj(b)·s, so b = conj(delay))
-        volk_32fc_x2_s32fc_multiply_conjugate_add_32fc(
-            h, h, d_delay_conj.data() + size_t(l) * d_m, d_slow[size_t(l) * d_n + n], d_m);
+    detail::row_sum(h, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
 }
 
 void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
 {
-    if (d_l == 1) { // one path: y = (x ⊙ delay) · slow[n], no row buffer
-        volk_32fc_x2_multiply_32fc(y, x, d_delay.data(), d_m);
-        volk_32fc_s32fc_multiply_32fc(y, y, d_slow[n], d_m);
-        return;
-    }
-    row(n, d_scratch.data());
-    volk_32fc_x2_multiply_32fc(y, x, d_scratch.data(), d_m);
+    // One pass: each subcarrier's H[n,m] summed over the paths in registers, times x.
+    detail::apply_row_sum(y, x, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
 }
 
 void frame_channel::fill(gr_complex* grid) const

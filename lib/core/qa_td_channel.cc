@@ -88,6 +88,7 @@ class qa_td_channel : public CppUnit::TestFixture
     CPPUNIT_TEST(equals_frequency_domain_inside_prefix);
     CPPUNIT_TEST(past_prefix_is_not_frequency_domain);
     CPPUNIT_TEST(doppler_error_is_closed_form);
+    CPPUNIT_TEST(kept_path_equals_refilled_path);
     CPPUNIT_TEST(bad_settings_and_delays);
     CPPUNIT_TEST_SUITE_END();
 
@@ -126,6 +127,47 @@ public:
         CPPUNIT_ASSERT_DOUBLES_EQUAL(expected, nmse_against_fd(fs, sc, 2), 0.1 * expected);
     }
 
+    void kept_path_equals_refilled_path()
+    {
+        // A path that is the same in the next frame keeps its tables and its delayed
+        // samples of the previous symbol; they must be exactly those set_paths would
+        // rebuild. Channel b is made to rebuild them (a different gain in between).
+        frame_settings fs;
+        const int n = fs.n_symbols, s = fs.n_subcarriers + fs.cp_len;
+        std::vector<channel_path> paths(3);
+        for (int l = 0; l < 3; ++l) {
+            paths[l].delay_s = (3.0 + 17.37 * l) / fs.bandwidth_hz; // past the prefix for l = 2
+            paths[l].doppler_hz = 1500.0 * (l + 1);
+            paths[l].gain = { 0.6 - 0.1 * l, 0.8 };
+        }
+        std::mt19937 g(3);
+        std::normal_distribution<float> nd;
+        std::vector<gr_complex> in(size_t(2) * n * s), ya(in.size()), yb(in.size());
+        for (auto& v : in)
+            v = { nd(g), nd(g) };
+        td_channel a(fs), b(fs);
+        for (int f = 0; f < 2; ++f) {
+            a.set_paths(paths, uint64_t(f) * n);
+            if (f == 1) {
+                auto other = paths;
+                other[0].gain *= 2.0;
+                other[2].delay_s += 0.25 / fs.bandwidth_hz;
+                b.set_paths(other, uint64_t(f) * n);
+            }
+            b.set_paths(paths, uint64_t(f) * n);
+            for (int k = 0; k < n; ++k) {
+                const size_t at = (size_t(f) * n + k) * s;
+                a.apply_symbol(k, in.data() + at, ya.data() + at);
+                b.apply_symbol(k, in.data() + at, yb.data() + at);
+            }
+        }
+        for (size_t i = 0; i < ya.size(); ++i) {
+            CPPUNIT_ASSERT_EQUAL(ya[i].real(), yb[i].real());
+            CPPUNIT_ASSERT_EQUAL(ya[i].imag(), yb[i].imag());
+        }
+        CPPUNIT_ASSERT(std::norm(ya[size_t(n) * s + 1]) > 0.0f);
+    }
+
     void bad_settings_and_delays()
     {
         frame_settings fs;
@@ -137,6 +179,11 @@ public:
         qa::assert_error([&] { td.set_paths({ p }, 0); }, "path 0", "outside");
         p.delay_s = std::nan("");
         qa::assert_error([&] { td.set_paths({ p }, 0); }, "path 0", "delay");
+        p.delay_s = 0.0;
+        td.set_paths({ p }, 0);
+        std::vector<gr_complex> x(80), y(80);
+        CPPUNIT_ASSERT_THROW(td.apply_symbol(32, x.data(), y.data()), std::out_of_range); // N = 32
+        CPPUNIT_ASSERT_THROW(td.apply_symbol(-1, x.data(), y.data()), std::out_of_range);
     }
 };
 

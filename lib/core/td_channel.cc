@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model at sample level (see td_channel.h for the equations). */
 #include "core/checks.h"
+#include "core/complex_kernels.h"
 #include "core/complex_mul.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/td_channel.h>
@@ -24,28 +25,6 @@ constexpr double md_phase_tolerance_rad = 1e-7;
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
 using detail::mul; // the operands here are finite
-
-// out[k] += c · d[k] · x[k], k < n: the per-sample Doppler of a path without micro-Doppler
-// (d precomputed per frame, c the symbol's phase). Plain float arithmetic, so the compiler
-// vectorizes it (std::complex's operator* keeps a NaN recovery branch).
-void doppler_accumulate(gr_complex* __restrict out,
-                        const gr_complex* __restrict x,
-                        const gr_complex* __restrict d,
-                        gr_complex c,
-                        int n)
-{
-    float* o = reinterpret_cast<float*>(out);
-    const float* xs = reinterpret_cast<const float*>(x);
-    const float* ds = reinterpret_cast<const float*>(d);
-    const float cr = c.real(), ci = c.imag();
-    for (int k = 0; k < n; ++k) {
-        const float pr = ds[2 * k] * cr - ds[2 * k + 1] * ci; // p = c·d[k]
-        const float pi = ds[2 * k] * ci + ds[2 * k + 1] * cr;
-        const float xr = xs[2 * k], xi = xs[2 * k + 1];
-        o[2 * k] += xr * pr - xi * pi;
-        o[2 * k + 1] += xr * pi + xi * pr;
-    }
-}
 
 // dst[k] = scale · exp(j2π cycles_per_step · k), k < n: anchored exactly every 64 steps.
 void fill_phasors(gr_complex* dst, int n, std::complex<double> scale, double cycles_per_step)
@@ -72,10 +51,12 @@ struct td_channel::impl {
         std::vector<gr_complex> shift_phasor; // α·exp(-j2π m δ/M)/M
         std::vector<gr_complex> buf;          // α·[previous symbol | current symbol], shifted by δ
         std::vector<gr_complex> doppler;      // exp(j2π ν k/B), k = 0..S-1 (Doppler without micro-Doppler)
+        std::vector<gr_complex> symbol_phase; // exp(j2π ν (first_symbol + n) T), n = 0..N-1
         gr_complex w0_prev{ 0.0f, 0.0f };     // the previous symbol's tone sum at -δ
+        bool filled = false;                  // tables and buf hold p's (set_paths)
     };
 
-    int m, cp, s;
+    int m, cp, s, n;
     double b, t, md_scale;
     gr::fft::fft_complex_fwd fwd;
     gr::fft::fft_complex_rev rev;
@@ -90,6 +71,7 @@ struct td_channel::impl {
         : m(fs.n_subcarriers),
           cp(fs.cp_len),
           s(fs.n_subcarriers + fs.cp_len),
+          n(fs.n_symbols),
           b(fs.bandwidth_hz),
           t(fs.symbol_interval_s),
           md_scale(4.0 * M_PI / fs.wavelength_m()),
@@ -126,7 +108,7 @@ struct td_channel::impl {
 
     void fill_previous(path& pa)
     {
-        pa.buf.assign(size_t(2) * s, gr_complex(0.0f, 0.0f));
+        pa.buf.resize(size_t(2) * s); // both halves are written before they are read
         if (!pa.fractional) {
             volk_32fc_s32fc_multiply_32fc(pa.buf.data(), raw_prev.data(), gr_complex(pa.p.gain), s);
             pa.w0_prev = 0.0f;
@@ -148,6 +130,13 @@ struct td_channel::impl {
         with_prefix(w, cur);
         cur[0] = pa.w0_prev; // time -δ lies in the previous symbol: its tone sum there
         pa.w0_prev = w[0];
+    }
+
+    // The next symbol reads this one's last D samples (its delay reaches back D < M ≤ S
+    // samples): move them in front of the current half.
+    void keep_tail(path& pa) const
+    {
+        std::memmove(pa.buf.data() + s - pa.shift, pa.buf.data() + 2 * s - pa.shift, sizeof(gr_complex) * pa.shift);
     }
 
     // dst[k] = src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)),  t_k = sym·T + k/B.
@@ -219,6 +208,10 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
             throw std::invalid_argument("td_channel: path " + std::to_string(l) + " delay " +
                                         std::to_string(p.delay_s) + " s is outside [0, 1/Δf) = [0, " +
                                         std::to_string(m / I.b) + ") s");
+        // A fixed scene's path keeps its tables, and its delayed samples of the previous
+        // symbol (which depend on the delay and gain only) stay valid across the frame start.
+        const bool same_samples = pa.filled && pa.p.delay_s == p.delay_s && pa.p.gain == p.gain;
+        const bool same_doppler = pa.filled && pa.p.doppler_hz == p.doppler_hz;
         pa.p = p;
         pa.shift = static_cast<int>(std::floor(samples));
         pa.frac = samples - pa.shift;
@@ -233,17 +226,30 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
             pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
         }
         // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15).
-        pa.doppler.resize(I.s);
-        fill_phasors(pa.doppler.data(), I.s, 1.0, p.doppler_hz / I.b);
-        pa.shift_phasor.resize(m);
-        fill_phasors(pa.shift_phasor.data(), m, p.gain / static_cast<double>(m), -pa.frac / m);
-        I.fill_previous(pa);
+        if (!same_doppler) {
+            pa.doppler.resize(I.s);
+            fill_phasors(pa.doppler.data(), I.s, 1.0, p.doppler_hz / I.b);
+        }
+        pa.symbol_phase.resize(I.n);
+        fill_phasors(pa.symbol_phase.data(),
+                     I.n,
+                     cis(two_pi * frac(p.doppler_hz * I.t * static_cast<double>(first_symbol))),
+                     p.doppler_hz * I.t);
+        if (!same_samples) {
+            pa.shift_phasor.resize(m);
+            fill_phasors(pa.shift_phasor.data(), m, p.gain / static_cast<double>(m), -pa.frac / m);
+            I.fill_previous(pa);
+        }
+        pa.filled = true;
     }
 }
 
 void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
 {
     auto& I = *d;
+    if (n < 0 || n >= I.n)
+        throw std::out_of_range("td_channel::apply_symbol: symbol index " + std::to_string(n) +
+                                " is outside the frame's 0.." + std::to_string(I.n - 1));
     const int s = I.s;
     std::memcpy(I.fwd.get_inbuf(), in + I.cp, sizeof(gr_complex) * I.m);
     I.fwd.execute();
@@ -256,9 +262,8 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
         I.fill_current(pa, in);
         const gr_complex* src = pa.buf.data() + s - pa.shift;
         if (pa.moving && !pa.has_md) {
-            const double cycles = frac(pa.p.doppler_hz * I.t * static_cast<double>(sym));
-            doppler_accumulate(out, src, pa.doppler.data(), gr_complex(cis(two_pi * cycles)), s);
-            std::memmove(pa.buf.data(), pa.buf.data() + s, sizeof(gr_complex) * s);
+            detail::accumulate_rotated(out, src, pa.doppler.data(), pa.symbol_phase[n], s);
+            I.keep_tail(pa);
             continue;
         }
         if (pa.moving) {
@@ -269,7 +274,7 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
                             reinterpret_cast<const float*>(out),
                             reinterpret_cast<const float*>(src),
                             2 * s);
-        std::memmove(pa.buf.data(), pa.buf.data() + s, sizeof(gr_complex) * s);
+        I.keep_tail(pa);
     }
     std::swap(I.x_prev, I.x_cur);
     std::memcpy(I.raw_prev.data(), in, sizeof(gr_complex) * s);

@@ -99,7 +99,7 @@ public:
     void row(int n, gr_complex* h) const;
     /*!
      * \brief Applies one row: y = H[n,:] ⊙ x.
-     * \param n the symbol. \param x M input values. \param y M output values.
+     * \param n the symbol. \param x M input values. \param y M output values (may be x).
      */
     void apply_row(int n, const gr_complex* x, gr_complex* y) const;
     /*! \brief The whole frame's H. \param grid out: row-major N x M. */
@@ -108,11 +108,9 @@ public:
 private:
     frame_settings d_fs;
     int d_n, d_m, d_l;
-    std::vector<gr_complex> d_slow;  // L x N, gain included
+    std::vector<gr_complex> d_slow;  // N x L (a symbol's path factors side by side), gain included
     std::vector<gr_complex> d_delay; // L x M
-    std::vector<gr_complex> d_delay_conj; // conj(d_delay), for VOLK's multiply-conjugate-add
-    std::vector<double> d_delay_s;        // the delay each delay row was computed for
-    mutable std::vector<gr_complex> d_scratch;
+    std::vector<double> d_delay_s;   // the delay each delay row was computed for
 };
 
 /*!

@@ -27,9 +27,10 @@
  * is not CP-OFDM with these M and CP is interpolated as if it were.
  *
  * Doppler phases are exact per sample: a per-frame table exp(j2π ν k/B) (double, anchored
- * every 64 samples) times the symbol's phase exp(j2π ν s T) (reduced modulo one cycle in
- * double). Micro-Doppler phases are exact at the start of each chunk of samples and linear
- * inside it (VOLK's rotator), the chunk K chosen so the curvature left out,
+ * every 64 samples) times the symbol's phase exp(j2π ν s T) (a per-frame table: the
+ * frame's first symbol reduced modulo one cycle in double, the others by recurrence in
+ * double, anchored every 64 symbols). Micro-Doppler phases are exact at the start of each
+ * chunk of samples and linear inside it (VOLK's rotator), the chunk K chosen so the curvature left out,
  * β·ω²·(K/B)²/8 with β = 4πA/λ, stays below 1e-7 rad.
  *
  * Range migration within a frame is not modelled (the delay is fixed per frame), as in
@@ -88,6 +89,7 @@ public:
      * \param n symbol index within the frame (slow time first_symbol + n)
      * \param in the S transmitted samples
      * \param out the S received samples (may not alias in)
+     * \throws std::out_of_range when n is not in 0..N-1
      */
     void apply_symbol(int n, const gr_complex* in, gr_complex* out);
 

@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the emulators' fused complex loops (see complex_kernels.h).
+ *
+ * Interleaved complex products written out: a·b = (ar·br − ai·bi, ar·bi + ai·br). The AVX2
+ * versions compute four complex values at once with exactly these products and sums
+ * (addsub, no FMA), so they agree bit for bit with the portable loops; the portable loops
+ * are plain float arithmetic (std::complex's operator* would keep a NaN recovery branch).
+ */
+#include "core/complex_kernels.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SEMS_KERNELS_AVX2 1
+#endif
+
+namespace gr {
+namespace sems {
+namespace detail {
+
+namespace {
+
+void accumulate_rotated_portable(float* o, const float* x, const float* d, float cr, float ci, int k, int n)
+{
+    for (; k < n; ++k) {
+        const float pr = d[2 * k] * cr - d[2 * k + 1] * ci; // p = c·d[k]
+        const float pi = d[2 * k + 1] * cr + d[2 * k] * ci;
+        const float xr = x[2 * k], xi = x[2 * k + 1];
+        o[2 * k] += xr * pr - xi * pi;
+        o[2 * k + 1] += xi * pr + xr * pi;
+    }
+}
+
+// y[k] = (x[k] ·) Σ_l c_l d_l[k] for k in [k, n); x only when TimesX.
+template <bool TimesX>
+void row_sum_portable(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int k,
+                      int n)
+{
+    for (; k < n; ++k) {
+        float hr = 0.0f, hi = 0.0f;
+        for (int l = 0; l < rows; ++l) {
+            const float* dl = d + 2 * (static_cast<long>(l) * stride + k);
+            const float cr = c[l].real(), ci = c[l].imag();
+            hr += dl[0] * cr - dl[1] * ci;
+            hi += dl[1] * cr + dl[0] * ci;
+        }
+        if (TimesX) {
+            const float xr = x[2 * k], xi = x[2 * k + 1];
+            y[2 * k] = xr * hr - xi * hi;
+            y[2 * k + 1] = xi * hr + xr * hi;
+        } else {
+            y[2 * k] = hr;
+            y[2 * k + 1] = hi;
+        }
+    }
+}
+
+#ifdef SEMS_KERNELS_AVX2
+// c·v for four complex v and a scalar c given as (cr, cr, ...) and (−ci, ci, ...):
+// (vr·cr + vi·(−ci), vi·cr + vr·ci), the portable loop's products and sums.
+__attribute__((target("avx2"))) inline __m256 scale4(__m256 v, __m256 c_re, __m256 c_im_signed)
+{
+    const __m256 swapped = _mm256_permute_ps(v, 0xB1); // (vi, vr)
+    return _mm256_add_ps(_mm256_mul_ps(v, c_re), _mm256_mul_ps(swapped, c_im_signed));
+}
+
+// x·p for four complex x, p: (xr·pr − xi·pi, xi·pr + xr·pi).
+__attribute__((target("avx2"))) inline __m256 product4(__m256 x, __m256 p)
+{
+    const __m256 p_re = _mm256_moveldup_ps(p);
+    const __m256 p_im = _mm256_movehdup_ps(p);
+    const __m256 x_swapped = _mm256_permute_ps(x, 0xB1);
+    return _mm256_addsub_ps(_mm256_mul_ps(x, p_re), _mm256_mul_ps(x_swapped, p_im));
+}
+
+__attribute__((target("avx2"))) void
+accumulate_rotated_avx2(float* o, const float* x, const float* d, float cr, float ci, int n)
+{
+    const __m256 c_re = _mm256_set1_ps(cr);
+    const __m256 c_im = _mm256_setr_ps(-ci, ci, -ci, ci, -ci, ci, -ci, ci);
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+        const __m256 p = scale4(_mm256_loadu_ps(d + 2 * k), c_re, c_im);
+        const __m256 r = product4(_mm256_loadu_ps(x + 2 * k), p);
+        _mm256_storeu_ps(o + 2 * k, _mm256_add_ps(_mm256_loadu_ps(o + 2 * k), r));
+    }
+    accumulate_rotated_portable(o, x, d, cr, ci, k, n);
+}
+
+template <bool TimesX>
+__attribute__((target("avx2"))) void
+row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int n)
+{
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+        // h from 0, the paths added in order: the portable loop's sums.
+        __m256 h = _mm256_setzero_ps();
+        for (int l = 0; l < rows; ++l) {
+            const float cr = c[l].real(), ci = c[l].imag();
+            const __m256 v = _mm256_loadu_ps(d + 2 * (static_cast<long>(l) * stride + k));
+            h = _mm256_add_ps(h, scale4(v, _mm256_set1_ps(cr), _mm256_setr_ps(-ci, ci, -ci, ci, -ci, ci, -ci, ci)));
+        }
+        _mm256_storeu_ps(y + 2 * k, TimesX ? product4(_mm256_loadu_ps(x + 2 * k), h) : h);
+    }
+    row_sum_portable<TimesX>(y, x, d, stride, c, rows, k, n);
+}
+#endif
+
+bool force_portable = false;
+
+} // namespace
+
+bool complex_kernels_use_avx2()
+{
+#ifdef SEMS_KERNELS_AVX2
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    return avx2 && !force_portable;
+#else
+    return false;
+#endif
+}
+
+void complex_kernels_force_portable(bool on) { force_portable = on; }
+
+void accumulate_rotated(gr_complex* out, const gr_complex* x, const gr_complex* d, gr_complex c, int n)
+{
+    auto* o = reinterpret_cast<float*>(out);
+    const auto* xs = reinterpret_cast<const float*>(x);
+    const auto* ds = reinterpret_cast<const float*>(d);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return accumulate_rotated_avx2(o, xs, ds, c.real(), c.imag(), n);
+#endif
+    accumulate_rotated_portable(o, xs, ds, c.real(), c.imag(), 0, n);
+}
+
+void apply_row_sum(gr_complex* y, const gr_complex* x, const gr_complex* d, int stride, const gr_complex* c,
+                   int n_rows, int n)
+{
+    auto* ys = reinterpret_cast<float*>(y);
+    const auto* xs = reinterpret_cast<const float*>(x);
+    const auto* ds = reinterpret_cast<const float*>(d);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return row_sum_avx2<true>(ys, xs, ds, stride, c, n_rows, n);
+#endif
+    row_sum_portable<true>(ys, xs, ds, stride, c, n_rows, 0, n);
+}
+
+void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c, int n_rows, int n)
+{
+    auto* hs = reinterpret_cast<float*>(h);
+    const auto* ds = reinterpret_cast<const float*>(d);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return row_sum_avx2<false>(hs, nullptr, ds, stride, c, n_rows, n);
+#endif
+    row_sum_portable<false>(hs, nullptr, ds, stride, c, n_rows, 0, n);
+}
+
+} // namespace detail
+} // namespace sems
+} // namespace gr

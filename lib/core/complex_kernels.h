@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the emulators' fused complex loops (internal to the libraries).
+ *
+ * Each kernel is one pass over interleaved complex floats that VOLK would do in two or
+ * three (a product, a scaling, an accumulation). An AVX2 version is picked at run time
+ * when the CPU has it; it evaluates the same products and sums in the same order as the
+ * portable version, without FMA, so both give the same bits.
+ */
+#ifndef INCLUDED_SEMS_LIB_CORE_COMPLEX_KERNELS_H
+#define INCLUDED_SEMS_LIB_CORE_COMPLEX_KERNELS_H
+
+#include <gnuradio/gr_complex.h>
+
+namespace gr {
+namespace sems {
+namespace detail {
+
+/*!
+ * out[k] += x[k] · (c · d[k]), k < n: a path's per-sample phasor d (times the symbol's
+ * phase c) applied to its delayed samples and added to the output. The arrays may not
+ * overlap; operands are finite.
+ */
+void accumulate_rotated(gr_complex* out, const gr_complex* x, const gr_complex* d, gr_complex c, int n);
+
+/*!
+ * y[k] = x[k] · Σ_l c[l] · d[l·stride + k], k < n, l < n_rows: a symbol of the
+ * frequency-domain channel, its row built and applied in one pass (the sum in order
+ * l = 0, 1, ...). y may alias x; the rows may not overlap y.
+ */
+void apply_row_sum(gr_complex* y, const gr_complex* x, const gr_complex* d, int stride, const gr_complex* c,
+                   int n_rows, int n);
+
+/*! h[k] = Σ_l c[l] · d[l·stride + k]: apply_row_sum's row alone (the same bits). */
+void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c, int n_rows, int n);
+
+/*! True when the AVX2 versions run (this CPU has AVX2 and they are not switched off). */
+bool complex_kernels_use_avx2();
+
+/*! Run the portable versions even on an AVX2 CPU (tests compare the two; not thread-safe). */
+void complex_kernels_force_portable(bool on);
+
+} // namespace detail
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LIB_CORE_COMPLEX_KERNELS_H */
