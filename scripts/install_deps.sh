@@ -16,6 +16,8 @@ packages=(
   # The decoders' anchor: the same networks in PyTorch from Python (apps/torch_reference.py;
   # the tests torch_reference_matches and bench_quick).
   python3-torch
+  # The time-domain emulator's peer in sems_bench (gr-radar's static_target_simulator_cc).
+  gr-radar
   doxygen
   clang libclang-rt-14-dev
 )

@@ -5,6 +5,11 @@
  * versions compute four complex values at once with exactly these products and sums
  * (addsub, no FMA), so they agree bit for bit with the portable loops; the portable loops
  * are plain float arithmetic (std::complex's operator* would keep a NaN recovery branch).
+ *
+ * Each AVX2 loop ends with vzeroupper itself: GCC does not add it to a function compiled
+ * with target("avx2") in an SSE2 file, and the SSE code that runs next in the thread (the
+ * block's work(), the scheduler) then paid for the dirty upper halves on every
+ * instruction (measured: the channel block's CPU time per symbol up by ~60 % of the kernel's).
  */
 #include "core/complex_kernels.h"
 
@@ -30,19 +35,24 @@ void accumulate_rotated_portable(float* o, const float* x, const float* d, float
     }
 }
 
-// y[k] = (x[k] ·) Σ_l c_l d_l[k] for k in [k, n); x only when TimesX.
+// y[k] = (x[k] ·) Σ_l c_l d_l[k] for k in [k, n); x only when TimesX. The sum is kept as
+// four partial sums, Σ dr·cr, Σ di·cr, Σ dr·ci, Σ −di·ci, combined at the end: what the
+// AVX2 loop computes lane by lane (two products and two sums per row and vector).
 template <bool TimesX>
 void row_sum_portable(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int k,
                       int n)
 {
     for (; k < n; ++k) {
-        float hr = 0.0f, hi = 0.0f;
+        float ar = 0.0f, ai = 0.0f, br = 0.0f, bi = 0.0f;
         for (int l = 0; l < rows; ++l) {
             const float* dl = d + 2 * (static_cast<long>(l) * stride + k);
             const float cr = c[l].real(), ci = c[l].imag();
-            hr += dl[0] * cr - dl[1] * ci;
-            hi += dl[1] * cr + dl[0] * ci;
+            ar += dl[0] * cr;
+            ai += dl[1] * cr;
+            br += dl[0] * ci;
+            bi += dl[1] * -ci;
         }
+        const float hr = ar + bi, hi = ai + br;
         if (TimesX) {
             const float xr = x[2 * k], xi = x[2 * k + 1];
             y[2 * k] = xr * hr - xi * hi;
@@ -83,6 +93,7 @@ accumulate_rotated_avx2(float* o, const float* x, const float* d, float cr, floa
         const __m256 r = product4(_mm256_loadu_ps(x + 2 * k), p);
         _mm256_storeu_ps(o + 2 * k, _mm256_add_ps(_mm256_loadu_ps(o + 2 * k), r));
     }
+    _mm256_zeroupper();
     accumulate_rotated_portable(o, x, d, cr, ci, k, n);
 }
 
@@ -90,17 +101,21 @@ template <bool TimesX>
 __attribute__((target("avx2"))) void
 row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int n)
 {
+    const __m256 negate_odd = _mm256_setr_ps(0.0f, -0.0f, 0.0f, -0.0f, 0.0f, -0.0f, 0.0f, -0.0f);
     int k = 0;
     for (; k + 4 <= n; k += 4) {
-        // h from 0, the paths added in order: the portable loop's sums.
-        __m256 h = _mm256_setzero_ps();
+        // a = Σ v·(cr, cr), b = Σ v·(ci, −ci); h = a + swap(b), as the portable loop.
+        __m256 a = _mm256_setzero_ps(), b = _mm256_setzero_ps();
         for (int l = 0; l < rows; ++l) {
-            const float cr = c[l].real(), ci = c[l].imag();
+            const __m256 cc = _mm256_castpd_ps(_mm256_broadcast_sd(reinterpret_cast<const double*>(c + l)));
             const __m256 v = _mm256_loadu_ps(d + 2 * (static_cast<long>(l) * stride + k));
-            h = _mm256_add_ps(h, scale4(v, _mm256_set1_ps(cr), _mm256_setr_ps(-ci, ci, -ci, ci, -ci, ci, -ci, ci)));
+            a = _mm256_add_ps(a, _mm256_mul_ps(v, _mm256_moveldup_ps(cc)));
+            b = _mm256_add_ps(b, _mm256_mul_ps(v, _mm256_xor_ps(_mm256_movehdup_ps(cc), negate_odd)));
         }
+        const __m256 h = _mm256_add_ps(a, _mm256_permute_ps(b, 0xB1));
         _mm256_storeu_ps(y + 2 * k, TimesX ? product4(_mm256_loadu_ps(x + 2 * k), h) : h);
     }
+    _mm256_zeroupper();
     row_sum_portable<TimesX>(y, x, d, stride, c, rows, k, n);
 }
 #endif
