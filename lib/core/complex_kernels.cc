@@ -12,6 +12,7 @@
  * instruction (measured: the channel block's CPU time per symbol up by ~60 % of the kernel's).
  */
 #include "core/complex_kernels.h"
+#include "core/complex_mul.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -32,6 +33,26 @@ void accumulate_rotated_portable(float* o, const float* x, const float* d, float
         const float xr = x[2 * k], xi = x[2 * k + 1];
         o[2 * k] += xr * pr - xi * pi;
         o[2 * k + 1] += xi * pr + xr * pi;
+    }
+}
+
+// out[k] += x[k] · P_(k mod 4) for k in [k, n), the lanes P advanced by s4 after every four:
+// (pr·s4r − pi·s4i, pi·s4r + pr·s4i), the AVX2 loop's scale4.
+void accumulate_rotator_portable(float* o, const float* x, float* lanes, float s4r, float s4i, int k, int n)
+{
+    for (; k < n; k += 4) {
+        const int m = n - k < 4 ? n - k : 4;
+        for (int j = 0; j < m; ++j) {
+            const float pr = lanes[2 * j], pi = lanes[2 * j + 1];
+            const float xr = x[2 * (k + j)], xi = x[2 * (k + j) + 1];
+            o[2 * (k + j)] += xr * pr - xi * pi;
+            o[2 * (k + j) + 1] += xi * pr + xr * pi;
+        }
+        for (int j = 0; j < 4; ++j) {
+            const float pr = lanes[2 * j], pi = lanes[2 * j + 1];
+            lanes[2 * j] = pr * s4r - pi * s4i;
+            lanes[2 * j + 1] = pi * s4r + pr * s4i;
+        }
     }
 }
 
@@ -97,6 +118,23 @@ accumulate_rotated_avx2(float* o, const float* x, const float* d, float cr, floa
     accumulate_rotated_portable(o, x, d, cr, ci, k, n);
 }
 
+__attribute__((target("avx2"))) void
+accumulate_rotator_avx2(float* o, const float* x, float* lanes, float s4r, float s4i, int n)
+{
+    const __m256 c_re = _mm256_set1_ps(s4r);
+    const __m256 c_im = _mm256_setr_ps(-s4i, s4i, -s4i, s4i, -s4i, s4i, -s4i, s4i);
+    __m256 p = _mm256_loadu_ps(lanes);
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+        const __m256 r = product4(_mm256_loadu_ps(x + 2 * k), p);
+        _mm256_storeu_ps(o + 2 * k, _mm256_add_ps(_mm256_loadu_ps(o + 2 * k), r));
+        p = scale4(p, c_re, c_im);
+    }
+    _mm256_storeu_ps(lanes, p);
+    _mm256_zeroupper();
+    accumulate_rotator_portable(o, x, lanes, s4r, s4i, k, n);
+}
+
 template <bool TimesX>
 __attribute__((target("avx2"))) void
 row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int n)
@@ -146,6 +184,25 @@ void accumulate_rotated(gr_complex* out, const gr_complex* x, const gr_complex* 
         return accumulate_rotated_avx2(o, xs, ds, c.real(), c.imag(), n);
 #endif
     accumulate_rotated_portable(o, xs, ds, c.real(), c.imag(), 0, n);
+}
+
+void accumulate_rotator(gr_complex* out, const gr_complex* x, int n, std::complex<double> p, std::complex<double> s)
+{
+    float lanes[8];
+    std::complex<double> v = p;
+    for (int j = 0; j < 4; ++j, v = mul(v, s)) {
+        lanes[2 * j] = static_cast<float>(v.real());
+        lanes[2 * j + 1] = static_cast<float>(v.imag());
+    }
+    const std::complex<double> s2 = mul(s, s), s4 = mul(s2, s2);
+    const float s4r = static_cast<float>(s4.real()), s4i = static_cast<float>(s4.imag());
+    auto* o = reinterpret_cast<float*>(out);
+    const auto* xs = reinterpret_cast<const float*>(x);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return accumulate_rotator_avx2(o, xs, lanes, s4r, s4i, n);
+#endif
+    accumulate_rotator_portable(o, xs, lanes, s4r, s4i, 0, n);
 }
 
 void apply_row_sum(gr_complex* y, const gr_complex* x, const gr_complex* d, int stride, const gr_complex* c,

@@ -10,6 +10,7 @@
 #define INCLUDED_SEMS_LIB_CORE_COMPLEX_KERNELS_H
 
 #include <gnuradio/gr_complex.h>
+#include <complex>
 
 namespace gr {
 namespace sems {
@@ -21,6 +22,14 @@ namespace detail {
  * overlap; operands are finite.
  */
 void accumulate_rotated(gr_complex* out, const gr_complex* x, const gr_complex* d, gr_complex c, int n);
+
+/*!
+ * out[k] += x[k] · p · s^k, k < n: a linear phase (a rotator) applied to x and added to out.
+ * p·s^j for j < 4 and s⁴ are formed in double; from there four lanes advance by s⁴ in
+ * float, as VOLK's rotator advances by s (relative phase error ~n·6e-8). x and out may not
+ * overlap.
+ */
+void accumulate_rotator(gr_complex* out, const gr_complex* x, int n, std::complex<double> p, std::complex<double> s);
 
 /*!
  * y[k] = x[k] · Σ_l c[l] · d[l·stride + k], k < n, l < n_rows: a symbol of the

@@ -38,6 +38,7 @@ class qa_complex_kernels : public CppUnit::TestFixture
     CPPUNIT_TEST_SUITE(qa_complex_kernels);
     CPPUNIT_TEST(accumulate_rotated_is_the_product_sum);
     CPPUNIT_TEST(apply_row_sum_is_the_row_product);
+    CPPUNIT_TEST(accumulate_rotator_is_the_linear_phase);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -60,6 +61,26 @@ public:
                                                  std::complex<double>(x[k]) * std::complex<double>(c) *
                                                      std::complex<double>(d[k]);
                 CPPUNIT_ASSERT(std::abs(std::complex<double>(fast[k]) - ref) < 1e-5 * (1.0 + std::abs(ref)));
+            }
+        }
+    }
+
+    void accumulate_rotator_is_the_linear_phase()
+    {
+        std::mt19937 g(7);
+        const std::complex<double> p = std::polar(0.9, 2.1), step = std::polar(1.0, 3e-3);
+        for (int n : { 0, 1, 3, 4, 5, 27, 80 }) {
+            const auto x = random_vector(g, n), start = random_vector(g, n);
+            std::vector<gr_complex> fast = start, portable = start;
+            detail::accumulate_rotator(fast.data(), x.data(), n, p, step);
+            detail::complex_kernels_force_portable(true);
+            detail::accumulate_rotator(portable.data(), x.data(), n, p, step);
+            detail::complex_kernels_force_portable(false);
+            assert_same_bits(fast, portable);
+            for (int k = 0; k < n; ++k) {
+                const std::complex<double> ref = std::complex<double>(start[k]) +
+                                                 std::complex<double>(x[k]) * p * std::pow(step, k);
+                CPPUNIT_ASSERT(std::abs(std::complex<double>(fast[k]) - ref) < 2e-6 * (1.0 + std::abs(ref)));
             }
         }
     }

@@ -89,6 +89,7 @@ class qa_td_channel : public CppUnit::TestFixture
     CPPUNIT_TEST(past_prefix_is_not_frequency_domain);
     CPPUNIT_TEST(doppler_error_is_closed_form);
     CPPUNIT_TEST(kept_path_equals_refilled_path);
+    CPPUNIT_TEST(micro_doppler_phase_per_sample);
     CPPUNIT_TEST(bad_settings_and_delays);
     CPPUNIT_TEST_SUITE_END();
 
@@ -166,6 +167,49 @@ public:
             CPPUNIT_ASSERT_EQUAL(ya[i].imag(), yb[i].imag());
         }
         CPPUNIT_ASSERT(std::norm(ya[size_t(n) * s + 1]) > 0.0f);
+    }
+
+    void micro_doppler_phase_per_sample()
+    {
+        // One path at delay 0 on a constant input: out[k] is the path's phasor itself, to be
+        // compared per sample with exp(j2π ν t) exp(jβ sin(ω t + φ)) in double (t reduced
+        // modulo a cycle as the model states). Chunks of 38 samples (the defaults' drone-like
+        // path) and of 6 with a last chunk of 2 (a fast rotor: 13 chunks per symbol), at a
+        // symbol index past 10^9. Bound: the secant's 1e-7 rad plus the float rotator's
+        // rounding over a chunk.
+        frame_settings fs;
+        const int n = fs.n_symbols, s = fs.n_subcarriers + fs.cp_len;
+        const double beta_per_m = 4.0 * M_PI / fs.wavelength_m(), tt = fs.symbol_interval_s, b = fs.bandwidth_hz;
+        struct md_case {
+            double doppler, rate, amplitude, phase;
+        };
+        for (const md_case c : { md_case{ 240.0, 100.0, 0.01, 0.3 }, md_case{ -310.0, 400.0, 0.02, 2.0 } }) {
+            channel_path p;
+            p.doppler_hz = c.doppler;
+            p.md_rate_hz = c.rate;
+            p.md_amplitude_m = c.amplitude;
+            p.md_phase_rad = c.phase;
+            p.gain = { 0.8, -0.6 };
+            td_channel td(fs);
+            const uint64_t first = uint64_t(40000000) * n; // slow time past 10^9 symbols
+            td.set_paths({ p }, first);
+            std::vector<gr_complex> x(s, gr_complex(1.0f, 0.0f)), y(s);
+            double worst = 0.0;
+            for (int k = 0; k < n; ++k) {
+                td.apply_symbol(k, x.data(), y.data());
+                const double sd = static_cast<double>(first + k);
+                for (int i = 1; i < s; ++i) { // sample 0 of the first symbol reads the silence before
+                    const double dop = c.doppler * tt * sd, md = c.rate * tt * sd;
+                    const double arg = 2 * M_PI * ((dop - std::floor(dop)) + c.doppler * i / b) +
+                                       beta_per_m * c.amplitude *
+                                           std::sin(2 * M_PI * ((md - std::floor(md)) + c.rate * i / b) + c.phase);
+                    const std::complex<double> want = p.gain * std::polar(1.0, arg);
+                    worst = std::max(worst, std::abs(std::complex<double>(y[i]) - want));
+                }
+            }
+            CPPUNIT_ASSERT_LESS(2e-6, worst);
+            CPPUNIT_ASSERT(worst > 0.0);
+        }
     }
 
     void bad_settings_and_delays()

@@ -24,6 +24,16 @@ constexpr double md_phase_tolerance_rad = 1e-7;
 
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
+
+// cis for a per-sample phase step: below 0.01 rad the Taylor series to x⁵ (error < x⁶/720,
+// ~1.4e-15) instead of a sine and a cosine.
+inline std::complex<double> cis_small(double x)
+{
+    if (!(std::fabs(x) < 0.01))
+        return cis(x);
+    const double x2 = x * x;
+    return { 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0), x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0)) };
+}
 using detail::mul; // the operands here are finite
 
 // dst[k] = scale · exp(j2π cycles_per_step · k), k < n: anchored exactly every 64 steps.
@@ -47,6 +57,8 @@ struct td_channel::impl {
         bool moving = false;  // Doppler or micro-Doppler: per-sample phasor
         bool has_md = false;
         int anchor = 0;       // samples between exact phase anchors
+        std::complex<double> md_step{ 1.0, 0.0 };      // exp(j ω anchor/B): the micro-Doppler's turn per chunk
+        std::complex<double> md_step_last{ 1.0, 0.0 }; // the same over a symbol's last chunk
         channel_path p;
         std::vector<gr_complex> shift_phasor; // α·exp(-j2π m δ/M)/M
         std::vector<gr_complex> buf;          // α·[previous symbol | current symbol], shifted by δ
@@ -64,7 +76,6 @@ struct td_channel::impl {
     std::vector<gr_complex> raw_prev;      // the previous symbol's samples
     std::vector<path> paths;
     size_t n_paths = 0;
-    std::vector<gr_complex> tmp;
     uint64_t first_symbol = 0;
 
     impl(const frame_settings& fs)
@@ -79,8 +90,7 @@ struct td_channel::impl {
           rev(fs.n_subcarriers),
           x_prev(m),
           x_cur(m),
-          raw_prev(s),
-          tmp(s)
+          raw_prev(s)
     {
     }
 
@@ -139,28 +149,29 @@ struct td_channel::impl {
         std::memmove(pa.buf.data() + s - pa.shift, pa.buf.data() + 2 * s - pa.shift, sizeof(gr_complex) * pa.shift);
     }
 
-    // dst[k] = src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)),  t_k = sym·T + k/B.
-    // The phase is exact (double) at each chunk start and linear within a chunk (VOLK's
-    // rotator): exact for Doppler alone; for micro-Doppler the chunk is short enough that
-    // the curvature left out, |θ''|·chunk²/8 (secant), stays below md_phase_tolerance_rad.
-    void rotate(const path& pa, uint64_t sym, const gr_complex* src, gr_complex* dst) const
+    // out[k] += src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)),  t_k = sym·T + k/B (a
+    // path with micro-Doppler). The phase is exact (double) at the symbol's start and at
+    // each chunk start (there by recurrence in double: rounding ~1e-15 rad) and linear
+    // within a chunk (detail::accumulate_rotator); the chunk is short enough that the
+    // curvature left out, |θ''|·chunk²/8 (secant), stays below md_phase_tolerance_rad. Two
+    // sines and cosines per symbol: exp(j(ω t + φ)) advances by a per-frame step per
+    // chunk, and the phase over a chunk (well below 0.01 rad) turns by its Taylor series.
+    void accumulate_micro_doppler(const path& pa, uint64_t sym, const gr_complex* src, gr_complex* out) const
     {
         const auto& p = pa.p;
         const double sd = static_cast<double>(sym);
-        const double dop_cycles0 = frac(p.doppler_hz * t * sd);
-        const double md_cycles0 = pa.has_md ? frac(p.md_rate_hz * t * sd) : 0.0;
         const double beta = md_scale * p.md_amplitude_m;
-        auto md_phase = [&](int k) {
-            return pa.has_md ? beta * std::sin(two_pi * (md_cycles0 + p.md_rate_hz * k / b) + p.md_phase_rad)
-                             : 0.0;
-        };
-        double th0 = md_phase(0);
+        const double doppler_rad_per_sample = two_pi * p.doppler_hz / b;
+        std::complex<double> z = cis(two_pi * frac(p.md_rate_hz * t * sd) + p.md_phase_rad); // exp(j(ω t_k0 + φ))
+        double th0 = beta * z.imag();
+        std::complex<double> phase = cis(two_pi * frac(p.doppler_hz * t * sd) + th0); // at k0
         for (int k0 = 0; k0 < s; k0 += pa.anchor) {
-            const int k1 = std::min(s, k0 + pa.anchor);
-            const double th1 = md_phase(k1);
-            const double slope = two_pi * p.doppler_hz / b + (th1 - th0) / (k1 - k0);
-            lv_32fc_t phase(cis(two_pi * frac(dop_cycles0 + p.doppler_hz * k0 / b) + th0));
-            volk_32fc_s32fc_x2_rotator_32fc(dst + k0, src + k0, lv_32fc_t(cis(slope)), &phase, k1 - k0);
+            const int len = std::min(pa.anchor, s - k0);
+            z = mul(z, len == pa.anchor ? pa.md_step : pa.md_step_last);
+            const double th1 = beta * z.imag();
+            const double turn = doppler_rad_per_sample * len + (th1 - th0); // the phase change over the chunk
+            detail::accumulate_rotator(out + k0, src + k0, len, phase, cis_small(turn / len));
+            phase = mul(phase, cis_small(turn));
             th0 = th1;
         }
     }
@@ -224,6 +235,9 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
             // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
             const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
             pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
+            pa.md_step = cis(two_pi * frac(p.md_rate_hz * pa.anchor / I.b));
+            const int last = I.s % pa.anchor == 0 ? pa.anchor : I.s % pa.anchor;
+            pa.md_step_last = cis(two_pi * frac(p.md_rate_hz * last / I.b));
         }
         // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15).
         if (!same_doppler) {
@@ -261,19 +275,15 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
         auto& pa = I.paths[l];
         I.fill_current(pa, in);
         const gr_complex* src = pa.buf.data() + s - pa.shift;
-        if (pa.moving && !pa.has_md) {
+        if (pa.has_md)
+            I.accumulate_micro_doppler(pa, sym, src, out);
+        else if (pa.moving)
             detail::accumulate_rotated(out, src, pa.doppler.data(), pa.symbol_phase[n], s);
-            I.keep_tail(pa);
-            continue;
-        }
-        if (pa.moving) {
-            I.rotate(pa, sym, src, I.tmp.data());
-            src = I.tmp.data();
-        }
-        volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
-                            reinterpret_cast<const float*>(out),
-                            reinterpret_cast<const float*>(src),
-                            2 * s);
+        else // a static path
+            volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
+                                reinterpret_cast<const float*>(out),
+                                reinterpret_cast<const float*>(src),
+                                2 * s);
         I.keep_tail(pa);
     }
     std::swap(I.x_prev, I.x_cur);

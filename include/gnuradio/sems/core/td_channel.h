@@ -29,9 +29,10 @@
  * Doppler phases are exact per sample: a per-frame table exp(j2π ν k/B) (double, anchored
  * every 64 samples) times the symbol's phase exp(j2π ν s T) (a per-frame table: the
  * frame's first symbol reduced modulo one cycle in double, the others by recurrence in
- * double, anchored every 64 symbols). Micro-Doppler phases are exact at the start of each
- * chunk of samples and linear inside it (VOLK's rotator), the chunk K chosen so the curvature left out,
- * β·ω²·(K/B)²/8 with β = 4πA/λ, stays below 1e-7 rad.
+ * double, anchored every 64 symbols). Micro-Doppler phases are exact (double, ~1e-15 rad) at
+ * the start of each chunk of samples and linear inside it (a float rotator, as VOLK's), the
+ * chunk K chosen so the curvature left out, β·ω²·(K/B)²/8 with β = 4πA/λ, stays below 1e-7
+ * rad.
  *
  * Range migration within a frame is not modelled (the delay is fixed per frame), as in
  * the frequency-domain model.
