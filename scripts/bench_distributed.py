@@ -9,7 +9,10 @@ Alternates, `repeat` times, one rank x 1 thread and `world` ranks x 1 thread (Fi
 and reads from each bundle.json the training frames/s of every epoch (all ranks together)
 and the gradient all-reduce time per step. The anchor is the single rank measured in the
 same run: the speed-up is a ratio of rows of one run, because the machine may be shared.
-Prints a Markdown table for docs/distributed_training.md.
+A third row is the machine's own ceiling: `world` independent single-rank trainings at once,
+each on its share (frames / world, batch 256 / world, no communication), their frames/s
+summed; distributed training cannot beat it. Prints a Markdown table for
+docs/distributed_training.md.
 """
 import argparse
 import json
@@ -22,15 +25,21 @@ import tempfile
 import time
 
 
-def run(exe, args, world, tmp, tag):
+def run(exe, args, world, tmp, tag, independent=False):
+    """One training of `world` ranks, or (independent) `world` single-rank trainings at once,
+    each given args_share(args, world)."""
     out = os.path.join(tmp, tag)
     store = os.path.join(tmp, tag + "_store")
     procs = []
     t0 = time.time()
     for r in range(world):
-        dist = [] if world == 1 else ["--world-size", str(world), "--rank", str(r), "--store-file", store,
-                                      "--dist-timeout", "600"]
-        procs.append(subprocess.Popen(["nice", exe] + args + dist + ["--out", out if r == 0 else out + "_%d" % r],
+        if independent:
+            dist, rank_args = [], args_share(args, world)
+        else:
+            dist = [] if world == 1 else ["--world-size", str(world), "--rank", str(r), "--store-file", store,
+                                          "--dist-timeout", "600"]
+            rank_args = args
+        procs.append(subprocess.Popen(["nice", exe] + rank_args + dist + ["--out", out if r == 0 else out + "_%d" % r],
                                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
     cpu = []
     for p in procs:  # CPU seconds (user + system) of each rank, from the kernel's accounting
@@ -43,10 +52,24 @@ def run(exe, args, world, tmp, tag):
     with open(os.path.join(out, "bundle.json")) as f:
         t = json.load(f)["training"]
     fps = [h["train_frames_per_s"] for h in t["history"]]
+    if independent:  # the trainings' frames/s summed, epoch by epoch
+        for r in range(1, world):
+            with open(os.path.join(out + "_%d" % r, "bundle.json")) as f:
+                other = [h["train_frames_per_s"] for h in json.load(f)["training"]["history"]]
+            fps = [a + b for a, b in zip(fps, other)]
     ms = t.get("distributed", {}).get("gradient_allreduce_ms_per_step", 0.0)
     return {"fps_mean": statistics.mean(fps), "fps_best": max(fps), "allreduce_ms": ms, "wall": wall,
             "cpu_max": max(cpu), "cpu_sum": sum(cpu),
             "floats": t.get("distributed", {}).get("gradient_floats_per_step", 0)}
+
+
+def args_share(args, world):
+    """The arguments of one of `world` independent trainings: frames and batch divided."""
+    a = list(args)
+    for flag in ("--frames", "--batch"):
+        i = a.index(flag)
+        a[i + 1] = str(int(a[i + 1]) // world)
+    return a
 
 
 # The exchange alone, ranks in lockstep (no waiting for a slower rank): the same c10d
@@ -95,31 +118,36 @@ def main():
     tmp = tempfile.mkdtemp(prefix="sems_bench_dist_")
     rows = []
     for i in range(a.repeat):
-        for world in (1, a.world) if i % 2 == 0 else (a.world, 1):
-            r = run(a.sems_train, args, world, tmp, "w%d_r%d" % (world, i))
-            r.update(world=world, repeat=i)
+        kinds = [(1, False), (a.world, False), (a.world, True)]
+        for world, independent in kinds if i % 2 == 0 else kinds[::-1]:
+            r = run(a.sems_train, args, world, tmp, "w%d%s_r%d" % (world, "i" if independent else "", i), independent)
+            r.update(world=world, repeat=i, independent=independent)
             rows.append(r)
-            print("repeat %d, %d rank(s): %.0f frames/s (epoch mean), best epoch %.0f, all-reduce %.2f ms/step, "
+            print("repeat %d, %d %s: %.0f frames/s (epoch mean), best epoch %.0f, all-reduce %.2f ms/step, "
                   "%.1f s wall, CPU s per rank max %.1f / sum %.1f"
-                  % (i, world, r["fps_mean"], r["fps_best"], r["allreduce_ms"], r["wall"], r["cpu_max"], r["cpu_sum"]),
+                  % (i, world, "independent trainings" if independent else "rank(s)", r["fps_mean"], r["fps_best"], r["allreduce_ms"], r["wall"], r["cpu_max"], r["cpu_sum"]),
                   flush=True)
     one = [r for r in rows if r["world"] == 1]
-    many = [r for r in rows if r["world"] == a.world]
+    many = [r for r in rows if r["world"] == a.world and not r["independent"]]
+    alone = [r for r in rows if r["independent"]]
     print()
     print("| ranks x threads | training frames/s (best of %d runs, epoch mean) | median | speed-up (best / median) "
           "| gradient all-reduce ms/step (median) |" % a.repeat)
     print("|---|---|---|---|---|")
     b1 = max(r["fps_mean"] for r in one)
     m1 = statistics.median(r["fps_mean"] for r in one)
-    for label, rs in (("1 x 1", one), ("%d x 1" % a.world, many)):
+    for label, rs in (("1 x 1", one), ("%d x 1" % a.world, many),
+                      ("%d independent x 1 (ceiling)" % a.world, alone)):
         b = max(r["fps_mean"] for r in rs)
         m = statistics.median(r["fps_mean"] for r in rs)
         ms = statistics.median(r["allreduce_ms"] for r in rs)
         print("| %s | %.0f | %.0f | %.2fx / %.2fx | %s |" % (label, b, m, b / b1, m / m1,
-                                                        "-" if rs is one else "%.2f (%d floats)" % (ms, rs[0]["floats"])))
+                                                        "%.2f (%d floats)" % (ms, rs[0]["floats"]) if rs is many else "-"))
     # Per repeat: the ratio of the two runs made back to back.
     ratios = [m["fps_mean"] / o["fps_mean"] for o, m in zip(one, many)]
     print("\nback-to-back ratios (%d ranks / 1 rank): %s" % (a.world, ", ".join("%.2f" % x for x in ratios)))
+    ceiling = [c["fps_mean"] / o["fps_mean"] for o, c in zip(one, alone)]
+    print("back-to-back ratios (%d independent trainings / 1 rank): %s" % (a.world, ", ".join("%.2f" % x for x in ceiling)))
     # What the ranks' CPU work says about free cores: the run takes as long as its busiest
     # rank, so the speed-up on idle cores is bounded by CPU(1 rank) / max CPU(one of the ranks).
     c1 = statistics.median(r["cpu_max"] for r in one)
