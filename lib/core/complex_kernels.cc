@@ -5,6 +5,7 @@
  * versions compute four complex values at once with exactly these products and sums
  * (addsub, no FMA), so they agree bit for bit with the portable loops; the portable loops
  * are plain float arithmetic (std::complex's operator* would keep a NaN recovery branch).
+ * Without AVX2 the rows run VOLK's kernels instead (complex_kernels.h).
  *
  * Each AVX2 loop ends with vzeroupper itself: GCC does not add it to a function compiled
  * with target("avx2") in an SSE2 file, and the SSE code that runs next in the thread (the
@@ -13,6 +14,9 @@
  */
 #include "core/complex_kernels.h"
 #include "core/complex_mul.h"
+#include <volk/volk.h>
+#include <algorithm>
+#include <vector>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -57,8 +61,8 @@ void accumulate_rotator_portable(float* o, const float* x, float* lanes, float s
 }
 
 // y[k] = (x[k] ·) Σ_l c_l d_l[k] for k in [k, n); x only when TimesX. The sum is kept as
-// four partial sums, Σ dr·cr, Σ di·cr, Σ dr·ci, Σ −di·ci, combined at the end: what the
-// AVX2 loop computes lane by lane (two products and two sums per row and vector).
+// four partial sums, Σ dr·cr, Σ di·cr, Σ dr·ci, Σ −di·ci (rows in order), combined at the
+// end: what the AVX2 loop computes lane by lane (two products and two sums per row).
 template <bool TimesX>
 void row_sum_portable(float* y, const float* x, const float* d, int stride, const gr_complex* c, int rows, int k,
                       int n)
@@ -158,21 +162,48 @@ row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_comp
 }
 #endif
 
-bool force_portable = false;
+kernel_choice choice = kernel_choice::fastest;
+
+// Without AVX2, a row with VOLK's kernels (which have SSE and NEON versions): h = d_0·c_0,
+// then h += d_l·c_l (a scaled copy and an add per path), then y = x·h. Scratch per thread,
+// allocation-free once grown.
+void row_sum_volk(gr_complex* y, const gr_complex* x, const gr_complex* d, int stride, const gr_complex* c, int rows,
+                  int n)
+{
+    thread_local std::vector<gr_complex> h, scaled;
+    h.resize(static_cast<size_t>(n));
+    scaled.resize(static_cast<size_t>(n));
+    const auto len = static_cast<unsigned>(n);
+    if (rows == 0)
+        std::fill(h.begin(), h.end(), gr_complex(0.0f, 0.0f));
+    else
+        volk_32fc_s32fc_multiply_32fc(h.data(), d, c[0], len);
+    for (int l = 1; l < rows; ++l) {
+        volk_32fc_s32fc_multiply_32fc(scaled.data(), d + static_cast<long>(l) * stride, c[l], len);
+        volk_32f_x2_add_32f(reinterpret_cast<float*>(h.data()),
+                            reinterpret_cast<const float*>(h.data()),
+                            reinterpret_cast<const float*>(scaled.data()),
+                            2 * len);
+    }
+    if (x)
+        volk_32fc_x2_multiply_32fc(y, x, h.data(), len);
+    else
+        std::copy(h.begin(), h.end(), y);
+}
 
 } // namespace
+
+void complex_kernels_choose(kernel_choice c) { choice = c; }
 
 bool complex_kernels_use_avx2()
 {
 #ifdef SEMS_KERNELS_AVX2
     static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2 && !force_portable;
+    return avx2 && choice == kernel_choice::fastest;
 #else
     return false;
 #endif
 }
-
-void complex_kernels_force_portable(bool on) { force_portable = on; }
 
 void accumulate_rotated(gr_complex* out, const gr_complex* x, const gr_complex* d, gr_complex c, int n)
 {
@@ -215,7 +246,9 @@ void apply_row_sum(gr_complex* y, const gr_complex* x, const gr_complex* d, int 
     if (complex_kernels_use_avx2())
         return row_sum_avx2<true>(ys, xs, ds, stride, c, n_rows, n);
 #endif
-    row_sum_portable<true>(ys, xs, ds, stride, c, n_rows, 0, n);
+    if (choice == kernel_choice::portable)
+        return row_sum_portable<true>(ys, xs, ds, stride, c, n_rows, 0, n);
+    row_sum_volk(y, x, d, stride, c, n_rows, n);
 }
 
 void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c, int n_rows, int n)
@@ -226,7 +259,9 @@ void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c
     if (complex_kernels_use_avx2())
         return row_sum_avx2<false>(hs, nullptr, ds, stride, c, n_rows, n);
 #endif
-    row_sum_portable<false>(hs, nullptr, ds, stride, c, n_rows, 0, n);
+    if (choice == kernel_choice::portable)
+        return row_sum_portable<false>(hs, nullptr, ds, stride, c, n_rows, 0, n);
+    row_sum_volk(h, nullptr, d, stride, c, n_rows, n);
 }
 
 } // namespace detail

@@ -42,7 +42,7 @@ class qa_complex_kernels : public CppUnit::TestFixture
     CPPUNIT_TEST_SUITE_END();
 
 public:
-    void tearDown() override { detail::complex_kernels_force_portable(false); }
+    void tearDown() override { detail::complex_kernels_choose(detail::kernel_choice::fastest); }
 
     void accumulate_rotated_is_the_product_sum()
     {
@@ -52,9 +52,9 @@ public:
             const gr_complex c(0.3f, -0.9f);
             std::vector<gr_complex> fast = start, portable = start;
             detail::accumulate_rotated(fast.data(), x.data(), d.data(), c, n);
-            detail::complex_kernels_force_portable(true);
+            detail::complex_kernels_choose(detail::kernel_choice::portable);
             detail::accumulate_rotated(portable.data(), x.data(), d.data(), c, n);
-            detail::complex_kernels_force_portable(false);
+            detail::complex_kernels_choose(detail::kernel_choice::fastest);
             assert_same_bits(fast, portable);
             for (int k = 0; k < n; ++k) {
                 const std::complex<double> ref = std::complex<double>(start[k]) +
@@ -73,9 +73,9 @@ public:
             const auto x = random_vector(g, n), start = random_vector(g, n);
             std::vector<gr_complex> fast = start, portable = start;
             detail::accumulate_rotator(fast.data(), x.data(), n, p, step);
-            detail::complex_kernels_force_portable(true);
+            detail::complex_kernels_choose(detail::kernel_choice::portable);
             detail::accumulate_rotator(portable.data(), x.data(), n, p, step);
-            detail::complex_kernels_force_portable(false);
+            detail::complex_kernels_choose(detail::kernel_choice::fastest);
             assert_same_bits(fast, portable);
             for (int k = 0; k < n; ++k) {
                 const std::complex<double> ref = std::complex<double>(start[k]) +
@@ -97,10 +97,25 @@ public:
                 detail::apply_row_sum(fast.data(), x.data(), d.data(), stride, c.data(), rows, n);
                 detail::apply_row_sum(in_place.data(), in_place.data(), d.data(), stride, c.data(), rows, n);
                 assert_same_bits(fast, in_place); // y may alias x
-                detail::complex_kernels_force_portable(true);
+                detail::complex_kernels_choose(detail::kernel_choice::portable);
                 detail::apply_row_sum(portable.data(), x.data(), d.data(), stride, c.data(), rows, n);
-                detail::complex_kernels_force_portable(false);
+                detail::complex_kernels_choose(detail::kernel_choice::fastest);
                 assert_same_bits(fast, portable);
+                // What a CPU without AVX2 runs (VOLK's passes): the same row to float rounding.
+                std::vector<gr_complex> volk_row(n), h_row(n), h_portable(n);
+                detail::complex_kernels_choose(detail::kernel_choice::without_avx2);
+                detail::apply_row_sum(volk_row.data(), x.data(), d.data(), stride, c.data(), rows, n);
+                detail::row_sum(h_row.data(), d.data(), stride, c.data(), rows, n);
+                detail::complex_kernels_choose(detail::kernel_choice::portable);
+                detail::row_sum(h_portable.data(), d.data(), stride, c.data(), rows, n);
+                detail::complex_kernels_choose(detail::kernel_choice::fastest);
+                std::vector<gr_complex> h_fast(n);
+                detail::row_sum(h_fast.data(), d.data(), stride, c.data(), rows, n);
+                assert_same_bits(h_fast, h_portable);
+                for (int k = 0; k < n; ++k) {
+                    CPPUNIT_ASSERT(std::abs(volk_row[k] - fast[k]) < 1e-5f * (1.0f + std::abs(fast[k])) * rows);
+                    CPPUNIT_ASSERT(std::abs(h_row[k] - h_portable[k]) < 1e-5f * (1.0f + std::abs(h_portable[k])) * rows);
+                }
                 for (int k = 0; k < n; ++k) {
                     std::complex<double> h = 0.0;
                     for (int l = 0; l < rows; ++l)
