@@ -24,6 +24,7 @@ constexpr double md_phase_tolerance_rad = 1e-7;
 
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
+using detail::mul; // the operands here are finite
 
 // cis for a per-sample phase step: below 0.01 rad the Taylor series to x⁵ (error < x⁶/720,
 // ~1.4e-15) instead of a sine and a cosine.
@@ -34,7 +35,6 @@ inline std::complex<double> cis_small(double x)
     const double x2 = x * x;
     return { 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0), x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0)) };
 }
-using detail::mul; // the operands here are finite
 
 // dst[k] = scale · exp(j2π cycles_per_step · k), k < n: anchored exactly every 64 steps.
 void fill_phasors(gr_complex* dst, int n, std::complex<double> scale, double cycles_per_step)
