@@ -4,6 +4,7 @@
 #include "core/complex_kernels.h"
 #include "core/complex_mul.h"
 #include <gnuradio/fft/fft.h>
+#include <gnuradio/sems/core/steering.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -235,9 +236,9 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
             // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
             const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
             pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
-            pa.md_step = cis(two_pi * frac(p.md_rate_hz * pa.anchor / I.b));
+            pa.md_step = cis_cycles(p.md_rate_hz * pa.anchor / I.b);
             const int last = I.s % pa.anchor == 0 ? pa.anchor : I.s % pa.anchor;
-            pa.md_step_last = cis(two_pi * frac(p.md_rate_hz * last / I.b));
+            pa.md_step_last = cis_cycles(p.md_rate_hz * last / I.b);
         }
         // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15).
         if (!same_doppler) {
@@ -247,7 +248,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
         pa.symbol_phase.resize(I.n);
         fill_phasors(pa.symbol_phase.data(),
                      I.n,
-                     cis(two_pi * frac(p.doppler_hz * I.t * static_cast<double>(first_symbol))),
+                     doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, I.t),
                      p.doppler_hz * I.t);
         if (!same_samples) {
             pa.shift_phasor.resize(m);
