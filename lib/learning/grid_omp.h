@@ -8,7 +8,9 @@
  * Round 1 picks the q of the largest |Σ_m y[m] conj(D[m, q])|; every round refits all the
  * atoms picked so far (restricted to the frame's pilot subcarriers) by least squares,
  * writes the map |Σ_m r[m] conj(D[m, q])| · scale of the residual r, and picks the next q
- * from it (a Cholesky solve of the L x L Gram matrix). Written as plain loops over the pilots'
+ * from it (a Cholesky solve of the L x L Gram matrix). On a CPU with AVX2 and FMA the
+ * correlations run with fused multiply-adds (maps within ~1e-16 relative of the exact loop's,
+ * as float almost always the same bits); elsewhere, or when a test chooses it, the exact loop. Written as plain loops over the pilots'
  * subcarriers: as LibTorch operators
  * (complex double, a batched solve per round) it was ~50 small calls per batch, most of
  * the small decoder's time.
@@ -45,6 +47,15 @@ void grid_omp_maps(const float* yr,
                    int rounds,
                    double scale,
                    float* maps);
+
+/*! Whether this CPU can run the fused (AVX2 + FMA) correlation. */
+bool grid_omp_fused_available();
+
+/*!
+ * Chooses the fused correlation (the default where available) or the exact loop; for the
+ * tests (not thread-safe). Returns whether the fused one now runs.
+ */
+bool grid_omp_use_fused(bool fused);
 
 } // namespace nn
 } // namespace sems
