@@ -118,12 +118,18 @@ decoder_output delay_decoder_module::forward(const torch::Tensor& grid)
     const double scale = 1.0 / std::sqrt(static_cast<double>(d_np));
     auto rr = (torch::matmul(xr, d_dict_cos) - torch::matmul(xi, d_dict_sin)) * scale;
     auto ri = (torch::matmul(xr, d_dict_sin) + torch::matmul(xi, d_dict_cos)) * scale;
+    // The strongest correlation of the first projection: the phase reference, and the second
+    // start of the single-path refinement.
+    const bool global_peak = !is_training() && d_s.refine_paths == 1 && d_s.refine_global_peak && d_fitter;
+    torch::Tensor strongest;
+    if (d_s.phase_reference || global_peak)
+        strongest = (rr.select(1, 0).square() + ri.select(1, 0).square()).argmax(1, true); // B x 1
     torch::Tensor maps;
     if (d_s.residual_maps > 0)
         maps = residual_maps(xr.select(1, 0), xi.select(1, 0), (x.abs().sum(1).sum(1) > 0).to(x.dtype()), scale);
     if (d_s.phase_reference) {
         // Rotate by the phase of r_0 at its strongest q: invariant to the common phase.
-        auto k = (rr.select(1, 0).square() + ri.select(1, 0).square()).argmax(1, true); // B x 1
+        const auto& k = strongest;
         auto pr = rr.select(1, 0).gather(1, k), pi = ri.select(1, 0).gather(1, k);
         auto norm = torch::sqrt(pr * pr + pi * pi + 1e-20);
         auto c = (pr / norm).unsqueeze(1), sn = (-pi / norm).unsqueeze(1); // e^{-jφ}
@@ -144,7 +150,8 @@ decoder_output delay_decoder_module::forward(const torch::Tensor& grid)
     }
     out.delay_index = soft_argmax(out.logits, d_tau, d_s.window);
     if (!is_training() && d_s.refine_paths > 0 && d_fitter)
-        out.delay_index = refine(x, out.delay_index);
+        out.delay_index =
+            refine(x, out.delay_index, global_peak ? d_tau.index({ strongest.squeeze(1) }) : torch::Tensor());
     return out;
 }
 
@@ -276,7 +283,8 @@ void delay_decoder_module::set_pilot_positions(const frame_settings& fs, const s
     d_fitter = std::make_shared<multipath_fitter>(fs, mask, fit);
 }
 
-torch::Tensor delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estimate) const
+torch::Tensor
+delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estimate, const torch::Tensor& peak) const
 {
     // The pilots of the normalised grid (a common scale does not move a delay), in mask order.
     auto obs = gather_pilots(x, d_positions).contiguous(); // B x N_p x 2
@@ -286,11 +294,24 @@ torch::Tensor delay_decoder_module::refine(const torch::Tensor& x, const torch::
     const auto* po = reinterpret_cast<const gr_complex*>(obs.data_ptr<float>());
     const double* pe = est.data_ptr<double>();
     double* pr = out.data_ptr<double>();
+    torch::Tensor pk;
+    if (peak.defined())
+        pk = peak.to(torch::kDouble).contiguous();
+    const double* pp = pk.defined() ? pk.data_ptr<double>() : nullptr;
     for (int64_t i = 0; i < b; ++i) {
-        const auto fit =
-            d_fitter->refine_anchored(po + i * d_np, pe[i], d_s.refine_paths, d_s.refine_span_index);
+        const gr_complex* y = po + i * d_np;
+        const auto fit = d_fitter->refine_anchored(y, pe[i], d_s.refine_paths, d_s.refine_span_index);
         const double first = fit.delay_index.front();
-        pr[i] = std::isfinite(first) && std::abs(first - pe[i]) < d_s.refine_trust_index ? first : pe[i];
+        const bool trusted = std::isfinite(first) && std::abs(first - pe[i]) < d_s.refine_trust_index;
+        pr[i] = trusted ? first : pe[i];
+        if (!pp || !(std::abs(pp[i] - pe[i]) > d_s.refine_trust_index))
+            continue; // no second start, or the network is already at the grid peak
+        // One path: the kept delay's residual against the fit from the grid peak.
+        const double kept = trusted ? fit.residual : d_fitter->evaluate(y, { pe[i] }, fit.doppler_hz).residual;
+        const auto other = d_fitter->refine_anchored(y, pp[i], 1, d_s.refine_span_index);
+        const double alt = other.delay_index.front();
+        if (std::isfinite(alt) && alt >= d_s.tau_min_index && alt <= d_s.tau_max_index && other.residual < kept)
+            pr[i] = alt;
     }
     return out.to(estimate.scalar_type());
 }

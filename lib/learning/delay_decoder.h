@@ -31,6 +31,12 @@
  * the residual, then Levenberg–Marquardt over all delays (and the shared Doppler). The
  * earliest fitted delay replaces τ̂ when it moved less than refine_trust_index. The
  * network decides which path is first; the fit only moves it inside that trust region.
+ * With one path (refine_paths = 1) and refine_global_peak, a network estimate farther
+ * than refine_trust_index from the strongest correlation of the first projection (the
+ * matched filter's grid peak on a one-symbol mask) is checked against a second fit started
+ * at that peak; the fit with the smaller residual wins — for one path with unknown gain
+ * that is the larger likelihood, so the decoder never keeps a worse-fitting delay than the
+ * grid search of the least-squares reference would find.
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
@@ -86,7 +92,9 @@ private:
     torch::nn::Sequential d_blocks{ nullptr };
     std::vector<int64_t> d_positions;
     std::shared_ptr<multipath_fitter> d_fitter;
-    torch::Tensor refine(const torch::Tensor& x, const torch::Tensor& estimate) const;
+    // The refined estimates (B); peak: the grid delay of each frame's strongest first-
+    // projection correlation (B), the second start of refine_global_peak (may be undefined).
+    torch::Tensor refine(const torch::Tensor& x, const torch::Tensor& estimate, const torch::Tensor& peak) const;
     // The network after the features (stem, blocks, head) at inference, when it is small:
     // its convolutions with their BatchNorms folded in, as plain loops (folded_conv1d.h),
     // rebuilt when a parameter or buffer changes. Returns an undefined tensor when the

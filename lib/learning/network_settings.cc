@@ -149,7 +149,8 @@ json delay_settings::to_json() const
              { "window", window },
              { "refine_paths", refine_paths },
              { "refine_span_index", refine_span_index },
-             { "refine_trust_index", refine_trust_index } };
+             { "refine_trust_index", refine_trust_index },
+             { "refine_global_peak", refine_global_peak } };
 }
 
 delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
@@ -184,6 +185,7 @@ delay_settings delay_settings::from_json(const json& json_in, const std::string&
     s.refine_trust_index = j.number_or("refine_trust_index", s.refine_trust_index);
     if (!(s.refine_trust_index > 0.0))
         json_read::fail(source, "refine_trust_index", "must be > 0");
+    s.refine_global_peak = j.boolean_or("refine_global_peak", false); // added after the first bundles
     j.finish();
     return s;
 }

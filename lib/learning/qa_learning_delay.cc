@@ -64,6 +64,7 @@ class qa_learning_delay : public CppUnit::TestFixture
     CPPUNIT_TEST(receptive_field_closed_form);
     CPPUNIT_TEST(legacy_settings_keep_the_old_network);
     CPPUNIT_TEST(refinement_is_the_anchored_least_squares_fit);
+    CPPUNIT_TEST(single_path_refinement_takes_the_better_fit);
     CPPUNIT_TEST(residual_maps_remove_the_strongest_atom);
     CPPUNIT_TEST(residual_maps_match_the_operator_form);
     CPPUNIT_TEST(folded_network_matches_the_modules);
@@ -100,6 +101,7 @@ public:
         CPPUNIT_ASSERT_EQUAL(false, s.phase_reference);
         CPPUNIT_ASSERT_EQUAL(0, s.residual_maps);
         CPPUNIT_ASSERT_EQUAL(0, s.refine_paths);
+        CPPUNIT_ASSERT_EQUAL(false, s.refine_global_peak);
         // Its parameters have the old shapes (the stem sees 3P channels).
         delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
         CPPUNIT_ASSERT(d.named_parameters()["stem.weight"].sizes() == torch::IntArrayRef({ 8, 6, 5 }));
@@ -112,6 +114,58 @@ public:
         CPPUNIT_ASSERT_EQUAL(2, back.dilation_growth);
         CPPUNIT_ASSERT_EQUAL(true, back.phase_reference);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(7.0, back.refine_span_index, 0.0);
+        CPPUNIT_ASSERT_EQUAL(true, back.refine_global_peak);
+        n.refine_global_peak = false;
+        CPPUNIT_ASSERT_EQUAL(false, delay_settings::from_json(n.to_json(), "round trip").refine_global_peak);
+    }
+
+    void single_path_refinement_takes_the_better_fit()
+    {
+        // An untrained network answers far from the path on most frames; the trust region
+        // keeps those answers. With refine_global_peak the fit from the matched filter's
+        // grid peak replaces them: on 40 dB single-path frames every answer is the path.
+        const auto flat = one_symbol_positions();
+        random_spec r;
+        r.paths_per_target = 1;
+        channel_model cm(fs, scene::random(r), 21);
+        const int b = 32;
+        std::vector<gr_complex> h(size_t(b) * fs.grid_size());
+        const auto truths = cm.generate(b, h.data());
+        cm.add_noise(h.data(), h.size(), 40.0);
+        const auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
+                             .permute({ 0, 3, 1, 2 })
+                             .contiguous();
+        const auto grid = scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+        // Every other subcarrier: delays 32 indices apart alias, so the dictionary stays below.
+        auto s = small(1);
+        s.tau_min_index = -1.0;
+        s.tau_max_index = 30.0;
+        s.q = 249;
+        torch::NoGradGuard ng;
+        auto errors = [&](bool global) {
+            s.refine_global_peak = global;
+            torch::manual_seed(4);
+            delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+            d.set_pilot_positions(fs, flat);
+            d.eval();
+            const auto out = d.forward(grid).delay_index.to(torch::kDouble);
+            std::vector<double> e;
+            for (int i = 0; i < b; ++i)
+                e.push_back(std::abs(out[i].item<double>() - truths[size_t(i)].delay_index));
+            return e;
+        };
+        const auto local = errors(false), global = errors(true);
+        int far = 0, inside = 0;
+        for (int i = 0; i < b; ++i) {
+            if (truths[size_t(i)].delay_index > s.tau_max_index)
+                continue; // outside the dictionary: not this test's question
+            ++inside;
+            far += local[size_t(i)] > 0.5;
+            CPPUNIT_ASSERT_MESSAGE("frame " + std::to_string(i) + ": error " + std::to_string(global[size_t(i)]),
+                                   global[size_t(i)] < 0.02);
+        }
+        CPPUNIT_ASSERT(inside >= 16);
+        CPPUNIT_ASSERT_MESSAGE("untrained network far on " + std::to_string(far) + " frames", far >= inside / 2);
     }
 
     void refinement_is_the_anchored_least_squares_fit()

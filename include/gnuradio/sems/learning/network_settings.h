@@ -152,6 +152,12 @@ struct SEMS_LEARNING_API delay_settings {
                                      /// (resolved by the trainer, like refine_paths)
     double refine_trust_index = 0.5; ///< the refined delay replaces the network's only when it
                                      /// moved less than this
+    bool refine_global_peak = true;  ///< single-path refinement (refine_paths = 1): when the
+                                     /// strongest dictionary correlation lies farther than
+                                     /// refine_trust_index from the network's estimate, a
+                                     /// second fit starts there, and the fit that explains
+                                     /// the pilots better (smaller residual: the maximum-
+                                     /// likelihood choice) wins (legacy: false)
 
     /*! \brief The grid spacing. \return (tau_max_index - tau_min_index) / (q - 1) delay indices. */
     double spacing() const { return (tau_max_index - tau_min_index) / (q - 1); }
