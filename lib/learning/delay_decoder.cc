@@ -306,6 +306,14 @@ delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estima
         pr[i] = trusted ? first : pe[i];
         if (!pp || !(std::abs(pp[i] - pe[i]) > d_s.refine_trust_index))
             continue; // no second start, or the network is already at the grid peak
+        if (d_s.refine_global_min_fraction > 0.0) { // a peak that noise alone could make: skip
+            double energy = 0.0;
+            for (int k = 0; k < d_np; ++k)
+                energy += std::norm(std::complex<double>(y[k]));
+            const double at_peak = d_fitter->evaluate(y, { pp[i] }, fit.doppler_hz).residual;
+            if (!(energy > 0.0) || 1.0 - at_peak / energy < d_s.refine_global_min_fraction)
+                continue;
+        }
         // One path: the kept delay's residual against the fit from the grid peak.
         const double kept = trusted ? fit.residual : d_fitter->evaluate(y, { pe[i] }, fit.doppler_hz).residual;
         const auto other = d_fitter->refine_anchored(y, pp[i], 1, d_s.refine_span_index);

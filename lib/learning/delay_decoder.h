@@ -36,7 +36,9 @@
  * matched filter's grid peak on a one-symbol mask) is checked against a second fit started
  * at that peak; the fit with the smaller residual wins — for one path with unknown gain
  * that is the larger likelihood, so the decoder never keeps a worse-fitting delay than the
- * grid search of the least-squares reference would find.
+ * grid search of the least-squares reference would find. refine_global_min_fraction > 0
+ * skips that second fit when the one-path model at the peak explains less than that share
+ * of the pilots' energy (a frame with no clear peak: the fast bundle's setting).
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H

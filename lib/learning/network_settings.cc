@@ -150,7 +150,8 @@ json delay_settings::to_json() const
              { "refine_paths", refine_paths },
              { "refine_span_index", refine_span_index },
              { "refine_trust_index", refine_trust_index },
-             { "refine_global_peak", refine_global_peak } };
+             { "refine_global_peak", refine_global_peak },
+             { "refine_global_min_fraction", refine_global_min_fraction } };
 }
 
 delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
@@ -186,6 +187,9 @@ delay_settings delay_settings::from_json(const json& json_in, const std::string&
     if (!(s.refine_trust_index > 0.0))
         json_read::fail(source, "refine_trust_index", "must be > 0");
     s.refine_global_peak = j.boolean_or("refine_global_peak", false); // added after the first bundles
+    s.refine_global_min_fraction = j.number_or("refine_global_min_fraction", 0.0);
+    if (!(s.refine_global_min_fraction >= 0.0 && s.refine_global_min_fraction < 1.0))
+        json_read::fail(source, "refine_global_min_fraction", "must be in [0, 1)");
     j.finish();
     return s;
 }

@@ -115,8 +115,12 @@ public:
         CPPUNIT_ASSERT_EQUAL(true, back.phase_reference);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(7.0, back.refine_span_index, 0.0);
         CPPUNIT_ASSERT_EQUAL(true, back.refine_global_peak);
+        CPPUNIT_ASSERT_EQUAL(0.0, back.refine_global_min_fraction);
         n.refine_global_peak = false;
-        CPPUNIT_ASSERT_EQUAL(false, delay_settings::from_json(n.to_json(), "round trip").refine_global_peak);
+        n.refine_global_min_fraction = 0.15;
+        const auto back2 = delay_settings::from_json(n.to_json(), "round trip");
+        CPPUNIT_ASSERT_EQUAL(false, back2.refine_global_peak);
+        CPPUNIT_ASSERT_EQUAL(0.15, back2.refine_global_min_fraction);
     }
 
     void single_path_refinement_takes_the_better_fit()
@@ -155,6 +159,11 @@ public:
             return e;
         };
         const auto local = errors(false), global = errors(true);
+        // A share no one-path fit can explain: the second fit never runs.
+        s.refine_global_min_fraction = 0.999999;
+        const auto skipped = errors(true);
+        s.refine_global_min_fraction = 0.0;
+        CPPUNIT_ASSERT(skipped == local);
         int far = 0, inside = 0;
         for (int i = 0; i < b; ++i) {
             if (truths[size_t(i)].delay_index > s.tau_max_index)
@@ -356,6 +365,9 @@ public:
     {
         delay_settings s; // refine_paths = -1: "from the training scene", unresolved
         qa::assert_error([&] { delay_decoder_module(fs.n_symbols, fs.n_subcarriers, 32, s); }, "refine_paths");
+        auto bad = small(1).to_json();
+        bad["refine_global_min_fraction"] = 1.5;
+        qa::assert_error([&] { delay_settings::from_json(bad, "b.json"); }, "b.json", "refine_global_min_fraction");
         auto r = small(3);
         delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, r);
         auto flat = one_symbol_positions();

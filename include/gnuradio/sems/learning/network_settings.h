@@ -158,6 +158,13 @@ struct SEMS_LEARNING_API delay_settings {
                                      /// second fit starts there, and the fit that explains
                                      /// the pilots better (smaller residual: the maximum-
                                      /// likelihood choice) wins (legacy: false)
+    double refine_global_min_fraction = 0.0; ///< the second fit runs only when the one-path
+                                             /// model at the grid peak explains at least this
+                                             /// share of the pilots' energy (0 = always). Noise
+                                             /// alone reaches ~ln(cells)/N_p at its strongest
+                                             /// delay (0.12 for 32 pilots over 44 delay
+                                             /// indices): a fast decoder skips the second fit
+                                             /// on frames with no clear peak
 
     /*! \brief The grid spacing. \return (tau_max_index - tau_min_index) / (q - 1) delay indices. */
     double spacing() const { return (tau_max_index - tau_min_index) / (q - 1); }
