@@ -26,6 +26,30 @@ constexpr int max_rounds = 8;
 using gram = Eigen::Matrix<cd, Eigen::Dynamic, Eigen::Dynamic, 0, max_rounds, max_rounds>;
 using coeffs = Eigen::Matrix<cd, Eigen::Dynamic, 1, 0, max_rounds, 1>;
 
+// The sums of the delays k0 <= k < q past the last full block, as plain loops (the order of
+// a loop over s outside): both correlations end with it.
+inline void correlate_tail(const std::vector<int>& sup,
+                           const cd* r,
+                           const float* dc,
+                           const float* ds,
+                           int q,
+                           int k0,
+                           double* __restrict cr,
+                           double* __restrict ci)
+{
+    std::fill(cr + k0, cr + q, 0.0);
+    std::fill(ci + k0, ci + q, 0.0);
+    for (size_t s = 0; s < sup.size(); ++s) {
+        const double a = r[s].real(), b = r[s].imag();
+        const float* c = dc + static_cast<size_t>(sup[s]) * q;
+        const float* sn = ds + static_cast<size_t>(sup[s]) * q;
+        for (int k = k0; k < q; ++k) {
+            cr[k] += a * c[k] - b * sn[k];
+            ci[k] += a * sn[k] + b * c[k];
+        }
+    }
+}
+
 // |Σ_s r[s] conj(D[m_s, q])| · scale for every q, over the support's subcarriers m_s (the
 // float dictionary promoted to double, as the operator form did). The delay decoder's
 // hottest loop of its own (rounds + 1 calls per frame). This exact version rounds every
@@ -66,17 +90,7 @@ void correlate_exact(const std::vector<int>& sup,
             ci[k0 + j] = si[j];
         }
     }
-    std::fill(cr + k0, cr + q, 0.0);
-    std::fill(ci + k0, ci + q, 0.0);
-    for (size_t s = 0; s < n_sup; ++s) {
-        const double a = r[s].real(), b = r[s].imag();
-        const float* c = dc + static_cast<size_t>(sup[s]) * q;
-        const float* sn = ds + static_cast<size_t>(sup[s]) * q;
-        for (int k = k0; k < q; ++k) {
-            cr[k] += a * c[k] - b * sn[k];
-            ci[k] += a * sn[k] + b * c[k];
-        }
-    }
+    correlate_tail(sup, r, dc, ds, q, k0, cr, ci);
     for (int k = 0; k < q; ++k)
         mag[k] = std::sqrt(cr[k] * cr[k] + ci[k] * ci[k]) * scale;
 }
@@ -86,7 +100,7 @@ void correlate_exact(const std::vector<int>& sup,
 // and b·c) as two FMAs, one rounding per product-and-add where the exact loop rounds twice,
 // and half its arithmetic instructions. The sums differ from the exact ones by a few units
 // in the last place of a double (~1e-16 relative); the float maps almost always keep their
-// bits. Delays past the last block of 16 run the exact loop's scalar form.
+// bits. Delays past the last block of 16 run the exact loop's tail.
 __attribute__((target("avx2,fma"))) void correlate_fused(const std::vector<int>& sup,
                                                          const cd* r,
                                                          const float* dc,
@@ -123,17 +137,9 @@ __attribute__((target("avx2,fma"))) void correlate_fused(const std::vector<int>&
         }
     }
     _mm256_zeroupper(); // GCC leaves the upper halves dirty otherwise (see complex_kernels.cc)
-    for (int k = k0; k < q; ++k) {
-        double sr = 0.0, si = 0.0;
-        for (size_t s = 0; s < n_sup; ++s) {
-            const size_t at = static_cast<size_t>(sup[s]) * q + k;
-            sr += r[s].real() * dc[at] - r[s].imag() * ds[at];
-            si += r[s].real() * ds[at] + r[s].imag() * dc[at];
-        }
-        cr[k] = sr;
-        ci[k] = si;
-        mag[k] = std::sqrt(sr * sr + si * si) * scale;
-    }
+    correlate_tail(sup, r, dc, ds, q, k0, cr, ci);
+    for (int k = k0; k < q; ++k)
+        mag[k] = std::sqrt(cr[k] * cr[k] + ci[k] * ci[k]) * scale;
 }
 #endif
 
