@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
@@ -143,8 +144,8 @@ __attribute__((target("avx2,fma"))) void correlate_fused(const std::vector<int>&
 }
 #endif
 
-// The fused correlation where the CPU has AVX2 and FMA (unless a test chose the exact one).
-bool use_fused = grid_omp_fused_available();
+// Whether the fused correlation runs where the CPU has it (a test may choose the exact one).
+std::atomic<bool> prefer_fused{ true };
 
 void correlate(const std::vector<int>& sup,
                const cd* r,
@@ -157,7 +158,7 @@ void correlate(const std::vector<int>& sup,
                double* mag)
 {
 #ifdef SEMS_GRID_OMP_FUSED
-    if (use_fused) {
+    if (prefer_fused.load(std::memory_order_relaxed) && grid_omp_fused_available()) {
         correlate_fused(sup, r, dc, ds, q, scale, cr, ci, mag);
         return;
     }
@@ -182,7 +183,13 @@ int argmax(const double* v, int n)
 bool grid_omp_fused_available()
 {
 #ifdef SEMS_GRID_OMP_FUSED
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    // Asked on first use, not during the library's static initialisation (where the CPU
+    // model __builtin_cpu_supports reads may not be filled in yet).
+    static const bool available = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    }();
+    return available;
 #else
     return false;
 #endif
@@ -190,8 +197,8 @@ bool grid_omp_fused_available()
 
 bool grid_omp_use_fused(bool fused)
 {
-    use_fused = fused && grid_omp_fused_available();
-    return use_fused;
+    prefer_fused.store(fused, std::memory_order_relaxed);
+    return fused && grid_omp_fused_available();
 }
 
 void grid_omp_maps(const float* yr,

@@ -53,7 +53,7 @@ bool grid_omp_fused_available();
 
 /*!
  * Chooses the fused correlation (the default where available) or the exact loop; for the
- * tests (not thread-safe). Returns whether the fused one now runs.
+ * tests (every thread follows the last choice). Returns whether the fused one now runs.
  */
 bool grid_omp_use_fused(bool fused);
 
