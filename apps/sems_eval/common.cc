@@ -238,6 +238,9 @@ training_settings base_training(const config& c, task_kind task, const scene& sc
     s.eval_snr_db = {};
     s.verbose = false;
     if (task == task_kind::classify) {
+        // Classifiers are cheap to train, and the mask learner needs 4-6 epochs to settle its
+        // pilots (docs/RESULTS.md, "Learned pilots against the Doppler pattern"): their own count.
+        s.epochs = c.classifier_epochs;
         s.snr_min_db = c.train_snr_min_db;
         s.snr_max_db = c.train_snr_max_db;
     } else {

@@ -33,6 +33,7 @@ struct config {
     int train_frames = 600;       // DL training frames (the trainer splits 8:1:1)
     int epochs = 2;               // mask-learning epochs (decoder epochs on a fixed mask)
     int decoder_epochs = 1;       // decoder epochs after a learned mask
+    int classifier_epochs = 2;    // mask-learning epochs of the classification networks (experiments 1-3)
     int patience = 3;
     int batch = 64;
     int svm_train_frames = 300;

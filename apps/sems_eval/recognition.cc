@@ -113,6 +113,9 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
     pcsi.settings.n_pilots = c.fs.grid_size();
     pcsi.settings.mask_file = full_mask;
     pcsi.settings.snr_min_db = pcsi.settings.snr_max_db = std::numeric_limits<double>::infinity();
+    // On its fixed (full-grid) mask every epoch trains the decoder: the learned mask's whole
+    // budget, as the hand patterns get it.
+    pcsi.settings.epochs += pcsi.settings.decoder_epochs;
     pcsi.noiseless_input = true;
     dl.push_back(pcsi);
     // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
