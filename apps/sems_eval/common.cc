@@ -285,9 +285,12 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
             return out;
         }
     }
-    log << "[" << now_utc() << "] model " << name << ": training (" << s.frames << " frames, " << s.epochs << "+"
-        << s.decoder_epochs << " epochs, N_p " << s.n_pilots << ", objective " << s.objective << ", seed " << s.seed
-        << ")" << std::endl;
+    // On a fixed mask (a hand pattern or the full grid) every epoch trains the decoder.
+    const bool fixed_mask = !s.mask_file.empty() || !s.mask_pattern.empty();
+    log << "[" << now_utc() << "] model " << name << ": training (" << s.frames << " frames, "
+        << (fixed_mask ? std::to_string(s.epochs) + " decoder epochs on a fixed mask"
+                       : std::to_string(s.epochs) + "+" + std::to_string(s.decoder_epochs) + " epochs")
+        << ", N_p " << s.n_pilots << ", objective " << s.objective << ", seed " << s.seed << ")" << std::endl;
     fsys::create_directories(dir);
     const auto t0 = std::chrono::steady_clock::now();
     const auto res = train(s, nullptr);
