@@ -12,7 +12,8 @@
 #   full4b experiment 4 multipath, then experiment 5 (N_p sweep; N_p = 32 is experiment 4's
 #          network from the same cache), 6
 # then `--only-shipped` for models/, docs/results/combine_runs.py and apps/plot_results.py into
-# RESULTS (default docs/results). Prints the wall time of each part and of the whole run.
+# RESULTS (default docs/results). Prints the wall time of each part and of the whole run, also
+# into RESULTS/eval_full.log.
 # The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test
 # runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
@@ -32,6 +33,8 @@ done
 eval_bin="${SEMS_EVAL:-$root/build/apps/sems_eval}"
 [ -x "$eval_bin" ] || { echo "eval_full.sh: $eval_bin is missing: build first (scripts/build.sh) or set SEMS_EVAL" >&2; exit 2; }
 mkdir -p "$out" "$results"
+# The run's own record (its stamps and the plotting output) goes beside the figures it made.
+exec > >(tee "$results/eval_full.log") 2>&1
 start=$(date +%s)
 stamp() { echo "[$(date -u +%H:%M:%S)] $*"; }
 
