@@ -292,6 +292,30 @@ def exp5(d, out):
     return path
 
 
+def label_points(ax, placed):
+    """Names each point beside it: to its left in the right third of the axes (so the text stays
+    inside), and moved a line down (then up) while it would overprint a label or a point
+    already drawn."""
+    ax.autoscale_view()
+    renderer = ax.figure.canvas.get_renderer()
+    boxes = []
+    for x, y, name in placed:
+        right = ax.transAxes.inverted().transform(ax.transData.transform((x, y)))[0] > 0.67
+        for dy in (2, -8, 12, -18, 22, -28, 32):
+            text = ax.annotate(name, (x, y), fontsize=7, xytext=(-4 if right else 4, dy),
+                               textcoords="offset points", ha="right" if right else "left")
+            box = text.get_window_extent(renderer)
+            if not any(box.overlaps(b) for b in boxes):
+                break
+            text.remove()
+            text = None
+        if text is None:  # nowhere free: the first place, overprinting
+            text = ax.annotate(name, (x, y), fontsize=7, xytext=(-4 if right else 4, 2),
+                               textcoords="offset points", ha="right" if right else "left")
+            box = text.get_window_extent(renderer)
+        boxes.append(box)
+
+
 def exp6(d, out):
     rows = read_csv(os.path.join(d, "exp6_cost.csv"))
     if not rows:
@@ -315,6 +339,10 @@ def exp6(d, out):
         for r in rs:
             points.setdefault((r["method"], r.get("mask", ""), r["n_pilots"]), []).append(r)
         names = labels(rs)
+        if logy:
+            ax.set_yscale("log")
+        ax.set_xscale("log")
+        placed = []
         for (method, mask, _), prs in points.items():
             x = over_seeds([fnum(r["us_per_frame"]) for r in prs])[0]
             y, lo, hi, n = over_seeds([fnum(r["value"]) for r in prs])
@@ -325,10 +353,8 @@ def exp6(d, out):
                 ax.errorbar([x], [y], yerr=[[y - lo], [hi - y]], fmt=marker, markersize=6, capsize=2.5)
             else:
                 ax.scatter([x], [y], s=40, marker=marker)
-            ax.annotate(names[(method, mask)], (x, y), fontsize=7, xytext=(4, 2), textcoords="offset points")
-        ax.set_xscale("log")
-        if logy:
-            ax.set_yscale("log")
+            placed.append((x, y, names[(method, mask)]))
+        label_points(ax, placed)
         ax.set_xlabel("inference time per frame (us, this machine)")
         ax.set_ylabel(ylab)
         ax.grid(alpha=0.3, which="both")
