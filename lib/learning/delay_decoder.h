@@ -39,12 +39,21 @@
  * grid search of the least-squares reference would find. refine_global_min_fraction > 0
  * skips that second fit when the one-path model at the peak explains less than that share
  * of the pilots' energy (a frame with no clear peak: the fast bundle's setting).
+ * With L > 1 paths and refine_global_fit, the oracle-order least-squares reference
+ * (ls_delay_estimator: L paths by grid search on the dictionary grid, then nonlinear least
+ * squares) is the second start: its earliest delay replaces the refined one when its
+ * residual is smaller and the two differ by more than a quarter index. Where the network
+ * anchored the fit on a later path or a sidelobe of a merged pair, the reference's grid
+ * search finds the better-fitting set of paths; where the reference's greedy search went
+ * wrong, the network's start fits better and stays — on the shipped bundle's fresh frames
+ * this halves the frames off by more than half an index (models/README.md).
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 
 #include "learning/folded_conv1d.h"
 #include "learning/task_decoder.h"
+#include <gnuradio/sems/baselines/ls_delay_estimator.h>
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/learning/network_settings.h>
@@ -94,6 +103,7 @@ private:
     torch::nn::Sequential d_blocks{ nullptr };
     std::vector<int64_t> d_positions;
     std::shared_ptr<multipath_fitter> d_fitter;
+    std::shared_ptr<ls_delay_estimator> d_global_fit; // refine_global_fit's second start, or null
     // The refined estimates (B); peak: the grid delay of each frame's strongest first-
     // projection correlation (B), the second start of refine_global_peak (may be undefined).
     torch::Tensor refine(const torch::Tensor& x, const torch::Tensor& estimate, const torch::Tensor& peak) const;

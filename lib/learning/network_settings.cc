@@ -151,7 +151,8 @@ json delay_settings::to_json() const
              { "refine_span_index", refine_span_index },
              { "refine_trust_index", refine_trust_index },
              { "refine_global_peak", refine_global_peak },
-             { "refine_global_min_fraction", refine_global_min_fraction } };
+             { "refine_global_min_fraction", refine_global_min_fraction },
+             { "refine_global_fit", refine_global_fit } };
 }
 
 delay_settings delay_settings::from_json(const json& json_in, const std::string& source)
@@ -190,6 +191,7 @@ delay_settings delay_settings::from_json(const json& json_in, const std::string&
     s.refine_global_min_fraction = j.number_or("refine_global_min_fraction", 0.0);
     if (!(s.refine_global_min_fraction >= 0.0 && s.refine_global_min_fraction < 1.0))
         json_read::fail(source, "refine_global_min_fraction", "must be in [0, 1)");
+    s.refine_global_fit = j.boolean_or("refine_global_fit", false); // added after the first bundles
     j.finish();
     return s;
 }

@@ -1,17 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the delay decoder — receptive field of the dilated stack, legacy bundle
  * settings, the refinement stage wired to the baselines' least-squares fit (and off in
- * training), the residual maps, and the trainer's refusal of a network that cannot see
+ * training), its second starts (the grid peak with one path, the oracle-order reference with
+ * several), the residual maps, and the trainer's refusal of a network that cannot see
  * from the first path to the last. */
 #include "learning/delay_decoder.h"
 #include "learning/grid_omp.h"
 #include "qa/qa_assert.h"
+#include <gnuradio/sems/baselines/ls_delay_estimator.h>
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/learning/trainer.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>
+#include <numeric>
+#include <random>
 
 using namespace gr::sems;
 using namespace gr::sems::nn;
@@ -53,6 +57,7 @@ delay_settings small(int refine_paths)
     s.refine_paths = refine_paths;
     s.refine_span_index = 7.0;
     s.refine_trust_index = 0.5;
+    s.refine_global_fit = false; // the test of the second start sets it
     return s;
 }
 
@@ -65,6 +70,7 @@ class qa_learning_delay : public CppUnit::TestFixture
     CPPUNIT_TEST(legacy_settings_keep_the_old_network);
     CPPUNIT_TEST(refinement_is_the_anchored_least_squares_fit);
     CPPUNIT_TEST(single_path_refinement_takes_the_better_fit);
+    CPPUNIT_TEST(multipath_refinement_takes_the_reference_when_it_fits_better);
     CPPUNIT_TEST(residual_maps_remove_the_strongest_atom);
     CPPUNIT_TEST(residual_maps_match_the_operator_form);
     CPPUNIT_TEST(folded_network_matches_the_modules);
@@ -102,6 +108,8 @@ public:
         CPPUNIT_ASSERT_EQUAL(0, s.residual_maps);
         CPPUNIT_ASSERT_EQUAL(0, s.refine_paths);
         CPPUNIT_ASSERT_EQUAL(false, s.refine_global_peak);
+        CPPUNIT_ASSERT_EQUAL(false, s.refine_global_fit);
+        CPPUNIT_ASSERT_EQUAL(true, delay_settings{}.refine_global_fit); // new networks have it
         // Its parameters have the old shapes (the stem sees 3P channels).
         delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
         CPPUNIT_ASSERT(d.named_parameters()["stem.weight"].sizes() == torch::IntArrayRef({ 8, 6, 5 }));
@@ -116,10 +124,13 @@ public:
         CPPUNIT_ASSERT_DOUBLES_EQUAL(7.0, back.refine_span_index, 0.0);
         CPPUNIT_ASSERT_EQUAL(true, back.refine_global_peak);
         CPPUNIT_ASSERT_EQUAL(0.0, back.refine_global_min_fraction);
+        CPPUNIT_ASSERT_EQUAL(false, back.refine_global_fit);
         n.refine_global_peak = false;
         n.refine_global_min_fraction = 0.15;
+        n.refine_global_fit = true;
         const auto back2 = delay_settings::from_json(n.to_json(), "round trip");
         CPPUNIT_ASSERT_EQUAL(false, back2.refine_global_peak);
+        CPPUNIT_ASSERT_EQUAL(true, back2.refine_global_fit);
         CPPUNIT_ASSERT_EQUAL(0.15, back2.refine_global_min_fraction);
     }
 
@@ -175,6 +186,79 @@ public:
         }
         CPPUNIT_ASSERT(inside >= 16);
         CPPUNIT_ASSERT_MESSAGE("untrained network far on " + std::to_string(far) + " frames", far >= inside / 2);
+    }
+
+    void multipath_refinement_takes_the_reference_when_it_fits_better()
+    {
+        // 32 random subcarriers of one symbol (no aliasing inside the window), 3-path frames
+        // at 40 dB. An untrained network answers far from the direct path on most frames and
+        // the trust region keeps those answers; with refine_global_fit the oracle-order
+        // reference's fit replaces them where it explains the pilots better. Every answer is
+        // then the network's refined one or exactly the reference's earliest delay.
+        std::vector<int> sub(fs.n_subcarriers);
+        std::iota(sub.begin(), sub.end(), 0);
+        std::mt19937 rng(7);
+        std::shuffle(sub.begin(), sub.end(), rng);
+        sub.resize(32);
+        std::sort(sub.begin(), sub.end());
+        std::vector<int64_t> flat;
+        std::vector<pilot_position> pos;
+        for (int m : sub) {
+            flat.push_back(5 * fs.n_subcarriers + m);
+            pos.push_back({ 5, m });
+        }
+        random_spec r;
+        r.paths_per_target = 3;
+        channel_model cm(fs, scene::random(r), 23);
+        const int b = 40;
+        std::vector<gr_complex> h(size_t(b) * fs.grid_size());
+        const auto truths = cm.generate(b, h.data());
+        cm.add_noise(h.data(), h.size(), 40.0);
+        const auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
+                             .permute({ 0, 3, 1, 2 })
+                             .contiguous();
+        const auto grid = scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+        auto s = small(3);
+        torch::NoGradGuard ng;
+        auto answers = [&](bool global) {
+            s.refine_global_fit = global;
+            torch::manual_seed(4);
+            delay_decoder_module d(fs.n_symbols, fs.n_subcarriers, 32, s);
+            d.set_pilot_positions(fs, flat);
+            d.eval();
+            const auto out = d.forward(grid).delay_index.to(torch::kDouble);
+            std::vector<double> a;
+            for (int i = 0; i < b; ++i)
+                a.push_back(out[i].item<double>());
+            return a;
+        };
+        const auto off = answers(false), on = answers(true);
+        // The reference the decoder builds: the same window, its grid spacing, the same order.
+        ls_delay_estimator::settings ls;
+        ls.search.oversample = 4; // 1 / spacing: (48 + 2) / 200
+        ls.search.min_index = s.tau_min_index;
+        ls.search.max_index = s.tau_max_index;
+        ls.n_paths = 3;
+        ls.fit.tolerance = 1e-7;
+        const ls_delay_estimator reference(fs, pilot_mask(fs.n_symbols, fs.n_subcarriers, pos), ls);
+        int far_off = 0, good_on = 0, moved = 0;
+        for (int i = 0; i < b; ++i) {
+            const double truth = truths[size_t(i)].delay_index;
+            far_off += std::abs(off[size_t(i)] - truth) > 0.5;
+            good_on += std::abs(on[size_t(i)] - truth) < 0.05;
+            if (on[size_t(i)] == off[size_t(i)])
+                continue;
+            ++moved;
+            const auto y = all[i].permute({ 1, 2, 0 }).contiguous(); // N x M x 2
+            std::vector<gr_complex> obs;
+            for (auto f : flat)
+                obs.push_back(reinterpret_cast<const gr_complex*>(y.data_ptr<float>())[f]);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(reference.estimate_index(obs.data()), on[size_t(i)], 2e-3);
+        }
+        CPPUNIT_ASSERT_MESSAGE("untrained network far on " + std::to_string(far_off) + " frames", far_off >= b / 4);
+        CPPUNIT_ASSERT_MESSAGE("reference taken on " + std::to_string(moved) + " frames", moved >= far_off - 2);
+        CPPUNIT_ASSERT_MESSAGE("direct path within 0.05 on " + std::to_string(good_on) + " of " + std::to_string(b),
+                               good_on >= b - 3);
     }
 
     void refinement_is_the_anchored_least_squares_fit()
