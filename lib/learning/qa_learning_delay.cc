@@ -33,19 +33,32 @@ std::vector<int64_t> one_symbol_positions()
     return flat;
 }
 
+// B noisy frames of a random scene with `paths` paths per target: the truths, the whole
+// channel (B x 2 x N x M) and the sparse decoder grid of the pilots at `flat`.
+struct noisy_frames {
+    std::vector<frame_truth> truths;
+    torch::Tensor all, grid;
+};
+noisy_frames scene_frames(int paths, uint64_t seed, int b, const std::vector<int64_t>& flat, double snr_db)
+{
+    random_spec r;
+    r.paths_per_target = paths;
+    channel_model cm(fs, scene::random(r), seed);
+    std::vector<gr_complex> h(size_t(b) * fs.grid_size());
+    noisy_frames out;
+    out.truths = cm.generate(b, h.data());
+    cm.add_noise(h.data(), h.size(), snr_db);
+    out.all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
+                  .permute({ 0, 3, 1, 2 })
+                  .contiguous(); // a copy: h may go
+    out.grid = scatter_pilots(gather_pilots(out.all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+    return out;
+}
+
 // B noisy frames of a 3-path random scene as the sparse decoder grid (B x 2 x N x M).
 torch::Tensor frames(int b, const std::vector<int64_t>& flat, double snr_db)
 {
-    random_spec r;
-    r.paths_per_target = 3;
-    channel_model cm(fs, scene::random(r), 11);
-    std::vector<gr_complex> h(size_t(b) * fs.grid_size());
-    cm.generate(b, h.data());
-    cm.add_noise(h.data(), h.size(), snr_db);
-    auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
-                   .permute({ 0, 3, 1, 2 })
-                   .contiguous();
-    return scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+    return scene_frames(3, 11, b, flat, snr_db).grid;
 }
 
 delay_settings small(int refine_paths)
@@ -140,17 +153,11 @@ public:
         // keeps those answers. With refine_global_peak the fit from the matched filter's
         // grid peak replaces them: on 40 dB single-path frames every answer is the path.
         const auto flat = one_symbol_positions();
-        random_spec r;
-        r.paths_per_target = 1;
-        channel_model cm(fs, scene::random(r), 21);
         const int b = 32;
-        std::vector<gr_complex> h(size_t(b) * fs.grid_size());
-        const auto truths = cm.generate(b, h.data());
-        cm.add_noise(h.data(), h.size(), 40.0);
-        const auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
-                             .permute({ 0, 3, 1, 2 })
-                             .contiguous();
-        const auto grid = scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+        const auto fr = scene_frames(1, 21, b, flat, 40.0);
+        const auto& truths = fr.truths;
+        const auto& all = fr.all;
+        const auto& grid = fr.grid;
         // Every other subcarrier: delays 32 indices apart alias, so the dictionary stays below.
         auto s = small(1);
         s.tau_min_index = -1.0;
@@ -207,17 +214,11 @@ public:
             flat.push_back(5 * fs.n_subcarriers + m);
             pos.push_back({ 5, m });
         }
-        random_spec r;
-        r.paths_per_target = 3;
-        channel_model cm(fs, scene::random(r), 23);
         const int b = 40;
-        std::vector<gr_complex> h(size_t(b) * fs.grid_size());
-        const auto truths = cm.generate(b, h.data());
-        cm.add_noise(h.data(), h.size(), 40.0);
-        const auto all = torch::from_blob(h.data(), { b, fs.n_symbols, fs.n_subcarriers, 2 }, torch::kFloat)
-                             .permute({ 0, 3, 1, 2 })
-                             .contiguous();
-        const auto grid = scatter_pilots(gather_pilots(all, flat), flat, fs.n_symbols, fs.n_subcarriers);
+        const auto fr = scene_frames(3, 23, b, flat, 40.0);
+        const auto& truths = fr.truths;
+        const auto& all = fr.all;
+        const auto& grid = fr.grid;
         auto s = small(3);
         torch::NoGradGuard ng;
         auto answers = [&](bool global) {
