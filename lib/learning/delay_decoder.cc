@@ -324,6 +324,13 @@ delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estima
     if (peak.defined())
         pk = peak.to(torch::kDouble).contiguous();
     const double* pp = pk.defined() ? pk.data_ptr<double>() : nullptr;
+    // Whether a model leaving `residual` explains refine_global_min_fraction of y's energy.
+    auto explains = [this](const gr_complex* y, double residual) {
+        double energy = 0.0;
+        for (int k = 0; k < d_np; ++k)
+            energy += std::norm(std::complex<double>(y[k]));
+        return energy > 0.0 && 1.0 - residual / energy >= d_s.refine_global_min_fraction;
+    };
     for (int64_t i = 0; i < b; ++i) {
         const gr_complex* y = po + i * d_np;
         const auto fit = d_fitter->refine_anchored(y, pe[i], d_s.refine_paths, d_s.refine_span_index);
@@ -331,6 +338,10 @@ delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estima
         const bool trusted = std::isfinite(first) && std::abs(first - pe[i]) < d_s.refine_trust_index;
         pr[i] = trusted ? first : pe[i];
         if (d_global_fit) { // multipath: the oracle-order reference as the second start
+            // A frame the decoder's own fit explains poorly (low SNR): the reference, far worse
+            // than the network there, would only trade noise for noise. Skip it.
+            if (d_s.refine_global_min_fraction > 0.0 && !explains(y, fit.residual))
+                continue;
             const auto other = d_global_fit->fit(y);
             const double alt = *std::min_element(other.delay_index.begin(), other.delay_index.end());
             if (!(std::isfinite(alt) && alt >= d_s.tau_min_index && alt <= d_s.tau_max_index &&
@@ -357,14 +368,9 @@ delay_decoder_module::refine(const torch::Tensor& x, const torch::Tensor& estima
         }
         if (!pp || !(std::abs(pp[i] - pe[i]) > d_s.refine_trust_index))
             continue; // no second start, or the network is already at the grid peak
-        if (d_s.refine_global_min_fraction > 0.0) { // a peak that noise alone could make: skip
-            double energy = 0.0;
-            for (int k = 0; k < d_np; ++k)
-                energy += std::norm(std::complex<double>(y[k]));
-            const double at_peak = d_fitter->evaluate(y, { pp[i] }, fit.doppler_hz).residual;
-            if (!(energy > 0.0) || 1.0 - at_peak / energy < d_s.refine_global_min_fraction)
-                continue;
-        }
+        if (d_s.refine_global_min_fraction > 0.0 && // a peak that noise alone could make: skip
+            !explains(y, d_fitter->evaluate(y, { pp[i] }, fit.doppler_hz).residual))
+            continue;
         // One path: the kept delay's residual against the fit from the grid peak.
         const double kept = trusted ? fit.residual : d_fitter->evaluate(y, { pe[i] }, fit.doppler_hz).residual;
         const auto other = d_fitter->refine_anchored(y, pp[i], 1, d_s.refine_span_index);

@@ -42,7 +42,10 @@
  * With L > 1 paths and refine_global_fit, the oracle-order least-squares reference
  * (ls_delay_estimator: L paths by grid search on the dictionary grid, then nonlinear least
  * squares) is the second start: its earliest delay replaces the refined one when its
- * residual is smaller and the two differ by more than a quarter index. Where the network
+ * residual is smaller by more than 20 noise variances and the two differ by more than a
+ * quarter index; refine_global_min_fraction > 0 skips it on frames the decoder's own fit
+ * explains less than that share of (low SNR, where the reference is far worse than the
+ * network, and the cost is saved). Where the network
  * anchored the fit on a later path or a sidelobe of a merged pair, the reference's grid
  * search finds the better-fitting set of paths; where the reference's greedy search went
  * wrong, the network's start fits better and stays — on the shipped bundle's fresh frames

@@ -234,6 +234,10 @@ public:
             return a;
         };
         const auto off = answers(false), on = answers(true);
+        // A share no fit can explain: the reference never runs.
+        s.refine_global_min_fraction = 0.999999;
+        CPPUNIT_ASSERT(answers(true) == off);
+        s.refine_global_min_fraction = 0.0;
         // The reference the decoder builds: the same window, its grid spacing, the same order.
         ls_delay_estimator::settings ls;
         ls.search.oversample = 4; // 1 / spacing: (48 + 2) / 200

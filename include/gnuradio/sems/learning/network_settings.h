@@ -158,13 +158,16 @@ struct SEMS_LEARNING_API delay_settings {
                                      /// second fit starts there, and the fit that explains
                                      /// the pilots better (smaller residual: the maximum-
                                      /// likelihood choice) wins (legacy: false)
-    double refine_global_min_fraction = 0.0; ///< the second fit runs only when the one-path
-                                             /// model at the grid peak explains at least this
-                                             /// share of the pilots' energy (0 = always). Noise
-                                             /// alone reaches ~ln(cells)/N_p at its strongest
-                                             /// delay (0.12 for 32 pilots over 44 delay
-                                             /// indices): a fast decoder skips the second fit
-                                             /// on frames with no clear peak
+    double refine_global_min_fraction = 0.0; ///< the second start runs only when a model
+                                             /// explains at least this share of the pilots'
+                                             /// energy (0 = always): with one path the one-path
+                                             /// model at the grid peak (noise alone reaches
+                                             /// ~ln(cells)/N_p at its strongest delay, 0.12
+                                             /// for 32 pilots over 44 delay indices: a fast
+                                             /// decoder skips frames with no clear peak); with
+                                             /// several (refine_global_fit) the decoder's own
+                                             /// refined fit (a low-SNR frame, where the
+                                             /// reference is far worse than the network)
     bool refine_global_fit = true; ///< multipath refinement (refine_paths = L > 1): the
                                    /// oracle-order least-squares fit (L paths, grid search on
                                    /// the decoder's dictionary grid, then nonlinear least
