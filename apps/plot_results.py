@@ -6,7 +6,8 @@
     /usr/bin/python3 apps/plot_results.py /tmp/eval --out /tmp/png --tsne-iter 250
 
 Missing CSVs are skipped (a partial run still plots what it has); rows in
-shipped_<csv> files (from `sems_eval --only-shipped`) are added to their experiment.
+shipped_<csv> files (from `sems_eval --only-shipped`) and bound_<csv> files (bounds from a
+separate run, e.g. `docs/results/classifier_bayes.py --csv`) are added to their experiment.
 Learned methods trained with several seeds (the train_seed column, `sems_eval --seeds`) are
 drawn as the mean over the seeds with min–max bars, and tabulated as mean ± half-range;
 rows with train_seed "none" (no training) and CSVs without the column (one seed) are drawn
@@ -31,16 +32,18 @@ CLASS_COLOURS = {"pedestrian": "tab:blue", "car": "tab:orange", "drone": "tab:gr
 
 
 def read_csv(path):
-    """Rows of a sems_eval CSV, plus those of shipped_<name> beside it (the rows of
-    `sems_eval --only-shipped` for the same experiment), when present."""
+    """Rows of a sems_eval CSV, plus those of shipped_<name> (the rows of `sems_eval
+    --only-shipped` for the same experiment) and bound_<name> (a bound computed by a separate
+    documented run, e.g. docs/results/classifier_bayes.py) beside it, when present."""
     if not os.path.exists(path):
         return None
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    extra = os.path.join(os.path.dirname(path), "shipped_" + os.path.basename(path))
-    if os.path.exists(extra):
-        with open(extra, newline="") as f:
-            rows += list(csv.DictReader(f))
+    for prefix in ("shipped_", "bound_"):
+        extra = os.path.join(os.path.dirname(path), prefix + os.path.basename(path))
+        if os.path.exists(extra):
+            with open(extra, newline="") as f:
+                rows += list(csv.DictReader(f))
     return rows
 
 
@@ -167,6 +170,12 @@ def _style(method, mask=""):
         return dict(linestyle=":", marker="^")
     if method.startswith("MSE"):
         return dict(linestyle="-.", marker="v")
+    if method.startswith("Bayes"):
+        # The classification bound: black like the CRB; dotted with small dots where its
+        # Monte-Carlo estimate has not converged (a reachable accuracy below the bound).
+        if "not converged" in method:
+            return dict(linestyle=":", color="black", marker=".", markersize=4)
+        return dict(linestyle="--", color="black", marker=None)
     if method.startswith("CRB"):
         # Black: the bound of the scene; grey: the single-path bound drawn in multipath.
         colour = "dimgrey" if method.startswith("CRB (single path") else "black"
@@ -506,9 +515,10 @@ def learned_vs_hand(rows, scenario):
              "|---|---|---|---|---|"]
     for snr in sorted({fnum(r["snr_db"]) for r in rs}):
         sems = stats("SemS", snr)
-        best = max(((h,) + stats(h, snr) for h in hands if stats(h, snr)), key=lambda t: t[1])
-        if sems is None:
+        measured = [(h,) + stats(h, snr) for h in hands if stats(h, snr)]
+        if sems is None or not measured:  # a point only other rows have (e.g. a bound's)
             continue
+        best = max(measured, key=lambda t: t[1])
         diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
         lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s |" % (
             snr, sems[0], best[1], best[0][len("SemS decoder ("):-len(" pilots)")], diff, two_se,

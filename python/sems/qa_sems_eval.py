@@ -128,6 +128,13 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertEqual({r["train_seed"] for r in e6 if r["experiment"] == "5"}, TRAIN_SEEDS)
             self.assertEqual({r["train_seed"] for r in e6 if r["method"] == "OMP"}, {"none"})
 
+            # A bound computed by a separate run (docs/results/classifier_bayes.py --csv) is drawn
+            # and tabulated beside experiment 1 from its bound_<csv>: a single value, no seeds.
+            snr = min({r["snr_db"] for r in e1}, key=float)  # a point experiment 1 has
+            with open(os.path.join(out, "bound_exp1_recognition.csv"), "w") as f:
+                f.write("experiment,scenario,method,mask,n_pilots,snr_db,accuracy,macro_f1,n_frames,seed,train_seed,"
+                        "us_per_frame,train_seconds,model\n"
+                        "1,default,Bayes classifier (bound),doppler,32,%s,0.911,0.910,30000,7,none,80,0,test\n" % snr)
             png = os.path.join(out, "png")
             tables = os.path.join(out, "tables.md")
             r = subprocess.run(["/usr/bin/python3", PLOT, out, "--out", png, "--tsne-iter", "60", "--tables", tables],
@@ -141,6 +148,11 @@ class qa_sems_eval(gr_unittest.TestCase):
             omp = [l for l in md.splitlines() if l.startswith("| OMP |")]
             self.assertTrue(semS and all(c.count(" ± ") == 1 for l in semS for c in l.split("|")[2:-1]), semS)
             self.assertTrue(omp and not any("±" in l for l in omp), omp)
+            bound = [l for l in md.splitlines() if l.startswith("| Bayes classifier (bound) |")]
+            self.assertEqual(len(bound), 2, md)  # the default scene's accuracy and macro-F1 tables
+            self.assertIn("| 0.911 |", bound[0])
+            self.assertIn("| 0.910 |", bound[1])
+            self.assertFalse(any("±" in l for l in bound), bound)
             for name in ("exp1_recognition", "exp2_tsne", "exp3_conditions", "exp4_delay", "exp5_pilot_budget",
                          "exp6_cost"):
                 p = os.path.join(png, name + ".png")

@@ -1,0 +1,296 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The highest recognition accuracy any decoder can reach on a pilot mask (the Bayes
+classifier), next to a bundle and other masks on the same frames (issue 8's recognition bars:
+models/classifier >= 99.0 % at 10 dB; on the `any` heading scene a learned mask >= 3 points
+above the best hand pattern at 0 dB).
+
+One target with one path and a Rayleigh gain: a frame's pilots are y = alpha g_theta + v, with
+g_theta the unit-modulus signature of the scene parameters theta (delay phase per subcarrier,
+bulk Doppler, micro-Doppler phase per symbol; |g|^2 = N_p), alpha ~ CN(0, 1), v ~ CN(0, s2 I).
+Given theta, y is zero-mean Gaussian with covariance s2 I + g g^H, so
+
+    p(y | theta) ∝ exp(|g_theta^H y|^2 / (s2 (s2 + N_p)))
+
+(the factors that do not depend on theta dropped), and the class posterior is the mean of that
+over the class's prior of theta. This script draws the prior from the project's own channel
+model (`sems.channel_model`, the random scene the classifiers train on: K noiseless frames, the
+signature of each = its pilots / |alpha|), and classifies each test frame by the largest
+Monte-Carlo mean (classes equally likely, as the scene draws them). With enough prior draws
+that is the Bayes classifier: the most accurate decoder there is for the mask. A Monte-Carlo
+classifier is itself a decoder, so its accuracy is reachable and at most the Bayes accuracy;
+the script prints it with all K draws and with the first half of each class's, and when the
+two agree (within one binomial standard error of the test frames) the Monte-Carlo mean has
+converged and the printed accuracy is the bound; where they do not (marked `!`: at high SNR
+the likelihood peaks between the draws), it is only a lower estimate (still reachable: the
+classifier is a decoder), and its --csv row is named so.
+
+    PYTHONPATH=build/python_pkg /usr/bin/python3 docs/results/classifier_bayes.py \
+        --mask doppler --label doppler --bundle models/classifier --heading approaching \
+        --snr=-10,-5,0,5,10,15,20,25,30 --frames 30000 --prior 40000 \
+        --csv docs/results/bound_exp1_recognition.csv
+
+A --mask is a mask file or a pattern: `doppler`, `uniform`, `random` (the hand patterns of
+docs/RESULTS.md, --pilots pilots) or `blocks:S,K[,ds[,dm]]` (subcarriers 16, 16 + dm, ...,
+S of them (dm default 1: adjacent), each on symbols 0, ds, ..., (K - 1) ds (ds default 1)).
+The more scene parameters a mask's pilots depend on (the delay, on several subcarriers), the
+more prior draws the mean needs: read the all / half columns. --bundle scores a classifier
+bundle on the same noisy frames (on its own mask). Every mask and bundle sees the same
+channels, and the same noise on the resource elements they share. --csv writes the Bayes rows
+in sems_eval's experiment-1 columns; apps/plot_results.py draws them as `bound_<csv>`.
+"""
+import argparse
+import csv
+import math
+import os
+import time
+
+import numpy as np
+
+BINS = [(0, 0.01), (0.01, 0.03), (0.03, 0.1), (0.1, np.inf)]
+METHOD = "Bayes classifier (bound)"
+METHOD_UNCONVERGED = "Bayes classifier, not converged (reachable, below the bound)"
+
+
+def pattern_mask(sems, name, fs, n_p):
+    """A mask file, or a named pattern of n_p pilots on the default frame."""
+    n, m = fs.n_symbols, fs.n_subcarriers
+    if name == "doppler":
+        return sems.pilot_mask.doppler(n, m, n_p)
+    if name == "uniform":
+        return sems.pilot_mask.uniform(n, m, n_p)
+    if name == "random":
+        return sems.pilot_mask.random(n, m, n_p, 1)
+    if name.startswith("blocks:"):
+        # blocks:S,K[,ds[,dm]]: S subcarriers 16, 16 + dm, ... (dm 1: adjacent), each with the
+        # K symbols 0, ds, 2 ds, ... (ds 1: consecutive)
+        v = [int(x) for x in name[len("blocks:"):].split(",")]
+        if len(v) < 2 or len(v) > 4 or min(v) < 1:
+            raise ValueError("%s: a blocks pattern is blocks:S,K[,ds[,dm]] with positive integers" % name)
+        s, k, ds, dm = (v + [1, 1])[:4]
+        if 16 + (s - 1) * dm >= m or (k - 1) * ds >= n:
+            raise ValueError("%s: does not fit the %d x %d grid" % (name, n, m))
+        pos = [[t * ds, 16 + c * dm] for c in range(s) for t in range(k)]
+        return sems.pilot_mask.parse('{"format": "sems.pilot_mask", "version": 1, "n_symbols": %d, '
+                                     '"n_subcarriers": %d, "n_pilots": %d, "pilots": %s}' % (n, m, len(pos), pos),
+                                     name)
+    return sems.pilot_mask.load(name)
+
+
+def draw(sems, fs, scene, masks, n, seed, chunk=2000):
+    """n noiseless frames: per mask the pilots (n x N_p), class indices, delay indices, |alpha|^2."""
+    cm = sems.channel_model(fs, scene, seed)
+    names = list(sems.class_names())
+    pil = [[] for _ in masks]
+    cls, tau = [], []
+    done = 0
+    while done < n:
+        k = min(chunk, n - done)
+        h, truths = cm.generate(k, done)
+        h = np.asarray(h).reshape(k, -1)
+        for i, idx in enumerate(masks):
+            pil[i].append(h[:, idx].astype(np.complex64))
+        cls += [names.index(t["class_name"]) for t in truths]
+        tau += [t["delay_index"] for t in truths]
+        done += k
+    pil = [np.concatenate(p) for p in pil]
+    gain = np.mean(np.abs(pil[0]) ** 2, axis=1)  # one path: |H| = |alpha| everywhere
+    return pil, np.array(cls), np.array(tau), gain
+
+
+def bayes_classify(y, sig, sig_cls, n_cls, s2, chunk=256):
+    """Monte-Carlo Bayes decisions with all prior draws and with the first half of each class's.
+
+    log p(y | c) = log mean_k exp(kappa |g_k^H y|^2) over the class's draws k, computed per
+    class from its largest term (float32 is enough: the terms are summed after that shift)."""
+    n_p = y.shape[1]
+    # noiseless (s2 = 0): the limit of the mean is its largest term, the nearest draw
+    kappa = np.float32(1.0 / (s2 * (s2 + n_p))) if s2 > 0 else None
+    order = np.argsort(sig_cls, kind="stable")  # each class's draws contiguous, in draw order
+    bounds = np.searchsorted(sig_cls[order], np.arange(n_cls + 1))
+    sig_h = np.ascontiguousarray(sig[order].conj().T)  # N_p x K
+    full, half = np.empty(len(y), int), np.empty(len(y), int)
+    for i in range(0, len(y), chunk):
+        z = y[i:i + chunk] @ sig_h
+        ll = np.square(z.real) + np.square(z.imag)
+        lf, lh = [], []
+        if kappa is None:
+            for c in range(n_cls):
+                lo, hi = bounds[c], bounds[c + 1]
+                mid = lo + (hi - lo) // 2
+                lf.append(ll[:, lo:hi].max(1))
+                lh.append(ll[:, lo:mid].max(1))
+            full[i:i + chunk] = np.stack(lf, 1).argmax(1)
+            half[i:i + chunk] = np.stack(lh, 1).argmax(1)
+            continue
+        ll *= kappa
+        for c in range(n_cls):
+            lo, hi = bounds[c], bounds[c + 1]
+            mid = lo + (hi - lo) // 2
+            top = ll[:, lo:hi].max(1, keepdims=True)
+            e = np.exp(ll[:, lo:hi] - top)
+            s_half, s_rest = e[:, :mid - lo].sum(1), e[:, mid - lo:].sum(1)
+            lf.append(top[:, 0] + np.log(s_half + s_rest) - np.log(hi - lo))
+            with np.errstate(divide="ignore"):  # a half whose terms all underflow: log 0 = -inf, never chosen
+                lh.append(top[:, 0] + np.log(s_half) - np.log(mid - lo))
+        full[i:i + chunk] = np.stack(lf, 1).argmax(1)
+        half[i:i + chunk] = np.stack(lh, 1).argmax(1)
+    return full, half
+
+
+def macro_f1(pred, truth, n_cls):
+    f1 = []
+    for c in range(n_cls):
+        tp = np.sum((pred == c) & (truth == c))
+        den = np.sum(pred == c) + np.sum(truth == c)
+        f1.append(2.0 * tp / den if den else 0.0)
+    return float(np.mean(f1))
+
+
+def write_csv(path, scenario, rows):
+    """Rows in the columns of sems_eval's exp1_recognition.csv; the file's rows of other
+    scenarios are kept, so one file holds both scenes (apps/plot_results.py draws a
+    bound_<csv> beside its experiment)."""
+    cols = ["experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "accuracy", "macro_f1", "n_frames",
+            "seed", "train_seed", "us_per_frame", "train_seconds", "model"]
+    kept = []
+    if os.path.exists(path):
+        with open(path, newline="") as f:
+            kept = [r for r in csv.DictReader(f) if r["scenario"] != scenario]
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols)
+        w.writeheader()
+        w.writerows(kept + rows)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mask", action="append", required=True,
+                    help="mask file or pattern (doppler, uniform, random, blocks:S,K[,ds[,dm]]); repeatable")
+    ap.add_argument("--label", action="append", default=[],
+                    help="the name of each --mask in the output and the CSV (default: the pattern or file name)")
+    ap.add_argument("--bundle", action="append", default=[], help="classifier bundle to score (repeatable)")
+    ap.add_argument("--heading", default="approaching", choices=["approaching", "any"])
+    ap.add_argument("--snr", default="0,10", help="SNR points (dB), comma-separated; inf = noiseless")
+    ap.add_argument("--frames", type=int, default=30000, help="test frames")
+    ap.add_argument("--prior", type=int, default=40000, help="prior draws (noiseless frames) per class, about")
+    ap.add_argument("--pilots", type=int, default=32, help="N_p of the named patterns")
+    ap.add_argument("--seed", type=int, default=20261125, help="test frames' channel seed; the prior's is seed + 1")
+    ap.add_argument("--save-mask", help="write the first --mask to this mask file and stop (for sems_train --mask)")
+    ap.add_argument("--csv", help="write the Bayes rows to this CSV (sems_eval's experiment-1 columns; the "
+                    "scenario is 'default' for the approaching heading, 'any' for any)")
+    args = ap.parse_args()
+    if args.label and len(args.label) != len(args.mask):
+        ap.error("--label: give one per --mask (%d masks, %d labels)" % (len(args.mask), len(args.label)))
+    if args.frames < 1 or args.prior < 2:
+        ap.error("--frames must be >= 1 and --prior >= 2")
+    from gnuradio import sems
+
+    t0 = time.time()
+    fs = sems.frame_settings()
+    spec = sems.random_spec()
+    spec.heading = sems.heading_from_name(args.heading)
+    scene = sems.scene.random(spec)
+    masks = [pattern_mask(sems, name, fs, args.pilots) for name in args.mask]
+    if args.save_mask:
+        masks[0].save(args.save_mask)
+        print("wrote", args.save_mask)
+        return
+    labels = args.label or [os.path.basename(os.path.dirname(n)) if n.endswith("mask.json") else n
+                            for n in args.mask]
+    bundles = [sems.model_bundle.load(b) for b in args.bundle]
+    decs = [sems.bundle_decoder(b, 1) for b in bundles]
+    all_masks = masks + [b.mask for b in bundles]
+    idx = [np.array(mk.flat_indices()) for mk in all_masks]
+    n_cls = len(sems.class_names())
+    test, t_cls, _, t_gain = draw(sems, fs, scene, idx, args.frames, args.seed)
+    prior, p_cls, _, _ = draw(sems, fs, scene, idx[:len(masks)], n_cls * args.prior, args.seed + 1)
+    # the signature of each prior draw: pilots / |alpha| (unit modulus)
+    sig = [p / np.sqrt(np.mean(np.abs(p) ** 2, axis=1, keepdims=True)) for p in prior]
+    per_cls = np.bincount(p_cls, minlength=n_cls)
+    print("classifier_bayes: %s heading, %d test frames (seed %d), prior %s draws per class (seed %d)"
+          % (args.heading, args.frames, args.seed, "/".join(map(str, per_cls)), args.seed + 1), flush=True)
+    for name, mk in zip(labels, masks):
+        print("  mask %s: %d pilots on %d symbols x %d subcarriers" % (
+            name, mk.size(), len({n for n, _ in mk.positions()}), len({c for _, c in mk.positions()})))
+    names = labels + ["bundle " + b for b in args.bundle]
+    print("%6s " % "SNR dB" + "  ".join("%24s" % n[-24:] for n in names)
+          + "   (Bayes: accuracy with all / half of the prior draws, ! = not converged, macro-F1)")
+    scenario = "default" if args.heading == "approaching" else "any"
+    rows = []
+    for snr in [float(s) for s in args.snr.split(",")]:
+        s2 = 10 ** (-snr / 10)  # 0 for inf: noiseless
+        cols, extra, right = [], [], []
+        for i, clean in enumerate(test):
+            # the same unit noise on every resource element, whichever mask reads it
+            w = noise_of(args.seed + 2, (args.frames, fs.n_symbols * fs.n_subcarriers), idx[i])
+            y = (clean + math.sqrt(s2) * w).astype(np.complex64)
+            if i < len(masks):
+                t1 = time.time()
+                full, half = bayes_classify(y, sig[i], p_cls, n_cls, s2)
+                us = 1e6 * (time.time() - t1) / len(y)
+                acc, acc_h, f1 = np.mean(full == t_cls), np.mean(half == t_cls), macro_f1(full, t_cls, n_cls)
+                # Converged: half the draws give the same accuracy within one binomial standard
+                # error. Where they do not (high SNR: the likelihood peaks between the draws),
+                # the accuracy is a reachable one but below the bound: its CSV row says so.
+                converged = abs(acc - acc_h) <= math.sqrt(max(acc * (1 - acc), 1.0 / args.frames) / args.frames)
+                cols.append("%.4f / %.4f%s, %.4f" % (acc, acc_h, "" if converged else "!", f1))
+                extra.append(by_fade(full, t_cls, t_gain))
+                right.append(full == t_cls)
+                rows.append(dict(experiment=1, scenario=scenario, mask=labels[i],
+                                 method=METHOD if converged else METHOD_UNCONVERGED,
+                                 n_pilots=masks[i].size(), snr_db="%g" % snr, accuracy="%.6f" % acc,
+                                 macro_f1="%.6f" % f1, n_frames=args.frames, seed=args.seed, train_seed="none",
+                                 us_per_frame="%.1f" % us, train_seconds=0,
+                                 model="classifier_bayes.py, %d prior draws" % len(p_cls)))
+            else:
+                dec = decs[i - len(masks)]
+                pred = np.concatenate([np.asarray(dec.classify(y[j:j + 256])).argmax(1)
+                                       for j in range(0, len(y), 256)])
+                cols.append("%.4f, %.4f" % (np.mean(pred == t_cls), macro_f1(pred, t_cls, n_cls)))
+                extra.append(by_fade(pred, t_cls, t_gain))
+                right.append(pred == t_cls)
+        se = math.sqrt(0.25 / args.frames)
+        print("%6g " % snr + "  ".join("%24s" % c for c in cols) + "   (1 SE <= %.4f)" % se, flush=True)
+        for n, e in zip(names, extra):
+            print("         %s: accuracy by |alpha|^2 %s" % (n, e), flush=True)
+        if len(right) > 1:
+            print("         against %s on the same frames (difference, 2 paired SE): " % names[0]
+                  + "; ".join("%s %s" % (n, paired(r, right[0])) for n, r in zip(names[1:], right[1:])), flush=True)
+    if args.csv:
+        write_csv(args.csv, scenario, rows)
+        print("wrote", args.csv)
+    print("classifier_bayes: done in %.0f s" % (time.time() - t0))
+
+
+_noise_cache = {}
+
+
+def noise_of(rng_seed, shape, idx):
+    """Unit complex Gaussian noise on the whole grid, drawn once: every mask sees the same
+    noise on the resource elements it shares with another."""
+    if shape not in _noise_cache:
+        rng = np.random.default_rng(rng_seed)
+        _noise_cache.clear()
+        _noise_cache[shape] = ((rng.standard_normal(shape, dtype=np.float32)
+                                + 1j * rng.standard_normal(shape, dtype=np.float32)) / np.sqrt(2)).astype(np.complex64)
+    return _noise_cache[shape][:, idx]
+
+
+def paired(a, b):
+    """Accuracy of a minus that of b on the same frames, with two standard errors of the paired
+    difference (from the frames one gets right and the other wrong)."""
+    d = a.astype(float) - b.astype(float)
+    return "%+.4f ± %.4f" % (d.mean(), 2 * d.std() / math.sqrt(len(d)))
+
+
+def by_fade(pred, truth, gain):
+    out = []
+    for lo, hi in BINS:
+        s = (gain >= lo) & (gain < hi)
+        out.append("[%g, %g) %.3f" % (lo, hi, np.mean(pred[s] == truth[s]) if s.any() else float("nan")))
+    return ", ".join(out)
+
+
+if __name__ == "__main__":
+    main()

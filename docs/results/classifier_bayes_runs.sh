@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The Bayes classifier runs of docs/RESULTS.md ("The best any decoder can do"), each with its
+# log in docs/results/classifier_bayes/: the bound on the Doppler pattern next to experiment 1's
+# networks (both scenes; writes bound_exp1_recognition.csv, which plot_results.py draws in the
+# experiment-1 figure), the bound on other masks, the 30 000-frame re-check of the closest
+# mask, and the noiseless nearest-draw classifier. Needs the networks of scripts/eval_full.sh
+# in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
+# of one core.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+cd "$root"
+nets="${EVAL_OUT:-out/eval_full}/full/bundles"
+logs=docs/results/classifier_bayes
+mkdir -p "$logs"
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 PYTHONPATH=build/python_pkg
+bayes() { /usr/bin/python3 docs/results/classifier_bayes.py "$@"; }
+snrs=-10,-5,0,5,10,15,20,25,30
+csv=docs/results/bound_exp1_recognition.csv
+rm -f "$csv"
+bayes --mask doppler --label doppler --heading approaching --bundle models/classifier \
+  --bundle "$nets/cls_default_sems_s2026" --bundle "$nets/cls_default_sems_s2027" --bundle "$nets/cls_default_sems_s2028" \
+  --bundle "$nets/cls_default_doppler_s2026" --bundle "$nets/cls_default_doppler_s2027" --bundle "$nets/cls_default_doppler_s2028" \
+  --snr=$snrs --frames 30000 --prior 40000 --csv "$csv" > "$logs/default.log"
+bayes --mask doppler --label doppler --heading any \
+  --bundle "$nets/cls_any_sems_s2026" --bundle "$nets/cls_any_sems_s2027" --bundle "$nets/cls_any_sems_s2028" \
+  --bundle "$nets/cls_any_doppler_s2026" --bundle "$nets/cls_any_doppler_s2027" --bundle "$nets/cls_any_doppler_s2028" \
+  --snr=$snrs --frames 30000 --prior 40000 --csv "$csv" > "$logs/any.log"
+for h in approaching any; do
+  bayes --mask doppler --mask blocks:2,16 --mask blocks:2,16,2 --mask blocks:4,8 --mask blocks:4,8,4 --mask blocks:2,16,1,2 \
+    --heading $h --snr=-5,0,5,10 --frames 10000 --prior 40000 > "$logs/masks_$h.log"
+done
+mkdir -p out/blocks
+[ -d out/blocks/default_b2x16_s2026 ] || {
+  bayes --mask blocks:2,16 --save-mask out/blocks/blocks_2_16.json > /dev/null
+  build/apps/sems_train --task classify --snr-min -10 --snr-max 30 --frames 30000 --batch 256 --threads 1 --seed 2026 \
+    --eval-snr=-10,-5,0,5,10,15,20,25,30 --heading approaching --mask out/blocks/blocks_2_16.json --epochs 9 \
+    --out out/blocks/default_b2x16_s2026 > "$logs/train_blocks_2_16_s2026.log"
+}
+bayes --mask doppler --mask blocks:2,16 --heading approaching --bundle "$nets/cls_default_doppler_s2026" \
+  --bundle out/blocks/default_b2x16_s2026 --snr 5,10 --frames 30000 --prior 40000 > "$logs/recheck_blocks_2_16.log"
+for h in approaching any; do
+  bayes --mask doppler --label doppler --heading $h --snr inf --frames 30000 --prior 40000 > "$logs/noiseless_$h.log"
+done
+echo "classifier_bayes_runs: logs in $logs, bound rows in $csv"
