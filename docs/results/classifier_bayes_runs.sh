@@ -4,7 +4,8 @@
 # log in docs/results/classifier_bayes/: the bound on the Doppler pattern next to experiment 1's
 # networks (both scenes; writes bound_exp1_recognition.csv, which plot_results.py draws in the
 # experiment-1 figure), the bound on other masks, the 30 000-frame re-check of the closest
-# mask, and the noiseless nearest-draw classifier. Needs the networks of scripts/eval_full.sh
+# mask, the noiseless nearest-draw classifier, and where the spectral decoder's errors sit at
+# 30 dB in the any scene. Needs the networks of scripts/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
 # of one core.
 set -euo pipefail
@@ -42,4 +43,7 @@ bayes --mask doppler --mask blocks:2,16 --heading approaching --bundle "$nets/cl
 for h in approaching any; do
   bayes --mask doppler --label doppler --heading $h --snr inf --frames 30000 --prior 40000 > "$logs/noiseless_$h.log"
 done
+# where the spectral decoder loses to the bound at high SNR in the any scene
+/usr/bin/python3 docs/results/classifier_errors_by_fade.py --bundle "$nets/cls_any_sems_s2026" --snr 30 --frames 10000 \
+  --heading any > "$logs/errors_any_30dB.log"
 echo "classifier_bayes_runs: logs in $logs, bound rows in $csv"
