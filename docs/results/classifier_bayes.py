@@ -55,12 +55,8 @@ METHOD_UNCONVERGED = "Bayes classifier, not converged (reachable, below the boun
 def pattern_mask(sems, name, fs, n_p):
     """A mask file, or a named pattern of n_p pilots on the default frame."""
     n, m = fs.n_symbols, fs.n_subcarriers
-    if name == "doppler":
-        return sems.pilot_mask.doppler(n, m, n_p)
-    if name == "uniform":
-        return sems.pilot_mask.uniform(n, m, n_p)
-    if name == "random":
-        return sems.pilot_mask.random(n, m, n_p, 1)
+    if name in ("doppler", "uniform", "random"):
+        return sems.pilot_mask.from_pattern(name, n, m, n_p, 1)  # random: seed 1, as docs/RESULTS.md
     if name.startswith("blocks:"):
         # blocks:S,K[,ds[,dm]]: S subcarriers 16, 16 + dm, ... (dm 1: adjacent), each with the
         # K symbols 0, ds, 2 ds, ... (ds 1: consecutive)
@@ -70,41 +66,34 @@ def pattern_mask(sems, name, fs, n_p):
         s, k, ds, dm = (v + [1, 1])[:4]
         if 16 + (s - 1) * dm >= m or (k - 1) * ds >= n:
             raise ValueError("%s: does not fit the %d x %d grid" % (name, n, m))
-        pos = [[t * ds, 16 + c * dm] for c in range(s) for t in range(k)]
-        return sems.pilot_mask.parse('{"format": "sems.pilot_mask", "version": 1, "n_symbols": %d, '
-                                     '"n_subcarriers": %d, "n_pilots": %d, "pilots": %s}' % (n, m, len(pos), pos),
-                                     name)
+        return sems.pilot_mask(n, m, [(t * ds, 16 + c * dm) for c in range(s) for t in range(k)])
     return sems.pilot_mask.load(name)
 
 
-def draw(sems, fs, scene, masks, n, seed, chunk=2000):
-    """n noiseless frames: per mask the pilots (n x N_p), class indices, delay indices, |alpha|^2."""
-    cm = sems.channel_model(fs, scene, seed)
+def draw(sems, scene, masks, n, seed, chunk=2000):
+    """n noiseless frames of the channel model (seed): per mask the pilots (n x N_p), the class
+    indices and |alpha|^2."""
+    from gnuradio.sems.datasets import channel_batches
     names = list(sems.class_names())
     pil = [[] for _ in masks]
-    cls, tau = [], []
-    done = 0
-    while done < n:
-        k = min(chunk, n - done)
-        h, truths = cm.generate(k, done)
-        h = np.asarray(h).reshape(k, -1)
+    cls = []
+    for h, truths in channel_batches(scene, chunk, -(-n // chunk), seed=seed):
+        h = np.asarray(h).reshape(len(truths), -1)
         for i, idx in enumerate(masks):
             pil[i].append(h[:, idx].astype(np.complex64))
         cls += [names.index(t["class_name"]) for t in truths]
-        tau += [t["delay_index"] for t in truths]
-        done += k
-    pil = [np.concatenate(p) for p in pil]
+    pil = [np.concatenate(p)[:n] for p in pil]
     gain = np.mean(np.abs(pil[0]) ** 2, axis=1)  # one path: |H| = |alpha| everywhere
-    return pil, np.array(cls), np.array(tau), gain
+    return pil, np.array(cls[:n]), gain
 
 
 def bayes_classify(y, sig, sig_cls, n_cls, s2, chunk=256):
     """Monte-Carlo Bayes decisions with all prior draws and with the first half of each class's.
 
     log p(y | c) = log mean_k exp(kappa |g_k^H y|^2) over the class's draws k, computed per
-    class from its largest term (float32 is enough: the terms are summed after that shift)."""
+    class from its largest term (float32 is enough: the terms are summed after that shift).
+    Noiseless (s2 = 0) the mean's limit is its largest term: the nearest draw."""
     n_p = y.shape[1]
-    # noiseless (s2 = 0): the limit of the mean is its largest term, the nearest draw
     kappa = np.float32(1.0 / (s2 * (s2 + n_p))) if s2 > 0 else None
     order = np.argsort(sig_cls, kind="stable")  # each class's draws contiguous, in draw order
     bounds = np.searchsorted(sig_cls[order], np.arange(n_cls + 1))
@@ -113,26 +102,22 @@ def bayes_classify(y, sig, sig_cls, n_cls, s2, chunk=256):
     for i in range(0, len(y), chunk):
         z = y[i:i + chunk] @ sig_h
         ll = np.square(z.real) + np.square(z.imag)
+        if kappa is not None:
+            ll *= kappa
         lf, lh = [], []
-        if kappa is None:
-            for c in range(n_cls):
-                lo, hi = bounds[c], bounds[c + 1]
-                mid = lo + (hi - lo) // 2
-                lf.append(ll[:, lo:hi].max(1))
-                lh.append(ll[:, lo:mid].max(1))
-            full[i:i + chunk] = np.stack(lf, 1).argmax(1)
-            half[i:i + chunk] = np.stack(lh, 1).argmax(1)
-            continue
-        ll *= kappa
         for c in range(n_cls):
             lo, hi = bounds[c], bounds[c + 1]
             mid = lo + (hi - lo) // 2
-            top = ll[:, lo:hi].max(1, keepdims=True)
-            e = np.exp(ll[:, lo:hi] - top)
+            top = ll[:, lo:hi].max(1)
+            if kappa is None:
+                lf.append(top)
+                lh.append(ll[:, lo:mid].max(1))
+                continue
+            e = np.exp(ll[:, lo:hi] - top[:, None])
             s_half, s_rest = e[:, :mid - lo].sum(1), e[:, mid - lo:].sum(1)
-            lf.append(top[:, 0] + np.log(s_half + s_rest) - np.log(hi - lo))
+            lf.append(top + np.log(s_half + s_rest) - np.log(hi - lo))
             with np.errstate(divide="ignore"):  # a half whose terms all underflow: log 0 = -inf, never chosen
-                lh.append(top[:, 0] + np.log(s_half) - np.log(mid - lo))
+                lh.append(top + np.log(s_half) - np.log(mid - lo))
         full[i:i + chunk] = np.stack(lf, 1).argmax(1)
         half[i:i + chunk] = np.stack(lh, 1).argmax(1)
     return full, half
@@ -203,8 +188,14 @@ def main():
     all_masks = masks + [b.mask for b in bundles]
     idx = [np.array(mk.flat_indices()) for mk in all_masks]
     n_cls = len(sems.class_names())
-    test, t_cls, _, t_gain = draw(sems, fs, scene, idx, args.frames, args.seed)
-    prior, p_cls, _, _ = draw(sems, fs, scene, idx[:len(masks)], n_cls * args.prior, args.seed + 1)
+    test, t_cls, t_gain = draw(sems, scene, idx, args.frames, args.seed)
+    prior, p_cls, _ = draw(sems, scene, idx[:len(masks)], n_cls * args.prior, args.seed + 1)
+    # unit complex Gaussian noise on the whole grid, drawn once: every SNR point and every mask
+    # sees the same noise on the resource elements it reads
+    rng = np.random.default_rng(args.seed + 2)
+    shape = (args.frames, fs.n_symbols * fs.n_subcarriers)
+    noise = ((rng.standard_normal(shape, dtype=np.float32) + 1j * rng.standard_normal(shape, dtype=np.float32))
+             / np.sqrt(2)).astype(np.complex64)
     # the signature of each prior draw: pilots / |alpha| (unit modulus)
     sig = [p / np.sqrt(np.mean(np.abs(p) ** 2, axis=1, keepdims=True)) for p in prior]
     per_cls = np.bincount(p_cls, minlength=n_cls)
@@ -222,9 +213,7 @@ def main():
         s2 = 10 ** (-snr / 10)  # 0 for inf: noiseless
         cols, extra, right = [], [], []
         for i, clean in enumerate(test):
-            # the same unit noise on every resource element, whichever mask reads it
-            w = noise_of(args.seed + 2, (args.frames, fs.n_symbols * fs.n_subcarriers), idx[i])
-            y = (clean + math.sqrt(s2) * w).astype(np.complex64)
+            y = (clean + math.sqrt(s2) * noise[:, idx[i]]).astype(np.complex64)
             if i < len(masks):
                 t1 = time.time()
                 full, half = bayes_classify(y, sig[i], p_cls, n_cls, s2)
@@ -261,20 +250,6 @@ def main():
         write_csv(args.csv, scenario, rows)
         print("wrote", args.csv)
     print("classifier_bayes: done in %.0f s" % (time.time() - t0))
-
-
-_noise_cache = {}
-
-
-def noise_of(rng_seed, shape, idx):
-    """Unit complex Gaussian noise on the whole grid, drawn once: every mask sees the same
-    noise on the resource elements it shares with another."""
-    if shape not in _noise_cache:
-        rng = np.random.default_rng(rng_seed)
-        _noise_cache.clear()
-        _noise_cache[shape] = ((rng.standard_normal(shape, dtype=np.float32)
-                                + 1j * rng.standard_normal(shape, dtype=np.float32)) / np.sqrt(2)).astype(np.complex64)
-    return _noise_cache[shape][:, idx]
 
 
 def paired(a, b):

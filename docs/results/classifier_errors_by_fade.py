@@ -41,7 +41,7 @@ def main():
     sigma = 10 ** (-a.snr / 20)
     spec = sems.random_spec()
     spec.heading = sems.heading_from_name(a.heading)
-    wavelength = sems.frame_settings().wavelength_m()
+    fs = sems.frame_settings()
     truth, pred, power, doppler = [], [], [], []
     for batch, (h, t) in enumerate(channel_batches(sems.scene.random(spec), 1000, a.frames // 1000, seed=777)):
         hp = h.reshape(len(t), -1)[:, idx]
@@ -50,7 +50,7 @@ def main():
         pred.append(dec.classify((hp + sigma * w).astype(np.complex64)).argmax(1))
         truth.append([names.index(x["class_name"]) for x in t])
         power.append(np.mean(np.abs(hp) ** 2, axis=1))
-        doppler.append([2 * x["velocity_mps"] / wavelength for x in t])
+        doppler.append([fs.doppler_from_velocity(x["velocity_mps"]) for x in t])
     y, p, g = np.concatenate(truth), np.concatenate(pred), np.concatenate(power)
     fd = np.abs(np.concatenate(doppler))
     print("%s at %g dB on %d frames: accuracy %.4f" % (a.bundle, a.snr, len(y), np.mean(y == p)))
