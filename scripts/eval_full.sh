@@ -6,11 +6,13 @@
 #
 #   bash scripts/eval_full.sh [--out DIR] [--results DIR] [--size full|test]
 #
-# Processes (each its own output folder under DIR, default out/eval_full):
-#   full   experiments 1, 2 (t-SNE of experiment 1's networks, from the same cache), 6
-#   full4  experiment 4 single path, then experiment 3 (clutter, SNR, velocity), 6
-#   full4b experiment 4 multipath, then experiment 5 (N_p sweep; N_p = 32 is experiment 4's
-#          network from the same cache), 6
+# Processes (each its own output folder under DIR, default out/eval_full), balanced so that
+# they end together (the N_p sweep of experiment 5 is split over all three):
+#   full   experiments 1, 2 (t-SNE of experiment 1's networks, from the same cache), 5 at
+#          N_p 2 and 8, 6
+#   full4  experiment 4 single path, then experiment 3 (clutter, SNR, velocity), 5 at N_p 16, 6
+#   full4b experiment 4 multipath, then experiment 5 at N_p 32 (experiment 4's network from the
+#          same cache), 64 and 128, 6
 # then `--only-shipped` for models/, docs/results/combine_runs.py and apps/plot_results.py into
 # RESULTS (default docs/results). Prints the wall time of each part and of the whole run, also
 # into RESULTS/eval_full.log.
@@ -50,9 +52,12 @@ run_part() { # name, then sems_eval arguments
 
 stamp "sems_eval --size $size, 3 processes, logs in $out/*.log"
 pids=()
-run_part full --experiments 1,2,6 & pids+=($!)
-run_part full4 --experiments 3,4,6 --delay-scenarios single & pids+=($!)
-run_part full4b --experiments 4,5,6 --delay-scenarios multipath & pids+=($!)
+# (--size test: N_p 2, 8 and 32, one per part.)
+if [ "$size" = full ]; then np_full=(--np-sweep 2,8); np_full4=(--np-sweep 16); np_full4b=(--np-sweep 32,64,128)
+else np_full=(--np-sweep 2); np_full4=(--np-sweep 8); np_full4b=(--np-sweep 32); fi
+run_part full --experiments 1,2,5,6 "${np_full[@]}" & pids+=($!)
+run_part full4 --experiments 3,4,5,6 --delay-scenarios single "${np_full4[@]}" & pids+=($!)
+run_part full4b --experiments 4,5,6 --delay-scenarios multipath "${np_full4b[@]}" & pids+=($!)
 failed=0
 for p in "${pids[@]}"; do wait "$p" || failed=1; done
 [ "$failed" -eq 0 ] || { stamp "a part failed"; exit 1; }

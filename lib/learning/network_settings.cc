@@ -3,6 +3,7 @@
 #include "core/json_object.h"
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
+#include <cmath>
 
 namespace gr {
 namespace sems {
@@ -92,6 +93,8 @@ json classifier_settings::to_json() const
         j["range_bins"] = range_bins;
         j["conv_slope"] = conv_slope;
         j["mti"] = mti;
+        j["chirp_bins"] = chirp_bins;
+        j["chirp_sweep_bins"] = chirp_sweep_bins;
     }
     return j;
 }
@@ -121,8 +124,27 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     s.mti = j.string_or("mti", s.mti);
     if (!known_mti(s.mti))
         json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");
+    s.chirp_bins = j.int_or("chirp_bins", 0, 0, limits::max_network_size); // absent: legacy, no tone fit
+    if (s.chirp_bins > 0 && s.chirp_bins % 2 == 0)
+        json_read::fail(source, "chirp_bins", "must be 0 (off) or odd (the rates are symmetric around 0), got " +
+                                                  std::to_string(s.chirp_bins));
+    s.chirp_sweep_bins = j.number_or("chirp_sweep_bins", s.chirp_sweep_bins);
+    if (!(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
+        json_read::fail(source, "chirp_sweep_bins", "must be finite and > 0, got " + std::to_string(s.chirp_sweep_bins));
     j.finish();
     return s;
+}
+
+std::vector<double> classifier_settings::chirp_rates(int n_symbols) const
+{
+    // A chirp of rate α (cycles/symbol²) changes frequency by α N cycles/symbol over the frame,
+    // α N² Doppler bins: the largest rate sweeps chirp_sweep_bins bins.
+    std::vector<double> a(chirp_bins, 0.0);
+    const int half = chirp_bins / 2;
+    for (int j = 0; j < chirp_bins; ++j)
+        if (half > 0)
+            a[j] = chirp_sweep_bins * (j - half) / (static_cast<double>(half) * n_symbols * n_symbols);
+    return a;
 }
 
 int delay_settings::receptive_field_points() const

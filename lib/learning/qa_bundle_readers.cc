@@ -133,7 +133,16 @@ public:
         assert_error([] { nn::reconstruction_settings::from_json(json{ { "hiden", 3 } }, "rec"); },
                      "rec: hiden: unknown key");
         assert_error([] { nn::reconstruction_settings::from_json(json::array(), "rec"); }, "rec: settings: expected a JSON object");
+        assert_error([] { nn::classifier_settings::from_json(json{ { "chirp_bins", 4 } }, "cls"); },
+                     "cls: chirp_bins: must be 0 (off) or odd");
+        assert_error([] { nn::classifier_settings::from_json(json{ { "chirp_sweep_bins", 0.0 } }, "cls"); },
+                     "cls: chirp_sweep_bins: must be finite and > 0");
+        // A bundle written before the tone fit existed reads as without it (legacy value).
+        CPPUNIT_ASSERT_EQUAL(0, nn::classifier_settings::from_json(json::object(), "cls").chirp_bins);
         // Round trips: what to_json writes reads back.
+        nn::classifier_settings cls;
+        CPPUNIT_ASSERT_EQUAL(9, cls.chirp_bins);
+        CPPUNIT_ASSERT(nn::classifier_settings::from_json(cls.to_json(), "c").to_json() == cls.to_json());
         nn::encoder_settings e;
         CPPUNIT_ASSERT(nn::encoder_settings::from_json(e.to_json(), "e").to_json() == e.to_json());
         nn::delay_settings ds;

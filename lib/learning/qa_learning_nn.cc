@@ -40,6 +40,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
     CPPUNIT_TEST(spectral_decoder_inference_paths_match);
     CPPUNIT_TEST(spectral_range_gate_closed_forms);
+    CPPUNIT_TEST(tone_fit_closed_forms);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
     CPPUNIT_TEST(decoder_shapes_and_scale_invariance);
     CPPUNIT_TEST_SUITE_END();
@@ -421,6 +422,93 @@ public:
         // profile as the fixed mask, whose empty subcarriers the decoder skips.
         auto learning = two.clone().requires_grad_(true);
         CPPUNIT_ASSERT(torch::allclose(g.profile(frame(two), learning), pg, 1e-5, 1e-5));
+    }
+
+    // The tone/chirp fit against closed forms (noiseless): a pure tone anywhere between the
+    // DFT bins is explained entirely at α = 0 (share 1, feature log 1e-4) and not by the
+    // other rates (for a tone of N samples against a chirp of edge phase π α (N/2)², the
+    // share is |Σ_n exp(-jπ α c_n²)|² / N², maximised over f); a chirp of the fit's largest
+    // rate is explained at that rate only; with and without the range gate, on one
+    // subcarrier and on a mask spread over several (each with the target's delay phase); a
+    // zero frame and extreme gains stay finite.
+    void tone_fit_closed_forms()
+    {
+        const int n = 32, m = 12;
+        for (const int range_bins : { 0, -1 }) {
+            classifier_settings cs;
+            cs.range_bins = range_bins;
+            cs.chirp_bins = 5;
+            cs.chirp_sweep_bins = 2.0;
+            spectral_classifier_decoder_module dec(n, m, 2 * n, cs);
+            dec.eval();
+            const auto rates = cs.chirp_rates(n);
+            CPPUNIT_ASSERT_EQUAL(size_t(5), rates.size());
+            CPPUNIT_ASSERT_EQUAL(0.0, rates[2]);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(2.0 / (n * n), rates[4], 1e-15);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(-rates[4], rates[0], 1e-15);
+            auto mask = torch::zeros({ n, m });
+            mask.select(1, 3).fill_(1.0f);
+            mask.select(1, 8).slice(0, 0, n, 2).fill_(1.0f); // a second subcarrier on every other symbol
+            const double delay = 2.3;                         // delay index (off the gate's grid)
+            auto frame = [&](double f, double alpha) {
+                const auto nn = torch::arange(n, torch::kDouble).view({ n, 1 });
+                const auto mm = torch::arange(m, torch::kDouble).view({ 1, m });
+                const auto c = nn - 0.5 * (n - 1);
+                const auto ph = 2 * M_PI * f * nn + M_PI * alpha * c.square() - 2 * M_PI * mm * delay / m + 0.7;
+                return torch::stack({ torch::cos(ph), torch::sin(ph) }, 0).to(torch::kFloat).unsqueeze(0) * mask;
+            };
+            // The share a pure tone leaves to the rate α (maximised over f on a fine grid).
+            auto tone_share = [&](double alpha) {
+                double best = 0.0;
+                const auto c = torch::arange(n, torch::kDouble) - 0.5 * (n - 1);
+                for (int i = -200; i <= 200; ++i) {
+                    const auto ph = 2 * M_PI * (i * 1e-4) * torch::arange(n, torch::kDouble) + M_PI * alpha * c.square();
+                    const double re = torch::cos(ph).sum().item<double>(), im = torch::sin(ph).sum().item<double>();
+                    best = std::max(best, (re * re + im * im) / (double(n) * n));
+                }
+                return best;
+            };
+            torch::NoGradGuard ng;
+            for (const double f : { 0.0, 0.123456, -0.31, 0.4999 }) {
+                const auto t = dec.tone_features(frame(f, 0.0), mask);
+                CPPUNIT_ASSERT_EQUAL(int64_t(5), t.size(1));
+                // share 1 at α = 0: log(1e-4), to the search's precision (share > 1 - 2e-5)
+                CPPUNIT_ASSERT_MESSAGE("range_bins " + std::to_string(range_bins) + ", tone at f " + std::to_string(f) + ": " + c10::str(t),
+                                       t[0][2].item<double>() < std::log(3e-5 + 1e-4));
+                for (int j : { 0, 1, 3, 4 }) {
+                    const double want = std::log(1.0 - tone_share(rates[j]) + 1e-4);
+                    CPPUNIT_ASSERT_DOUBLES_EQUAL(want, t[0][j].item<double>(), 0.02);
+                }
+            }
+            // A chirp of the largest rate (edge phase π/2), at an off-grid frequency.
+            const auto t = dec.tone_features(frame(0.2, rates[4]), mask);
+            CPPUNIT_ASSERT(t[0][4].item<double>() < std::log(3e-5 + 1e-4));
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(std::log(1.0 - tone_share(rates[4]) + 1e-4), t[0][2].item<double>(), 0.02);
+            CPPUNIT_ASSERT(t[0][2].item<double>() > std::log(0.05));
+            // Extremes: a zero frame (share 0: log(1 + 1e-4)) and gains of 1e-20 and 1e20.
+            const auto z = dec.tone_features(torch::zeros({ 1, 2, n, m }), mask);
+            CPPUNIT_ASSERT(all_finite(z));
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(std::log(1.0 + 1e-4), z.max().item<double>(), 1e-6);
+            for (const double a : { 1e-20, 1e20 }) {
+                const auto ta = dec.tone_features(frame(0.123456, 0.0) * a, mask);
+                CPPUNIT_ASSERT(all_finite(ta));
+                CPPUNIT_ASSERT(torch::allclose(ta, dec.tone_features(frame(0.123456, 0.0), mask), 1e-3, 1e-3));
+            }
+        }
+        // Off: no features and the legacy network (no tone layers in the state).
+        classifier_settings off;
+        off.chirp_bins = 0;
+        spectral_classifier_decoder_module legacy(n, m, 2 * n, off);
+        CPPUNIT_ASSERT(!legacy.tone_features(torch::zeros({ 1, 2, n, m }), torch::ones({ n, m })).defined());
+        for (const auto& p : legacy.named_parameters())
+            CPPUNIT_ASSERT(p.key().find("tone") == std::string::npos);
+        for (const int bad : { 2, -1 }) {
+            off.chirp_bins = bad;
+            CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, 2 * n, off), std::invalid_argument);
+        }
+        off.chirp_bins = 3;
+        off.chirp_sweep_bins = 0.0;
+        CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, 2 * n, off), std::invalid_argument);
     }
 
     void soft_argmax_stable_inside_grid()

@@ -75,10 +75,24 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     const int k = s.doppler_bins;
     // exp(-j2π k n / K) with k·n reduced mod K in integers first: exact phases.
     auto kn = torch::remainder(torch::arange(k, torch::kLong).unsqueeze(1) * torch::arange(n, torch::kLong).unsqueeze(0), k);
-    auto arg = kn.to(torch::kDouble) * (2.0 * M_PI / k);
+    const auto arg = kn.to(torch::kDouble) * (2.0 * M_PI / k);
     d_cos = torch::cos(arg).to(torch::kFloat);
     d_sin = torch::sin(arg).to(torch::kFloat);
     d_dft = torch::cat({ torch::cat({ d_cos, d_sin }, 1), torch::cat({ -d_sin, d_cos }, 1) }, 0); // 2K x 2N
+    if (s.chirp_bins < 0 || (s.chirp_bins > 0 && s.chirp_bins % 2 == 0))
+        throw std::invalid_argument("spectral classifier decoder: chirp_bins must be 0 (off) or odd, got " +
+                                    std::to_string(s.chirp_bins));
+    if (s.chirp_bins > 0 && !(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
+        throw std::invalid_argument("spectral classifier decoder: chirp_sweep_bins must be finite and > 0, got " +
+                                    std::to_string(s.chirp_sweep_bins));
+    if (s.chirp_bins > 0) {
+        // π α_j (n - (N-1)/2)² per rate (J x N): the chirps are centred on the frame.
+        const auto centred = torch::arange(n, torch::kDouble) - 0.5 * (n - 1);
+        d_chirp_phase = ((M_PI * torch::tensor(d_s.chirp_rates(n), torch::kDouble)).unsqueeze(1) *
+                         centred.square().unsqueeze(0)).to(torch::kFloat);
+        d_tone_bn = register_module("tone_bn", torch::nn::BatchNorm1d(s.chirp_bins));
+        d_tone_fc = register_module("tone_fc", torch::nn::Linear(s.chirp_bins, s.features));
+    }
     const int ch = s.mti == "both" ? 2 : 1;
     d_bn = register_module("bn", torch::nn::BatchNorm1d(ch));
     auto conv = [&](int in, int out) {
@@ -88,7 +102,9 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     d_conv1 = register_module("conv1", conv(ch, s.width));
     d_conv2 = register_module("conv2", conv(s.width, s.width));
     d_fc1 = register_module("fc1", torch::nn::Linear(s.width * k, s.hidden));
-    d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden, s.features));
+    // The tone fit's own small layer joins the profile's hidden layer: its few features
+    // would be drowned among the width·K of the convolutions at the first layer's input.
+    d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden + (s.chirp_bins > 0 ? s.features : 0), s.features));
     d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
 }
 
@@ -119,7 +135,69 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
     return torch::log(s + 1e-3);
 }
 
+torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& g,
+                                                           const torch::Tensor& mask,
+                                                           const torch::Tensor& profile) const
+{
+    // Every subcarrier's slow-time series z_m[n] = y[n,m], explained by one common chirp with
+    // a gain and phase of its own per subcarrier (the target's delay phase): exact on any mask,
+    // whatever symbols each subcarrier observes.
+    const auto zr = g.select(1, 0), zi = g.select(1, 1);        // B x N x M'
+    const auto n_obs = mask4(mask, g).detach().squeeze(1).sum(1); // B' x M': pilots per subcarrier
+    // Cauchy-Schwarz: Σ_m |Σ_n z_m[n] u[n]|² <= Σ_m n_m Σ_n |z_m[n]|² for a unit-modulus u,
+    // with equality iff every series is that chirp: the share E is in [0, 1].
+    const auto energy = (n_obs * (zr.square() + zi.square()).sum(1)).sum(1, true) + 1e-12; // B x 1
+    const auto nn = torch::arange(d_n, g.options()).view({ 1, 1, -1 });
+    // The power of the series against the chirp of rate j at frequency f[b, j] (cycles/symbol): B x J.
+    auto power_at = [&](const torch::Tensor& f) {
+        const auto theta = (2.0 * M_PI) * f.unsqueeze(2) * nn + d_chirp_phase.unsqueeze(0); // B x J x N
+        const auto c = torch::cos(theta), sn = torch::sin(theta);
+        const auto re = torch::matmul(c, zr) + torch::matmul(sn, zi); // B x J x M'
+        const auto im = torch::matmul(c, zi) - torch::matmul(sn, zr);
+        return (re.square() + im.square()).sum(2);
+    };
+    torch::Tensor f_best;
+    {
+        // The frequency is searched without gradient (at the maximum the power's derivative
+        // in f is zero, so nothing is lost). Start: the profile's peak bin k* (the chirps are
+        // centred on the frame, so dechirping moves no peak); per rate one parabola through
+        // k* and its neighbours, then one through f ± 1/(8K), the better point kept: a tone
+        // between two bins loses up to a fifth of its power on the K-bin grid, far more than
+        // a pedestrian's chirp does; after the two steps the loss is ~1e-5.
+        torch::NoGradGuard ng;
+        const int64_t k = d_s.doppler_bins;
+        const auto k0 = profile.detach().flatten(1).argmax(1).remainder(k).to(g.dtype()).view({ -1, 1 })
+                            .expand({ g.size(0), d_s.chirp_bins });
+        // The vertex of the parabola through (-1, lo), (0, mid), (1, hi), within ±limit.
+        auto vertex = [](const torch::Tensor& lo, const torch::Tensor& mid, const torch::Tensor& hi, double limit) {
+            const auto den = lo - 2 * mid + hi;
+            return torch::where(den < 0, 0.5 * (lo - hi) / den.clamp_max(-1e-30), torch::zeros_like(den))
+                .clamp(-limit, limit);
+        };
+        const auto f0 = k0 / static_cast<double>(k), step = torch::full_like(f0, 1.0 / k);
+        // (The peak of a K-bin grid with K >= N lies within half a bin of its largest bin.)
+        const auto f1 = f0 + step * vertex(power_at(f0 - step), power_at(f0), power_at(f0 + step), 0.5);
+        const double h = 1.0 / (8.0 * k);
+        const auto p_mid = power_at(f1);
+        const auto f2 = f1 + h * vertex(power_at(f1 - h), p_mid, power_at(f1 + h), 2.0);
+        f_best = torch::where(power_at(f2) >= p_mid, f2, f1);
+    }
+    const auto share = (power_at(f_best) / energy).clamp(0.0, 1.0);
+    return torch::log(1.0 - share + 1e-4); // B x J
+}
+
+torch::Tensor spectral_classifier_decoder_module::tone_features(const torch::Tensor& grid, const torch::Tensor& mask) const
+{
+    return inputs(grid, mask).second;
+}
+
 torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& grid, const torch::Tensor& mask) const
+{
+    return inputs(grid, mask).first;
+}
+
+std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inputs(const torch::Tensor& grid,
+                                                                                   const torch::Tensor& mask) const
 {
     // A compact grid (only some subcarriers, with the mask of those columns, no gradient)
     // is accepted too: the profile sums over subcarriers, so absent ones count as zeros.
@@ -154,12 +232,23 @@ torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& g
         }
     }
     g = normalise_frames(g, d_np); // per frame, over its pilots (the zeros add nothing)
-    if (d_s.mti == "none")
-        return power_profile(g, cols).unsqueeze(1);
+    // The tone/chirp fit sees what the profile of the last stage sees (after MTI where there
+    // is one: static clutter is a pure tone at 0 Hz) and starts from that profile's peak.
+    torch::Tensor tone;
+    const bool fit = d_s.chirp_bins > 0;
+    if (d_s.mti == "none") {
+        auto p = power_profile(g, cols).unsqueeze(1);
+        if (fit)
+            tone = tone_fit(g, m, p);
+        return { p, tone };
+    }
     const auto clean = remove_zero_doppler(g, m);
+    auto p_clean = power_profile(clean, cols).unsqueeze(1);
+    if (fit)
+        tone = tone_fit(clean, m, p_clean);
     if (d_s.mti == "mean")
-        return power_profile(clean, cols).unsqueeze(1);
-    return torch::stack({ power_profile(g, cols), power_profile(clean, cols) }, 1);
+        return { p_clean, tone };
+    return { torch::cat({ power_profile(g, cols).unsqueeze(1), p_clean }, 1), tone };
 }
 
 void spectral_classifier_decoder_module::set_compact_columns(const std::vector<int64_t>& subcarriers)
@@ -228,9 +317,12 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
     // Leaky ReLU with conv_slope (0: ReLU, the legacy bundles).
-    auto x = torch::leaky_relu(inference_conv(d_conv1, d_dense1, profile(grid, mask), true), d_s.conv_slope);
-    x = torch::leaky_relu(inference_conv(d_conv2, d_dense2, x, false), d_s.conv_slope);
-    x = torch::leaky_relu(d_fc1->forward(x.flatten(1)), 0.1);
+    const auto [prof, tone] = inputs(grid, mask);
+    auto x = torch::leaky_relu(inference_conv(d_conv1, d_dense1, prof, true), d_s.conv_slope);
+    x = torch::leaky_relu(inference_conv(d_conv2, d_dense2, x, false), d_s.conv_slope).flatten(1);
+    x = torch::leaky_relu(d_fc1->forward(x), 0.1);
+    if (tone.defined())
+        x = torch::cat({ x, torch::leaky_relu(d_tone_fc->forward(d_tone_bn->forward(tone)), 0.1) }, 1);
     decoder_output out;
     out.features = d_fc2->forward(x);
     out.logits = d_out->forward(torch::leaky_relu(out.features, 0.1));

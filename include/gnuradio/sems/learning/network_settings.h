@@ -13,6 +13,7 @@
 #include <gnuradio/sems/learning/api.h>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace gr {
 namespace sems {
@@ -102,11 +103,25 @@ struct SEMS_LEARNING_API classifier_settings {
                               /// minus its mean over its observed symbols: removes static
                               /// clutter exactly, and with it a target at 0 Hz) | "both"
                               /// (the two profiles as two input channels)
+    int chirp_bins = 9;       ///< spectral: the tone/chirp fit, J chirp rates (odd; 0 = off, the legacy
+                              /// value for bundles without this key): the share of the energy of
+                              /// the subcarriers' slow-time series that one common chirp
+                              /// exp(j(2π f n + π α_j (n - (N-1)/2)²)) explains, maximised over f off
+                              /// the DFT grid, per rate, as log(1 - share + 1e-4) through its own
+                              /// layer of `features` units. A car is a pure tone (share 1 at
+                              /// α = 0), a pedestrian's limb swing a chirp within one frame: at
+                              /// equal Doppler their power profiles are alike, this is not
+                              /// (docs/RESULTS.md, the any-heading scene)
+    double chirp_sweep_bins = 2.0; ///< spectral: the largest rate's Doppler change across the frame,
+                                   /// in Doppler bins (1/(N T)); the rates spread evenly over ±it
 
     /*! \brief Whether `a` names an architecture. \param a the name. \return true for "spectral" or "resnet". */
     static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }
     /*! \brief Whether `m` names an MTI stage. \param m the name. \return true for "none", "mean" or "both". */
     static bool known_mti(const std::string& m) { return m == "none" || m == "mean" || m == "both"; }
+    //! The tone/chirp fit's rates α_j in cycles per symbol² (chirp_bins of them, 0 in the middle).
+    //! \param n_symbols N. \return the rates, ascending.
+    std::vector<double> chirp_rates(int n_symbols) const;
     /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
