@@ -18,8 +18,10 @@ C++ only (baselines' multipath_fitter). Compare against a bundle with refine_pat
 
 Usage (GNU Radio's Python; `from gnuradio import sems` must import, e.g. with
 PYTHONPATH=build/python_pkg):
-  torch_reference.py check [--models DIR]   C++ bundle_decoder == this reference, and a
-                                            perturbed weight breaks the agreement
+  torch_reference.py check [--models DIR] [--classifier DIR]
+                                            C++ bundle_decoder == this reference, and a
+                                            perturbed weight breaks the agreement (--classifier:
+                                            check that classifier bundle instead of DIR/classifier)
   torch_reference.py bench [--models DIR] [--batches 1,32,256] [--frames 2048] [--repeat 5]
                                             frames/s of both, 1 intra-op thread, same run
 """
@@ -70,6 +72,13 @@ class Reference:
             arg = kn.double() * (2.0 * math.pi / k)  # exact phases, as the C++ builds them
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
             self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
+            self.chirp_bins = self.s.get("chirp_bins", 0)  # absent: the legacy network, no tone fit
+            if self.chirp_bins > 0:  # π α_j (n - (N-1)/2)², as classifier_settings::chirp_rates
+                half = self.chirp_bins // 2
+                rates = torch.tensor([self.s["chirp_sweep_bins"] * (j - half) / (half * self.n * self.n) if half else 0.0
+                                      for j in range(self.chirp_bins)], dtype=torch.double)
+                centred = torch.arange(self.n, dtype=torch.double) - 0.5 * (self.n - 1)
+                self.chirp_phase = ((math.pi * rates).unsqueeze(1) * centred.square().unsqueeze(0)).float()
             self.range_bins = self.s.get("range_bins", 0)  # absent: the legacy pooled profile
             if self.range_bins > 0:  # the range gate's exp(+j2π m l / L) on the mask's subcarriers, once
                 nl = self.range_bins
@@ -124,6 +133,36 @@ class Reference:
         s = s / (s.mean(1, True) + 1e-12)
         return torch.log(s + 1e-3)
 
+    def tone_fit(self, g, mask, profile):
+        # As spectral_classifier_decoder.cc: per chirp rate, the share of the subcarriers'
+        # slow-time energy one common chirp explains, its frequency searched from the profile's
+        # peak by two parabolic steps.
+        zr, zi = g[:, 0], g[:, 1]  # B x N x M'
+        energy = (mask.sum(0) * (zr.square() + zi.square()).sum(1)).sum(1, True) + 1e-12
+        nn = torch.arange(self.n, dtype=g.dtype).view(1, 1, -1)
+        k = self.dft_cos.shape[0]
+
+        def power_at(f):
+            theta = 2.0 * math.pi * f.unsqueeze(2) * nn + self.chirp_phase.unsqueeze(0)
+            c, sn = torch.cos(theta), torch.sin(theta)
+            re = torch.matmul(c, zr) + torch.matmul(sn, zi)
+            im = torch.matmul(c, zi) - torch.matmul(sn, zr)
+            return (re.square() + im.square()).sum(2)
+
+        def vertex(lo, mid, hi, limit):
+            den = lo - 2 * mid + hi
+            return torch.where(den < 0, 0.5 * (lo - hi) / den.clamp_max(-1e-30), torch.zeros_like(den)).clamp(-limit, limit)
+
+        k0 = (profile.flatten(1).argmax(1) % k).to(g.dtype).view(-1, 1).expand(g.shape[0], self.chirp_bins)
+        f0, step = k0 / k, torch.full_like(k0, 1.0 / k)
+        f1 = f0 + step * vertex(power_at(f0 - step), power_at(f0), power_at(f0 + step), 0.5)
+        h = 1.0 / (8.0 * k)
+        p_mid = power_at(f1)
+        f2 = f1 + h * vertex(power_at(f1 - h), p_mid, power_at(f1 + h), 2.0)
+        f = torch.where(power_at(f2) >= p_mid, f2, f1)
+        share = (power_at(f) / energy).clamp(0.0, 1.0)
+        return torch.log(1.0 - share + 1e-4)
+
     # The C++ inference's convolution: small ones as one product with their dense circulant
     # matrix (spectral_classifier_decoder.cc, dense_conv_max_macs), large ones through conv1d.
     def conv(self, x, name, p, with_bn=False):
@@ -156,13 +195,18 @@ class Reference:
         mask = self.mask.index_select(1, self.cols)  # g has only these columns (see grid)
         if mti != "none":  # remove_zero_doppler: each subcarrier's mean over its pilots
             clean = g - mask * (g.sum(2, True) / mask.sum(0, True).clamp_min(1.0))
+        last = g if mti == "none" else clean  # the stage the tone fit sees
         x = (self.profile(g).unsqueeze(1) if mti == "none" else self.profile(clean).unsqueeze(1) if mti == "mean"
              else torch.stack([self.profile(g), self.profile(clean)], 1))
+        tone = self.tone_fit(last, mask, x[:, -1]) if self.chirp_bins > 0 else None
         p = self.s["kernel"] // 2
         slope = self.s.get("conv_slope", 0.0)  # absent: the legacy ReLU
         x = F.leaky_relu(self.conv(x, "conv1", p, with_bn=True), slope)  # BatchNorm, conv1
         x = F.leaky_relu(self.conv(x, "conv2", p), slope)
         x = F.leaky_relu(F.linear(x.flatten(1), w["fc1.weight"], w["fc1.bias"]), 0.1)
+        if tone is not None:  # the tone fit's own layer joins the hidden layer
+            t = F.linear(self.bn(tone, "tone_bn"), w["tone_fc.weight"], w["tone_fc.bias"])
+            x = torch.cat([x, F.leaky_relu(t, 0.1)], 1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
         logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])
         return torch.softmax(logits, -1), features
@@ -254,10 +298,10 @@ def with_refinement_off(bundle_dir, out_dir):
     return out_dir
 
 
-def decoders(models, tmp):
-    """(label, C++ call, reference) for the shipped classifier and single-path delay bundles."""
+def decoders(models, tmp, classifier=None):
+    """(label, C++ call, reference) for the shipped classifier (or `classifier`) and single-path delay bundles."""
     from gnuradio import sems
-    cls_dir = os.path.join(models, "classifier")
+    cls_dir = classifier or os.path.join(models, "classifier")
     delay_dir = with_refinement_off(os.path.join(models, "delay_single"), os.path.join(tmp, "delay_single"))
     cls, delay = sems.bundle_decoder(cls_dir, 1), sems.bundle_decoder(delay_dir, 1)
     out = [("classifier", cls.classify, Reference(cls_dir)),
@@ -277,14 +321,14 @@ def observations(rng, batch, n_pilots, snr_db=None):
     return z.astype(np.complex64)
 
 
-def check(models):
+def check(models, classifier=None):
     """Assert C++ == reference on random frames, and that one perturbed weight breaks it."""
     torch.set_num_threads(1)
     rng = np.random.default_rng(7)
     tol = {"classifier": 1e-4, "classifier_fast": 1e-4, "delay_single, refine off": 1e-3}
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
-        for label, cpp, ref in decoders(models, tmp):
+        for label, cpp, ref in decoders(models, tmp, classifier):
             obs = np.concatenate([observations(rng, 64, ref.np), observations(rng, 64, ref.np, 20.0),
                                   observations(rng, 64, ref.np, 0.0) * np.float32(1e3)])
             a, b = np.asarray(cpp(obs)), ref(obs)
@@ -347,12 +391,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("mode", choices=("check", "bench"))
     ap.add_argument("--models", default=default_models, help="the bundles' directory")
+    ap.add_argument("--classifier", help="check: this classifier bundle instead of MODELS/classifier")
     ap.add_argument("--batches", default="1,32,256")
     ap.add_argument("--frames", type=int, default=2048, help="frames per timed run (bench)")
     ap.add_argument("--repeat", type=int, default=5, help="timed runs per row; the best counts (bench)")
     a = ap.parse_args()
     if a.mode == "check":
-        return check(a.models)
+        return check(a.models, a.classifier)
     return bench(a.models, [int(b) for b in a.batches.split(",")], a.frames, a.repeat)
 
 
