@@ -52,7 +52,8 @@ run_part() { # name, then sems_eval arguments
 
 stamp "sems_eval --size $size, 3 processes, logs in $out/*.log"
 pids=()
-# (--size test: N_p 2, 8 and 32, one per part.)
+# The parts' N_p lists together are --size full's sweep (config::np_sweep in apps/sems_eval.cc,
+# 2..128), split by cost; --size test: N_p 2, 8 and 32, one per part.
 if [ "$size" = full ]; then np_full=(--np-sweep 2,8); np_full4=(--np-sweep 16); np_full4b=(--np-sweep 32,64,128)
 else np_full=(--np-sweep 2); np_full4=(--np-sweep 8); np_full4b=(--np-sweep 32); fi
 run_part full --experiments 1,2,5,6 "${np_full[@]}" & pids+=($!)

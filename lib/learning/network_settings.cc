@@ -139,11 +139,10 @@ std::vector<double> classifier_settings::chirp_rates(int n_symbols) const
 {
     // A chirp of rate α (cycles/symbol²) changes frequency by α N cycles/symbol over the frame,
     // α N² Doppler bins: the largest rate sweeps chirp_sweep_bins bins.
-    std::vector<double> a(chirp_bins, 0.0);
     const int half = chirp_bins / 2;
-    for (int j = 0; j < chirp_bins; ++j)
-        if (half > 0)
-            a[j] = chirp_sweep_bins * (j - half) / (static_cast<double>(half) * n_symbols * n_symbols);
+    std::vector<double> a(chirp_bins, 0.0); // one rate (or none): 0
+    for (int j = 0; half > 0 && j < chirp_bins; ++j)
+        a[j] = chirp_sweep_bins * (j - half) / (static_cast<double>(half) * n_symbols * n_symbols);
     return a;
 }
 

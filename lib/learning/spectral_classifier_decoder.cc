@@ -90,6 +90,7 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
         const auto centred = torch::arange(n, torch::kDouble) - 0.5 * (n - 1);
         d_chirp_phase = ((M_PI * torch::tensor(d_s.chirp_rates(n), torch::kDouble)).unsqueeze(1) *
                          centred.square().unsqueeze(0)).to(torch::kFloat);
+        d_symbol_index = torch::arange(n, torch::kFloat).view({ 1, 1, n });
         d_tone_bn = register_module("tone_bn", torch::nn::BatchNorm1d(s.chirp_bins));
         d_tone_fc = register_module("tone_fc", torch::nn::Linear(s.chirp_bins, s.features));
     }
@@ -147,10 +148,9 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
     // Cauchy-Schwarz: Σ_m |Σ_n z_m[n] u[n]|² <= Σ_m n_m Σ_n |z_m[n]|² for a unit-modulus u,
     // with equality iff every series is that chirp: the share E is in [0, 1].
     const auto energy = (n_obs * (zr.square() + zi.square()).sum(1)).sum(1, true) + 1e-12; // B x 1
-    const auto nn = torch::arange(d_n, g.options()).view({ 1, 1, -1 });
     // The power of the series against the chirp of rate j at frequency f[b, j] (cycles/symbol): B x J.
     auto power_at = [&](const torch::Tensor& f) {
-        const auto theta = (2.0 * M_PI) * f.unsqueeze(2) * nn + d_chirp_phase.unsqueeze(0); // B x J x N
+        const auto theta = (2.0 * M_PI) * f.unsqueeze(2) * d_symbol_index + d_chirp_phase.unsqueeze(0); // B x J x N
         const auto c = torch::cos(theta), sn = torch::sin(theta);
         const auto re = torch::matmul(c, zr) + torch::matmul(sn, zi); // B x J x M'
         const auto im = torch::matmul(c, zi) - torch::matmul(sn, zr);
@@ -174,9 +174,10 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
             return torch::where(den < 0, 0.5 * (lo - hi) / den.clamp_max(-1e-30), torch::zeros_like(den))
                 .clamp(-limit, limit);
         };
-        const auto f0 = k0 / static_cast<double>(k), step = torch::full_like(f0, 1.0 / k);
+        const double step = 1.0 / k;
+        const auto f0 = k0 / static_cast<double>(k);
         // (The peak of a K-bin grid with K >= N lies within half a bin of its largest bin.)
-        const auto f1 = f0 + step * vertex(power_at(f0 - step), power_at(f0), power_at(f0 + step), 0.5);
+        const auto f1 = f0 + vertex(power_at(f0 - step), power_at(f0), power_at(f0 + step), 0.5) * step;
         const double h = 1.0 / (8.0 * k);
         const auto p_mid = power_at(f1);
         const auto f2 = f1 + h * vertex(power_at(f1 - h), p_mid, power_at(f1 + h), 2.0);
@@ -188,16 +189,17 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
 
 torch::Tensor spectral_classifier_decoder_module::tone_features(const torch::Tensor& grid, const torch::Tensor& mask) const
 {
-    return inputs(grid, mask).second;
+    return inputs(grid, mask, true).second;
 }
 
 torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& grid, const torch::Tensor& mask) const
 {
-    return inputs(grid, mask).first;
+    return inputs(grid, mask, false).first;
 }
 
 std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inputs(const torch::Tensor& grid,
-                                                                                   const torch::Tensor& mask) const
+                                                                                   const torch::Tensor& mask,
+                                                                                   bool with_tone) const
 {
     // A compact grid (only some subcarriers, with the mask of those columns, no gradient)
     // is accepted too: the profile sums over subcarriers, so absent ones count as zeros.
@@ -235,7 +237,7 @@ std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inpu
     // The tone/chirp fit sees what the profile of the last stage sees (after MTI where there
     // is one: static clutter is a pure tone at 0 Hz) and starts from that profile's peak.
     torch::Tensor tone;
-    const bool fit = d_s.chirp_bins > 0;
+    const bool fit = with_tone && d_s.chirp_bins > 0;
     if (d_s.mti == "none") {
         auto p = power_profile(g, cols).unsqueeze(1);
         if (fit)
@@ -317,7 +319,7 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
     // Leaky ReLU with conv_slope (0: ReLU, the legacy bundles).
-    const auto [prof, tone] = inputs(grid, mask);
+    const auto [prof, tone] = inputs(grid, mask, true);
     auto x = torch::leaky_relu(inference_conv(d_conv1, d_dense1, prof, true), d_s.conv_slope);
     x = torch::leaky_relu(inference_conv(d_conv2, d_dense2, x, false), d_s.conv_slope).flatten(1);
     x = torch::leaky_relu(d_fc1->forward(x), 0.1);

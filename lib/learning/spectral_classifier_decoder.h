@@ -92,8 +92,10 @@ private:
     // The tone/chirp fit's B x J features log(1 - share + 1e-4), searched from the peak of
     // `profile` (that stage's B x 1 x K log profile).
     torch::Tensor tone_fit(const torch::Tensor& grid, const torch::Tensor& mask, const torch::Tensor& profile) const;
-    // The profile and (chirp_bins > 0) the tone/chirp fit of one normalised grid.
-    std::pair<torch::Tensor, torch::Tensor> inputs(const torch::Tensor& grid, const torch::Tensor& mask) const;
+    // The profile and (with_tone and chirp_bins > 0; else undefined) the tone/chirp fit of one
+    // grid, normalised once for both.
+    std::pair<torch::Tensor, torch::Tensor>
+    inputs(const torch::Tensor& grid, const torch::Tensor& mask, bool with_tone) const;
     // A convolution's output without autograd: a small one as one product with its dense
     // circulant matrix (cached per weight version), a large one through conv1d.
     struct dense_conv {
@@ -112,6 +114,7 @@ private:
     torch::Tensor d_rcos, d_rsin; // M x L range-gate DFT (range_bins > 0)
     torch::Tensor d_compact_cols; // set_compact_columns()
     torch::Tensor d_chirp_phase;  // tone fit: π α_j (n - (N-1)/2)², J x N
+    torch::Tensor d_symbol_index; // tone fit: n = 0..N-1, 1 x 1 x N
     torch::nn::BatchNorm1d d_bn{ nullptr }, d_tone_bn{ nullptr };
     torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr }, d_tone_fc{ nullptr };
