@@ -73,6 +73,7 @@ class Reference:
             self.dft_cos, self.dft_sin = torch.cos(arg).float(), torch.sin(arg).float()
             self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
             self.chirp_bins = self.s.get("chirp_bins", 0)  # absent: the legacy network, no tone fit
+            self.chirp_min_pilots = self.s.get("chirp_min_pilots", 1)  # absent: every observed subcarrier
             if self.chirp_bins > 0:  # π α_j (n - (N-1)/2)², as classifier_settings::chirp_rates
                 half = self.chirp_bins // 2
                 rates = torch.tensor([self.s["chirp_sweep_bins"] * (j - half) / (half * self.n * self.n) if half else 0.0
@@ -138,7 +139,11 @@ class Reference:
         # slow-time energy one common chirp explains, its frequency searched from the profile's
         # peak by two parabolic steps.
         zr, zi = g[:, 0], g[:, 1]  # B x N x M'
-        energy = (mask.sum(0) * (zr.square() + zi.square()).sum(1)).sum(1, True) + 1e-12
+        n_obs = mask.sum(0)
+        counted = (n_obs >= self.chirp_min_pilots - 1e-3).to(g.dtype) if self.chirp_min_pilots > 1 else None
+        if counted is not None:  # only subcarriers with chirp_min_pilots or more pilots
+            n_obs = n_obs * counted
+        energy = (n_obs * (zr.square() + zi.square()).sum(1)).sum(1, True) + 1e-12
         nn = torch.arange(self.n, dtype=g.dtype).view(1, 1, -1)
         k = self.dft_cos.shape[0]
 
@@ -147,7 +152,8 @@ class Reference:
             c, sn = torch.cos(theta), torch.sin(theta)
             re = torch.matmul(c, zr) + torch.matmul(sn, zi)
             im = torch.matmul(c, zi) - torch.matmul(sn, zr)
-            return (re.square() + im.square()).sum(2)
+            p = re.square() + im.square()
+            return (p * counted if counted is not None else p).sum(2)
 
         def vertex(lo, mid, hi, limit):
             den = lo - 2 * mid + hi

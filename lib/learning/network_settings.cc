@@ -95,6 +95,7 @@ json classifier_settings::to_json() const
         j["mti"] = mti;
         j["chirp_bins"] = chirp_bins;
         j["chirp_sweep_bins"] = chirp_sweep_bins;
+        j["chirp_min_pilots"] = chirp_min_pilots;
     }
     return j;
 }
@@ -131,6 +132,8 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     s.chirp_sweep_bins = j.number_or("chirp_sweep_bins", s.chirp_sweep_bins);
     if (!(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
         json_read::fail(source, "chirp_sweep_bins", "must be finite and > 0, got " + std::to_string(s.chirp_sweep_bins));
+    // absent: legacy, every observed subcarrier counts
+    s.chirp_min_pilots = j.int_or("chirp_min_pilots", 1, 1, limits::max_network_size);
     j.finish();
     return s;
 }

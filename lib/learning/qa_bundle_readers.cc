@@ -137,11 +137,16 @@ public:
                      "cls: chirp_bins: must be 0 (off) or odd");
         assert_error([] { nn::classifier_settings::from_json(json{ { "chirp_sweep_bins", 0.0 } }, "cls"); },
                      "cls: chirp_sweep_bins: must be finite and > 0");
-        // A bundle written before the tone fit existed reads as without it (legacy value).
+        assert_error([] { nn::classifier_settings::from_json(json{ { "chirp_min_pilots", 0 } }, "cls"); },
+                     "cls: chirp_min_pilots: must be in [1, 1000000], got 0");
+        // A bundle written before the tone fit existed reads as without it (legacy value), and
+        // one written before chirp_min_pilots as counting every observed subcarrier.
         CPPUNIT_ASSERT_EQUAL(0, nn::classifier_settings::from_json(json::object(), "cls").chirp_bins);
+        CPPUNIT_ASSERT_EQUAL(1, nn::classifier_settings::from_json(json{ { "chirp_bins", 9 } }, "cls").chirp_min_pilots);
         // Round trips: what to_json writes reads back.
         nn::classifier_settings cls;
         CPPUNIT_ASSERT_EQUAL(9, cls.chirp_bins);
+        CPPUNIT_ASSERT_EQUAL(3, cls.chirp_min_pilots);
         CPPUNIT_ASSERT(nn::classifier_settings::from_json(cls.to_json(), "c").to_json() == cls.to_json());
         nn::encoder_settings e;
         CPPUNIT_ASSERT(nn::encoder_settings::from_json(e.to_json(), "e").to_json() == e.to_json());

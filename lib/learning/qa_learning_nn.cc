@@ -41,6 +41,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(spectral_decoder_inference_paths_match);
     CPPUNIT_TEST(spectral_range_gate_closed_forms);
     CPPUNIT_TEST(tone_fit_closed_forms);
+    CPPUNIT_TEST(tone_fit_counts_subcarriers_with_enough_pilots);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
     CPPUNIT_TEST(decoder_shapes_and_scale_invariance);
     CPPUNIT_TEST_SUITE_END();
@@ -509,6 +510,70 @@ public:
         off.chirp_bins = 3;
         off.chirp_sweep_bins = 0.0;
         CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, 2 * n, off), std::invalid_argument);
+    }
+
+    // chirp_min_pilots: some chirp with a gain and phase of its own explains one pilot (and,
+    // at the best frequency, two) exactly, so a noise frame on one- or two-pilot subcarriers
+    // reads as a pure tone unless they are left out. With the rule they add nothing: the
+    // features equal those of the mask without them; subcarriers with exactly the minimum count.
+    void tone_fit_counts_subcarriers_with_enough_pilots()
+    {
+        const int n = 32, m = 12;
+        torch::manual_seed(11);
+        const auto noise = torch::randn({ 1, 2, n, m });
+        auto features = [&](int min_pilots, const torch::Tensor& mask) {
+            classifier_settings cs;
+            cs.chirp_bins = 5;
+            cs.chirp_min_pilots = min_pilots;
+            spectral_classifier_decoder_module dec(n, m, 2 * n, cs);
+            dec.eval();
+            torch::NoGradGuard ng;
+            return dec.tone_features(noise * mask, mask);
+        };
+        const double explained = std::log(3e-5 + 1e-4), nothing = std::log(1.0 + 1e-4);
+        // One pilot per subcarrier (one symbol): all "explained" when counted, nothing when not.
+        auto one_symbol = torch::zeros({ n, m });
+        one_symbol.select(0, 5).fill_(1.0f);
+        CPPUNIT_ASSERT_MESSAGE(c10::str(features(1, one_symbol)), features(1, one_symbol).max().item<double>() < explained);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(nothing, features(3, one_symbol).min().item<double>(), 1e-6);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(nothing, features(3, one_symbol).max().item<double>(), 1e-6);
+        // Two pilots per subcarrier: left out with 3, counted with 2.
+        auto two_symbols = one_symbol.clone();
+        two_symbols.select(0, 17).fill_(1.0f);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(nothing, features(3, two_symbols).max().item<double>(), 1e-6);
+        CPPUNIT_ASSERT(features(2, two_symbols).max().item<double>() < nothing - 0.05);
+        // A full subcarrier with a noisy tone plus one-pilot subcarriers of noise: with the
+        // rule, the features of the full subcarrier alone (the search starts from the same
+        // profile peak, the tone's); without, larger shares (smaller features) at every rate.
+        auto full = torch::zeros({ n, m });
+        full.select(1, 3).fill_(1.0f);
+        auto mixed = full.clone();
+        mixed.select(0, 9).slice(0, 5, m).fill_(1.0f);
+        const auto ph = 2 * M_PI * 0.2137 * torch::arange(n, torch::kFloat);
+        auto frame = noise.clone();
+        frame.select(3, 3) = torch::stack({ torch::cos(ph), torch::sin(ph) }, 0).unsqueeze(0) + 0.3 * noise.select(3, 3);
+        auto features_of = [&](int min_pilots, const torch::Tensor& mask) {
+            classifier_settings cs;
+            cs.chirp_bins = 5;
+            cs.chirp_min_pilots = min_pilots;
+            spectral_classifier_decoder_module dec(n, m, 2 * n, cs);
+            dec.eval();
+            torch::NoGradGuard ng;
+            return dec.tone_features(frame * mask, mask);
+        };
+        CPPUNIT_ASSERT_MESSAGE(c10::str(features_of(3, mixed)) + " vs " + c10::str(features_of(3, full)),
+                               torch::allclose(features_of(3, mixed), features_of(3, full), 1e-5, 1e-5));
+        CPPUNIT_ASSERT_MESSAGE(c10::str(features_of(1, mixed)) + " vs " + c10::str(features_of(3, full)),
+                               (features_of(1, mixed) < features_of(3, full) - 0.01).all().item<bool>());
+        // Exactly the minimum counts: three pilots on one subcarrier, min 3 vs min 4.
+        auto three = torch::zeros({ n, m });
+        three.select(1, 7).slice(0, 0, 3).fill_(1.0f);
+        CPPUNIT_ASSERT(features(3, three).max().item<double>() < nothing - 1e-3);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(nothing, features(4, three).max().item<double>(), 1e-6);
+        // A minimum below 1 is refused.
+        classifier_settings bad;
+        bad.chirp_min_pilots = 0;
+        CPPUNIT_ASSERT_THROW(spectral_classifier_decoder_module(n, m, 2 * n, bad), std::invalid_argument);
     }
 
     void soft_argmax_stable_inside_grid()

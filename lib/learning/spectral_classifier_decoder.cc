@@ -85,6 +85,9 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     if (s.chirp_bins > 0 && !(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
         throw std::invalid_argument("spectral classifier decoder: chirp_sweep_bins must be finite and > 0, got " +
                                     std::to_string(s.chirp_sweep_bins));
+    if (s.chirp_bins > 0 && s.chirp_min_pilots < 1)
+        throw std::invalid_argument("spectral classifier decoder: chirp_min_pilots must be >= 1, got " +
+                                    std::to_string(s.chirp_min_pilots));
     if (s.chirp_bins > 0) {
         // π α_j (n - (N-1)/2)² per rate (J x N): the chirps are centred on the frame.
         const auto centred = torch::arange(n, torch::kDouble) - 0.5 * (n - 1);
@@ -144,9 +147,17 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
     // a gain and phase of its own per subcarrier (the target's delay phase): exact on any mask,
     // whatever symbols each subcarrier observes.
     const auto zr = g.select(1, 0), zi = g.select(1, 1);        // B x N x M'
-    const auto n_obs = mask4(mask, g).detach().squeeze(1).sum(1); // B' x M': pilots per subcarrier
+    auto n_obs = mask4(mask, g).detach().squeeze(1).sum(1); // B' x M': pilots per subcarrier
+    // Only subcarriers with chirp_min_pilots or more count (a soft mask's weights summed):
+    // some chirp explains one or two pilots exactly, whatever the target. Weighted by 0/1.
+    torch::Tensor counted;
+    if (d_s.chirp_min_pilots > 1) {
+        counted = (n_obs >= d_s.chirp_min_pilots - 1e-3).to(g.dtype());
+        n_obs = n_obs * counted;
+    }
     // Cauchy-Schwarz: Σ_m |Σ_n z_m[n] u[n]|² <= Σ_m n_m Σ_n |z_m[n]|² for a unit-modulus u,
-    // with equality iff every series is that chirp: the share E is in [0, 1].
+    // with equality iff every series is that chirp: the share E is in [0, 1] (0 when no
+    // subcarrier counts: a constant feature, nothing to learn from).
     const auto energy = (n_obs * (zr.square() + zi.square()).sum(1)).sum(1, true) + 1e-12; // B x 1
     // The power of the series against the chirp of rate j at frequency f[b, j] (cycles/symbol): B x J.
     auto power_at = [&](const torch::Tensor& f) {
@@ -154,7 +165,8 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
         const auto c = torch::cos(theta), sn = torch::sin(theta);
         const auto re = torch::matmul(c, zr) + torch::matmul(sn, zi); // B x J x M'
         const auto im = torch::matmul(c, zi) - torch::matmul(sn, zr);
-        return (re.square() + im.square()).sum(2);
+        const auto p = re.square() + im.square();
+        return (counted.defined() ? p * counted.unsqueeze(1) : p).sum(2);
     };
     torch::Tensor f_best;
     {
@@ -236,18 +248,22 @@ std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inpu
     g = normalise_frames(g, d_np); // per frame, over its pilots (the zeros add nothing)
     // The tone/chirp fit sees what the profile of the last stage sees (after MTI where there
     // is one: static clutter is a pure tone at 0 Hz) and starts from that profile's peak.
+    // It trains the decoder but does not steer a learned mask (its input is detached): the
+    // share is largest where subcarriers hold few pilots (some chirp fits one or two exactly),
+    // so its gradient pushed the mask learner from one subcarrier over every symbol onto
+    // three symbols over many subcarriers (docs/RESULTS.md, the collapsed seed).
     torch::Tensor tone;
     const bool fit = with_tone && d_s.chirp_bins > 0;
     if (d_s.mti == "none") {
         auto p = power_profile(g, cols).unsqueeze(1);
         if (fit)
-            tone = tone_fit(g, m, p);
+            tone = tone_fit(g.detach(), m, p);
         return { p, tone };
     }
     const auto clean = remove_zero_doppler(g, m);
     auto p_clean = power_profile(clean, cols).unsqueeze(1);
     if (fit)
-        tone = tone_fit(clean, m, p_clean);
+        tone = tone_fit(clean.detach(), m, p_clean);
     if (d_s.mti == "mean")
         return { p_clean, tone };
     return { torch::cat({ power_profile(g, cols).unsqueeze(1), p_clean }, 1), tone };

@@ -305,6 +305,7 @@ training_result trainer::run()
     const int64_t steps = static_cast<int64_t>(
         d_dist->all_reduce_min({ static_cast<double>(std::max<int64_t>(1, n_train / batch)) })[0]);
     int epoch_no = 0;
+    int mask_epochs_left = 0; // phase 1's unused epochs, given to phase 2
 
     auto train_epoch = [&](auto&& forward_loss, torch::optim::Optimizer& opt,
                            const std::vector<std::shared_ptr<torch::nn::Module>>& modules) {
@@ -363,6 +364,8 @@ training_result trainer::run()
         int since_best = 0;
         std::vector<int64_t> best_mask;
         auto best_state = snapshot(dec1);
+        std::vector<int64_t> previous_mask; // sorted
+        int unchanged = 0;                  // epochs the mask has stayed the same
         for (int e = 0; e < d_s.epochs; ++e) {
             const auto te = clock_type::now();
             const double ce_w = d_s.delay_ce_weight;
@@ -405,8 +408,20 @@ training_result trainer::run()
                 best_state = snapshot(dec1);
             }
             since_best = better ? 0 : since_best + 1;
+            auto sorted_mask = mask_idx;
+            std::sort(sorted_mask.begin(), sorted_mask.end());
+            unchanged = sorted_mask == previous_mask ? unchanged + 1 : 0;
+            previous_mask = std::move(sorted_mask);
+            // (Every rank holds the same scores and validation sums: they stop together.)
+            mask_epochs_left = d_s.epochs - e - 1;
             if (at_floor && since_best >= d_s.patience) {
-                print("early stop (mask phase): no improvement for " + std::to_string(since_best) + " epochs");
+                print("early stop (mask phase): no improvement for " + std::to_string(since_best) + " epochs; " +
+                      std::to_string(mask_epochs_left) + " epochs go to the decoder phase");
+                break;
+            }
+            if (d_s.mask_settle_epochs > 0 && unchanged >= d_s.mask_settle_epochs && mask_epochs_left > 0) {
+                print("mask settled: unchanged for " + std::to_string(unchanged) + " epochs; " +
+                      std::to_string(mask_epochs_left) + " epochs go to the decoder phase");
                 break;
             }
         }
@@ -423,6 +438,7 @@ training_result trainer::run()
                         { "method", enc->is_topk() ? "gumbel top-k over symbol x subcarrier scores (top N_p of Z)"
                                                    : "gumbel-softmax heads, greedy distinct assignment" },
                         { "encoder", d_s.encoder.to_json() },
+                        { "mask_epochs_run", d_s.epochs - mask_epochs_left },
                         { "seed", d_s.seed } };
     } else {
         for (int i : given_mask->flat_indices())
@@ -432,7 +448,7 @@ training_result trainer::run()
 
     // ---- Phase 2: the task decoder on the fixed mask.
     const auto mask_t = mask_grid(mask_idx);
-    const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs;
+    const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs + mask_epochs_left;
     {
         torch::optim::Adam opt(task_dec->parameters(), torch::optim::AdamOptions(d_s.lr));
         const bool hib = higher_is_better(false);
@@ -589,6 +605,9 @@ void training_settings::validate() const
         fail("frames must be >= 10 (split 8:1:1), got " + std::to_string(frames));
     if (epochs < 0 || decoder_epochs < 0)
         fail("epochs must be >= 0");
+    if (mask_settle_epochs < 0)
+        fail("mask_settle_epochs must be >= 0 (0: phase 1 runs every mask epoch), got " +
+             std::to_string(mask_settle_epochs));
     if (batch < 1)
         fail("batch must be >= 1");
     distributed.validate();
@@ -642,6 +661,7 @@ json training_settings::to_json() const
              { "lr", lr },
              { "lr_schedule", "phase 1 constant; phase 2 cosine to lr*" + std::to_string(lr_final_scale) },
              { "patience", patience },
+             { "mask_settle_epochs", mask_settle_epochs },
              { "threads", threads },
              { "seed", seed },
              { "delay_spacing", delay_spacing },

@@ -114,6 +114,13 @@ struct SEMS_LEARNING_API classifier_settings {
                               /// (docs/RESULTS.md, the any-heading scene)
     double chirp_sweep_bins = 2.0; ///< spectral: the largest rate's Doppler change across the frame,
                                    /// in Doppler bins (1/(N T)); the rates spread evenly over ±it
+    int chirp_min_pilots = 3; ///< spectral: the tone/chirp fit counts only the subcarriers with at
+                              /// least this many pilots (1 = every observed one, the legacy value
+                              /// for bundles without this key). On one or two pilots some chirp
+                              /// fits any series exactly, so such subcarriers report "explained"
+                              /// whatever the target is, and a mask learner drifts to masks of one
+                              /// to three symbols across many subcarriers, where the fit says
+                              /// nothing (docs/RESULTS.md, the collapsed no-micro-Doppler seed)
 
     /*! \brief Whether `a` names an architecture. \param a the name. \return true for "spectral" or "resnet". */
     static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }

@@ -65,6 +65,13 @@ struct SEMS_LEARNING_API training_settings {
     double lr = 0.01;                ///< Adam
     double lr_final_scale = 0.02;    ///< cosine schedule of phase 2 ends at lr * this
     int patience = 4;                ///< early stop (phase 2, and phase 1 once at the temperature floor)
+    /*!
+     * \brief Phase 1 ends once the learned mask has stayed the same for this many epochs
+     * (0 = never). The mask epochs it leaves, and those an early stop leaves, go to phase 2:
+     * the budget epochs + decoder_epochs holds, and a mask found early gets a decoder trained
+     * on it for longer (a hand pattern gets every epoch on its mask).
+     */
+    int mask_settle_epochs = 2;
     int threads = 0;                 ///< <= 0: leave LibTorch's default
     uint64_t seed = 1;               ///< seed of data, noise, mask draws and torch::manual_seed
     std::vector<double> eval_snr_db{ 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
