@@ -41,8 +41,7 @@ classifier_decoder_module::classifier_decoder_module(int n, int m, int np, class
 {
     d_s.architecture = "resnet"; // what describe() records
 
-    if (s.n_classes < 2)
-        throw std::invalid_argument("classifier decoder: n_classes must be >= 2");
+    s.validate("classifier decoder");
     d_stem = register_module(
         "stem", torch::nn::Conv2d(torch::nn::Conv2dOptions(2, s.width, { 3, m }).padding({ 1, 0 }).bias(false)));
     d_stem_bn = register_module("stem_bn", torch::nn::BatchNorm2d(s.width));

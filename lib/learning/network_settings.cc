@@ -4,6 +4,7 @@
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <cmath>
+#include <tuple>
 
 namespace gr {
 namespace sems {
@@ -106,9 +107,6 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     classifier_settings s;
     // (make_decoder sets the architecture from the bundle's decoder kind.)
     s.architecture = j.string_or("architecture", s.architecture);
-    if (!known_architecture(s.architecture))
-        json_read::fail(source, "architecture",
-                        "unknown classifier \"" + s.architecture + "\" (known: spectral, resnet)");
     s.n_classes = j.int_or("n_classes", s.n_classes, 2, limits::max_classes);
     s.width = int_or(j, "width", s.width, source, 1);
     s.depth = int_or(j, "depth", s.depth, source, 0);
@@ -116,26 +114,46 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     s.features = int_or(j, "features", s.features, source, 1);
     s.doppler_bins = int_or(j, "doppler_bins", s.doppler_bins, source, 1);
     s.kernel = int_or(j, "kernel", s.kernel, source, 1);
-    if (s.kernel % 2 == 0)
-        json_read::fail(source, "kernel", "must be odd");
     s.range_bins = j.int_or("range_bins", 0, -1, limits::max_network_size); // absent: legacy, no range gate
     s.conv_slope = j.number_or("conv_slope", 0.0); // absent: legacy, plain ReLU
-    if (!(s.conv_slope >= 0.0 && s.conv_slope < 1.0))
-        json_read::fail(source, "conv_slope", "must be in [0, 1), got " + std::to_string(s.conv_slope));
     s.mti = j.string_or("mti", s.mti);
-    if (!known_mti(s.mti))
-        json_read::fail(source, "mti", "unknown zero-Doppler stage \"" + s.mti + "\" (known: none, mean, both)");
     s.chirp_bins = j.int_or("chirp_bins", 0, 0, limits::max_network_size); // absent: legacy, no tone fit
-    if (s.chirp_bins > 0 && s.chirp_bins % 2 == 0)
-        json_read::fail(source, "chirp_bins", "must be 0 (off) or odd (the rates are symmetric around 0), got " +
-                                                  std::to_string(s.chirp_bins));
     s.chirp_sweep_bins = j.number_or("chirp_sweep_bins", s.chirp_sweep_bins);
-    if (!(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
-        json_read::fail(source, "chirp_sweep_bins", "must be finite and > 0, got " + std::to_string(s.chirp_sweep_bins));
     // absent: legacy, every observed subcarrier counts
     s.chirp_min_pilots = j.int_or("chirp_min_pilots", 1, 1, limits::max_network_size);
     j.finish();
+    s.validate(source);
     return s;
+}
+
+void classifier_settings::validate(const std::string& source) const
+{
+    auto fail = [&](const char* key, const std::string& problem) { json_read::fail(source, key, problem); };
+    if (!known_architecture(architecture))
+        fail("architecture", "unknown classifier \"" + architecture + "\" (known: spectral, resnet)");
+    if (n_classes < 2)
+        fail("n_classes", "must be >= 2, got " + std::to_string(n_classes));
+    for (const auto& [key, value, least] : { std::tuple<const char*, int, int>{ "width", width, 1 },
+                                             { "depth", depth, 0 },
+                                             { "hidden", hidden, 1 },
+                                             { "features", features, 1 },
+                                             { "doppler_bins", doppler_bins, 1 } })
+        if (value < least)
+            fail(key, "must be >= " + std::to_string(least) + ", got " + std::to_string(value));
+    if (kernel < 1 || kernel % 2 == 0)
+        fail("kernel", "must be odd and >= 1, got " + std::to_string(kernel));
+    if (range_bins < -1)
+        fail("range_bins", "must be -1 (2·M), 0 (off) or a bin count, got " + std::to_string(range_bins));
+    if (!(conv_slope >= 0.0 && conv_slope < 1.0))
+        fail("conv_slope", "must be in [0, 1), got " + std::to_string(conv_slope));
+    if (!known_mti(mti))
+        fail("mti", "unknown zero-Doppler stage \"" + mti + "\" (known: none, mean, both)");
+    if (chirp_bins < 0 || (chirp_bins > 0 && chirp_bins % 2 == 0))
+        fail("chirp_bins", "must be 0 (off) or odd (the rates are symmetric around 0), got " + std::to_string(chirp_bins));
+    if (!(chirp_sweep_bins > 0.0 && std::isfinite(chirp_sweep_bins)))
+        fail("chirp_sweep_bins", "must be finite and > 0, got " + std::to_string(chirp_sweep_bins));
+    if (chirp_min_pilots < 1)
+        fail("chirp_min_pilots", "must be >= 1, got " + std::to_string(chirp_min_pilots));
 }
 
 std::vector<double> classifier_settings::chirp_rates(int n_symbols) const

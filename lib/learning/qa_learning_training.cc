@@ -4,6 +4,7 @@
  * bad bundles give errors that name the file and the problem. */
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/learning/trainer.h>
+#include "learning/mask_settle_rule.h"
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -87,6 +88,8 @@ class qa_learning_training : public CppUnit::TestFixture
     CPPUNIT_TEST_SUITE(qa_learning_training);
     CPPUNIT_TEST(tiny_run_beats_chance);
     CPPUNIT_TEST(cold_start_mask_beats_random_mask);
+    CPPUNIT_TEST(mask_settle_rule_counts_unchanged_epochs);
+    CPPUNIT_TEST(settled_mask_gives_its_epochs_to_the_decoder);
     CPPUNIT_TEST(bundle_reproduces_trainer_answers);
     CPPUNIT_TEST(same_seed_same_mask_and_metrics);
     CPPUNIT_TEST(bad_bundles_are_refused);
@@ -135,6 +138,52 @@ public:
                              learned.bundle.training.at("encoder").at("kind").get<std::string>());
         CPPUNIT_ASSERT_EQUAL(0, learned.bundle.training.at("encoder").at("soft_epochs").get<int>());
         CPPUNIT_ASSERT_EQUAL(std::string("classifier_spectral"), learned.bundle.decoder.at("kind").get<std::string>());
+    }
+
+    void mask_settle_rule_counts_unchanged_epochs()
+    {
+        const std::vector<int64_t> a{ 3, 1, 2 }, a_reordered{ 2, 3, 1 }, b{ 1, 2, 4 };
+        mask_settle_rule two(2);
+        CPPUNIT_ASSERT(!two.settled_after(a)); // the first mask has nothing to equal
+        CPPUNIT_ASSERT(!two.settled_after(a_reordered));
+        CPPUNIT_ASSERT_EQUAL(1, two.unchanged());
+        CPPUNIT_ASSERT(!two.settled_after(b)); // a change starts the count again
+        CPPUNIT_ASSERT_EQUAL(0, two.unchanged());
+        CPPUNIT_ASSERT(!two.settled_after(b));
+        CPPUNIT_ASSERT(two.settled_after(b));
+        mask_settle_rule never(0);
+        for (int i = 0; i < 5; ++i)
+            CPPUNIT_ASSERT(!never.settled_after(a));
+        CPPUNIT_ASSERT_EQUAL(4, never.unchanged());
+    }
+
+    // The budget holds whether phase 1 stops early or not: its unused epochs go to phase 2
+    // (patience large enough that phase 2 runs them all), and the mask records how many
+    // epochs learned it.
+    void settled_mask_gives_its_epochs_to_the_decoder()
+    {
+        auto s = tiny("");
+        s.epochs = 8;
+        s.decoder_epochs = 2;
+        s.patience = 100;
+        for (const int settle : { 0, 1 }) {
+            s.mask_settle_epochs = settle;
+            const auto r = train(s, nullptr);
+            int mask_epochs = 0, decoder_epochs = 0;
+            for (const auto& e : r.history)
+                (e.at("phase") == "mask" ? mask_epochs : decoder_epochs)++;
+            const std::string what = "settle " + std::to_string(settle) + ": " + std::to_string(mask_epochs) +
+                                     " mask + " + std::to_string(decoder_epochs) + " decoder epochs";
+            CPPUNIT_ASSERT_EQUAL_MESSAGE(what, 10, mask_epochs + decoder_epochs);
+            CPPUNIT_ASSERT_EQUAL_MESSAGE(what, mask_epochs, r.bundle.mask.origin().at("mask_epochs_run").get<int>());
+            CPPUNIT_ASSERT_EQUAL(settle, r.bundle.training.at("mask_settle_epochs").get<int>());
+            if (settle == 0)
+                CPPUNIT_ASSERT_EQUAL_MESSAGE(what, 8, mask_epochs);
+            else
+                CPPUNIT_ASSERT_MESSAGE(what, mask_epochs >= 2); // one epoch cannot have stayed the same
+        }
+        s.mask_settle_epochs = -1;
+        CPPUNIT_ASSERT_THROW(s.validate(), std::invalid_argument);
     }
 
     void bundle_reproduces_trainer_answers()

@@ -39,23 +39,10 @@ torch::Tensor remove_zero_doppler(const torch::Tensor& grid, const torch::Tensor
 spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, int m, int np, classifier_settings s)
     : d_n(n), d_m(m), d_np(np), d_s(s)
 {
-    if (s.n_classes < 2)
-        throw std::invalid_argument("spectral classifier decoder: n_classes must be >= 2");
+    s.validate("spectral classifier decoder");
     if (s.doppler_bins < n)
         throw std::invalid_argument("spectral classifier decoder: doppler_bins must be >= n_symbols = " +
                                     std::to_string(n) + ", got " + std::to_string(s.doppler_bins));
-    if (s.kernel < 1 || s.kernel % 2 == 0)
-        throw std::invalid_argument("spectral classifier decoder: kernel must be odd and >= 1, got " +
-                                    std::to_string(s.kernel));
-    if (!classifier_settings::known_mti(s.mti))
-        throw std::invalid_argument("spectral classifier decoder: unknown mti \"" + s.mti +
-                                    "\" (known: none, mean, both)");
-    if (!(s.conv_slope >= 0.0 && s.conv_slope < 1.0))
-        throw std::invalid_argument("spectral classifier decoder: conv_slope must be in [0, 1), got " +
-                                    std::to_string(s.conv_slope));
-    if (s.range_bins < -1)
-        throw std::invalid_argument("spectral classifier decoder: range_bins must be -1 (2·M), 0 (off) or a "
-                                    "bin count, got " + std::to_string(s.range_bins));
     if (s.range_bins == -1)
         d_s.range_bins = 2 * m; // recorded resolved in bundle.json (describe())
     if (d_s.range_bins > 0) {
@@ -79,15 +66,6 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     d_cos = torch::cos(arg).to(torch::kFloat);
     d_sin = torch::sin(arg).to(torch::kFloat);
     d_dft = torch::cat({ torch::cat({ d_cos, d_sin }, 1), torch::cat({ -d_sin, d_cos }, 1) }, 0); // 2K x 2N
-    if (s.chirp_bins < 0 || (s.chirp_bins > 0 && s.chirp_bins % 2 == 0))
-        throw std::invalid_argument("spectral classifier decoder: chirp_bins must be 0 (off) or odd, got " +
-                                    std::to_string(s.chirp_bins));
-    if (s.chirp_bins > 0 && !(s.chirp_sweep_bins > 0.0 && std::isfinite(s.chirp_sweep_bins)))
-        throw std::invalid_argument("spectral classifier decoder: chirp_sweep_bins must be finite and > 0, got " +
-                                    std::to_string(s.chirp_sweep_bins));
-    if (s.chirp_bins > 0 && s.chirp_min_pilots < 1)
-        throw std::invalid_argument("spectral classifier decoder: chirp_min_pilots must be >= 1, got " +
-                                    std::to_string(s.chirp_min_pilots));
     if (s.chirp_bins > 0) {
         // π α_j (n - (N-1)/2)² per rate (J x N): the chirps are centred on the frame.
         const auto centred = torch::arange(n, torch::kDouble) - 0.5 * (n - 1);

@@ -5,6 +5,7 @@
 #include "learning/delay_decoder.h"
 #include "learning/distributed_context.h"
 #include "learning/malloc_tuning.h"
+#include "learning/mask_settle_rule.h"
 #include "learning/reconstruction_decoder.h"
 #include "learning/semantic_encoder.h"
 #include <gnuradio/sems/learning/trainer.h>
@@ -364,8 +365,7 @@ training_result trainer::run()
         int since_best = 0;
         std::vector<int64_t> best_mask;
         auto best_state = snapshot(dec1);
-        std::vector<int64_t> previous_mask; // sorted
-        int unchanged = 0;                  // epochs the mask has stayed the same
+        mask_settle_rule settle(d_s.mask_settle_epochs);
         for (int e = 0; e < d_s.epochs; ++e) {
             const auto te = clock_type::now();
             const double ce_w = d_s.delay_ce_weight;
@@ -408,10 +408,7 @@ training_result trainer::run()
                 best_state = snapshot(dec1);
             }
             since_best = better ? 0 : since_best + 1;
-            auto sorted_mask = mask_idx;
-            std::sort(sorted_mask.begin(), sorted_mask.end());
-            unchanged = sorted_mask == previous_mask ? unchanged + 1 : 0;
-            previous_mask = std::move(sorted_mask);
+            const bool settled = settle.settled_after(mask_idx);
             // (Every rank holds the same scores and validation sums: they stop together.)
             mask_epochs_left = d_s.epochs - e - 1;
             if (at_floor && since_best >= d_s.patience) {
@@ -419,8 +416,8 @@ training_result trainer::run()
                       std::to_string(mask_epochs_left) + " epochs go to the decoder phase");
                 break;
             }
-            if (d_s.mask_settle_epochs > 0 && unchanged >= d_s.mask_settle_epochs && mask_epochs_left > 0) {
-                print("mask settled: unchanged for " + std::to_string(unchanged) + " epochs; " +
+            if (settled && mask_epochs_left > 0) {
+                print("mask settled: unchanged for " + std::to_string(settle.unchanged()) + " epochs; " +
                       std::to_string(mask_epochs_left) + " epochs go to the decoder phase");
                 break;
             }
@@ -631,10 +628,7 @@ void training_settings::validate() const
         fail("encoder lr_scale must be a positive finite number");
     if (!(encoder.collision_weight >= 0.0) || !std::isfinite(encoder.collision_weight))
         fail("collision_weight must be a finite number >= 0");
-    if (!nn::classifier_settings::known_architecture(classifier.architecture))
-        fail("classifier architecture must be \"spectral\" or \"resnet\", got \"" + classifier.architecture + "\"");
-    if (!nn::classifier_settings::known_mti(classifier.mti))
-        fail("classifier mti must be \"none\", \"mean\" or \"both\", got \"" + classifier.mti + "\"");
+    classifier.validate("training settings: classifier");
     if (task == task_kind::classify && classifier.architecture == "spectral" && classifier.doppler_bins < frame.n_symbols)
         fail("classifier doppler_bins must be >= the frame's " + std::to_string(frame.n_symbols) + " symbols");
 }

@@ -126,6 +126,13 @@ struct SEMS_LEARNING_API classifier_settings {
     static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }
     /*! \brief Whether `m` names an MTI stage. \param m the name. \return true for "none", "mean" or "both". */
     static bool known_mti(const std::string& m) { return m == "none" || m == "mean" || m == "both"; }
+    /*!
+     * \brief Checks every value that does not depend on the frame (one check for the bundle
+     * reader and the decoder's constructor).
+     * \param source names the file or context in errors ("source: key: problem").
+     * \throws std::invalid_argument naming the setting and the value.
+     */
+    void validate(const std::string& source) const;
     //! The tone/chirp fit's rates α_j in cycles per symbol² (chirp_bins of them, 0 in the middle).
     //! \param n_symbols N. \return the rates, ascending.
     std::vector<double> chirp_rates(int n_symbols) const;

@@ -15,7 +15,8 @@
  *     (objective "task": the task decoder; "mse": the channel-reconstruction decoder)
  *     train together; one Gumbel straight-through mask per batch; temperature
  *     annealed per epoch down to its floor; validation on the final (greedy,
- *     distinct) mask.
+ *     distinct) mask. It ends after `epochs`, or once the mask has stayed the same for
+ *     `mask_settle_epochs` epochs (or an early stop): the epochs left go to phase 2.
  *  2. decoder on the fixed final mask (or on mask_file): the task decoder is trained
  *     (objective "task": fine-tuned; "mse": trained from scratch, the paper's
  *     reconstruction-DL baseline) with a cosine learning-rate schedule; the best
