@@ -26,6 +26,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.text  # noqa: E402
 import numpy as np  # noqa: E402
 
 CLASS_COLOURS = {"pedestrian": "tab:blue", "car": "tab:orange", "drone": "tab:green"}
@@ -304,16 +305,19 @@ def exp5(d, out):
 def label_points(ax, placed):
     """Names each point beside it: to its left in the right third of the axes (so the text stays
     inside), and moved a line down (then up) while it would overprint a label or a point
-    already drawn."""
+    already drawn; a moved label gets a thin leader line to its point, so that it cannot be
+    read as naming a neighbour."""
     ax.autoscale_view()
     renderer = ax.figure.canvas.get_renderer()
     boxes = []
     for x, y, name in placed:
         right = ax.transAxes.inverted().transform(ax.transData.transform((x, y)))[0] > 0.67
         for dy in (2, -8, 12, -18, 22, -28, 32):
+            leader = dict(arrowstyle="-", lw=0.5, color="0.5", shrinkA=0, shrinkB=3) if dy != 2 else None
             text = ax.annotate(name, (x, y), fontsize=7, xytext=(-4 if right else 4, dy),
-                               textcoords="offset points", ha="right" if right else "left")
-            box = text.get_window_extent(renderer)
+                               textcoords="offset points", ha="right" if right else "left", arrowprops=leader)
+            text.update_positions(renderer)
+            box = matplotlib.text.Text.get_window_extent(text, renderer)  # the text's box, not its leader's
             if not any(box.overlaps(b) for b in boxes):
                 break
             text.remove()
