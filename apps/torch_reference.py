@@ -138,11 +138,11 @@ class Reference:
         # As spectral_classifier_decoder.cc: per chirp rate, the share of the subcarriers'
         # slow-time energy one common chirp explains, its frequency searched from the profile's
         # peak by two parabolic steps.
-        zr, zi = g[:, 0], g[:, 1]  # B x N x M'
         n_obs = mask.sum(0)
-        counted = (n_obs >= self.chirp_min_pilots - 1e-3).to(g.dtype) if self.chirp_min_pilots > 1 else None
-        if counted is not None:  # only subcarriers with chirp_min_pilots or more pilots
-            n_obs = n_obs * counted
+        if self.chirp_min_pilots > 1:  # only subcarriers with chirp_min_pilots or more pilots: the others zeroed
+            counted = (n_obs >= self.chirp_min_pilots - 1e-3).to(g.dtype)
+            g, n_obs = g * counted, n_obs * counted
+        zr, zi = g[:, 0], g[:, 1]  # B x N x M'
         energy = (n_obs * (zr.square() + zi.square()).sum(1)).sum(1, True) + 1e-12
         nn = torch.arange(self.n, dtype=g.dtype).view(1, 1, -1)
         k = self.dft_cos.shape[0]
@@ -152,8 +152,7 @@ class Reference:
             c, sn = torch.cos(theta), torch.sin(theta)
             re = torch.matmul(c, zr) + torch.matmul(sn, zi)
             im = torch.matmul(c, zi) - torch.matmul(sn, zr)
-            p = re.square() + im.square()
-            return (p * counted if counted is not None else p).sum(2)
+            return (re.square() + im.square()).sum(2)
 
         def vertex(lo, mid, hi, limit):
             den = lo - 2 * mid + hi

@@ -124,15 +124,17 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
     // Every subcarrier's slow-time series z_m[n] = y[n,m], explained by one common chirp with
     // a gain and phase of its own per subcarrier (the target's delay phase): exact on any mask,
     // whatever symbols each subcarrier observes.
-    const auto zr = g.select(1, 0), zi = g.select(1, 1);        // B x N x M'
     auto n_obs = mask4(mask, g).detach().squeeze(1).sum(1); // B' x M': pilots per subcarrier
+    auto z = g;
     // Only subcarriers with chirp_min_pilots or more count (a soft mask's weights summed):
-    // some chirp explains one or two pilots exactly, whatever the target. Weighted by 0/1.
-    torch::Tensor counted;
+    // some chirp explains one or two pilots exactly, whatever the target. The others' series
+    // are zeroed once, so they add nothing to the energy nor to any power below.
     if (d_s.chirp_min_pilots > 1) {
-        counted = (n_obs >= d_s.chirp_min_pilots - 1e-3).to(g.dtype());
+        const auto counted = (n_obs >= d_s.chirp_min_pilots - 1e-3).to(g.dtype());
+        z = g * counted.unsqueeze(1).unsqueeze(1); // B' x 1 x 1 x M'
         n_obs = n_obs * counted;
     }
+    const auto zr = z.select(1, 0), zi = z.select(1, 1); // B x N x M'
     // Cauchy-Schwarz: Σ_m |Σ_n z_m[n] u[n]|² <= Σ_m n_m Σ_n |z_m[n]|² for a unit-modulus u,
     // with equality iff every series is that chirp: the share E is in [0, 1] (0 when no
     // subcarrier counts: a constant feature, nothing to learn from).
@@ -143,8 +145,7 @@ torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& 
         const auto c = torch::cos(theta), sn = torch::sin(theta);
         const auto re = torch::matmul(c, zr) + torch::matmul(sn, zi); // B x J x M'
         const auto im = torch::matmul(c, zi) - torch::matmul(sn, zr);
-        const auto p = re.square() + im.square();
-        return (counted.defined() ? p * counted.unsqueeze(1) : p).sum(2);
+        return (re.square() + im.square()).sum(2);
     };
     torch::Tensor f_best;
     {
