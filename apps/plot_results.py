@@ -497,21 +497,23 @@ def learned_vs_hand(rows, scenario):
     per SNR: means over training seeds and whether SemS >= best - 2 standard errors.
 
     The standard error of a method's mean is the seeds' standard deviation over sqrt(seeds),
-    floored by the binomial error of that mean on the test frames (sqrt(p(1-p)/(frames·seeds)));
-    the difference's error adds the two in quadrature (the test frames are the same, so this
-    is conservative)."""
+    floored by the binomial error of that mean on the method's own test frames
+    (sqrt(p(1-p)/(frames·seeds)); a bound's rows beside them, e.g. the Bayes classifier's 30 000
+    frames, do not count); the difference's error adds the two in quadrature (the test frames
+    are the same, so this is conservative)."""
     rs = [r for r in rows if r["scenario"] == scenario]
     hands = sorted({r["method"] for r in rs if r["method"].startswith("SemS decoder (")})
     if not hands or not any(r["method"] == "SemS" for r in rs):
         return None
 
     def stats(method, snr):
-        v = [fnum(r["accuracy"]) for r in rs if r["method"] == method and fnum(r["snr_db"]) == snr]
-        if not v:
+        own = [r for r in rs if r["method"] == method and fnum(r["snr_db"]) == snr]
+        if not own:
             return None
+        v = [fnum(r["accuracy"]) for r in own]
         n, m = len(v), sum(v) / len(v)
         sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1)) if n > 1 else 0.0
-        frames = max(int(fnum(r["n_frames"])) for r in rs)
+        frames = min(int(fnum(r["n_frames"])) for r in own)
         se = max(sd / math.sqrt(n), math.sqrt(max(m * (1 - m), 1e-12) / (frames * n)))
         return m, se, n
 

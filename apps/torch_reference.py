@@ -74,10 +74,9 @@ class Reference:
             self.dft = torch.cat([torch.cat([self.dft_cos, self.dft_sin], 1), torch.cat([-self.dft_sin, self.dft_cos], 1)], 0)
             self.chirp_bins = self.s.get("chirp_bins", 0)  # absent: the legacy network, no tone fit
             self.chirp_min_pilots = self.s.get("chirp_min_pilots", 1)  # absent: every observed subcarrier
-            if self.chirp_bins > 0:  # π α_j (n - (N-1)/2)², as classifier_settings::chirp_rates
-                half = self.chirp_bins // 2
-                rates = torch.tensor([self.s["chirp_sweep_bins"] * (j - half) / (half * self.n * self.n) if half else 0.0
-                                      for j in range(self.chirp_bins)], dtype=torch.double)
+            if self.chirp_bins > 0:  # π α_j (n - (N-1)/2)², the rates α_j from the C++ definition
+                from gnuradio import sems
+                rates = torch.tensor(sems.classifier_chirp_rates(json.dumps(self.s), self.n), dtype=torch.double)
                 centred = torch.arange(self.n, dtype=torch.double) - 0.5 * (self.n - 1)
                 self.chirp_phase = ((math.pi * rates).unsqueeze(1) * centred.square().unsqueeze(0)).float()
             self.range_bins = self.s.get("range_bins", 0)  # absent: the legacy pooled profile

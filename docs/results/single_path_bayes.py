@@ -24,6 +24,14 @@ the range interval, read off the frames), and the same frames go through the bun
 Further bundles on the same mask (--bundle again) get a column each on the same frames;
 --without-global-peak adds the first bundle with refine_global_peak off (its copy in a
 temporary directory), the decoder as it was before that setting.
+
+--mask FILE (repeatable; one-symbol pilot masks, mask.json format) computes the bound and ML
+on each of those masks instead of a bundle's, on the same channels and noise for every mask:
+how the ratio to the CRB moves with the mask (a contiguous block of subcarriers has a larger
+CRB and fewer sidelobes than a spread one), e.g.
+
+    PYTHONPATH=build/python_pkg /usr/bin/python3 docs/results/single_path_bayes.py \
+        --mask models/delay_single/mask.json --mask contiguous.json --frames 100000 --snr 20
 """
 import argparse
 import json
@@ -90,6 +98,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bundle", action="append", help="single-path delay bundle (repeatable; default "
                     "models/delay_single); the first one's mask is used")
+    ap.add_argument("--mask", action="append", default=[],
+                    help="one-symbol pilot mask file (repeatable): the bound and ML on each, no bundle")
     ap.add_argument("--without-global-peak", action="store_true",
                     help="also the first bundle with decoder.settings.refine_global_peak = false")
     ap.add_argument("--frames", type=int, default=200000)
@@ -99,6 +109,10 @@ def main():
     args = ap.parse_args()
     from gnuradio import sems
 
+    if args.mask:
+        if args.bundle or args.without_global_peak:
+            sys.exit("single_path_bayes: --mask scores masks only; leave out --bundle and --without-global-peak")
+        return masks_only(sems, args)
     bundles = args.bundle or ["models/delay_single"]
     labels = [os.path.basename(os.path.normpath(b)) for b in bundles]
     tmp = tempfile.mkdtemp()
@@ -115,12 +129,7 @@ def main():
     fs = sems.frame_settings()
     mask = sems.pilot_mask.load(bundles[0] + "/mask.json")
     pos = mask.positions()
-    syms = {n for n, _ in pos}
-    if len(syms) != 1:
-        sys.exit("single_path_bayes: %s's mask spans symbols %s; this bound needs pilots on one symbol "
-                 "(an unknown Doppler phase per symbol otherwise)" % (bundles[0], sorted(syms)))
-    sym = syms.pop()
-    sub = np.array([m for _, m in pos])
+    sym, sub = one_symbol(bundles[0] + "/mask.json", mask)
     decs = [sems.bundle_decoder(b, 1) for b in bundles]
     for b, d in zip(bundles[1:], decs[1:]):
         other = sems.pilot_mask.load(b + "/mask.json").positions()
@@ -162,6 +171,44 @@ def main():
               + "".join("  [%d] %.3f %%" % (i, 100 * (e > 0.5).mean()) for i, e in enumerate(e_nets))
               + "; Bayes MAE of the frames with |alpha|^2 >= 0.01: %.5f" % e_b[gain >= 0.01].mean(), flush=True)
     shutil.rmtree(tmp)
+    print("single_path_bayes: done in %.0f s" % (time.time() - t0))
+
+
+def one_symbol(path, mask):
+    """The pilot symbol and subcarriers of a one-symbol mask, or exit naming the file."""
+    pos = mask.positions()
+    syms = {n for n, _ in pos}
+    if len(syms) != 1:
+        sys.exit("single_path_bayes: %s spans symbols %s; this bound needs pilots on one symbol "
+                 "(an unknown Doppler phase per symbol otherwise)" % (path, sorted(syms)))
+    return syms.pop(), np.array([m for _, m in pos])
+
+
+def masks_only(sems, args):
+    """The bound, ML and the CRB on each --mask, the same channels and noise for every mask."""
+    fs = sems.frame_settings()
+    t0 = time.time()
+    print("single_path_bayes: %d masks, %d frames per SNR, grid spacing %g; the same channels (seed %d) "
+          "and noise for every mask" % (len(args.mask), args.frames, args.spacing, args.seed), flush=True)
+    print("%-40s %6s %10s %10s %8s %10s %8s %12s %10s" % ("mask", "SNR dB", "CRB MAE", "Bayes MAE", "/CRB",
+                                                         "ML MAE", "/CRB", "Bayes 2 SE", "> 0.5 idx"))
+    for path in args.mask:
+        mask = sems.pilot_mask.load(path)
+        sym, sub = one_symbol(path, mask)
+        clean, tau, _ = frames_of(sems, fs, sub, sym, args.frames, args.seed)
+        lo, hi = float(np.floor(tau.min())), float(np.ceil(tau.max()))
+        rng = np.random.default_rng(args.seed + 1)
+        for snr in [float(s) for s in args.snr.split(",")]:
+            sigma2 = 10 ** (-snr / 10)
+            noise = (rng.standard_normal(clean.shape) + 1j * rng.standard_normal(clean.shape)) * math.sqrt(sigma2 / 2)
+            med, ml = bayes_and_ml((clean + noise).astype(np.complex64), sub, fs.n_subcarriers, sigma2, lo, hi,
+                                   args.spacing)
+            crb = sems.delay_crb.mae_index(fs, mask, snr)
+            e_b, e_ml = np.abs(med - tau), np.abs(ml - tau)
+            print("%-40s %6g %10.5f %10.5f %7.2fx %10.5f %7.2fx %12.5f %9.3f%%" % (
+                os.path.basename(os.path.dirname(path)) + "/" + os.path.basename(path) if "/" in path else path,
+                snr, crb, e_b.mean(), e_b.mean() / crb, e_ml.mean(), e_ml.mean() / crb,
+                2 * e_b.std() / math.sqrt(len(e_b)), 100 * (e_b > 0.5).mean()), flush=True)
     print("single_path_bayes: done in %.0f s" % (time.time() - t0))
 
 

@@ -15,6 +15,8 @@ docs/RESULTS.md, "The tone/chirp fit":
 
     PYTHONPATH=build/python_pkg OMP_NUM_THREADS=1 /usr/bin/python3 docs/results/tone_fit_probe.py
 """
+import json
+
 import numpy as np
 import torch
 
@@ -57,8 +59,8 @@ def tone_fit(y, rates=9, sweep=2.0, grid=512):
     f = np.exp(-2j * np.pi * np.outer(np.arange(grid), n) / grid)
     total = (np.abs(y) ** 2).sum(1) * N + 1e-30
     out = []
-    for j in range(rates):
-        a = sweep * (j - rates // 2) / (rates // 2) / N ** 2
+    # the decoder's rates (classifier_settings::chirp_rates)
+    for a in sems.classifier_chirp_rates(json.dumps({"chirp_bins": rates, "chirp_sweep_bins": sweep}), N):
         e = (np.abs((y * np.exp(-1j * np.pi * a * c ** 2)) @ f.T) ** 2).max(1) / total
         out.append(np.log(1 - e + 1e-4))
     return np.stack(out, 1)

@@ -26,7 +26,7 @@ _LAZY_MODULES = {
     "learning_python": (
         "task_kind", "task_name", "task_from_name", "model_bundle", "bundle_decoder",
         "training_settings", "training_result", "train", "classifier_sink",
-        "delay_estimator_sink", "sink_defaults",
+        "delay_estimator_sink", "sink_defaults", "classifier_chirp_rates",
     ),
     "baselines_python": (
         "delay_search", "slow_time_model", "periodogram_delay_estimator",

@@ -50,6 +50,21 @@ class qa_learning(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "does not exist"):
             sems.model_bundle.load("/nonexistent/bundle")
 
+    def test_classifier_chirp_rates(self):
+        """The tone fit's rates from the one C++ definition: chirp_bins of them, symmetric, 0 in the
+        middle, the largest sweeping chirp_sweep_bins Doppler bins over N symbols (alpha N^2)."""
+        n = 32
+        r = sems.classifier_chirp_rates('{"chirp_bins": 5, "chirp_sweep_bins": 2.0}', n)
+        np.testing.assert_allclose(r, [2.0 * (j - 2) / (2 * n * n) for j in range(5)], rtol=0, atol=1e-15)
+        self.assertEqual(sems.classifier_chirp_rates('{"chirp_bins": 1}', n), [0.0])
+        self.assertEqual(sems.classifier_chirp_rates('{"chirp_bins": 0}', n), [])
+        with self.assertRaisesRegex(ValueError, "chirp_bins"):  # even: not symmetric around 0
+            sems.classifier_chirp_rates('{"chirp_bins": 4}', n)
+        with self.assertRaisesRegex(ValueError, "chirp_sweep_bins"):
+            sems.classifier_chirp_rates('{"chirp_bins": 3, "chirp_sweep_bins": 0}', n)
+        with self.assertRaisesRegex(ValueError, "n_symbols"):
+            sems.classifier_chirp_rates('{"chirp_bins": 3}', 0)
+
     def test_tiny_train(self):
         s = sems.training_settings()
         s.task = sems.task_kind.delay

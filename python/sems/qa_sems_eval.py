@@ -182,6 +182,29 @@ class qa_sems_eval(gr_unittest.TestCase):
         r = subprocess.run(["/usr/bin/python3", PLOT, "/nonexistent/dir"], capture_output=True, text=True)
         self.assertNotEqual(r.returncode, 0)
 
+    def test_003_learned_vs_hand_errors_use_each_methods_own_frames(self):
+        """The 2-SE comparison of the learned mask with the best hand pattern: each mean's error
+        is floored by the binomial error on that method's own test frames (frames x seeds); a
+        bound's rows beside them on 10x the frames (the Bayes classifier's 30 000) must not
+        shrink it. Closed form here: two methods at p = 0.9 on 3 000 frames x 3 seeds with no
+        seed spread: 2 SE = 2 sqrt(2 p (1-p) / 9000) = 0.0089."""
+        sys.path.insert(0, os.path.dirname(PLOT))
+        import plot_results
+
+        def row(method, acc, seed, frames=3000):
+            return {"scenario": "any", "method": method, "snr_db": "10", "accuracy": str(acc),
+                    "n_frames": str(frames), "train_seed": str(seed)}
+
+        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.895), ("SemS decoder (doppler pilots)", 0.9))]
+        two_se = 2 * (2 * 0.9 * 0.1 / 9000) ** 0.5  # the floor dominates: no spread over seeds
+        for extra in ([], [row("Bayes classifier (bound)", 0.95, "none", frames=30000)]):
+            line = plot_results.learned_vs_hand(rs + extra, "any").splitlines()[-1]
+            self.assertIn("-0.005 ± %.3f" % two_se, line, line)  # well within: 0.0089 > 0.005
+            self.assertTrue(line.endswith("| yes |"), line)
+        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.88), ("SemS decoder (doppler pilots)", 0.9))]
+        line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
+        self.assertTrue(line.endswith("| **no** |"), line)  # 0.02 is beyond 2 SE
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)

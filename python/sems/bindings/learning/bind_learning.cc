@@ -184,6 +184,23 @@ void bind_learning(py::module& m)
         .def("validate", &training_settings::validate)
         .def("to_json_string", [](const training_settings& s) { return s.to_json().dump(); });
 
+    // The tone/chirp fit's rates from a classifier's settings (bundle.json's decoder
+    // settings as JSON text), so Python references and probes take them from the one C++
+    // definition instead of writing the formula out again.
+    m.def(
+        "classifier_chirp_rates",
+        [](const std::string& classifier_json, int n_symbols) {
+            if (n_symbols < 1)
+                throw std::invalid_argument("classifier_chirp_rates: n_symbols must be >= 1, got " +
+                                            std::to_string(n_symbols));
+            return nn::classifier_settings::from_json(nlohmann::json::parse(classifier_json), "classifier_json")
+                .chirp_rates(n_symbols);
+        },
+        py::arg("classifier_json"), py::arg("n_symbols"),
+        "The tone/chirp fit's chirp rates (cycles per symbol^2, ascending, chirp_bins of them) of a "
+        "classifier's settings given as JSON text (bundle.json's decoder settings; missing keys take "
+        "their defaults)");
+
     py::class_<training_result>(m, "training_result", D(training_result))
         .def_readonly("bundle", &training_result::bundle)
         .def_readonly("seconds", &training_result::seconds)
