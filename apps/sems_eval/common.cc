@@ -257,16 +257,38 @@ training_settings hand_pattern_training(training_settings sems, const std::strin
     return sems;
 }
 
+namespace {
+
+// What a cached network must have been trained with to be reused: the training record plus
+// what that record leaves to bundle.json's other sections — the task, the frame, the scene
+// and every decoder's settings. (Without the last, a change of e.g. the classifier's tone fit
+// or MTI stage between runs reused networks trained without it.)
+nlohmann::json cache_key(const training_settings& s)
+{
+    auto key = s.to_json();
+    key.erase("command");
+    key.erase("command_line");
+    key.erase("out_dir");
+    key["task"] = task_name(s.task);
+    key["frame"] = s.frame.to_json();
+    key["scene"] = s.scene_spec ? s.scene_spec->to_json() : nlohmann::json("random");
+    key["classifier"] = s.classifier.to_json();
+    key["delay"] = s.delay.to_json();
+    key["reconstruction"] = s.reconstruction.to_json();
+    // As stored: JSON text has no infinity (the noiseless networks' SNR range reads back as
+    // null), so compare the key after the same round trip or those never match their cache.
+    return nlohmann::json::parse(key.dump());
+}
+
+} // namespace
+
 decoder_source train_or_load(const config& c, const std::string& name, training_settings s, std::ostream& log)
 {
     decoder_source out;
     const auto dir = fsys::path(c.out_dir) / "bundles" / name;
     s.out_dir = dir.string();
     s.command_line = c.command_line + "  [sems_eval model " + name + "]";
-    auto key = s.to_json();
-    key.erase("command");
-    key.erase("command_line");
-    key.erase("out_dir");
+    const auto key = cache_key(s);
     const auto key_file = dir / "eval_key.json";
     if (fsys::exists(key_file) && fsys::exists(dir / model_bundle::bundle_file)) {
         std::ifstream in(key_file);

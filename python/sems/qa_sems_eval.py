@@ -205,6 +205,45 @@ class qa_sems_eval(gr_unittest.TestCase):
         line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
         self.assertTrue(line.endswith("| **no** |"), line)  # 0.02 is beyond 2 SE
 
+    def test_004_cache_reuses_only_networks_trained_with_the_same_settings(self):
+        """A re-run reuses every cached network whose settings match, and retrains one whose
+        stored key differs in a decoder setting (the classifier's tone fit) or in the scene,
+        which the training record alone does not hold."""
+        def run(out):
+            r = subprocess.run([EVAL, "--size", "test", "--seeds", "1", "--experiments", "1", "--out", out,
+                                "--threads", "1"], capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
+            text = r.stdout + r.stderr
+            return ({l.split("model ")[1].split(":")[0] for l in text.splitlines() if ": training (" in l},
+                    {l.split("model ")[1].split(":")[0] for l in text.splitlines() if ": reusing " in l})
+
+        with tempfile.TemporaryDirectory() as out:
+            trained, reused = run(out)
+            self.assertGreater(len(trained), 5)
+            self.assertEqual(reused, set())
+            self.assertEqual(run(out), (set(), trained))
+            # The key holds what bundle.json keeps outside its training record.
+            d = os.path.join(out, "bundles", "cls_default_sems_s2026")
+            with open(os.path.join(d, "eval_key.json")) as f:
+                key = json.load(f)["key"]
+            with open(os.path.join(d, "bundle.json")) as f:
+                info = json.load(f)
+            self.assertEqual(key["task"], "classify")
+            self.assertEqual(key["frame"], info["frame"])
+            self.assertEqual(key["scene"], info["training"]["scene"])
+            self.assertEqual(set(key["classifier"]), set(info["decoder"]["settings"]))
+            self.assertEqual(key["classifier"]["chirp_bins"], info["decoder"]["settings"]["chirp_bins"])
+            for name, edit in (("cls_default_sems_s2026", lambda k: k["classifier"].update(chirp_bins=0)),
+                               ("cls_any_doppler_s2026", lambda k: k.update(scene="another scene"))):
+                path = os.path.join(out, "bundles", name, "eval_key.json")
+                with open(path) as f:
+                    stored = json.load(f)
+                edit(stored["key"])
+                with open(path, "w") as f:
+                    json.dump(stored, f)
+            self.assertEqual(run(out), ({"cls_default_sems_s2026", "cls_any_doppler_s2026"},
+                                        trained - {"cls_default_sems_s2026", "cls_any_doppler_s2026"}))
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)
