@@ -607,6 +607,10 @@ void training_settings::validate() const
              std::to_string(mask_settle_epochs));
     if (batch < 1)
         fail("batch must be >= 1");
+    for (const auto& [name, w] : { std::pair<const char*, double>{ "delay_ce_weight", delay_ce_weight },
+                                   { "delay_ce_weight_final", delay_ce_weight_final } })
+        if (!(w >= 0.0 && std::isfinite(w)))
+            fail(std::string(name) + " must be finite and >= 0, got " + std::to_string(w));
     distributed.validate();
     if (batch % distributed.world_size != 0)
         fail("batch " + std::to_string(batch) + " (global) must be a multiple of the world size " +
@@ -660,6 +664,8 @@ json training_settings::to_json() const
              { "seed", seed },
              { "delay_spacing", delay_spacing },
              { "delay_margin", delay_margin },
+             { "delay_ce_weight", delay_ce_weight },
+             { "delay_ce_weight_final", delay_ce_weight_final },
              { "encoder", encoder.to_json() },
              { "command_line", command_line } };
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: learning from Python — bundle loading, numpy inference, errors, a tiny train()."""
+import json
 import os
 import tempfile
 
@@ -76,12 +77,23 @@ class qa_learning(gr_unittest.TestCase):
         s.snr_min_db = s.snr_max_db = 30.0
         s.threads = 1
         s.verbose = False
+        s.mask_settle_epochs = 0
+        s.delay_ce_weight, s.delay_ce_weight_final = 0.5, 0.1
         with tempfile.TemporaryDirectory() as d:
             s.out_dir = d
             r = sems.train(s)
             self.assertEqual(r.test_obs.shape, (40, 16))
+            # Every setting set from Python reaches the trainer and its record.
+            training = json.loads(r.bundle.training_json)
+            self.assertEqual(training["mask_settle_epochs"], 0)
+            self.assertEqual((training["delay_ce_weight"], training["delay_ce_weight_final"]), (0.5, 0.1))
             dec = sems.bundle_decoder(d, 1)
             np.testing.assert_allclose(dec.estimate_delay_index(r.test_obs), r.test_delay_index, atol=1e-4)
+        for name, bad in (("mask_settle_epochs", -1), ("delay_ce_weight", -0.5), ("delay_ce_weight_final", float("nan"))):
+            t = sems.training_settings()
+            setattr(t, name, bad)
+            with self.assertRaisesRegex(ValueError, name):
+                t.validate()
 
 
 if __name__ == "__main__":
