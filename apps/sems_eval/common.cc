@@ -266,9 +266,7 @@ namespace {
 nlohmann::json cache_key(const training_settings& s)
 {
     auto key = s.to_json();
-    key.erase("command");
-    key.erase("command_line");
-    key.erase("out_dir");
+    key.erase("command_line"); // names the run, not the network
     key["task"] = task_name(s.task);
     key["frame"] = s.frame.to_json();
     key["scene"] = s.scene_spec ? s.scene_spec->to_json() : nlohmann::json("random");

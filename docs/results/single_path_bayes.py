@@ -62,6 +62,13 @@ def frames_of(sems, fs, mask_sub, mask_sym, n, seed, chunk=4000):
     return np.concatenate(pil), np.concatenate(tau), np.concatenate(gain)
 
 
+def noisy(clean, snr, rng):
+    """The pilots with CN(0, sigma^2) noise at `snr` dB per resource element, and sigma^2."""
+    sigma2 = 10 ** (-snr / 10)
+    noise = (rng.standard_normal(clean.shape) + 1j * rng.standard_normal(clean.shape)) * math.sqrt(sigma2 / 2)
+    return (clean + noise).astype(np.complex64), sigma2
+
+
 def bayes_and_ml(y, sub, m, sigma2, lo, hi, spacing, chunk=400):
     """Posterior median and maximum (grid + parabola) of the delay index, uniform prior on [lo, hi]."""
     grid = np.arange(lo, hi + spacing / 2, spacing)
@@ -148,9 +155,7 @@ def main():
           + "".join(" %10s %8s" % ("[%d] MAE" % i, "/CRB") for i in range(len(bundles)))
           + " %12s" % "Bayes 2 SE")
     for snr in [float(s) for s in args.snr.split(",")]:
-        sigma2 = 10 ** (-snr / 10)
-        noise = (rng.standard_normal(clean.shape) + 1j * rng.standard_normal(clean.shape)) * math.sqrt(sigma2 / 2)
-        y = (clean + noise).astype(np.complex64)
+        y, sigma2 = noisy(clean, snr, rng)
         med, ml = bayes_and_ml(y, sub, fs.n_subcarriers, sigma2, lo, hi, args.spacing)
         e_nets = []
         for dec in decs:
@@ -199,10 +204,8 @@ def masks_only(sems, args):
         lo, hi = float(np.floor(tau.min())), float(np.ceil(tau.max()))
         rng = np.random.default_rng(args.seed + 1)
         for snr in [float(s) for s in args.snr.split(",")]:
-            sigma2 = 10 ** (-snr / 10)
-            noise = (rng.standard_normal(clean.shape) + 1j * rng.standard_normal(clean.shape)) * math.sqrt(sigma2 / 2)
-            med, ml = bayes_and_ml((clean + noise).astype(np.complex64), sub, fs.n_subcarriers, sigma2, lo, hi,
-                                   args.spacing)
+            y, sigma2 = noisy(clean, snr, rng)
+            med, ml = bayes_and_ml(y, sub, fs.n_subcarriers, sigma2, lo, hi, args.spacing)
             crb = sems.delay_crb.mae_index(fs, mask, snr)
             e_b, e_ml = np.abs(med - tau), np.abs(ml - tau)
             print("%-40s %6g %10.5f %10.5f %7.2fx %10.5f %7.2fx %12.5f %9.3f%%" % (

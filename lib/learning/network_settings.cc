@@ -4,6 +4,7 @@
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <cmath>
+#include <stdexcept>
 #include <tuple>
 
 namespace gr {
@@ -160,6 +161,8 @@ std::vector<double> classifier_settings::chirp_rates(int n_symbols) const
 {
     // A chirp of rate α (cycles/symbol²) changes frequency by α N cycles/symbol over the frame,
     // α N² Doppler bins: the largest rate sweeps chirp_sweep_bins bins.
+    if (n_symbols < 1)
+        throw std::invalid_argument("classifier chirp_rates: n_symbols must be >= 1, got " + std::to_string(n_symbols));
     const int half = chirp_bins / 2;
     std::vector<double> a(chirp_bins, 0.0); // one rate (or none): 0
     for (int j = 0; half > 0 && j < chirp_bins; ++j)

@@ -134,7 +134,8 @@ struct SEMS_LEARNING_API classifier_settings {
      */
     void validate(const std::string& source) const;
     //! The tone/chirp fit's rates α_j in cycles per symbol² (chirp_bins of them, 0 in the middle).
-    //! \param n_symbols N. \return the rates, ascending.
+    //! \param n_symbols N (>= 1). \return the rates, ascending.
+    //! \throws std::invalid_argument for n_symbols < 1.
     std::vector<double> chirp_rates(int n_symbols) const;
     /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;

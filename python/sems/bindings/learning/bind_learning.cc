@@ -193,9 +193,6 @@ void bind_learning(py::module& m)
     m.def(
         "classifier_chirp_rates",
         [](const std::string& classifier_json, int n_symbols) {
-            if (n_symbols < 1)
-                throw std::invalid_argument("classifier_chirp_rates: n_symbols must be >= 1, got " +
-                                            std::to_string(n_symbols));
             return nn::classifier_settings::from_json(nlohmann::json::parse(classifier_json), "classifier_json")
                 .chirp_rates(n_symbols);
         },
