@@ -2,7 +2,9 @@
 /* gr-sems: the channel model (see channel_model.h for the equations). */
 #include "core/complex_kernels.h"
 #include "core/gaussian_generator.h"
+#include "core/micro_motion_params.h"
 #include "core/rng.h"
+#include "core/scatterer_moments.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/steering.h>
 #include <cmath>
@@ -38,36 +40,172 @@ void check_inside_frame(const frame_settings& fs, double range_m, double peak_do
                                     " Hz of the frame (1/(2T))");
 }
 
+// A target of a moving fixed scene at time t (the frame's first symbol): R(t) = R_0 − v t
+// inside the track; at an end it starts the pass again (restart) or turns around (reflect).
+void move_along_track(target_spec& t, const track_spec& track, double t_s)
+{
+    const double v = t.velocity_mps;
+    if (v == 0.0)
+        return;
+    const double lo = track.range_min_m, hi = track.range_max_m;
+    if (track.at_bound == track_bound::restart) {
+        const double pass_s = (v > 0.0 ? t.range_m - lo : hi - t.range_m) / std::fabs(v);
+        if (!(pass_s > 0.0)) // starts at the end it moves towards: it stays there
+            return;
+        const double tau = std::fmod(t_s, pass_s);
+        t.range_m -= v * tau;
+        return;
+    }
+    // reflect: unfold onto a line of period 2(hi − lo), fold back into [lo, hi]
+    const double len = hi - lo;
+    double x = std::fmod(t.range_m - lo - v * t_s, 2.0 * len);
+    if (x < 0.0)
+        x += 2.0 * len;
+    const bool returning = x > len;
+    t.range_m = lo + (returning ? 2.0 * len - x : x);
+    if (returning) { // on the way back: the radial velocity and the heading turn around
+        t.velocity_mps = -v;
+        if (!std::isnan(t.speed_mps))
+            t.heading_rad += M_PI;
+    }
+}
+
 } // namespace
 
 // --- frame_channel --------------------------------------------------------------
 
+struct frame_channel::scratch {
+    std::vector<detail::expansion_plan> plans;        // per body
+    std::vector<size_t> g_offset;                     // per body: its moments in g
+    std::vector<std::complex<double>> g;              // per body: N x S x (P+1), scaled by δk_max^p
+    std::vector<double> dk_scale;                     // per body: δk_max of its sub-bands
+    detail::body_snapshot snap;
+};
+
 frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
-    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
 {
-    update(paths, first_symbol);
+    update(paths, nullptr, first_symbol);
+}
+
+frame_channel::frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
+{
+    update(r.paths, &r.bodies, first_symbol);
+}
+
+frame_channel::~frame_channel() = default;
+frame_channel::frame_channel(frame_channel&&) noexcept = default;
+frame_channel& frame_channel::operator=(frame_channel&&) noexcept = default;
+frame_channel::frame_channel(const frame_channel& o)
+    : d_fs(o.d_fs),
+      d_n(o.d_n),
+      d_m(o.d_m),
+      d_l(o.d_l),
+      d_slow(o.d_slow),
+      d_delay(o.d_delay),
+      d_delay_key(o.d_delay_key),
+      d_scratch(std::make_unique<scratch>()) // working memory only: nothing to copy
+{
+}
+frame_channel& frame_channel::operator=(const frame_channel& o)
+{
+    if (this != &o)
+        *this = frame_channel(o);
+    return *this;
 }
 
 void frame_channel::update(const std::vector<channel_path>& paths, uint64_t first_symbol)
 {
-    // resize() keeps the capacity: once grown to the scene's path count, no allocation.
-    d_l = static_cast<int>(paths.size());
-    d_slow.resize(size_t(d_l) * d_n);
-    d_delay.resize(size_t(d_l) * d_m);
-    // A row is recomputed only when its path's delay changed: a fixed scene's delay rows
-    // are the same every frame (the same values, not an approximation of them).
-    d_delay_s.resize(size_t(d_l), std::numeric_limits<double>::quiet_NaN());
+    update(paths, nullptr, first_symbol);
+}
+
+void frame_channel::update(const frame_realization& r, uint64_t first_symbol)
+{
+    update(r.paths, &r.bodies, first_symbol);
+}
+
+void frame_channel::update(const std::vector<channel_path>& paths,
+                           const std::vector<scatterer_body>* bodies,
+                           uint64_t first_symbol)
+{
     const frame_settings& fs = d_fs;
     const double T = fs.symbol_interval_s;
+    auto& sc = *d_scratch;
+
+    // Scatterer bodies: each one's expansion (scatterer_moments.h) and its moments per symbol.
+    const size_t n_bodies = bodies ? bodies->size() : 0;
+    sc.plans.resize(n_bodies);
+    sc.g_offset.resize(n_bodies);
+    sc.dk_scale.resize(n_bodies);
+    size_t g_size = 0;
+    const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    for (size_t b = 0; b < n_bodies; ++b) {
+        const detail::body_model model((*bodies)[b], fs);
+        const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());
+        sc.plans[b] = plan;
+        sc.g_offset[b] = g_size;
+        sc.dk_scale[b] = std::max(0.5 * (plan.band_len - 1) * dk, 1e-300);
+        g_size += size_t(d_n) * plan.terms();
+        sc.g.resize(g_size);
+        const int terms = plan.order + 1;
+        for (int n = 0; n < d_n; ++n) {
+            const double t = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
+            model.snapshot(t, sc.snap);
+            for (int band = 0; band < plan.sub_bands; ++band) {
+                const int m0 = band * plan.band_len;
+                const int len = std::min(plan.band_len, d_m - m0);
+                const double f_ref = fs.carrier_hz + (m0 + 0.5 * (len - 1)) * fs.subcarrier_spacing_hz();
+                std::complex<double>* g = sc.g.data() + sc.g_offset[b] + (size_t(n) * plan.sub_bands + band) * terms;
+                detail::moments(sc.snap, 4.0 * M_PI * f_ref / speed_of_light_mps, plan.order, g);
+                double scale = 1.0; // G_p δk_max^p: the delay rows hold (δk/δk_max)^p ∈ [−1, 1]
+                for (int p = 0; p < terms; ++p, scale *= sc.dk_scale[b])
+                    g[p] *= scale;
+            }
+        }
+    }
+
+    // Rows: one per point path, plan.terms() per scatterer-body path.
+    int rows = 0;
+    for (const auto& p : paths) {
+        if (p.body < 0) {
+            ++rows;
+            continue;
+        }
+        if (static_cast<size_t>(p.body) >= n_bodies)
+            throw std::invalid_argument("frame_channel: a path refers to scatterer body " + std::to_string(p.body) +
+                                        " but the frame has " + std::to_string(n_bodies));
+        rows += sc.plans[p.body].terms();
+    }
+    // resize() keeps the capacity: once grown to the scene's row count, no allocation.
+    d_l = rows;
+    d_slow.resize(size_t(d_l) * d_n);
+    d_delay.resize(size_t(d_l) * d_m);
+    // A row is recomputed only when its key (path delay, term) changed: a fixed scene's
+    // delay rows are the same every frame (the same values, not an approximation of them).
+    d_delay_key.resize(size_t(d_l) * 3, std::numeric_limits<double>::quiet_NaN());
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
-    for (int l = 0; l < d_l; ++l) {
-        const auto& p = paths[l];
+    int row = 0;
+    for (const auto& p : paths) {
         const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
         // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
         // instead of N + M. The frame's first phase is anchored to the absolute symbol
         // index, so the rounding of 32 or 64 products (~1e-14) never accumulates across frames.
         std::complex<double> v = p.gain * doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, T);
         const std::complex<double> doppler_step = doppler_phasor(1.0, p.doppler_hz, T);
+        if (p.body >= 0) {
+            const auto& plan = sc.plans[p.body];
+            const int terms = plan.terms();
+            for (int n = 0; n < d_n; ++n, v *= doppler_step) {
+                const std::complex<double>* g = sc.g.data() + sc.g_offset[p.body] + size_t(n) * terms;
+                for (int k = 0; k < terms; ++k)
+                    d_slow[size_t(n) * d_l + row + k] = gr_complex(v * g[k]);
+            }
+            for (int k = 0; k < terms; ++k)
+                fill_body_delay_row(row + k, p.delay_s, plan, k, sc.dk_scale[p.body], dk);
+            row += terms;
+            continue;
+        }
         for (int n = 0; n < d_n; ++n, v *= doppler_step) {
             std::complex<double> slow = v;
             if (has_md) { // only paths that have micro-Doppler pay for its sine
@@ -77,16 +215,46 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
                 const double phase = md_scale * p.md_amplitude_m * std::sin(arg);
                 slow *= std::complex<double>(std::cos(phase), std::sin(phase));
             }
-            d_slow[size_t(n) * d_l + l] = gr_complex(slow);
+            d_slow[size_t(n) * d_l + row] = gr_complex(slow);
         }
-        if (d_delay_s[l] == p.delay_s)
+        double* key = d_delay_key.data() + size_t(row) * 3;
+        if (key[0] == p.delay_s && key[1] == -1.0) {
+            ++row;
             continue;
-        d_delay_s[l] = p.delay_s;
+        }
+        key[0] = p.delay_s;
+        key[1] = -1.0;
+        key[2] = 0.0;
         std::complex<double> d(1.0, 0.0);
         const std::complex<double> delay_step = delay_phasor(1.0, fs.delay_index(p.delay_s), d_m);
         for (int m = 0; m < d_m; ++m, d *= delay_step)
-            d_delay[size_t(l) * d_m + m] = gr_complex(d);
+            d_delay[size_t(row) * d_m + m] = gr_complex(d);
+        ++row;
     }
+}
+
+void frame_channel::fill_body_delay_row(
+    int row, double delay_s, const detail::expansion_plan& plan, int term, double dk_scale, double dk)
+{
+    // Term k = band·(P+1) + p: exp(-j2π m Δf τ)·(δk_m/δk_max)^p on the band's subcarriers, 0 elsewhere.
+    double* key = d_delay_key.data() + size_t(row) * 3;
+    const double term_key = term + 1000.0 * plan.order + 1e6 * plan.band_len;
+    if (key[0] == delay_s && key[1] == term_key && key[2] == dk_scale)
+        return;
+    key[0] = delay_s;
+    key[1] = term_key;
+    key[2] = dk_scale;
+    const int terms = plan.order + 1;
+    const int band = term / terms, p = term % terms;
+    const int m0 = band * plan.band_len;
+    const int len = std::min(plan.band_len, d_m - m0);
+    const double centre = m0 + 0.5 * (len - 1);
+    gr_complex* out = d_delay.data() + size_t(row) * d_m;
+    std::fill(out, out + d_m, gr_complex(0.0f, 0.0f));
+    std::complex<double> d = delay_phasor(static_cast<double>(m0), d_fs.delay_index(delay_s), d_m);
+    const std::complex<double> delay_step = delay_phasor(1.0, d_fs.delay_index(delay_s), d_m);
+    for (int m = m0; m < m0 + len; ++m, d *= delay_step)
+        out[m] = gr_complex(d * std::pow((m - centre) * dk / dk_scale, p));
 }
 
 void frame_channel::row(int n, gr_complex* h) const
@@ -112,6 +280,16 @@ struct channel_model::rngs {
     rng draws;                // scene parameters and path gains
     gaussian_generator noise; // only noise: the same seed gives the same frames at every SNR
     std::vector<target_spec> drawn; // a random scene's targets of the frame, reused
+    std::vector<target_class> every_class; // a random scene without a class list draws from these
+    const std::vector<target_class>& all_classes(const class_library& lib)
+    {
+        if (every_class.size() != static_cast<size_t>(lib.size())) {
+            every_class.clear();
+            for (int i = 0; i < lib.size(); ++i)
+                every_class.push_back(static_cast<target_class>(i));
+        }
+        return every_class;
+    }
     double noise_snr_db = std::numeric_limits<double>::quiet_NaN(); // add_noise's last SNR
     float noise_sigma = 0.0f;                                          // and its σ
     explicit rngs(uint64_t seed) : draws(seed), noise(seed ^ 0x6e6f697365ULL) {}
@@ -134,25 +312,33 @@ channel_model::channel_model(const frame_settings& fs, const scene& sc, uint64_t
         for (double r : c->ranges_m)
             check_inside_frame(d_fs, r, 0.0, "clutter");
     }
+    // The sinusoid is narrowband and must stay unambiguous as a whole (the paper's model); a
+    // scatterer model's bulk Doppler must, its micro-motion may fold as in a real receiver.
+    const auto& lib = d_scene.library();
     if (const auto& r = d_scene.random_settings()) {
-        for (auto cls : r->classes) {
-            const auto& spec = class_info(cls);
-            const double md_rate = r->micro_doppler ? spec.md_rate_max_hz : 0.0;
-            const double max_range = spec.range_max_m + (r->paths_per_target > 1 ? r->excess_range_max_m : 0.0);
-            check_inside_frame(d_fs, max_range,
-                               peak_doppler_hz(d_fs, spec.speed_max_mps, md_rate, spec.md_amplitude_m),
-                               "random scene, class " + spec.name);
+        for (auto cls : d_scene.label_classes()) {
+            const auto& spec = lib.at(static_cast<int>(cls));
+            const bool sinusoid = r->micro_doppler && spec.motion_model() == "sinusoid";
+            const double max_range = spec.range_max_m + (r->paths_per_target > 1 ? r->excess_range_max_m : 0.0) +
+                                     (r->micro_doppler ? spec.max_extent_m() : 0.0);
+            const double peak = 2.0 / d_fs.wavelength_m() *
+                                (spec.speed_max_mps + (sinusoid ? spec.max_sinusoid_speed_mps() : 0.0));
+            check_inside_frame(d_fs, max_range, peak, "random scene, class " + spec.name + " (class library " + lib.name() + ")");
         }
     } else {
         const auto& targets = d_scene.targets();
+        const auto& track = d_scene.track();
         for (size_t i = 0; i < targets.size(); ++i) {
             const auto& t = targets[i];
             double max_excess = 0.0;
             for (const auto& p : t.paths)
                 max_excess = std::max(max_excess, p.excess_range_m);
+            if (t.motion)
+                max_excess += micro_motion_extent_m(*t.motion);
             const double peak = peak_doppler_hz(
                 d_fs, t.velocity_mps, t.md ? t.md->rate_hz : 0.0, t.md ? t.md->amplitude_m : 0.0);
-            check_inside_frame(d_fs, t.range_m + max_excess, peak, "scene target " + std::to_string(i));
+            check_inside_frame(d_fs, (track ? track->range_max_m : t.range_m) + max_excess, peak,
+                               "scene target " + std::to_string(i));
         }
     }
 }
@@ -183,30 +369,41 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
 {
     rng& g = d_rng->draws;
     out.paths.clear(); // keeps the capacity
+    out.bodies.clear();
     const double clutter_share = d_scene.clutter() ? db_to_linear(d_scene.clutter()->csr_db) : 0.0;
     const double target_total = 1.0 / (1.0 + clutter_share);
 
-    // Concrete targets of this frame: a fixed scene's are read in place; a random
-    // scene's are drawn into reused scratch (path lists keep their capacity).
+    // Concrete targets of this frame: a fixed scene's are read in place (a moving one's are
+    // copied to their frame's ranges); a random scene's are drawn into reused scratch (path
+    // lists keep their capacity).
     const std::vector<target_spec>* targets_of_frame = &d_scene.targets();
+    const auto& lib = d_scene.library();
     if (const auto& r = d_scene.random_settings()) {
         auto& drawn = d_rng->drawn;
         drawn.resize(static_cast<size_t>(r->n_targets));
+        const auto& classes = r->classes.empty() ? d_rng->all_classes(lib) : r->classes;
         for (auto& t : drawn) {
-            t.cls = r->classes[g.below(r->classes.size())];
-            const auto& spec = class_info(t.cls);
+            t.cls = classes[g.below(classes.size())];
+            const auto& spec = lib.at(static_cast<int>(t.cls));
             t.range_m = g.uniform(spec.range_min_m, spec.range_max_m);
             t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
             t.power = target_spec{}.power;
             t.md.reset();
+            t.motion.reset();
+            t.speed_mps = t.velocity_mps;
+            t.heading_rad = 0.0;
             // "any" heading: radial velocity speed·cos θ, θ ~ U[0, 2π). Drawn after the speed,
             // and only for this heading, so approaching scenes keep their exact frames.
-            if (r->heading == heading_kind::any)
-                t.velocity_mps *= std::cos(g.uniform(0.0, two_pi));
-            if (r->micro_doppler && spec.has_micro_doppler())
-                t.md = micro_doppler{ g.uniform(spec.md_rate_min_hz, spec.md_rate_max_hz),
-                                      spec.md_amplitude_m,
-                                      g.uniform(0.0, two_pi) };
+            if (r->heading == heading_kind::any) {
+                t.heading_rad = g.uniform(0.0, two_pi);
+                t.velocity_mps *= std::cos(t.heading_rad);
+            }
+            if (r->micro_doppler && spec.motion) {
+                if (spec.motion->model == "sinusoid")
+                    t.md = detail::draw_sinusoid(*spec.motion, &g);
+                else
+                    t.motion = detail::draw_motion(*spec.motion, &g);
+            }
             t.paths.clear();
             t.paths.push_back({ 0.0, 1.0 });
             for (int k = 1; k < r->paths_per_target; ++k)
@@ -214,9 +411,15 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
                                     db_to_linear(-k * r->path_power_decay_db) });
         }
         targets_of_frame = &drawn;
+    } else if (const auto& track = d_scene.track()) {
+        auto& moved = d_rng->drawn;
+        moved = d_scene.targets();
+        const double t_s = static_cast<double>(frame_index) * d_fs.n_symbols * d_fs.symbol_interval_s;
+        for (auto& t : moved)
+            move_along_track(t, *track, t_s);
+        targets_of_frame = &moved;
     }
     const auto& targets = *targets_of_frame;
-
     double weight_sum = 0.0;
     for (const auto& t : targets)
         weight_sum += t.power;
@@ -225,8 +428,15 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
         for (const auto& p : t.paths)
             path_sum += p.power;
         const double doppler = d_fs.doppler_from_velocity(t.velocity_mps);
+        int body = -1;
+        if (t.motion) {
+            const auto sh = target_speed_heading(t);
+            body = static_cast<int>(out.bodies.size());
+            out.bodies.push_back(scatterer_body{ *t.motion, sh.first, sh.second });
+        }
         for (const auto& p : t.paths) {
             channel_path cp;
+            cp.body = body;
             cp.delay_s = d_fs.delay_from_range(t.range_m + p.excess_range_m);
             cp.doppler_hz = doppler;
             if (t.md) {
@@ -256,7 +466,8 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     auto& truth = out.truth;
     truth.frame = frame_index;
     truth.class_id = static_cast<int>(toi.cls);
-    truth.class_name = class_info(toi.cls).name;
+    truth.class_name = lib.at(truth.class_id).name;
+    truth.micro_motion = toi.motion ? micro_motion_model(*toi.motion) : toi.md ? "sinusoid" : "none";
     truth.range_m = toi.range_m;
     truth.delay_s = d_fs.delay_from_range(toi.range_m);
     truth.delay_index = d_fs.delay_index(truth.delay_s);
@@ -267,7 +478,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
 
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const
 {
-    return frame_channel(d_fs, r.paths, first_symbol);
+    return frame_channel(d_fs, r, first_symbol);
 }
 
 void channel_model::add_noise(gr_complex* y, size_t count, double snr_db)

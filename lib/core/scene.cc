@@ -14,6 +14,8 @@
  */
 #include "core/checks.h"
 #include "core/json_object.h"
+#include "core/micro_motion_params.h"
+#include "core/walker_scatterers.h"
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/core/scene.h>
 #include <algorithm>
@@ -119,19 +121,69 @@ scene scene::random(random_spec spec, std::optional<clutter_spec> clutter, fadin
 
 std::vector<target_class> scene::label_classes() const
 {
-    if (d_random)
-        return d_random->classes;
+    if (d_random) {
+        if (!d_random->classes.empty())
+            return d_random->classes;
+        std::vector<target_class> all;
+        for (int i = 0; i < d_library->size(); ++i)
+            all.push_back(static_cast<target_class>(i));
+        return all;
+    }
     return { d_targets.at(d_toi).cls };
+}
+
+std::pair<double, double> target_speed_heading(const target_spec& t)
+{
+    if (!std::isnan(t.speed_mps))
+        return { t.speed_mps, t.heading_rad };
+    return { std::fabs(t.velocity_mps), t.velocity_mps < 0.0 ? M_PI : 0.0 };
+}
+
+scene scene::with_library(std::shared_ptr<const class_library> lib) const
+{
+    if (!lib)
+        throw std::invalid_argument("scene: with_library needs a library");
+    scene s = *this;
+    const std::vector<target_class> paper_default = random_spec{}.classes;
+    if (s.d_random && s.d_library.get() == class_library::paper().get() && s.d_random->classes == paper_default)
+        s.d_random->classes.clear(); // the default (every paper class) becomes every class of the new library
+    s.d_library = std::move(lib);
+    s.validate("scene with class library " + s.d_library->name());
+    return s;
+}
+
+scene scene::with_track(track_spec t) const
+{
+    scene s = *this;
+    s.d_track = t;
+    s.validate("scene with a track");
+    return s;
 }
 
 void scene::validate(const std::string& source) const
 {
     if (d_clutter)
         validate_clutter(*d_clutter, source);
+    if (d_track) {
+        if (d_random)
+            fail(source, "track", "applies to fixed scenes only (a random scene draws its ranges per frame)");
+        check_finite_nonneg(d_track->range_min_m, source, "track.range_m[0]");
+        check_finite_nonneg(d_track->range_max_m, source, "track.range_m[1]");
+        if (!(d_track->range_min_m < d_track->range_max_m))
+            fail(source, "track.range_m", "min must be below max");
+        for (size_t i = 0; i < d_targets.size(); ++i)
+            if (d_targets[i].range_m < d_track->range_min_m || d_targets[i].range_m > d_track->range_max_m)
+                fail(source, "targets[" + std::to_string(i) + "].range_m",
+                     "starts outside the track [" + std::to_string(d_track->range_min_m) + ", " +
+                         std::to_string(d_track->range_max_m) + "] m");
+    }
     if (d_random) {
         const auto& r = *d_random;
-        if (r.classes.empty())
-            fail(source, "random.classes", "needs at least one class");
+        for (auto c : r.classes)
+            if (static_cast<int>(c) < 0 || static_cast<int>(c) >= d_library->size())
+                fail(source, "random.classes", "class id " + std::to_string(static_cast<int>(c)) +
+                                                   " is beyond class library " + d_library->name() + " (" +
+                                                   std::to_string(d_library->size()) + " classes)");
         auto sorted = r.classes;
         std::sort(sorted.begin(), sorted.end());
         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
@@ -164,11 +216,28 @@ void scene::validate(const std::string& source) const
     for (size_t i = 0; i < d_targets.size(); ++i) {
         const auto& t = d_targets[i];
         const std::string f = "targets[" + std::to_string(i) + "]";
-        class_info(t.cls); // throws on an unknown class
+        if (static_cast<int>(t.cls) < 0 || static_cast<int>(t.cls) >= d_library->size())
+            fail(source, f + ".class", "class id " + std::to_string(static_cast<int>(t.cls)) + " is beyond class library " +
+                                           d_library->name());
         check_finite_nonneg(t.range_m, source, f + ".range_m");
         if (!checks::finite(t.velocity_mps))
             fail(source, f + ".velocity_mps", "must be finite");
         check_positive(t.power, source, f + ".power");
+        if (!std::isnan(t.speed_mps)) {
+            check_finite_nonneg(t.speed_mps, source, f + ".speed_mps");
+            if (!checks::finite(t.heading_rad))
+                fail(source, f + ".heading_rad", "must be finite");
+            if (std::fabs(t.velocity_mps - t.speed_mps * std::cos(t.heading_rad)) > 1e-9 * (1.0 + t.speed_mps))
+                fail(source, f + ".velocity_mps", "must equal speed_mps·cos(heading_rad) when a speed is given");
+        }
+        if (t.md && t.motion)
+            fail(source, f + ".micro_motion", "a target has one micro-motion: a sinusoid or a scatterer model, not both");
+        if (t.motion) {
+            validate_micro_motion(*t.motion, source, f + ".micro_motion");
+            if (std::holds_alternative<walker_motion>(*t.motion))
+                detail::walker_check_speed(std::get<walker_motion>(*t.motion).height_m, target_speed_heading(t).first,
+                                           source, f + ".speed_mps");
+        }
         if (t.md) {
             check_finite_nonneg(t.md->rate_hz, source, f + ".micro_doppler.rate_hz");
             check_finite_nonneg(t.md->amplitude_m, source, f + ".micro_doppler.amplitude_m");
@@ -198,8 +267,8 @@ json scene::to_json() const
     if (d_random) {
         const auto& r = *d_random;
         json classes = json::array();
-        for (auto c : r.classes)
-            classes.push_back(class_info(c).name);
+        for (auto c : label_classes())
+            classes.push_back(d_library->at(static_cast<int>(c)).name);
         j["random"] = { { "classes", classes },
                         { "targets", r.n_targets },
                         { "paths_per_target", r.paths_per_target },
@@ -214,11 +283,18 @@ json scene::to_json() const
             json paths = json::array();
             for (const auto& p : t.paths)
                 paths.push_back({ { "excess_range_m", p.excess_range_m }, { "power", p.power } });
-            json jt = { { "class", class_info(t.cls).name },
+            json jt = { { "class", d_library->at(static_cast<int>(t.cls)).name },
                         { "range_m", t.range_m },
-                        { "velocity_mps", t.velocity_mps },
                         { "power", t.power },
                         { "paths", paths } };
+            if (std::isnan(t.speed_mps)) {
+                jt["velocity_mps"] = t.velocity_mps;
+            } else {
+                jt["speed_mps"] = t.speed_mps;
+                jt["heading_rad"] = t.heading_rad;
+            }
+            if (t.motion)
+                jt["micro_motion"] = micro_motion_to_json(*t.motion);
             if (t.md)
                 jt["micro_doppler"] = { { "rate_hz", t.md->rate_hz },
                                         { "amplitude_m", t.md->amplitude_m },
@@ -227,6 +303,11 @@ json scene::to_json() const
         }
         j["targets"] = targets;
     }
+    if (d_library->name() != "paper")
+        j["classes"] = d_library->name();
+    if (d_track)
+        j["track"] = { { "range_m", range_pair(d_track->range_min_m, d_track->range_max_m) },
+                       { "at_bound", d_track->at_bound == track_bound::restart ? "restart" : "reflect" } };
     if (d_clutter) {
         const auto& c = *d_clutter;
         json jc = { { "csr_db", c.csr_db } };
@@ -253,6 +334,14 @@ scene scene::from_json(const json& j, const std::string& source)
     top.allow("description"); // free text for people
 
     scene s;
+    if (top.has("classes")) {
+        const std::string lib = top.string("classes");
+        try {
+            s.d_library = class_library::find(lib);
+        } catch (const std::invalid_argument& e) {
+            fail(source, "classes", e.what());
+        }
+    }
     const std::string fading = top.string_or("fading", "rayleigh");
     if (fading == "rayleigh")
         s.d_fading = fading_kind::rayleigh;
@@ -263,7 +352,7 @@ scene scene::from_json(const json& j, const std::string& source)
 
     auto class_of = [&](const json& v, const std::string& field) {
         try {
-            return class_from_name(string(v, field, source));
+            return static_cast<target_class>(s.d_library->id_of(string(v, field, source)));
         } catch (const std::invalid_argument& e) {
             if (std::string(e.what()).rfind(source, 0) == 0)
                 throw;
@@ -279,8 +368,11 @@ scene scene::from_json(const json& j, const std::string& source)
     if (jrandom) {
         object_reader r(*jrandom, source, "random");
         random_spec spec;
+        spec.classes.clear(); // absent: every class of the library
         if (const auto* classes = r.find("classes")) {
             object_reader::checked_array(*classes, "random.classes", source, 0, limits::max_classes);
+            if (classes->empty())
+                fail(source, "random.classes", "needs at least one class (leave it out for every class of the library)");
             spec.classes.clear();
             for (size_t i = 0; i < classes->size(); ++i)
                 spec.classes.push_back(class_of((*classes)[i], "random.classes[" + std::to_string(i) + "]"));
@@ -312,8 +404,27 @@ scene scene::from_json(const json& j, const std::string& source)
             target_spec t;
             t.cls = class_of(rt.require("class"), f + ".class");
             t.range_m = rt.number("range_m");
-            t.velocity_mps = rt.number("velocity_mps");
+            if (rt.has("speed_mps")) { // speed along a heading: the radial velocity follows
+                if (rt.has("velocity_mps"))
+                    fail(source, f, "give velocity_mps (radial) or speed_mps with heading_rad, not both");
+                t.speed_mps = rt.number("speed_mps");
+                t.heading_rad = rt.number_or("heading_rad", 0.0);
+                t.velocity_mps = t.speed_mps * std::cos(t.heading_rad);
+            } else {
+                if (rt.has("heading_rad"))
+                    fail(source, f + ".heading_rad", "goes with speed_mps (velocity_mps is already radial)");
+                t.velocity_mps = rt.number("velocity_mps");
+            }
             t.power = rt.number_or("power", 1.0);
+            if (const auto* mm = rt.find("micro_motion")) {
+                if (rt.has("micro_doppler"))
+                    fail(source, f, "give micro_motion or its short form micro_doppler, not both");
+                const auto tmpl = detail::read_motion_template(*mm, source, f + ".micro_motion", false);
+                if (tmpl.model == "sinusoid")
+                    t.md = detail::draw_sinusoid(tmpl, nullptr);
+                else
+                    t.motion = detail::draw_motion(tmpl, nullptr);
+            }
             if (const auto* md = rt.find("micro_doppler")) {
                 object_reader rm(*md, source, f + ".micro_doppler");
                 micro_doppler m;
@@ -321,8 +432,9 @@ scene scene::from_json(const json& j, const std::string& source)
                 // No silent class default: a scene that models micro-Doppler states its size.
                 if (!rm.has("amplitude_m"))
                     fail(source, rm.field("amplitude_m"),
-                         "missing (the displacement in metres; the table's value for \"" + class_info(t.cls).name +
-                             "\" is " + std::to_string(class_info(t.cls).md_amplitude_m) + ")");
+                         "missing (the displacement in metres; class \"" + s.d_library->at(static_cast<int>(t.cls)).name +
+                             "\" of class library " + s.d_library->name() + " uses " +
+                             std::to_string(s.d_library->at(static_cast<int>(t.cls)).max_extent_m()) + ")");
                 m.amplitude_m = rm.number("amplitude_m");
                 m.phase_rad = rm.number_or("phase_rad", 0.0);
                 rm.finish();
@@ -343,6 +455,20 @@ scene scene::from_json(const json& j, const std::string& source)
         s.d_toi = top.int_or("target_of_interest", 0, 0, limits::max_targets - 1);
     }
 
+    if (top.has("track")) {
+        object_reader rt = top.object("track");
+        track_spec tr;
+        std::tie(tr.range_min_m, tr.range_max_m) = read_pair(rt.require("range_m"), "track.range_m", source);
+        const std::string rule = rt.string_or("at_bound", "restart");
+        if (rule == "restart")
+            tr.at_bound = track_bound::restart;
+        else if (rule == "reflect")
+            tr.at_bound = track_bound::reflect;
+        else
+            fail(source, "track.at_bound", "expected \"restart\" or \"reflect\", got \"" + rule + "\"");
+        rt.finish();
+        s.d_track = tr;
+    }
     if (top.has("clutter")) {
         object_reader rc = top.object("clutter");
         clutter_spec c;

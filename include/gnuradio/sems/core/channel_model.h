@@ -37,6 +37,10 @@
 namespace gr {
 namespace sems {
 
+namespace detail {
+struct expansion_plan; // lib/core/scatterer_moments.h
+}
+
 /*! \brief One propagation path of one frame, with its gain already drawn. */
 struct SEMS_API channel_path {
     /*! \brief τ_l, the round-trip delay in s. */
@@ -47,6 +51,17 @@ struct SEMS_API channel_path {
     double md_phase_rad = 0.0;    ///< φ_l in rad
     std::complex<double> gain{ 1.0, 0.0 }; ///< α_l
     double mean_power = 1.0;               ///< p_l, the mean of |α_l|²
+    int body = -1; ///< index of the target's scatterer body in frame_realization::bodies (-1: a point target)
+};
+
+/*!
+ * \brief A target made of moving scatterers (micro_motion.h) in one frame: its model with
+ *        the parameters drawn for the frame, and the motion its scatterers move with.
+ */
+struct SEMS_API scatterer_body {
+    micro_motion motion;      ///< the model and its parameters
+    double speed_mps = 0.0;   ///< the target's speed (the walker's gait and the wheels' spin follow it)
+    double heading_rad = 0.0; ///< θ between its motion and the line towards the radar (0: approaching head-on)
 };
 
 /*! \brief Ground truth of one frame: the target of interest (its direct path). */
@@ -60,12 +75,15 @@ struct SEMS_API frame_truth {
     double velocity_mps = 0.0; ///< radial velocity in m/s
     double snr_db = 0.0;      ///< +inf when noiseless
     int n_paths = 0;          ///< all paths of the realization, clutter included
+    std::string micro_motion = "none"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", ...)
 };
 
 /*! \brief One drawn frame: its paths and its truth. */
 struct SEMS_API frame_realization {
-    std::vector<channel_path> paths; ///< every path, clutter included
-    frame_truth truth;               ///< the target of interest
+    std::vector<channel_path> paths;     ///< every path, clutter included
+    std::vector<scatterer_body> bodies;  ///< the scatterer bodies the paths refer to (channel_path::body)
+    int truth_body = -1;                 ///< the target of interest's body (-1: none)
+    frame_truth truth;                   ///< the target of interest
 };
 
 /*! \brief The separable factors of one frame: H[n,m] = Σ_l slow_l[n] · delay_l[m]. */
@@ -87,12 +105,32 @@ public:
      * \param first_symbol the absolute slow-time index of row 0.
      */
     void update(const std::vector<channel_path>& paths, uint64_t first_symbol);
+    /*!
+     * \brief The factors of a drawn frame, its scatterer bodies included.
+     * \param r the frame (paths and bodies).
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
+    void update(const frame_realization& r, uint64_t first_symbol);
+    /*!
+     * \brief A drawn frame's factors.
+     * \param fs the frame settings. \param r the frame. \param first_symbol the absolute slow-time index of row 0.
+     */
+    frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol);
+    ~frame_channel(); ///< Destructor.
+    /*! \brief Copy constructor. \param o the factors to copy. */
+    frame_channel(const frame_channel& o);
+    /*! \brief Move constructor. */
+    frame_channel(frame_channel&&) noexcept;
+    /*! \brief Copy assignment. \param o the factors to copy. \return *this. */
+    frame_channel& operator=(const frame_channel& o);
+    /*! \brief Move assignment. \return *this. */
+    frame_channel& operator=(frame_channel&&) noexcept;
 
     /*! \brief N. \return the symbols per frame. */
     int n_symbols() const { return d_n; }
     /*! \brief M. \return the subcarriers per symbol. */
     int n_subcarriers() const { return d_m; }
-    /*! \brief L. \return the number of paths. */
+    /*! \brief The number of separable terms (one per point path; a scatterer body's path has several, micro_motion.h). \return the terms. */
     int n_paths() const { return d_l; }
 
     /*! \brief One row of H. \param n the symbol. \param h out: h[m] = H[n,m], M values. */
@@ -106,11 +144,15 @@ public:
     void fill(gr_complex* grid) const;
 
 private:
+    void update(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
+    void fill_body_delay_row(int row, double delay_s, const detail::expansion_plan& plan, int term, double dk_scale, double dk);
+    struct scratch; // scatterer bodies' plans and moments (lib/core/channel_model.cc)
     frame_settings d_fs;
     int d_n, d_m, d_l;
-    std::vector<gr_complex> d_slow;  // N x L (a symbol's path factors side by side), gain included
+    std::vector<gr_complex> d_slow;  // N x L (a symbol's terms side by side), gain included
     std::vector<gr_complex> d_delay; // L x M
-    std::vector<double> d_delay_s;   // the delay each delay row was computed for
+    std::vector<double> d_delay_key; // per row: the delay (and term) its delay row was computed for
+    std::unique_ptr<scratch> d_scratch;
 };
 
 /*!

@@ -21,6 +21,14 @@ constexpr int max_paths = 256;              // paths per target
 constexpr int max_clutter_paths = 4096;     // static clutter scatterers per scene
 constexpr int max_classes = 1024;           // classes of a classifier bundle or a random scene
 constexpr int max_network_size = 1000000;   // any width/depth/count in the network settings
+// Micro-motion (micro_motion.h): sizes of one target's scatterer model.
+constexpr int max_rotors = 16;              // rotors of a rotor target
+constexpr int max_blades = 16;              // blades per rotor
+constexpr int max_wheels = 16;              // wheels of a wheeled target
+constexpr int max_rim_points = 64;          // point scatterers per rim
+constexpr int max_spokes = 64;              // spokes per wheel
+constexpr int max_scatterers = 256;         // point scatterers of a `scatterers` target
+constexpr int max_harmonics = 16;           // harmonics per point scatterer
 
 } // namespace limits
 } // namespace sems

@@ -14,21 +14,18 @@
 #define INCLUDED_SEMS_CORE_SCENE_H
 
 #include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/class_library.h>
+#include <gnuradio/sems/core/micro_motion.h>
 #include <gnuradio/sems/core/target_class.h>
 #include <nlohmann/json.hpp>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace gr {
 namespace sems {
-
-/*! \brief Micro-Doppler of a target: a sinusoidal displacement A·sin(2π f_md t + φ). */
-struct SEMS_API micro_doppler {
-    double rate_hz = 0.0;     ///< f_md = ω / 2π
-    double amplitude_m = 0.0; ///< displacement A
-    double phase_rad = 0.0;   ///< φ (random scenes draw it per frame)
-};
 
 /*! \brief One path of a target (the first is the direct path). */
 struct SEMS_API path_spec {
@@ -38,10 +35,15 @@ struct SEMS_API path_spec {
 
 /*! \brief One target of a fixed scene. */
 struct SEMS_API target_spec {
-    target_class cls = target_class::car; ///< its class
+    target_class cls = target_class::car; ///< its class: an id in the scene's class library
     double range_m = 50.0;                ///< range in m
     double velocity_mps = 15.0; ///< radial, positive = Doppler > 0
-    std::optional<micro_doppler> md;      ///< its micro-Doppler, if any
+    /*! \brief Its speed along its motion; NaN: |velocity_mps| (moving along the line of sight). */
+    double speed_mps = std::numeric_limits<double>::quiet_NaN();
+    /*! \brief θ between its motion and the line towards the radar (velocity = speed·cos θ); used with speed_mps. */
+    double heading_rad = 0.0;
+    std::optional<micro_doppler> md;      ///< its micro-Doppler (model `sinusoid`), if any
+    std::optional<micro_motion> motion;   ///< its scatterer micro-motion (rotor, walker, wheels, scatterers), if any
     double power = 1.0;                        ///< relative to the scene's other targets
     std::vector<path_spec> paths{ path_spec{} }; ///< at least one; the first is the direct path
 };
@@ -70,9 +72,31 @@ SEMS_API std::string heading_name(heading_kind h);
  */
 SEMS_API heading_kind heading_from_name(const std::string& name);
 
+/*!
+ * \brief A target's speed and heading.
+ * \param t the target.
+ * \return {speed, θ}: speed_mps and heading_rad when speed_mps is set, else |velocity| and 0 (approaching) or π.
+ */
+SEMS_API std::pair<double, double> target_speed_heading(const target_spec& t);
+
+/// What a moving target does at the bounds of its track: start the pass again from its first
+/// range, or turn around (its radial velocity changes sign).
+enum class track_bound { restart, reflect };
+
+/*!
+ * \brief A fixed scene whose targets move: each range follows its radial velocity from frame
+ *        to frame, R(t) = R_0 − v·t at the frame's first symbol (t = frame·N·T; no migration
+ *        within a frame), inside [range_min_m, range_max_m].
+ */
+struct SEMS_API track_spec {
+    double range_min_m = 0.0;   ///< the track's near end
+    double range_max_m = 200.0; ///< the track's far end
+    track_bound at_bound = track_bound::restart; ///< what a target does at an end
+};
+
 /// How a random scene draws a frame.
 struct SEMS_API random_spec {
-    /*! \brief Classes the target of interest is drawn from. */
+    /*! \brief Class ids (in the scene's class library) the target of interest is drawn from; empty: every class. */
     std::vector<target_class> classes{ target_class::pedestrian, target_class::car, target_class::drone };
     int n_targets = 1;                 ///< the target of interest is target 0
     int paths_per_target = 1;          ///< 1 = single path
@@ -160,6 +184,27 @@ public:
     fading_kind fading() const { return d_fading; }
     /*! \brief Classes a frame of this scene can be labelled with (the target of interest's possible classes). \return the classes. */
     std::vector<target_class> label_classes() const;
+    /*! \brief The class library the scene's classes come from. \return the library (`paper` unless set). */
+    const class_library& library() const { return *d_library; }
+    /*! \brief The class library, shared. \return the library. */
+    std::shared_ptr<const class_library> library_ptr() const { return d_library; }
+    /*!
+     * \brief The same scene with its classes from another library (a random scene without a
+     *        class list then draws every class of it).
+     * \param lib the library. \return the scene.
+     * \throws std::invalid_argument when a class id is beyond the library.
+     */
+    scene with_library(std::shared_ptr<const class_library> lib) const;
+    /*! \brief Whether a fixed scene's targets move. \return its track, if any. */
+    const std::optional<track_spec>& track() const { return d_track; }
+    /*!
+     * \brief The same fixed scene with moving targets.
+     * \param t the track. \return the scene.
+     * \throws std::invalid_argument for a random scene or a bad track.
+     */
+    scene with_track(track_spec t) const;
+    /*! \brief A class name in the scene's library. \param c the class id. \return its name. */
+    std::string class_name(target_class c) const { return d_library->at(static_cast<int>(c)).name; }
 
     /*!
      * \brief Checks every field.
@@ -173,6 +218,8 @@ private:
     std::vector<target_spec> d_targets;
     std::optional<random_spec> d_random;
     std::optional<clutter_spec> d_clutter;
+    std::optional<track_spec> d_track;
+    std::shared_ptr<const class_library> d_library = class_library::paper();
     int d_toi = 0;
     fading_kind d_fading = fading_kind::rayleigh;
 };

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: a scatterer target's return on the whole band, as a few separable terms (internal).
+ *
+ * Scatterer s of a target at radial displacement r_s (+ = away from the radar) returns, on
+ * subcarrier m (RF frequency f_c + mΔf, wavenumber κ_m = 4π(f_c + mΔf)/c),
+ *
+ *     a_s · exp(-j κ_m r_s)           (a point)
+ *     a_l · ∫_0^1 exp(-j κ_m e_l u) du  (a line from the body's reference to e_l: a blade, a spoke)
+ *
+ * which is exactly the per-scatterer delay and phase of the channel model. With a reference
+ * wavenumber κ_ref (the middle of a band of subcarriers) and δk_m = κ_m − κ_ref,
+ *
+ *     exp(-j κ_m r) = Σ_p δk_m^p · G_p,   G_p = exp(-j κ_ref r) (−j r)^p / p!
+ *
+ * so the target's return is Σ_p δk_m^p · G_p(t): P+1 slow-time series times P+1 fixed
+ * subcarrier rows, the separable form the frequency-domain model already sums. The
+ * series is cut where its remainder, at most Σ|a| (δk_max r_max)^{P+1}/(P+1)!, is below
+ * truncation_tolerance (relative to a unit-power target: below single precision, so the
+ * result is exact to float rounding); a band too wide for P ≤ max_order is split into
+ * sub-bands with their own κ_ref.
+ */
+#ifndef INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
+#define INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
+
+#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/frame_settings.h>
+#include <complex>
+#include <utility>
+#include <vector>
+
+namespace gr {
+namespace sems {
+namespace detail {
+
+constexpr double truncation_tolerance = 1e-7; // remainder bound, relative to a unit-power target
+constexpr int max_order = 14;                 // P at most; a wider band is split into sub-bands
+
+/* How a body's return is expanded on a frame: S sub-bands of subcarriers, P+1 terms each. */
+struct expansion_plan {
+    int order = 0;      // P
+    int sub_bands = 1;  // S
+    int band_len = 0;   // subcarriers per sub-band (the last may be shorter)
+    int terms() const { return sub_bands * (order + 1); }
+};
+
+/* The plan for a body whose scatterers reach |r| ≤ extent_m with Σ|a| ≤ amplitude_sum. */
+expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum);
+
+/* The scatterers of one body at one instant. */
+struct body_snapshot {
+    std::vector<double> point_r, point_a; // points: displacement, amplitude
+    std::vector<double> line_r0, line_e, line_a; // lines from r0 to r0 + e: start, extent, amplitude
+    void clear()
+    {
+        point_r.clear();
+        point_a.clear();
+        line_r0.clear();
+        line_e.clear();
+        line_a.clear();
+    }
+};
+
+/* A body's scatterers through time: its snapshot at t, and the bounds its plan needs. */
+class body_model
+{
+public:
+    explicit body_model(const scatterer_body& b, const frame_settings& fs);
+    void snapshot(double t_s, body_snapshot& out) const;
+    double extent_m() const { return d_extent; }
+    double amplitude_sum() const { return d_amp_sum; }
+
+private:
+    scatterer_body d_b;
+    double d_extent = 0.0, d_amp_sum = 0.0;
+    double d_body_a = 0.0;  // the body's own point at r = 0
+    double d_elem_a = 0.0;  // rotor blades / rim points: each one's amplitude
+    double d_spoke_a = 0.0; // spokes
+    std::vector<double> d_point_a; // scatterers: each one's amplitude
+};
+
+/* G_p for p = 0..P of one snapshot at reference wavenumber kappa_ref: out[p]. */
+void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out);
+
+/* E_p(z) = ∫_0^1 s^p exp(-j z s) ds for p = 0..order (a line's moments): out[p]. */
+void line_integrals(double z, int order, std::complex<double>* out);
+
+/* One rotor of `blades` unit-amplitude blades, x0 = κ(L/2)cos β: the mean over its angle of its
+ * return B and of |B|² (the rotor model's power normalisation). */
+std::pair<std::complex<double>, double> rotor_mean_moments(double x0, int blades);
+
+/* mean over θ ∈ [0, 2π) of sinc²(x0 cos θ), sinc(x) = sin x / x: a line's mean power. */
+double mean_sinc_squared(double x0);
+
+} // namespace detail
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H */
