@@ -88,7 +88,7 @@ struct segment_shape {
 };
 
 /*!
- * \brief The 16 ellipsoids, indexed by #segment. Lengths from #proportion (the foot's is
+ * \brief The 16 ellipsoids, indexed by #segment. Lengths from walker::proportion (the foot's is
  *        the ankle-to-toe distance hypot(foot, ankle_height)); radii are the published absolute
  *        radii of Chen's simulation (foot 0.05 m, lower leg 0.06, upper leg 0.07, hip 0.07,
  *        lower arm 0.05, upper arm 0.06, shoulder 0.06, head 0.10, torso 0.15) divided by
