@@ -400,6 +400,18 @@ public:
                 CPPUNIT_ASSERT_DOUBLES_EQUAL(-h.r[s], a.r[s], 1e-12);         // radar behind
             }
         }
+        // Any heading and elevation: r = −p·u, u = (cos ε cos θ, cos ε sin θ, sin ε).
+        const double theta = 2.2, eps = -0.4;
+        const walker_model w(params(1.8, 1.4, theta, 0.3, eps));
+        const vec3 u = { std::cos(eps) * std::cos(theta), std::cos(eps) * std::sin(theta), std::sin(eps) };
+        for (int k = 0; k < 3; ++k)
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(u[k], w.line_of_sight()[k], 1e-15);
+        body_pose p;
+        w.pose(0.61, p);
+        const auto s = at(w, 0.61);
+        for (int k = 0; k < n_segments; ++k)
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(-(p.centre[k][0] * u[0] + p.centre[k][1] * u[1] + p.centre[k][2] * u[2]),
+                                         s.r[k], 1e-12);
     }
 
     void speed_outside_the_model_is_refused()
