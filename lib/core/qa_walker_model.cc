@@ -423,9 +423,11 @@ public:
         assert_error([] { cycle_duration_s(1.0, 1.6); }, "speed_mps 1.6", "0 to 1.59 m/s");
         assert_error([] { walker_model w(params(1.8, -0.1)); }, "speed_mps -0.1", "0 <= RV <= 3");
         assert_error([] { walker_model w(params(1.8, std::nan(""))); }, "speed_mps nan");
-        assert_error([] { walker_model w(params(0.0, 1.0)); }, "height_m", "> 0");
+        assert_error([] { walker_model w(params(0.0, 1.0)); }, "height_m", "[0.5, 3] m");
         assert_error([] { walker_model w(params(-1.7, 1.0)); }, "height_m", "-1.7");
         assert_error([] { walker_model w(params(INFINITY, 1.0)); }, "height_m", "inf");
+        assert_error([] { walker_model w(params(180.0, 1.0)); }, "height_m", "got 180"); // cm
+        assert_error([] { cycle_duration_s(0.4, 0.01); }, "height_m", "got 0.4");
         assert_error([] { walker_model w(params(1.8, 1.0, NAN)); }, "heading_rad", "finite");
         assert_error([] { walker_model w(params(1.8, 1.0, 0.0, INFINITY)); }, "phase_rad", "finite");
         assert_error([] { walker_model w(params(1.8, 1.0, 0.0, 0.0, 1.6)); }, "elevation_rad", "1.6");
@@ -510,7 +512,7 @@ public:
 
     void extremes_stay_finite_and_exact()
     {
-        for (double h : { 0.5, 1.0, 2.5 })
+        for (double h : { min_height_m, 1.0, 1.8, 2.5, max_height_m })
             for (double rv : { 0.0, 1e-9, 0.5, 3.0 })
                 for (double phase : { -1e3, 0.0, 2.5, 1e6 })
                     for (double elevation : { -M_PI / 2, 0.0, M_PI / 2 }) {

@@ -37,8 +37,10 @@ std::string num(double v)
 
 void check_height(double height_m)
 {
-    if (!(std::isfinite(height_m) && height_m > 0.0))
-        throw std::invalid_argument("walker: height_m must be finite and > 0, got " + num(height_m));
+    if (!(std::isfinite(height_m) && height_m >= min_height_m && height_m <= max_height_m))
+        throw std::invalid_argument("walker: height_m must lie in [" + num(min_height_m) + ", " +
+                                    num(max_height_m) + "] m (a human's height), got " +
+                                    num(height_m));
 }
 
 // RV = v/H_t, refusing speeds outside [0, 3·H_t] with the speed, the height and the range.

@@ -97,6 +97,11 @@ struct segment_shape {
  */
 SEMS_API const std::array<segment_shape, n_segments>& segment_shapes();
 
+/*! \brief The shortest walker accepted, in m (a height in other units, e.g. 180 cm, is refused). */
+constexpr double min_height_m = 0.5;
+/*! \brief The tallest walker accepted, in m. */
+constexpr double max_height_m = 3.0;
+
 /*! \brief The largest relative velocity RV = v/H_t of the model (Boulic's gait C ends at 3). */
 constexpr double max_relative_velocity = 3.0;
 
@@ -118,7 +123,7 @@ SEMS_API double max_speed_mps(double height_m);
  * \brief The gait cycle (stride) duration of Boulic's model: the relative cycle length
  *        RL_c = 1.346·sqrt(RV) (in leg lengths) over the relative velocity RV = v/H_t,
  *        i.e. D_c = 1.346 / sqrt(RV) seconds.
- * \param height_m the height in m (> 0, finite).
+ * \param height_m the height in m (min_height_m to max_height_m).
  * \param speed_mps the walking speed in m/s (0 to max_speed_mps(height)).
  * \return D_c in s; +infinity at speed 0 (a still body has no cycle).
  * \throws std::invalid_argument for a bad height or a speed outside the valid range.
@@ -127,7 +132,7 @@ SEMS_API double cycle_duration_s(double height_m, double speed_mps);
 
 /*! \brief A walker's parameters (SI units, angles in radians). */
 struct walker_params {
-    double height_m = 1.8;     ///< height H (> 0)
+    double height_m = 1.8;     ///< height H in m (min_height_m to max_height_m)
     double speed_mps = 1.4;    ///< walking speed v (0: a still body, no limb motion; up to 3·H_t)
     double heading_rad = 0.0;  ///< θ: from the walking direction to the direction towards the radar (0: walking at it)
     double phase_rad = 0.0;    ///< gait phase φ: the cycle is shifted by φ/(2π) cycles (any value)
@@ -173,7 +178,7 @@ public:
     /*!
      * \brief Sets up the walker.
      * \param p the parameters.
-     * \throws std::invalid_argument naming the parameter: height not > 0 or not finite; speed
+     * \throws std::invalid_argument naming the parameter: height outside [0.5, 3] m; speed
      *         negative, not finite or above max_speed_mps(height) (the message names the speed,
      *         the height, the relative velocity and the valid range); heading, phase not finite;
      *         elevation outside [−π/2, π/2].
