@@ -79,8 +79,16 @@ struct frame_channel::scratch {
     std::vector<size_t> g_offset;                     // per body: its moments in g
     std::vector<std::complex<double>> g;              // per body: N x S x (P+1), scaled by δk_max^p
     std::vector<double> dk_scale;                     // per body: δk_max of its sub-bands
+    std::vector<detail::body_model> models;           // per body, kept while its parameters stay
     detail::body_snapshot snap;
 };
+
+namespace {
+bool same_body(const scatterer_body& a, const scatterer_body& b)
+{
+    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
+}
+} // namespace
 
 frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
     : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
@@ -140,8 +148,15 @@ void frame_channel::update(const std::vector<channel_path>& paths,
     sc.dk_scale.resize(n_bodies);
     size_t g_size = 0;
     const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    if (sc.models.size() > n_bodies)
+        sc.models.erase(sc.models.begin() + n_bodies, sc.models.end());
     for (size_t b = 0; b < n_bodies; ++b) {
-        const detail::body_model model((*bodies)[b], fs);
+        // A fixed scene's bodies are the same every frame: set up once (a walker's takes ~0.1 ms).
+        if (b >= sc.models.size())
+            sc.models.emplace_back((*bodies)[b], fs);
+        else if (!same_body(sc.models[b].body(), (*bodies)[b]))
+            sc.models[b] = detail::body_model((*bodies)[b], fs);
+        const detail::body_model& model = sc.models[b];
         const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());
         sc.plans[b] = plan;
         sc.g_offset[b] = g_size;

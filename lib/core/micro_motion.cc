@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/micro_motion.h>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace gr {
 namespace sems {
@@ -119,6 +120,36 @@ struct validate_visitor {
 };
 
 } // namespace
+
+bool operator==(const rotor_motion& a, const rotor_motion& b)
+{
+    return std::tie(a.rotors, a.blades, a.blade_length_m, a.rotation_hz, a.phase_rad, a.elevation_rad, a.body_power) ==
+           std::tie(b.rotors, b.blades, b.blade_length_m, b.rotation_hz, b.phase_rad, b.elevation_rad, b.body_power);
+}
+bool operator==(const walker_motion& a, const walker_motion& b)
+{
+    return a.height_m == b.height_m && a.phase_rad == b.phase_rad;
+}
+bool operator==(const wheels_motion& a, const wheels_motion& b)
+{
+    return std::tie(a.wheels, a.wheel_radius_m, a.rim_points, a.spokes, a.body_power, a.wheelbase_m, a.track_m, a.phase_rad) ==
+           std::tie(b.wheels, b.wheel_radius_m, b.rim_points, b.spokes, b.body_power, b.wheelbase_m, b.track_m, b.phase_rad);
+}
+bool operator==(const scatterers_motion& a, const scatterers_motion& b)
+{
+    if (a.scatterers.size() != b.scatterers.size())
+        return false;
+    for (size_t i = 0; i < a.scatterers.size(); ++i) {
+        const auto &x = a.scatterers[i], &y = b.scatterers[i];
+        if (x.power != y.power || x.harmonics.size() != y.harmonics.size())
+            return false;
+        for (size_t h = 0; h < x.harmonics.size(); ++h)
+            if (x.harmonics[h].amplitude_m != y.harmonics[h].amplitude_m || x.harmonics[h].rate_hz != y.harmonics[h].rate_hz ||
+                x.harmonics[h].phase_rad != y.harmonics[h].phase_rad)
+                return false;
+    }
+    return true;
+}
 
 std::string micro_motion_model(const micro_motion& m)
 {

@@ -10,7 +10,6 @@
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cmath>
-#include <iostream>
 #include <complex>
 #include <string>
 #include <vector>
@@ -68,6 +67,7 @@ class qa_micro_motion : public CppUnit::TestFixture
     CPPUNIT_TEST(one_harmonic_is_the_sinusoid_within_its_narrowband_bound);
     CPPUNIT_TEST(expansion_equals_direct_sum_on_wide_band);
     CPPUNIT_TEST(wheels_head_on_span_zero_to_twice_the_body);
+    CPPUNIT_TEST(walker_torso_line_and_limb_spread);
     CPPUNIT_TEST(line_integrals_match_quadrature);
     CPPUNIT_TEST(extremes_stay_finite);
     CPPUNIT_TEST(mean_power_is_near_one);
@@ -272,10 +272,52 @@ public:
                 bottom += p;
         }
         CPPUNIT_ASSERT_MESSAGE("share in [0, 2ν]: " + std::to_string(in_span / total), in_span / total > 0.999);
-        std::cerr << "wheels: share in span " << in_span / total << ", above 1.5ν " << top / total << ", below 0.5ν "
-                  << bottom / total << "\n";
         CPPUNIT_ASSERT(top / total > 0.01);    // the wheel tops reach towards 2ν
         CPPUNIT_ASSERT(bottom / total > 0.01); // the contact points towards 0
+    }
+
+    // A walker's strongest Doppler is the torso's 2v/λ; its limbs spread the spectrum out to the
+    // feet's swing peak (about 4 v in the Boulic model) and no further.
+    void walker_torso_line_and_limb_spread()
+    {
+        frame_settings fs;
+        fs.n_symbols = 1024; // 1.02 s: more than one gait cycle; 0.98 Hz bins
+        const double v = 1.4;
+        const auto s = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 25, "velocity_mps": 1.4,
+            "micro_motion": {"model": "walker", "height_m": 1.8}}]})");
+        const auto h = grids(fs, s, 1);
+        const int n = fs.n_symbols;
+        const double bin = 1.0 / (n * fs.symbol_interval_s);
+        const double torso = fs.doppler_from_velocity(v);
+        double total = 0.0, limbs = 0.0, beyond = 0.0, peak = 0.0, peak_f = 0.0;
+        for (int k = 0; k < n; ++k) {
+            cd acc = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const double w = 0.5 - 0.5 * std::cos(2 * M_PI * i / n);
+                acc += w * cd(h[size_t(i) * fs.n_subcarriers + 32]) * std::exp(cd(0, -2 * M_PI * double(k) * i / n));
+            }
+            const double f = (k < n / 2 ? k : k - n) * bin;
+            const double p = std::norm(acc);
+            total += p;
+            if (p > peak) {
+                peak = p;
+                peak_f = f;
+            }
+            if (std::fabs(f - torso) > 10.0)
+                limbs += p;
+            if (f > fs.doppler_from_velocity(4.5 * v) + 4 * bin || f < -fs.doppler_from_velocity(1.0 * v) - 4 * bin)
+                beyond += p;
+        }
+        const std::string msg = "peak at " + std::to_string(peak_f) + " Hz (torso " + std::to_string(torso) +
+                                "), limbs " + std::to_string(limbs / total) + ", beyond " + std::to_string(beyond / total);
+        CPPUNIT_ASSERT_MESSAGE(msg, std::fabs(peak_f - torso) <= 2 * bin);
+        CPPUNIT_ASSERT_MESSAGE(msg, limbs / total > 0.05);
+        CPPUNIT_ASSERT_MESSAGE(msg, beyond / total < 0.005);
+        // Outside the model's speeds: refused, naming the speed and the range.
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "targets": [{"class": "pedestrian", "range_m": 25,
+                "velocity_mps": 4, "micro_motion": {"model": "walker", "height_m": 1.2}}]})", "w.json");
+        }, "w.json: targets[0].speed_mps", "valid range");
     }
 
     void line_integrals_match_quadrature()
@@ -339,6 +381,8 @@ public:
                                 "rotation_hz": [80, 120], "body_power": 0.5}},
               {"name": "car", "range_m": [10, 100], "speed_mps": [5, 15],
                "micro_motion": {"model": "wheels", "wheels": 4, "wheel_radius_m": 0.3, "rim_points": 8, "body_power": 0.8}},
+              {"name": "adult", "range_m": [10, 100], "speed_mps": [0.5, 2],
+               "micro_motion": {"model": "walker", "height_m": [1.6, 1.9]}},
               {"name": "pts", "range_m": [10, 100], "speed_mps": [0, 2],
                "micro_motion": {"model": "scatterers", "scatterers": [
                    {"power": 1, "harmonics": [{"amplitude_m": [0.1, 0.3], "rate_hz": [1, 2]}]},
@@ -347,7 +391,7 @@ public:
         for (int c = 0; c < lib->size(); ++c) {
             random_spec r;
             r.classes = { static_cast<target_class>(c) };
-            const auto s = scene::random(r).with_library(lib);
+            const auto s = scene::random(r, std::nullopt, fading_kind::rayleigh, lib);
             const auto h = grids(fs, s, 3000, 11);
             double p = 0.0;
             for (auto x : h)

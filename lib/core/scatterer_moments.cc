@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: scatterer bodies as separable terms (see scatterer_moments.h for the equations). */
 #include "core/scatterer_moments.h"
-#include "core/walker_scatterers.h"
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -149,7 +148,9 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
         d_body_a = std::sqrt(w->body_power);
         d_elem_a = std::sqrt(share);
         d_spoke_a = spokes > 0 ? std::sqrt(share / mean_sinc_squared(x0)) : 0.0;
-        d_amp_sum = d_body_a + points * d_elem_a + spokes * d_spoke_a;
+        if ((points + spokes) > 0) // over one revolution: every wheel turns together
+            normalise_over_cycle(fs, b.speed_mps > 0.0 ? two_pi * w->wheel_radius_m / b.speed_mps : 1.0);
+        d_amp_sum = d_scale * (d_body_a + points * d_elem_a + spokes * d_spoke_a);
     } else if (const auto* s = std::get_if<scatterers_motion>(&b.motion)) {
         double total = 0.0;
         for (const auto& p : s->scatterers)
@@ -158,9 +159,46 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
             d_point_a.push_back(std::sqrt(p.power / total));
             d_amp_sum += d_point_a.back();
         }
-    } else { // walker: 16 segments with Σ mean a² = 1: Σ a ≤ 4 on average; 8 covers the aspect's swing
-        d_amp_sum = 8.0;
+    } else {
+        const auto& wk = std::get<walker_motion>(b.motion);
+        walker::walker_params p;
+        p.height_m = wk.height_m;
+        p.speed_mps = b.speed_mps;
+        p.heading_rad = b.heading_rad;
+        p.phase_rad = wk.phase_rad;
+        d_walker.emplace(p);
+        normalise_over_cycle(fs, b.speed_mps > 0.0 ? d_walker->cycle_duration_s() : 1.0);
+        // 16 segments with Σ mean a² = 1: Σ a ≤ 4 on average; 8 covers the aspect's swing.
+        d_amp_sum = 8.0 * d_scale;
     }
+}
+
+void body_model::normalise_over_cycle(const frame_settings& fs, double period_s)
+{
+    // Mean over one period and over the band (9 subcarriers, ends included) of
+    // |Σ_s a_s e^{-jκ_m r_s}|² — the target's mean power per resource element, cross terms
+    // included — then every amplitude scaled to make it 1.
+    const int n_t = 64, n_f = 9;
+    body_snapshot snap;
+    double power = 0.0;
+    for (int i = 0; i < n_t; ++i) {
+        snapshot(period_s * i / n_t, snap);
+        for (int f = 0; f < n_f; ++f) {
+            const double m = (fs.n_subcarriers - 1) * double(f) / (n_f - 1);
+            const double kappa = 4.0 * M_PI * (fs.carrier_hz + m * fs.subcarrier_spacing_hz()) / speed_of_light_mps;
+            std::complex<double> sum(0.0, 0.0);
+            for (size_t k = 0; k < snap.point_r.size(); ++k)
+                sum += snap.point_a[k] * cis(-kappa * snap.point_r[k]);
+            for (size_t k = 0; k < snap.line_e.size(); ++k) {
+                const double x = 0.5 * kappa * snap.line_e[k];
+                sum += snap.line_a[k] * sinc(x) * cis(-x - kappa * snap.line_r0[k]);
+            }
+            power += std::norm(sum);
+        }
+    }
+    power /= n_t * n_f;
+    if (power > 0.0 && std::isfinite(power))
+        d_scale = 1.0 / std::sqrt(power);
 }
 
 void body_model::snapshot(double t, body_snapshot& out) const
@@ -209,11 +247,15 @@ void body_model::snapshot(double t, body_snapshot& out) const
             out.point_a.push_back(d_point_a[i]);
         }
     } else {
-        const auto& wk = std::get<walker_motion>(d_b.motion);
-        out.point_r.resize(walker_segments);
-        out.point_a.resize(walker_segments);
-        walker_scatterers(wk.height_m, d_b.speed_mps, d_b.heading_rad, wk.phase_rad, t, out.point_r.data(),
-                          out.point_a.data());
+        out.point_r.resize(walker::n_segments);
+        out.point_a.resize(walker::n_segments);
+        d_walker->scatterers(t, out.point_r.data(), out.point_a.data());
+    }
+    if (d_scale != 1.0) {
+        for (auto& a : out.point_a)
+            a *= d_scale;
+        for (auto& a : out.line_a)
+            a *= d_scale;
     }
 }
 

@@ -24,6 +24,8 @@
 
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/walker_model.h>
+#include <optional>
 #include <complex>
 #include <utility>
 #include <vector>
@@ -60,7 +62,11 @@ struct body_snapshot {
     }
 };
 
-/* A body's scatterers through time: its snapshot at t, and the bounds its plan needs. */
+/* A body's scatterers through time: its snapshot at t, and the bounds its plan needs.
+ * Amplitudes are normalised so the target's mean power at the carrier is 1: rotors in closed
+ * form over independent rotor angles (at the carrier); wheels and walkers by their coherent
+ * power averaged over one revolution / gait cycle and over the band; point scatterers by their power shares (Σ a² = 1, the
+ * mean when their relative ranges spread over a wavelength). */
 class body_model
 {
 public:
@@ -68,9 +74,13 @@ public:
     void snapshot(double t_s, body_snapshot& out) const;
     double extent_m() const { return d_extent; }
     double amplitude_sum() const { return d_amp_sum; }
+    const scatterer_body& body() const { return d_b; }
 
 private:
+    void normalise_over_cycle(const frame_settings& fs, double period_s);
     scatterer_body d_b;
+    std::optional<walker::walker_model> d_walker;
+    double d_scale = 1.0; // the coherent normalisation (wheels, walker)
     double d_extent = 0.0, d_amp_sum = 0.0;
     double d_body_a = 0.0;  // the body's own point at r = 0
     double d_elem_a = 0.0;  // rotor blades / rim points: each one's amplitude

@@ -109,9 +109,14 @@ scene scene::fixed(std::vector<target_spec> targets, std::optional<clutter_spec>
     return s;
 }
 
-scene scene::random(random_spec spec, std::optional<clutter_spec> clutter, fading_kind fading)
+scene scene::random(random_spec spec,
+                    std::optional<clutter_spec> clutter,
+                    fading_kind fading,
+                    std::shared_ptr<const class_library> library)
 {
     scene s;
+    if (library)
+        s.d_library = std::move(library);
     s.d_random = std::move(spec);
     s.d_clutter = std::move(clutter);
     s.d_fading = fading;

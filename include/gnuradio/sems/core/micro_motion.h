@@ -108,6 +108,15 @@ struct SEMS_API scatterers_motion {
 /*! \brief A target's micro-motion, one of the scatterer models. */
 using micro_motion = std::variant<rotor_motion, walker_motion, wheels_motion, scatterers_motion>;
 
+/*! \brief Equal parameters. \param a one motion. \param b another. \return true when every field is equal. */
+SEMS_API bool operator==(const rotor_motion& a, const rotor_motion& b);
+/*! \brief Equal parameters. \param a one motion. \param b another. \return true when every field is equal. */
+SEMS_API bool operator==(const walker_motion& a, const walker_motion& b);
+/*! \brief Equal parameters. \param a one motion. \param b another. \return true when every field is equal. */
+SEMS_API bool operator==(const wheels_motion& a, const wheels_motion& b);
+/*! \brief Equal parameters. \param a one motion. \param b another. \return true when every field is equal. */
+SEMS_API bool operator==(const scatterers_motion& a, const scatterers_motion& b);
+
 /*! \brief The model's name ("rotor", "walker", "wheels", "scatterers"). \param m the motion. \return its name. */
 SEMS_API std::string micro_motion_model(const micro_motion& m);
 

@@ -135,12 +135,14 @@ public:
      * \param spec how frames are drawn.
      * \param clutter the clutter, if any.
      * \param fading the gains' fading.
+     * \param library the class library spec.classes index (null: the paper's).
      * \return the scene.
      * \throws std::invalid_argument naming the bad field.
      */
     static scene random(random_spec spec,
                         std::optional<clutter_spec> clutter = std::nullopt,
-                        fading_kind fading = fading_kind::rayleigh);
+                        fading_kind fading = fading_kind::rayleigh,
+                        std::shared_ptr<const class_library> library = nullptr);
 
     /*!
      * \brief Reads a scene file (docs/file_formats.md).
