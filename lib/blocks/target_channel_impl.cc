@@ -75,7 +75,7 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
     const auto& r = d_realization;
     const uint64_t first_symbol = frame * static_cast<uint64_t>(d_n);
     if (d_channel)
-        d_channel->update(r.paths, first_symbol); // reuses the buffers
+        d_channel->update(r, first_symbol); // reuses the buffers
     else
         d_channel.emplace(d_model.factors(r, first_symbol));
     d_frame = frame;

@@ -149,16 +149,26 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
         d_elem_a = std::sqrt(share);
         d_spoke_a = spokes > 0 ? std::sqrt(share / mean_sinc_squared(x0)) : 0.0;
         if ((points + spokes) > 0) // over one revolution: every wheel turns together
-            normalise_over_cycle(fs, b.speed_mps > 0.0 ? two_pi * w->wheel_radius_m / b.speed_mps : 1.0);
+            normalise_over_cycle(fs, b.speed_mps > 0.0 ? two_pi * w->wheel_radius_m / b.speed_mps : 1.0, 64);
         d_amp_sum = d_scale * (d_body_a + points * d_elem_a + spokes * d_spoke_a);
     } else if (const auto* s = std::get_if<scatterers_motion>(&b.motion)) {
         double total = 0.0;
         for (const auto& p : s->scatterers)
             total += p.power;
+        double f_min = 0.0, f_max = 0.0;
         for (const auto& p : s->scatterers) {
             d_point_a.push_back(std::sqrt(p.power / total));
-            d_amp_sum += d_point_a.back();
+            for (const auto& h : p.harmonics)
+                if (h.rate_hz > 0.0 && h.amplitude_m > 0.0) {
+                    f_min = f_min > 0.0 ? std::min(f_min, h.rate_hz) : h.rate_hz;
+                    f_max = std::max(f_max, h.rate_hz);
+                }
         }
+        // Over the slowest harmonic's period, sampled finely enough for the fastest (capped).
+        const int samples = f_min > 0.0 ? std::min(512, 64 * static_cast<int>(std::ceil(f_max / f_min))) : 64;
+        normalise_over_cycle(fs, f_min > 0.0 ? 1.0 / f_min : 1.0, samples);
+        for (double a : d_point_a)
+            d_amp_sum += d_scale * a;
     } else {
         const auto& wk = std::get<walker_motion>(b.motion);
         walker::walker_params p;
@@ -167,18 +177,18 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
         p.heading_rad = b.heading_rad;
         p.phase_rad = wk.phase_rad;
         d_walker.emplace(p);
-        normalise_over_cycle(fs, b.speed_mps > 0.0 ? d_walker->cycle_duration_s() : 1.0);
+        normalise_over_cycle(fs, b.speed_mps > 0.0 ? d_walker->cycle_duration_s() : 1.0, 64);
         // 16 segments with Σ mean a² = 1: Σ a ≤ 4 on average; 8 covers the aspect's swing.
         d_amp_sum = 8.0 * d_scale;
     }
 }
 
-void body_model::normalise_over_cycle(const frame_settings& fs, double period_s)
+void body_model::normalise_over_cycle(const frame_settings& fs, double period_s, int n_t)
 {
     // Mean over one period and over the band (9 subcarriers, ends included) of
     // |Σ_s a_s e^{-jκ_m r_s}|² — the target's mean power per resource element, cross terms
     // included — then every amplitude scaled to make it 1.
-    const int n_t = 64, n_f = 9;
+    const int n_f = 9;
     body_snapshot snap;
     double power = 0.0;
     for (int i = 0; i < n_t; ++i) {

@@ -65,8 +65,8 @@ struct body_snapshot {
 /* A body's scatterers through time: its snapshot at t, and the bounds its plan needs.
  * Amplitudes are normalised so the target's mean power at the carrier is 1: rotors in closed
  * form over independent rotor angles (at the carrier); wheels and walkers by their coherent
- * power averaged over one revolution / gait cycle and over the band; point scatterers by their power shares (Σ a² = 1, the
- * mean when their relative ranges spread over a wavelength). */
+ * power averaged over one revolution / gait cycle and over the band; point scatterers the same
+ * over their slowest harmonic's period (their powers are shares before that scaling). */
 class body_model
 {
 public:
@@ -77,7 +77,7 @@ public:
     const scatterer_body& body() const { return d_b; }
 
 private:
-    void normalise_over_cycle(const frame_settings& fs, double period_s);
+    void normalise_over_cycle(const frame_settings& fs, double period_s, int samples);
     scatterer_body d_b;
     std::optional<walker::walker_model> d_walker;
     double d_scale = 1.0; // the coherent normalisation (wheels, walker)

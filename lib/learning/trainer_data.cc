@@ -27,7 +27,7 @@ data_set make_data(const training_settings& s, const scene& sc)
     data_set d;
     const auto classes = sc.label_classes();
     for (auto c : classes)
-        d.class_names.push_back(class_info(c).name);
+        d.class_names.push_back(sc.class_name(c));
     auto label = torch::empty({ count }, torch::kLong);
     auto delay = torch::empty({ count }, torch::kFloat);
     d.delay_min = 1e300;
