@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: throughput of the target_channel emulator in OFDM symbols/s, for fixed
- * scenes of 1, 3 and 10 paths with noise, next to GNU Radio's multiply_const_vcc on
- * the same vector size, all in the same harness and run:
+ * scenes of 1, 3 and 10 paths, a walker and a quadcopter, with noise, next to GNU Radio's
+ * multiply_const_vcc on the same vector size, all in the same harness and run (and, with
+ * --scatterers, the cost per frame of a point-scatterer target against its scatterer count):
  *     vector_source (repeat) -> block -> head -> null_sink, top_block::run, wall time.
  * Each row is measured --repeat times, interleaved with the other rows, and the best
  * run is reported: on a shared machine the best run is the one least disturbed. Two
@@ -39,6 +40,7 @@ struct options {
     double snr_db = 20.0;
     int n_symbols = frame_settings{}.n_symbols;
     int n_subcarriers = frame_settings{}.n_subcarriers;
+    bool scatterer_table = false;
 };
 
 // One car with `paths` paths (excess ranges 0, 7, 14, ... m, 1 dB weaker each);
@@ -59,6 +61,24 @@ std::string scene_json(int paths, bool micro_doppler)
     for (int k = 0; k < paths; ++k)
         t.paths.push_back(path_spec{ 7.0 * k, std::pow(10.0, -0.1 * k) });
     return scene::fixed({ t }).to_json_string();
+}
+
+// One target with a micro-motion model (JSON of "micro_motion"), single path.
+std::string motion_scene_json(const std::string& motion, double velocity)
+{
+    return R"({"format": "sems.scene", "version": 1, "targets": [{"class": "pedestrian", "range_m": 60, "velocity_mps": )" +
+           std::to_string(velocity) + R"(, "micro_motion": )" + motion + "}]}";
+}
+
+// `count` point scatterers, one harmonic each (0.05-0.3 m, 0.5-5 Hz: limb-like motion).
+std::string scatterers_json(int count)
+{
+    std::string j = R"({"model": "scatterers", "scatterers": [)";
+    for (int i = 0; i < count; ++i)
+        j += std::string(i ? "," : "") + R"({"power": 1, "harmonics": [{"amplitude_m": )" +
+             std::to_string(0.05 + 0.25 * (i % 7) / 6.0) + R"(, "rate_hz": )" + std::to_string(0.5 + 4.5 * (i % 5) / 4.0) +
+             R"(, "phase_rad": )" + std::to_string(0.7 * i) + "}]}";
+    return j + "]}";
 }
 
 // CPU time of the whole process (all flowgraph threads), user + system, in seconds.
@@ -128,7 +148,8 @@ int main(int argc, char** argv)
         "repeat", po::value<int>(&o.repeat)->default_value(o.repeat), "runs per row, best reported")(
         "snr", po::value<double>(&o.snr_db)->default_value(o.snr_db), "SNR in dB for the channel runs (inf = noiseless)")(
         "symbols", po::value<int>(&o.n_symbols)->default_value(o.n_symbols), "N, symbols per frame")(
-        "subcarriers", po::value<int>(&o.n_subcarriers)->default_value(o.n_subcarriers), "M, vector size");
+        "subcarriers", po::value<int>(&o.n_subcarriers)->default_value(o.n_subcarriers), "M, vector size")(
+        "scatterers", po::bool_switch(&o.scatterer_table), "also: cost per frame of a point-scatterer target, 1 to 256 scatterers");
     try {
         po::variables_map vm;
         po::store(po::parse_command_line(argc, argv, desc), vm);
@@ -166,6 +187,12 @@ int main(int argc, char** argv)
                                         o.n_subcarriers, bandwidth);
         };
     };
+    auto motion_channel = [&](const std::string& motion, double velocity, double snr) {
+        return [=, &o]() -> gr::basic_block_sptr {
+            return target_channel::make(motion_scene_json(motion, velocity), {}, 1, 1, true, "approaching", 0, 0.0, snr, 1,
+                                        o.n_symbols, o.n_subcarriers, bandwidth);
+        };
+    };
     struct row {
         std::string name;
         std::function<gr::basic_block_sptr()> make;
@@ -181,6 +208,11 @@ int main(int argc, char** argv)
         { "target_channel,  3 paths, " + std::string(snr_text), channel(3, false, o.snr_db) },
         { "target_channel, 10 paths, " + std::string(snr_text), channel(10, false, o.snr_db) },
         { "target_channel,  1 path + micro-Doppler, " + std::string(snr_text), channel(1, true, o.snr_db) },
+        { "target_channel, walker (16 segments), " + std::string(snr_text),
+          motion_channel(R"({"model": "walker", "height_m": 1.8})", 1.4, o.snr_db) },
+        { "target_channel, quadcopter (4 x 2 blades), " + std::string(snr_text),
+          motion_channel(R"({"model": "rotor", "rotors": 4, "blades": 2, "blade_length_m": 0.12, "rotation_hz": 100})",
+                         5.0, o.snr_db) },
         { "target_channel,  3 paths, noiseless", channel(3, false, std::numeric_limits<double>::infinity()) },
         { "target_channel, 10 paths, noiseless", channel(10, false, std::numeric_limits<double>::infinity()) },
     };
@@ -204,6 +236,25 @@ int main(int argc, char** argv)
                         best[i].cpu / best[0].cpu);
         std::printf("\nwall: symbols per second of wall time (the harness's throughput); CPU-s: symbols per\n"
                     "second of CPU time summed over the flowgraph's threads (steadier on a shared machine).\n");
+        if (o.scatterer_table) {
+            // A point-scatterer target's cost per frame against its scatterer count, same harness.
+            std::printf("\npoint-scatterer target (one harmonic each), %s: cost per frame of %d symbols\n", snr_text,
+                        o.n_symbols);
+            std::printf("%12s %14s %14s %12s\n", "scatterers", "us/frame", "us/frame mult.", "vs mult.");
+            for (int count : { 1, 2, 4, 8, 16, 32, 64, 128, 256 }) {
+                const std::string sc = motion_scene_json(scatterers_json(count), 1.0);
+                rate r{};
+                for (int k = 0; k < o.repeat; ++k) {
+                    const rate x = symbols_per_second(o, data, [&]() -> gr::basic_block_sptr {
+                        return target_channel::make(sc, {}, 1, 1, true, "approaching", 0, 0.0, o.snr_db, 1, o.n_symbols,
+                                                    o.n_subcarriers, bandwidth);
+                    });
+                    r.wall = std::max(r.wall, x.wall);
+                }
+                std::printf("%12d %14.2f %14.2f %11.3fx\n", count, 1e6 * o.n_symbols / r.wall,
+                            1e6 * o.n_symbols / best[0].wall, r.wall / best[0].wall);
+            }
+        }
     } catch (const std::exception& e) {
         std::cerr << "sems_bench_channel: " << e.what() << "\n";
         return 1;

@@ -2,6 +2,7 @@
 /* gr-sems: scatterer bodies as separable terms (see scatterer_moments.h for the equations). */
 #include "core/scatterer_moments.h"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -73,28 +74,35 @@ std::pair<std::complex<double>, double> rotor_mean_moments(double x0, int blades
 
 void line_integrals(double z, int order, std::complex<double>* out)
 {
-    if (std::fabs(z) <= 8.0) {
-        // E_p(z) = Σ_k (-jz)^k / (k! (p+k+1)); relative rounding ~ε·e^{|z|} ≤ 1e-12.
-        for (int p = 0; p <= order; ++p) {
-            std::complex<double> term(1.0, 0.0), sum(0.0, 0.0);
-            for (int k = 0; k < 200; ++k) {
-                const std::complex<double> add = term / double(p + k + 1);
-                sum += add;
-                if (k > std::fabs(z) && std::abs(add) < 1e-18)
-                    break;
-                term *= std::complex<double>(0.0, -z) / double(k + 1);
-            }
-            out[p] = sum;
-        }
+    const double az = std::fabs(z);
+    if (az >= std::max(2.0, double(order))) {
+        // Upward: E_0 = (1 − e^{-jz})/(jz), E_p = (e^{-jz} − p E_{p−1})/(−jz). Each step scales
+        // the previous error by p/|z| ≤ 1 here, so the recurrence is stable.
+        const std::complex<double> e = cis(-z);
+        const std::complex<double> inv(0.0, 1.0 / z); // 1/(−jz)
+        out[0] = (e - 1.0) * inv;
+        for (int p = 1; p <= order; ++p)
+            out[p] = (e - double(p) * out[p - 1]) * inv;
         return;
     }
-    // Upward: E_0 = (1 − e^{-jz})/(jz), E_p = (e^{-jz} − p E_{p−1})/(−jz); stable for |z| > 8
-    // at the orders used (the error grows by p/|z| per step only past p = |z|).
-    const std::complex<double> e = cis(-z);
+    // |z| < max(2, order) ≤ 14: E_p(z) = Σ_k c_k / (p+k+1), c_k = (−jz)^k / k!, the c_k shared by
+    // every p; terms until |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14).
+    std::complex<double> c[96];
+    int n = 0;
+    std::complex<double> term(1.0, 0.0);
     const std::complex<double> mjz(0.0, -z);
-    out[0] = (e - 1.0) / mjz;
-    for (int p = 1; p <= order; ++p)
-        out[p] = (e - double(p) * out[p - 1]) / mjz;
+    for (; n < 96; ++n) {
+        c[n] = term;
+        if (n > az && std::norm(term) < 1e-34)
+            break;
+        term *= mjz / double(n + 1);
+    }
+    for (int p = 0; p <= order; ++p) {
+        std::complex<double> sum(0.0, 0.0);
+        for (int k = std::min(n, 95); k >= 0; --k) // smallest first
+            sum += c[k] / double(p + k + 1);
+        out[p] = sum;
+    }
 }
 
 expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
@@ -271,17 +279,28 @@ void body_model::snapshot(double t, body_snapshot& out) const
 
 void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out)
 {
-    std::fill(out, out + order + 1, std::complex<double>(0.0, 0.0));
+    static const auto inverse = [] {
+        std::array<double, max_order + 2> inv{};
+        for (size_t i = 1; i < inv.size(); ++i)
+            inv[i] = 1.0 / double(i);
+        return inv;
+    }();
+    double re[max_order + 1] = {}, im[max_order + 1] = {};
     for (size_t i = 0; i < s.point_r.size(); ++i) {
-        const double r = s.point_r[i];
-        // a e^{-jκr} (−jr)^p / p!, by recurrence over p
-        std::complex<double> g = s.point_a[i] * cis(-kappa_ref * r);
-        const std::complex<double> step(0.0, -r);
+        // a e^{-jκr} (−jr)^p / p!, by recurrence over p: (x + jy)(−jr)/(p+1) = (y r − j x r)/(p+1)
+        const double r = s.point_r[i], a = s.point_a[i];
+        double x = a * std::cos(kappa_ref * r), y = -a * std::sin(kappa_ref * r);
         for (int p = 0; p <= order; ++p) {
-            out[p] += g;
-            g *= step / double(p + 1);
+            re[p] += x;
+            im[p] += y;
+            const double f = r * inverse[p + 1];
+            const double nx = y * f;
+            y = -x * f;
+            x = nx;
         }
     }
+    for (int p = 0; p <= order; ++p)
+        out[p] = { re[p], im[p] };
     std::complex<double> e[max_order + 1], line[max_order + 1], shift[max_order + 1];
     for (size_t i = 0; i < s.line_e.size(); ++i) {
         // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e); from r0: e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
