@@ -95,7 +95,7 @@ public:
                                    uint64_t seed = 0);
 
     /*!
-     * \brief Reads a mask file (docs/file_formats.md).
+     * \brief Reads a mask file (docs/reference/file_formats.md).
      * \param path the file.
      * \return the mask.
      * \throws std::invalid_argument naming the file and the problem.

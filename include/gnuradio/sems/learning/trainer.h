@@ -90,7 +90,7 @@ struct SEMS_LEARNING_API training_settings {
     nn::reconstruction_settings reconstruction; ///< the reconstruction decoder (objective "mse")
 
     /*!
-     * \brief One rank of a distributed run (docs/distributed_training.md); default: alone.
+     * \brief One rank of a distributed run (docs/reference/distributed_training.md); default: alone.
      * \details Each rank draws its own share of `frames` (seeded by rank), its own noise and
      * Gumbel samples; gradients and validation/test sums are all-reduced; rank 0 writes.
      */
