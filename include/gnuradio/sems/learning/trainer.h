@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief Joint training of the pilot mask and a task decoder (DESIGN §5).
+ * \brief Joint training of the pilot mask and a task decoder (docs/design.md §5).
  *
  * \details Torch-free header: the training app, the evaluation and the Python bindings call
  * train() with a settings struct. Data come from gr::sems::channel_model::generate
