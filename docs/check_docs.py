@@ -15,7 +15,9 @@ commands  every command a document gives in a code block whose program is under 
 wording   the documents above and the comments and messages of the code (lib/, include/,
           python/, apps/, grc/, examples/, scripts/, and the scripts under docs/) speak to
           users: no issue numbers, no runs named by letter, no "met"/"not met" verdicts
-          against targets, no work sessions, no dates of our own runs.
+          against targets, no work sessions, no dates or commit hashes of our own runs, no
+          design file outside the repository; every docs/, models/ or examples/ page the
+          code names exists.
 
 selftest  runs the three checks on a small made-up repository with known faults.
 
@@ -55,10 +57,14 @@ PROCESS_TALK = [
     (re.compile(r"\bnot met\b", re.I), "a 'not met' verdict"),
     (re.compile(r"\bmet:", re.I), "a 'met:' verdict"),
     (re.compile(r"\bthis session\b|\bsessions? \d+\b|\bsession-\d+\b", re.I), "a work session"),
+    (re.compile(r"\bDESIGN(?:\.md| §| section)"), "a design file that is not in the repository (docs/design.md)"),
     (re.compile(r"\b20\d\d-[01]\d-[0-3][\dx]\b"), "a date"),
     (re.compile(r"(?<![\w.\-/])(?=[0-9a-f]{0,39}[a-f])(?=[0-9a-f]{0,39}\d)[0-9a-f]{7,40}(?![\w\-])"), "a commit hash"),
     (re.compile(r"\b" + MONTHS + r" [0-3]?[\dx]\b(?!\s*(?:Hz|dB|m\b|ms|s\b|%))"), "a date"),
 ]
+
+
+DOC_PAGE = re.compile(r"(?<![\w/])((?:docs|models|examples)/[\w/.-]*\w\.md)\b")
 
 
 def documents(src):
@@ -252,6 +258,9 @@ def check_wording(src, problems, skipped):
         except UnicodeDecodeError:
             continue
         for n, line in enumerate(text.split("\n"), 1):
+            for page in ([] if is_doc else DOC_PAGE.findall(line)):
+                if page not in LINK_PENDING and not os.path.exists(os.path.join(src, page)):
+                    problems.append(f"{rel}:{n}: names {page}, which is not in the repository")
             for pattern, what in PROCESS_TALK:
                 m = pattern.search(line)
                 if m:
@@ -283,11 +292,12 @@ def selftest():
         with open(os.path.join(src, "docs", "results", "notes", "old.md"), "w") as f:
             f.write("issue 3 [x](nowhere.md)\n")
         with open(os.path.join(src, "lib", "a.cc"), "w") as f:
-            f.write("// fixed in #27 this session\n#include <x>\n")
+            f.write("// fixed in #27 this session\n#include <x>\n// see docs/gone.md\n")
         expect = {
             "links": ["docs/missing.png", "#three-words", "scripts/gone.sh"],
             "commands": ["scripts/bad.py --help: exit status 3", "scripts/absent.sh: no such file"],
-            "wording": ["README.md:3: an issue number", "lib/a.cc:1: an issue number (#N)"],
+            "wording": ["README.md:3: an issue number", "lib/a.cc:1: an issue number (#N)",
+                        "lib/a.cc:3: names docs/gone.md"],
         }
         failed = 0
         for check, wanted in expect.items():
