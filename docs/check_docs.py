@@ -7,7 +7,8 @@
 links     every image and link a document gives (README.md, CHANGELOG.md, models/README.md,
           examples/README.md, docs/**/*.md outside docs/results/notes/) resolves to a file or
           folder of the repository, every #anchor into a Markdown file names one of its
-          headings, and every path in backticks that starts with a top-level folder exists.
+          headings, every path in backticks that starts with a top-level folder exists, and
+          no document is longer than 400 lines.
 commands  every command a document gives in a code block whose program is under apps/,
           scripts/ or build/apps/ exists and answers --help with exit status 0. Built apps
           are checked only when BUILD_DIR has them (skipped, with a message, otherwise).
@@ -34,6 +35,7 @@ import sys
 TOP_FOLDERS = ("apps", "cmake", "docs", "examples", "fuzz", "grc", "include", "lib", "models",
                "python", "scripts")
 NOTES = os.path.join("docs", "results", "notes")
+MAX_LINES = 400  # a user document longer than this is split
 
 # Files another change rewrites; listed so the check names them instead of failing on them.
 # Remove an entry once its file is clean.
@@ -137,6 +139,8 @@ def check_links(src, problems, skipped):
     checked = 0
     for doc in documents(src):
         text = open(os.path.join(src, doc), encoding="utf-8").read()
+        if text.count("\n") > MAX_LINES:
+            problems.append(f"{doc}: {text.count(chr(10))} lines, more than {MAX_LINES}: move long studies to {NOTES}/")
         base = os.path.dirname(os.path.join(src, doc))
         for n, line, code in prose_lines(text):
             if code:
