@@ -30,7 +30,7 @@ grc_shot() {
 main_window_width = $w
 main_window_height = $h
 console_window_position = $((h - 180))
-blocks_window_position = $((w - 260))
+blocks_window_position = $((w - 170))
 variable_editor_sidebar = False
 EOF
   cat > "$tmp/shot.sh" <<EOF
@@ -48,7 +48,7 @@ EOF
 
 grc_shot "$root/examples/sems_demo.grc" "$out/grc_demo.png" 1920 1000
 grc_shot "$root/examples/sems_demo_td.grc" "$out/grc_demo_td.png" 1920 1000
-grc_shot "$root/examples/sems_live_views.grc" "$out/grc_live_views.png" 1920 1000
+grc_shot "$root/examples/sems_live_views.grc" "$out/grc_live_views.png" 2600 1200
 
 # The running Qt views, offscreen (the same command as the example's test).
 QT_QPA_PLATFORM=offscreen /usr/bin/python3 "$root/examples/screenshot_qt.py" \
