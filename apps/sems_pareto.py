@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""sems_pareto: the decoders' speed/accuracy front (issue 11 item 2).
+"""sems_pareto: the decoders' speed/accuracy front.
 
 For each task a sweep of decoder sizes, every network trained by sems_train decoder-only on
 the same fixed mask (the shipped accurate bundle's), with the same budget and seed, then

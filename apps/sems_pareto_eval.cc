@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* sems_pareto_eval: one point of the speed/accuracy front (issue 11 item 2) per method.
+/* sems_pareto_eval: one point of the speed/accuracy front per method.
  *
  * For each method it measures, on the same fresh test frames (a scene's frames drawn with a
  * seed no training run uses, noise from channel_model::add_noise, as qa_learning_shipped does):

@@ -7,7 +7,7 @@
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *
  * See include/gnuradio/sems/learning/trainer.h for what the phases do and
- * docs/distributed_training.md for several processes and machines.
+ * docs/reference/distributed_training.md for several processes and machines.
  */
 #include <gnuradio/sems/core/scene.h>
 #include <gnuradio/sems/core/target_class.h>
@@ -115,7 +115,7 @@ int main(int argc, char** argv)
         ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
         ("quiet", "no per-epoch progress")
-        // Distributed training (docs/distributed_training.md); the flags override
+        // Distributed training (docs/reference/distributed_training.md); the flags override
         // WORLD_SIZE, RANK, MASTER_ADDR, MASTER_PORT and GLOO_SOCKET_IFNAME.
         ("world-size", po::value<int>(), "number of ranks (processes) training together (default: WORLD_SIZE or 1)")
         ("rank", po::value<int>(), "this process's rank in [0, world-size) (default: RANK)")

@@ -12,7 +12,7 @@ same run: the speed-up is a ratio of rows of one run, because the machine may be
 A third row is the machine's own ceiling: `world` independent single-rank trainings at once,
 each on its share (frames / world, batch 256 / world, no communication), their frames/s
 summed; distributed training cannot beat it. Prints a Markdown table for
-docs/distributed_training.md.
+docs/reference/distributed_training.md.
 """
 import argparse
 import json

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# ThreadSanitizer run (docs/hardening.md): builds the learning library and its CppUnit
+# ThreadSanitizer run (docs/reference/hardening.md): builds the learning library and its CppUnit
 # runner with -DSEMS_SANITIZE=thread in their own tree and runs qa_thread_access, which
 # calls every setter and getter of every C++ block from another thread while two
 # flowgraphs stream (frequency domain: mapper -> channel -> extractors -> both sinks and

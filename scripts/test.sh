@@ -4,7 +4,7 @@
 # the C++ CppUnit suites, the gr_unittest QA of every block, the example flowgraphs).
 # By default on the Release tree ./build (the one scripts/demo.sh builds). With
 # SEMS_SANITIZE=address,undefined the suite runs under AddressSanitizer +
-# UndefinedBehaviorSanitizer (docs/hardening.md) in its own tree, ./build-sanitize: that is
+# UndefinedBehaviorSanitizer (docs/reference/hardening.md) in its own tree, ./build-sanitize: that is
 # what CI runs (.ci/run), about 14 minutes of build and 5 of tests on a 2-core machine from cold.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -1,9 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The highest recognition accuracy any decoder can reach on a pilot mask (the Bayes
-classifier), next to a bundle and other masks on the same frames (issue 8's recognition bars:
-models/classifier >= 99.0 % at 10 dB; on the `any` heading scene a learned mask >= 3 points
-above the best hand pattern at 0 dB).
+classifier), next to a bundle and other masks on the same frames: how far a bundle is from what its
+pilots allow, and whether another mask could do better.
 
 One target with one path and a Rayleigh gain: a frame's pilots are y = alpha g_theta + v, with
 g_theta the unit-modulus signature of the scene parameters theta (delay phase per subcarrier,

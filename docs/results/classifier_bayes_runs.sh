@@ -11,7 +11,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
-nets="${EVAL_OUT:-out/eval_full}/full/bundles"  # docs/RESULTS.md: EVAL_OUT=out/eval_s24 (the run at a8f6daf)
+nets="${EVAL_OUT:-out/eval_full}/full/bundles"  # the networks of scripts/eval_full.sh --out DIR: EVAL_OUT=DIR
 logs=docs/results/classifier_bayes
 mkdir -p "$logs"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 PYTHONPATH=build/python_pkg

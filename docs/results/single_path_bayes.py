@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The least delay MAE any estimator can reach on a single-path bundle's mask, next to the
-bundle and the CRB (issue 8's single-path bars: MAE <= 1.5x / 2x the fading-averaged CRB of
-the bundle's own mask at 30 / 20 dB).
+bundle and the fading-averaged CRB of the bundle's own mask.
 
 For one path with Rayleigh gain the posterior of the delay is known in closed form: with
 pilots y_s = alpha exp(-j 2 pi m_s tau / M) + v_s on one symbol, alpha ~ CN(0, 1) and

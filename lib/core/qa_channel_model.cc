@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the channel model against closed forms (DESIGN §1). */
+/* gr-sems: the channel model against closed forms (docs/design.md §1). */
 #include <gnuradio/sems/core/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

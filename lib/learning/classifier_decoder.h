@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the classifier decoder (DESIGN §5, the paper's ResNet classifier).
+/* gr-sems: the classifier decoder (docs/design.md §5, the paper's ResNet classifier).
  *
  *   sparse 2 x N x M grid -> per-frame normalisation -> stem conv2d with a 3 x M kernel
  *   (3 symbols by the whole band: a learned frequency projection, so the map becomes

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the correlation-driven delay decoder (DESIGN §5).
+/* gr-sems: the correlation-driven delay decoder (docs/design.md §5).
  *
  *   sparse grid (normalised per frame) -> learned complex projection along slow time,
  *   P outputs (P = 2 gives the paper's 4 x M) -> correlation with the dictionary

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: two decoders in one process keep their own intra-op thread counts (issue 11).
+/* gr-sems: two decoders in one process keep their own intra-op thread counts.
  * Before, the constructor set LibTorch's count for the process and the last decoder
  * built won; now each inference sets it in the calling thread (OpenMP: per thread). */
 #include <gnuradio/sems/learning/bundle_decoder.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the semantic encoder, which N_p resource elements carry pilots (DESIGN §5).
+/* gr-sems: the semantic encoder, which N_p resource elements carry pilots (docs/design.md §5).
  *
  * Two kinds (encoder_settings::kind), both trained jointly with the task decoder and
  * both hard in the forward pass from the first step (exact 0/1 masks; only the gradient

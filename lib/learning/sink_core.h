@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: what the classifier and delay-estimator sinks share (DESIGN §3).
+/* gr-sems: what the classifier and delay-estimator sinks share (docs/design.md §3).
  *
  * sink_core turns a stream of pilot-observation frames (gr_complex[N_p] per item)
  * into batches for a bundle_decoder and the decoded batches back into one result

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the spectral classifier decoder (DESIGN §5), the default classifier.
+/* gr-sems: the spectral classifier decoder (docs/design.md §5), the default classifier.
  *
  *   pilots on any mask: sparse B x 2 x N x M grid (zero off the mask) and the N x M
  *   (or B x N x M) mask

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: time-domain samples -> frequency-domain OFDM symbols (DESIGN §3)."""
+"""gr-sems: time-domain samples -> frequency-domain OFDM symbols (docs/design.md §3)."""
 import math
 
 from gnuradio import blocks, fft, gr

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: frequency-domain OFDM symbols -> time-domain samples (DESIGN §3)."""
+"""gr-sems: frequency-domain OFDM symbols -> time-domain samples (docs/design.md §3)."""
 import math
 
 from gnuradio import blocks, digital, fft, gr

@@ -154,11 +154,11 @@ GRC_ONLY = {
 }
 
 # Deliberate, documented differences: GRC default, C++ default, where the reason is written.
-# docs/time_domain.md: time-domain flowgraphs default to CP 48 (covers the class table's delays),
+# docs/reference/time_domain.md: time-domain flowgraphs default to CP 48 (covers the class table's delays),
 # the C++/Python default stays frame_settings' 16 so a chain of defaults matches ofdm_tx/ofdm_rx.
 DELIBERATE = {
-    ("sems_target_channel_td", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
-    ("sems_frame_sync", "cp_len"): (48, "frame_settings.cp_len", "docs/time_domain.md"),
+    ("sems_target_channel_td", "cp_len"): (48, "frame_settings.cp_len", "docs/reference/time_domain.md"),
+    ("sems_frame_sync", "cp_len"): (48, "frame_settings.cp_len", "docs/reference/time_domain.md"),
 }
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: pilot_extractor, alone and at the end of the noiseless chain
-pilot_mapper -> target_channel -> pilot_extractor (DESIGN §2, §3)."""
+pilot_mapper -> target_channel -> pilot_extractor (docs/design.md §2, §3)."""
 import os
 import tempfile
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: pilot_mapper, the learned-pilot OFDM transmitter (DESIGN §2):
+"""gr-sems: pilot_mapper, the learned-pilot OFDM transmitter (docs/design.md §2):
 X = sqrt(E_p)·s_p at the pilots, sqrt(E_d)·data elsewhere, N symbols per frame."""
 import math
 import os

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: target_channel, the frequency-domain emulator block (DESIGN §1, §3).
+"""gr-sems: target_channel, the frequency-domain emulator block (docs/design.md §1, §3).
 The channel physics is tested in C++ (lib/qa_*.cc); here: the block's adapter work —
 same frames as channel_model, frame alignment, truth tags, SNR, counters, bad input."""
 import math

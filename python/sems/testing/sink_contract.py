@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The behaviour both sinks promise (DESIGN §3), written once and run by
+"""The behaviour both sinks promise (docs/design.md §3), written once and run by
 qa_classifier_sink.py and qa_delay_estimator_sink.py.
 
 A test class mixes SinkContract into gr_unittest.TestCase and provides:

@@ -15,7 +15,7 @@
  *
  * with S_mm = Σ (m_k - m̄)², S_nn = Σ (n_k - n̄)², S_mn = Σ (m_k - m̄)(n_k - n̄).
  * In delay indices (τ·B = τ M Δf): var(idx) ≥ M² σ² / (2 |α|² (2π)² S).
- * σ² = 10^(-SNR/10) against unit mean channel power per resource element (DESIGN §1).
+ * σ² = 10^(-SNR/10) against unit mean channel power per resource element (docs/design.md §1).
  *
  * Rayleigh fading (|α|² ~ Exp(1), fresh per frame): the frame-conditional bound has
  * an infinite mean (E[1/|α|²] diverges), but the MAE it implies for an efficient

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief The pilot extractor block (DESIGN §3).
+ * \brief The pilot extractor block (docs/design.md §3).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
 #define INCLUDED_SEMS_BLOCKS_PILOT_EXTRACTOR_H
@@ -18,7 +18,7 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The pilot extractor (DESIGN §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/s_p per frame out.
+ * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/s_p per frame out.
  *
  * \details The output is the pilot observations Y[n,m]/s_p at the mask positions, in mask
  * order (row-major, sorted by (n, m)). No power is divided out: with pilot power E_p

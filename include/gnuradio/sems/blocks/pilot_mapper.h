@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief The learned-pilot OFDM transmitter block (DESIGN §2).
+ * \brief The learned-pilot OFDM transmitter block (docs/design.md §2).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
 #define INCLUDED_SEMS_BLOCKS_PILOT_MAPPER_H
@@ -18,7 +18,7 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The learned-pilot OFDM transmitter (DESIGN §2): places the pilot mask's pilots and the data symbols on an N x M frame.
+ * \brief The learned-pilot OFDM transmitter (docs/design.md §2): places the pilot mask's pilots and the data symbols on an N x M frame.
  *
  * \details
  * \verbatim
@@ -48,7 +48,7 @@ public:
 
     /*!
      * \brief Makes a pilot mapper.
-     * \param mask_file        pilot mask JSON (DESIGN §4); "" to use pilot_positions
+     * \param mask_file        pilot mask JSON (docs/design.md §4); "" to use pilot_positions
      * \param pilot_positions  flat pilot positions n·M+m (any order); empty to use mask_file
      * \param n_symbols        N, OFDM symbols per frame
      * \param n_subcarriers    M, subcarriers (output vector length)

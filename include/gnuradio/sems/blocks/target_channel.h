@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief The frequency-domain target channel emulator block (DESIGN §1, §3).
+ * \brief The frequency-domain target channel emulator block (docs/design.md §1, §3).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
 #define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
@@ -18,7 +18,7 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The frequency-domain target channel emulator (DESIGN §1, §3): y = H[n,:] ⊙ x + V per OFDM symbol.
+ * \brief The frequency-domain target channel emulator (docs/design.md §1, §3): y = H[n,:] ⊙ x + V per OFDM symbol.
  *
  * \details gr_complex[M] in and out, one OFDM symbol per item: y = H[n,:] ⊙ x + V.
  * A thin adapter over channel_model: per frame draw(frame) and factors(r, frame·N),

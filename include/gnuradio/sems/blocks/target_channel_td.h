@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the time-domain target channel emulator (DESIGN §3, time domain).
+/* gr-sems: the time-domain target channel emulator (docs/design.md §3, time domain).
  *
  * gr_complex samples in and out at the sample rate B: a CP-OFDM stream (ofdm_tx), symbols
  * of S = M + cp_len samples back to back from the stream's first sample. A thin adapter

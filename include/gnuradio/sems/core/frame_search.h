@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: where does a frame start in a sample stream? (the time-domain receiver's
- * alignment step; DESIGN §3, time domain)
+ * alignment step; docs/design.md §3, time domain)
  *
  * The known part of a transmitted frame is its pilots: the template t is the frame's
  * CP-OFDM samples with the data set to zero (sqrt(E_p)·s_p at the mask positions, unitary

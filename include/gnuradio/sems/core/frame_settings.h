@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief OFDM frame settings (DESIGN §1) and the quantities derived from them.
+ * \brief OFDM frame settings (docs/design.md §1) and the quantities derived from them.
  */
 #ifndef INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
 #define INCLUDED_SEMS_CORE_FRAME_SETTINGS_H
@@ -16,7 +16,7 @@ namespace gr {
 /*! \brief gr-sems: semantic sensing over OFDM (frame, mask, scene, channel, blocks, learning, baselines). */
 namespace sems {
 
-/*! \brief The speed of light c in m/s; DESIGN §1 uses c = 3e8 m/s exactly. */
+/*! \brief The speed of light c in m/s; docs/design.md §1 uses c = 3e8 m/s exactly. */
 constexpr double speed_of_light_mps = 3e8;
 
 /*!

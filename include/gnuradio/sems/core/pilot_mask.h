@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief The binary N x M pilot mask P and its JSON file format (DESIGN §2, §4).
+ * \brief The binary N x M pilot mask P and its JSON file format (docs/design.md §2, §4).
  *
  * \details Pilots are kept in mask order: row-major, sorted by (n, m). Every constructor
  * validates (dimensions, range, duplicates, count) and throws std::invalid_argument
@@ -95,7 +95,7 @@ public:
                                    uint64_t seed = 0);
 
     /*!
-     * \brief Reads a mask file (docs/file_formats.md).
+     * \brief Reads a mask file (docs/reference/file_formats.md).
      * \param path the file.
      * \return the mask.
      * \throws std::invalid_argument naming the file and the problem.

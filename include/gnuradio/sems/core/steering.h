@@ -3,7 +3,7 @@
  * \file
  * \brief The steering phasors of the grid model and the Doppler search grid: the one place
  *        the channel model, the delay decoder's dictionary and the classical baselines take
- *        them from (DESIGN §1).
+ *        them from (docs/design.md §1).
  *
  * \details H[n,m] = Σ_l α_l · exp(-j2π m Δf τ_l) · exp(j2π ν_l n T) · ...: the first factor is
  * delay_phasor(), the second doppler_phasor(). Phases are reduced to one cycle in double

@@ -11,10 +11,10 @@
 
 namespace gr {
 namespace sems {
-/*! \brief Stream-tag keys, PMT-dict keys and message port names (DESIGN §3). */
+/*! \brief Stream-tag keys, PMT-dict keys and message port names (docs/design.md §3). */
 namespace keys {
 
-// Stream tags (DESIGN §3).
+// Stream tags (docs/design.md §3).
 constexpr const char* frame_tag = "sems_frame"; ///< uint64 frame index, first symbol of a frame
 constexpr const char* truth_tag = "sems_truth"; ///< PMT dict of the frame's ground truth
 

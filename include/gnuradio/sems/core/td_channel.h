@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the channel model at sample level (DESIGN §3, time domain).
+/* gr-sems: the channel model at sample level (docs/design.md §3, time domain).
  *
  * The same paths as the frequency-domain model (channel_model::draw), applied to a
  * CP-OFDM sample stream: symbols of S = M + CP samples back to back in the stream.

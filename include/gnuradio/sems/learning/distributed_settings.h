@@ -2,7 +2,7 @@
 /* gr-sems: where a training process sits in a distributed run (torch-free).
  *
  * sems_train runs as one rank of N over LibTorch's c10d with the Gloo backend
- * (docs/distributed_training.md). The rendezvous is a c10d FileStore (one machine, a
+ * (docs/reference/distributed_training.md). The rendezvous is a c10d FileStore (one machine, a
  * file every rank can reach) or a TCPStore served by rank 0 at master_addr:master_port.
  */
 #ifndef INCLUDED_SEMS_LEARNING_DISTRIBUTED_SETTINGS_H

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief A trained model bundle (DESIGN §4).
+ * \brief A trained model bundle (docs/design.md §4).
  */
 #ifndef INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
 #define INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
@@ -29,7 +29,7 @@ SEMS_LEARNING_API std::string task_name(task_kind t);
 SEMS_LEARNING_API task_kind task_from_name(const std::string& name);
 
 /*!
- * \brief A trained model bundle (DESIGN §4): a directory with mask.json, the network
+ * \brief A trained model bundle (docs/design.md §4): a directory with mask.json, the network
  *        weights and bundle.json.
  * \details bundle.json records the task, the class names, the decoder architecture and
  * settings, the frame settings, how the bundle was trained and its measured metrics.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief Sizes of the learning networks (DESIGN §5), the one place their defaults live.
+ * \brief Sizes of the learning networks (docs/design.md §5), the one place their defaults live.
  *
  * \details Torch-free on purpose: the trainer settings, bundle.json and the Python bindings carry
  * these structs without pulling in LibTorch. Users trade speed for accuracy here

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief Joint training of the pilot mask and a task decoder (DESIGN §5).
+ * \brief Joint training of the pilot mask and a task decoder (docs/design.md §5).
  *
  * \details Torch-free header: the training app, the evaluation and the Python bindings call
  * train() with a settings struct. Data come from gr::sems::channel_model::generate
@@ -90,7 +90,7 @@ struct SEMS_LEARNING_API training_settings {
     nn::reconstruction_settings reconstruction; ///< the reconstruction decoder (objective "mse")
 
     /*!
-     * \brief One rank of a distributed run (docs/distributed_training.md); default: alone.
+     * \brief One rank of a distributed run (docs/reference/distributed_training.md); default: alone.
      * \details Each rank draws its own share of `frames` (seeded by rank), its own noise and
      * Gumbel samples; gradients and validation/test sums are all-reduced; rank 0 writes.
      */
