@@ -42,13 +42,6 @@ MAX_LINES = 400  # a user document longer than this is split
 LINK_PENDING = {"docs/guides/install.md"}  # written by the install change
 WORDING_PENDING = {
     "docs/reference/hardening.md",
-    "lib/core/channel_model.cc",
-    "lib/core/scene.cc",
-    "lib/core/td_channel.cc",
-    "lib/core/target_class.cc",
-    "include/gnuradio/sems/core/scene.h",
-    "include/gnuradio/sems/core/channel_model.h",
-    "include/gnuradio/sems/core/target_class.h",
 }
 
 MONTHS = r"(?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Sept|Oct|Nov|Dec)[a-z]*\.?"

@@ -99,7 +99,7 @@ double class_definition::max_scatterer_speed_mps() const
 
 std::shared_ptr<const class_library> class_library::paper()
 {
-    // The paper's table (DESIGN §1). Micro-Doppler displacements: pedestrian 0.10 m (limb
+    // The paper's table (docs/design.md §1). Micro-Doppler displacements: pedestrian 0.10 m (limb
     // swing), drone 0.01 m (rotor blades); every class stays inside ±500 Hz at 3 GHz, 1 ms.
     static const std::shared_ptr<const class_library> lib = [] {
         const json j = {

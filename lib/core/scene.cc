@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: scenes — construction, validation and the JSON file format.
  *
- * File format (DESIGN §4), one of "targets" (fixed) or "random":
+ * File format (docs/design.md §4), one of "targets" (fixed) or "random":
  *   {"format": "sems.scene", "version": 1, "fading": "rayleigh" | "none",
  *    "target_of_interest": 0,
  *    "targets": [{"class": "drone", "range_m": 50, "velocity_mps": 7, "power": 1,

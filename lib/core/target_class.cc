@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the class table (DESIGN §1; micro-Doppler displacements in target_class.h). */
+/* gr-sems: the class table (docs/design.md §1; micro-Doppler displacements in target_class.h). */
 #include <gnuradio/sems/core/target_class.h>
 #include <stdexcept>
 

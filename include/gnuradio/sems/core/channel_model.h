@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief THE channel model (DESIGN §1).
+ * \brief THE channel model (docs/design.md §1).
  *
  * \details The emulator block, the training app, the
  * evaluation and the Python bindings all draw their channels here.

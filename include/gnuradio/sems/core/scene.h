@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief What the emulator models (DESIGN §1): targets, their paths, clutter, and
+ * \brief What the emulator models (docs/design.md §1): targets, their paths, clutter, and
  * the target of interest; fixed (given values) or random (drawn per frame from the
  * class table). A scene models only what it has: no micro-Doppler on a target without
  * it, no clutter paths without clutter.
@@ -145,7 +145,7 @@ public:
                         std::shared_ptr<const class_library> library = nullptr);
 
     /*!
-     * \brief Reads a scene file (docs/file_formats.md).
+     * \brief Reads a scene file (docs/reference/file_formats.md).
      * \param path the file.
      * \return the scene.
      * \throws std::invalid_argument naming the file and the field.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /*!
  * \file
- * \brief The target classes and their kinematics (DESIGN §1, the paper's table).
+ * \brief The target classes and their kinematics (docs/design.md §1, the paper's table).
  *
  * \details Micro-Doppler displacement A is not in the paper; the defaults below keep every
  * class inside the unambiguous ±1/(2T) = ±500 Hz of instantaneous Doppler at the
