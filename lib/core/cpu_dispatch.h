@@ -11,10 +11,10 @@
  * function must give the same results (the clone sites say how they keep that), so the
  * sanitized build checks the code that runs in production.
  *
- * Every target_clones / ifunc in the module goes through this macro: the top-level
- * CMakeLists.txt refuses to configure when a source under lib/, apps/ or include/ spells
- * either attribute anywhere else, and scripts/sanitize_thread.sh refuses a ThreadSanitizer
- * build whose libraries or runner still carry an IFUNC symbol.
+ * Every target_clones in the module goes through this macro: the top-level CMakeLists.txt
+ * refuses to configure when a source under lib/, apps/, include/ or python/ spells
+ * target_clones, target_version or ifunc anywhere else, and scripts/sanitize_thread.sh
+ * refuses a ThreadSanitizer build whose libraries or runner still carry an IFUNC symbol.
  */
 #ifndef INCLUDED_SEMS_CORE_CPU_DISPATCH_H
 #define INCLUDED_SEMS_CORE_CPU_DISPATCH_H
