@@ -9,12 +9,17 @@
 #   scripts/fuzz.sh              # 60 s each (what CI runs)
 #   scripts/fuzz.sh 600          # 10 minutes each
 #   scripts/fuzz.sh 600 scene    # one harness
+# Every fuzz/fuzz_<name>.cc is a harness <name>, seeded from fuzz/corpus/<name>/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
-harnesses=("${@:-mask scene bundle extractor}")
-read -r -a harnesses <<< "${harnesses[*]}"
+if [[ $# -gt 0 ]]; then
+  harnesses=("$@")
+else
+  harnesses=()
+  for f in "$root"/fuzz/fuzz_*.cc; do h="$(basename "$f" .cc)"; harnesses+=("${h#fuzz_}"); done
+fi
 build="${SEMS_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 cxx="${SEMS_FUZZ_CXX:-$(command -v clang++ || command -v clang++-14 || true)}"
 if [[ -z "$cxx" ]]; then
@@ -23,7 +28,7 @@ if [[ -z "$cxx" ]]; then
 fi
 mkdir -p "$build"
 cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build/configure.log"
-cmake --build "$build" -j"$(nproc)" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
+cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 fuzz_one() { # harness: fuzzes, then prints its summary; exit 1 on a crash
   local h="$1"

@@ -8,6 +8,7 @@
  * -ffp-contract=off (no FMA contraction), so every version gives the same bits.
  */
 #include "core/gaussian_generator.h"
+#include "core/cpu_dispatch.h"
 #include <algorithm>
 #include <cmath>
 
@@ -44,9 +45,7 @@ constexpr int L = gaussian_generator::lanes;
 constexpr int steps = gaussian_generator::block / L;
 
 // One block: `steps` rounds of L lanes, each lane two xoshiro128+ outputs -> one CN(0, 1).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx512f", "avx2", "default")))
-#endif
+SEMS_TARGET_CLONES("avx512f", "avx2", "default")
 void generate_block(uint32_t* __restrict s0,
                     uint32_t* __restrict s1,
                     uint32_t* __restrict s2,

@@ -2,6 +2,7 @@
 /* gr-sems: td_channel (the sample-level synthesis) against the frequency-domain model
  * and its own bookkeeping: OFDM through it equals H·X when every delay is inside the
  * prefix; the micro-Doppler phase is the model's; bad settings and delays are refused. */
+#include "qa/ofdm_modem.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/channel_model.h>
@@ -16,29 +17,7 @@ using namespace gr::sems;
 
 namespace {
 
-// Unitary CP-OFDM modulator/demodulator, the same maths as ofdm_tx/ofdm_rx.
-struct ofdm {
-    int m, cp;
-    gr::fft::fft_complex_rev rev;
-    gr::fft::fft_complex_fwd fwd;
-    ofdm(int m_, int cp_) : m(m_), cp(cp_), rev(m_), fwd(m_) {}
-    void tx(const gr_complex* x, gr_complex* out)
-    {
-        std::copy(x, x + m, rev.get_inbuf());
-        rev.execute();
-        const float sc = 1.0f / std::sqrt(float(m));
-        for (int i = 0; i < m + cp; ++i)
-            out[i] = rev.get_outbuf()[((i - cp) % m + m) % m] * sc;
-    }
-    void rx(const gr_complex* in, gr_complex* y)
-    {
-        std::copy(in + cp, in + cp + m, fwd.get_inbuf());
-        fwd.execute();
-        const float sc = 1.0f / std::sqrt(float(m));
-        for (int i = 0; i < m; ++i)
-            y[i] = fwd.get_outbuf()[i] * sc;
-    }
-};
+using ofdm = gr::sems::qa::ofdm_modem; // unitary CP-OFDM, the maths of ofdm_tx/ofdm_rx
 
 // NMSE of TD -> OFDM receiver against H·X of the frequency-domain model, same seed.
 double nmse_against_fd(const frame_settings& fs, const scene& sc, int frames)

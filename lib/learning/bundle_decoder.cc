@@ -5,7 +5,9 @@
 #include "learning/malloc_tuning.h"
 #include "learning/spectral_classifier_decoder.h"
 #include "learning/task_decoder.h"
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace gr {
 namespace sems {
@@ -41,11 +43,28 @@ struct bundle_decoder::impl {
         return nn::scatter_pilots(o, index, bundle.frame.n_symbols, grid_columns);
     }
 
+    // The rule of bundle_decoder.h: a batch with a NaN or Inf anywhere is refused, naming
+    // the first such frame (a network would answer it with NaN, or worse, a number).
+    void check_finite(const gr_complex* obs, int batch, const char* what) const
+    {
+        const size_t np = static_cast<size_t>(bundle.mask.size());
+        for (int b = 0; b < batch; ++b) {
+            const gr_complex* frame = obs + static_cast<size_t>(b) * np;
+            for (size_t k = 0; k < np; ++k)
+                if (!std::isfinite(frame[k].real()) || !std::isfinite(frame[k].imag()))
+                    throw std::invalid_argument(
+                        std::string("bundle_decoder::") + what + ": frame " + std::to_string(b) + " of the batch of " +
+                        std::to_string(batch) + " holds a non-finite observation (pilot " + std::to_string(k) +
+                        "): frames with NaN or Inf are not decoded; leave them out of the batch");
+        }
+    }
+
     nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
     {
         if (bundle.task != need)
             throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
                                         " is a \"" + task_name(bundle.task) + "\" model");
+        check_finite(obs, batch, what);
         use_threads();
         // Inference mode: no autograd bookkeeping at all (no version counters or view
         // tracking), cheaper per op than NoGradGuard; the outputs are copied out below.

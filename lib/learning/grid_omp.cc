@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: orthogonal matching pursuit on the delay grid (see lib/learning/grid_omp.h). */
 #include "learning/grid_omp.h"
+#include "core/cpu_dispatch.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
@@ -56,9 +57,7 @@ inline void correlate_tail(const std::vector<int>& sup,
 // hottest loop of its own (rounds + 1 calls per frame). This exact version rounds every
 // product and every sum as written (no FMA); its AVX2 clone runs four doubles per
 // instruction, the same operations in the same order, so both give the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+SEMS_TARGET_CLONES("avx2", "default")
 void correlate_exact(const std::vector<int>& sup,
                      const cd* r,
                      const float* dc,

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: bundle.json and the network settings refuse bad input with the path of
  * the field: unknown keys at every level, integers beyond their bounds, class names
- * that disagree with n_classes (and hence the weights), negative collision weights. */
+ * that disagree with n_classes (and hence the weights), negative collision weights;
+ * bundle_decoder refuses a batch holding a NaN or Inf frame, naming the frame. */
 #include "qa/qa_assert.h"
+#include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <cppunit/TestAssert.h>
@@ -10,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <string>
 #include <unistd.h>
 
@@ -50,6 +53,7 @@ class qa_bundle_readers : public CppUnit::TestFixture
     CPPUNIT_TEST(unknown_keys_at_every_level);
     CPPUNIT_TEST(integers_are_bounded);
     CPPUNIT_TEST(network_settings_are_strict);
+    CPPUNIT_TEST(decoder_refuses_non_finite_frames);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -152,6 +156,37 @@ public:
         CPPUNIT_ASSERT(nn::encoder_settings::from_json(e.to_json(), "e").to_json() == e.to_json());
         nn::delay_settings ds;
         CPPUNIT_ASSERT(nn::delay_settings::from_json(ds.to_json(), "d").to_json() == ds.to_json());
+    }
+
+    void decoder_refuses_non_finite_frames()
+    {
+        // The rule of bundle_decoder.h: a NaN or Inf anywhere in a frame (either part, any
+        // pilot) refuses the batch, naming the method, the frame and the pilot; the same
+        // batch without that value decodes.
+        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+        bundle_decoder cls(model_bundle::load(models_dir() + "classifier"), 1);
+        bundle_decoder del(model_bundle::load(models_dir() + "delay_single"), 1);
+        for (const bundle_decoder* d : { &cls, &del }) {
+            const int np = d->n_pilots();
+            std::vector<gr_complex> obs(size_t(4) * np, gr_complex(0.5f, -0.25f));
+            const bool is_cls = d == &cls;
+            auto decode = [&] {
+                if (is_cls)
+                    return d->classify(obs.data(), 4).size();
+                return d->estimate_delay_index(obs.data(), 4).size();
+            };
+            const std::string method = is_cls ? "bundle_decoder::classify: " : "bundle_decoder::estimate_delay: ";
+            CPPUNIT_ASSERT_EQUAL(size_t(is_cls ? 4 * 3 : 4), decode()); // finite: answered
+            obs[size_t(2) * np + 5] = gr_complex(0.0f, nan);
+            assert_error(decode, method + "frame 2 of the batch of 4 holds a non-finite observation (pilot 5)");
+            obs[size_t(0) * np + np - 1] = gr_complex(-inf, 0.0f); // the first bad frame is named
+            assert_error(decode, method + "frame 0 of the batch of 4", "(pilot " + std::to_string(np - 1) + ")");
+            obs[size_t(0) * np + np - 1] = obs[size_t(2) * np + 5] = gr_complex(0.5f, -0.25f);
+            CPPUNIT_ASSERT_EQUAL(size_t(is_cls ? 4 * 3 : 4), decode());
+        }
+        std::vector<gr_complex> one(cls.n_pilots(), gr_complex(inf, inf));
+        assert_error([&] { cls.features(one.data(), 1); }, "bundle_decoder::features: frame 0 of the batch of 1");
+        assert_error([&] { del.estimate_delay(one.data(), 1); }, "bundle_decoder::estimate_delay: frame 0");
     }
 };
 

@@ -47,6 +47,27 @@ class qa_learning(gr_unittest.TestCase):
         self.assertTrue(np.all(np.isfinite(d)))
         np.testing.assert_allclose(dec.estimate_delay(obs) * 30e6, d, rtol=1e-9)
 
+    def test_non_finite_frame_refused(self):
+        # bundle_decoder.h: a batch holding a NaN or Inf frame is refused, naming the frame;
+        # no NaN answer comes back.
+        cls = sems.bundle_decoder(os.path.join(SRC, "models", "classifier"), 1)
+        dly = sems.bundle_decoder(os.path.join(SRC, "models", "delay_single"), 1)
+        obs = np.full((5, 32), 0.5 - 0.25j, np.complex64)
+        self.assertEqual(cls.classify(obs).shape, (5, 3))
+        for bad, pilot in ((complex(np.nan, 0), 7), (complex(0, np.inf), 31), (complex(-np.inf, np.nan), 0)):
+            o = obs.copy()
+            o[3, pilot] = bad
+            for call, name in ((cls.classify, "classify"), (cls.features, "features"),
+                               (dly.estimate_delay, "estimate_delay"), (dly.estimate_delay_index, "estimate_delay")):
+                with self.assertRaisesRegex(
+                        ValueError, r"bundle_decoder::%s: frame 3 of the batch of 5 holds a non-finite "
+                                    r"observation \(pilot %d\)" % (name, pilot)):
+                    call(o)
+        one = np.full(32, np.nan, np.complex64)  # a single frame (N_p,) is frame 0
+        with self.assertRaisesRegex(ValueError, "frame 0 of the batch of 1"):
+            dly.estimate_delay(one)
+        self.assertTrue(np.all(np.isfinite(dly.estimate_delay(obs))))
+
     def test_missing_bundle(self):
         with self.assertRaisesRegex(ValueError, "does not exist"):
             sems.model_bundle.load("/nonexistent/bundle")

@@ -19,6 +19,13 @@ namespace sems {
  * \details Rebuilds the decoder network from bundle.json, loads its weights and maps pilot
  * observations (Y/s_p at the mask positions, in mask order) to answers. LibTorch stays
  * behind this header (pimpl), so blocks and bindings need no torch headers.
+ *
+ * Non-finite input: a frame holding NaN or Inf (real or imaginary part, any pilot) is never
+ * decoded. classify(), estimate_delay(), estimate_delay_index() and features() refuse a
+ * batch that holds one with std::invalid_argument (ValueError in Python) naming the
+ * method, the index of the first such frame in the batch and its pilot, and answer no
+ * frame of that batch: the caller leaves the frame out. The sinks do so: they count such
+ * a frame in `frames_skipped` and never hand it to the decoder (docs/sinks.md).
  */
 class SEMS_LEARNING_API bundle_decoder
 {
@@ -44,24 +51,28 @@ public:
      * \brief Classifies frames.
      * \param obs batch x N_p observations, row-major. \param batch the number of frames.
      * \return batch x C class probabilities, row-major.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
      */
     std::vector<float> classify(const gr_complex* obs, int batch) const;
     /*!
      * \brief Estimates the delay of the target of interest.
      * \param obs batch x N_p observations. \param batch the number of frames.
      * \return the delays in s.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a classifier bundle.
      */
     std::vector<double> estimate_delay(const gr_complex* obs, int batch) const;
     /*!
      * \brief The same estimate as estimate_delay() as a delay index (τ·B).
      * \param obs batch x N_p observations. \param batch the number of frames.
      * \return the delay indices.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a classifier bundle.
      */
     std::vector<double> estimate_delay_index(const gr_complex* obs, int batch) const;
     /*!
      * \brief Classifier only: the embeddings (for t-SNE).
      * \param obs batch x N_p observations. \param batch the number of frames.
      * \return batch x feature_size() values, row-major.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
      */
     std::vector<float> features(const gr_complex* obs, int batch) const;
     /*! \brief The embedding size. \return the features per frame. */
