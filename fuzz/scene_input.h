@@ -121,7 +121,7 @@ inline double gain_sum(const std::vector<channel_path>& paths)
 }
 
 /*! What channel_model promises of one drawn frame, whatever the scene (header and
- *  docs/file_formats.md): the mean path powers sum to 1 (unit mean channel power per
+ *  docs/reference/file_formats.md): the mean path powers sum to 1 (unit mean channel power per
  *  resource element); fading "none" gives |α|² = p exactly; every path lies inside the frame
  *  (delay in [0, 1/Δf), peak Doppler within ±1/(2T)); the truth describes the scene's
  *  target of interest (fixed: exactly its class, range and velocity; random: a label class

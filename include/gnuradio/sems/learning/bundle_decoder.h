@@ -25,7 +25,7 @@ namespace sems {
  * batch that holds one with std::invalid_argument (ValueError in Python) naming the
  * method, the index of the first such frame in the batch and its pilot, and answer no
  * frame of that batch: the caller leaves the frame out. The sinks do so: they count such
- * a frame in `frames_skipped` and never hand it to the decoder (docs/sinks.md).
+ * a frame in `frames_skipped` and never hand it to the decoder (docs/reference/sinks.md).
  */
 class SEMS_LEARNING_API bundle_decoder
 {
