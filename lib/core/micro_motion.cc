@@ -104,6 +104,8 @@ struct validate_visitor {
             const std::string f = c.field + ".scatterers[" + std::to_string(i) + "]";
             const checker cs{ c.source, f };
             cs.non_negative(s.power, "power", "");
+            if (s.power > limits::max_relative_power)
+                fail(c.source, f + ".power", "must be at most 1e30 (a relative power), got " + std::to_string(s.power));
             total += s.power;
             if (s.harmonics.size() > static_cast<size_t>(limits::max_harmonics))
                 fail(c.source, f + ".harmonics", "has more than " + std::to_string(limits::max_harmonics) + " harmonics");

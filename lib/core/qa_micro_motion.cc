@@ -551,6 +551,18 @@ public:
         assert_error(scene_with(R"({"model": "scatterers", "scatterers": []})"), "micro_motion.scatterers", "1 to 256");
         assert_error(scene_with(R"({"model": "scatterers", "scatterers": [{"power": -1}]})"),
                      "scatterers[0].power", ">= 0");
+        assert_error(scene_with(R"({"model": "scatterers", "scatterers": [{"power": 1e308}, {"power": 1e308}]})"),
+                     "scatterers[0].power", "at most 1e30");
+        // Target and path powers whose sum would overflow (found by fuzz_channel).
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "targets": [
+                {"class": "car", "range_m": 30, "velocity_mps": 1, "power": 1e308},
+                {"class": "car", "range_m": 40, "velocity_mps": 1, "power": 1e308}]})", "p.json");
+        }, "p.json: targets[0].power", "at most 1e30");
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "targets": [{"class": "car", "range_m": 30,
+                "velocity_mps": 1, "paths": [{"power": 1}, {"excess_range_m": 3, "power": 1e31}]}]})", "p.json");
+        }, "targets[0].paths[1].power", "at most 1e30");
         assert_error(scene_with(R"({"model": "scatterers", "scatterers": [{"power": 1, "harmonics": [{"amplitude_m": 0.1}]}]})"),
                      "harmonics[0].rate_hz", "missing");
         assert_error(scene_with(R"({"model": "sinusoid", "rate_hz": 10, "amplitude_m": 0.1}, "micro_doppler": {"rate_hz": 1, "amplitude_m": 0.1})"),

@@ -42,6 +42,14 @@ void check_positive(double v, const std::string& source, const std::string& fiel
         fail(source, field, "must be a finite number > 0, got " + std::to_string(v));
 }
 
+// A relative power: > 0 and at most limits::max_relative_power.
+void check_power(double v, const std::string& source, const std::string& field)
+{
+    check_positive(v, source, field);
+    if (v > limits::max_relative_power)
+        fail(source, field, "must be at most 1e30 (a relative power), got " + std::to_string(v));
+}
+
 void validate_clutter(const clutter_spec& c, const std::string& source)
 {
     if (!checks::finite(c.csr_db))
@@ -227,7 +235,7 @@ void scene::validate(const std::string& source) const
         check_finite_nonneg(t.range_m, source, f + ".range_m");
         if (!checks::finite(t.velocity_mps))
             fail(source, f + ".velocity_mps", "must be finite");
-        check_positive(t.power, source, f + ".power");
+        check_power(t.power, source, f + ".power");
         if (!std::isnan(t.speed_mps)) {
             check_finite_nonneg(t.speed_mps, source, f + ".speed_mps");
             if (!checks::finite(t.heading_rad))
@@ -259,7 +267,7 @@ void scene::validate(const std::string& source) const
         for (size_t k = 0; k < t.paths.size(); ++k) {
             const std::string pf = f + ".paths[" + std::to_string(k) + "]";
             check_finite_nonneg(t.paths[k].excess_range_m, source, pf + ".excess_range_m");
-            check_positive(t.paths[k].power, source, pf + ".power");
+            check_power(t.paths[k].power, source, pf + ".power");
         }
     }
 }

@@ -21,6 +21,10 @@ constexpr int max_paths = 256;              // paths per target
 constexpr int max_clutter_paths = 4096;     // static clutter scatterers per scene
 constexpr int max_classes = 1024;           // classes of a classifier bundle or a random scene
 constexpr int max_network_size = 1000000;   // any width/depth/count in the network settings
+// Relative powers (targets, paths, scatterers) up to 10^30: 300 dB between the strongest and the
+// weakest, and sums of up to 256 x 256 of them stay far from overflow (1e308 + 1e308 = inf
+// would zero every normalised power).
+constexpr double max_relative_power = 1e30;
 // Micro-motion (micro_motion.h): sizes of one target's scatterer model.
 constexpr int max_rotors = 16;              // rotors of a rotor target
 constexpr int max_blades = 16;              // blades per rotor
