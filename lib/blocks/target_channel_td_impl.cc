@@ -80,7 +80,7 @@ void target_channel_td_impl::start_frame(uint64_t frame, uint64_t out_offset)
 {
     d_frame_snr_db = d_snr_db.load();
     auto r = d_model.draw(frame);
-    d_td.set_paths(r.paths, frame * static_cast<uint64_t>(d_n));
+    d_td.set_frame(r, frame * static_cast<uint64_t>(d_n));
     d_frame = frame;
     d_row = 0;
     d_started = true;

@@ -277,6 +277,45 @@ void body_model::snapshot(double t, body_snapshot& out) const
     }
 }
 
+double band_scale(const frame_settings& fs, const expansion_plan& plan)
+{
+    const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    return std::max(0.5 * (plan.band_len - 1) * dk, 1e-300);
+}
+
+double term_factor(const frame_settings& fs, const expansion_plan& plan, int term, int m)
+{
+    const int band = term / (plan.order + 1), p = term % (plan.order + 1);
+    const int m0 = band * plan.band_len;
+    const int len = std::min(plan.band_len, fs.n_subcarriers - m0);
+    if (m < m0 || m >= m0 + len)
+        return 0.0;
+    const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    return std::pow((m - (m0 + 0.5 * (len - 1))) * dk / band_scale(fs, plan), p);
+}
+
+void body_terms(const body_model& model,
+                const expansion_plan& plan,
+                const frame_settings& fs,
+                double t_s,
+                body_snapshot& snap,
+                std::complex<double>* out)
+{
+    model.snapshot(t_s, snap);
+    const int terms = plan.order + 1;
+    const double scale_step = band_scale(fs, plan);
+    for (int band = 0; band < plan.sub_bands; ++band) {
+        const int m0 = band * plan.band_len;
+        const int len = std::min(plan.band_len, fs.n_subcarriers - m0);
+        const double f_ref = fs.carrier_hz + (m0 + 0.5 * (len - 1)) * fs.subcarrier_spacing_hz();
+        std::complex<double>* g = out + size_t(band) * terms;
+        moments(snap, 4.0 * M_PI * f_ref / speed_of_light_mps, plan.order, g);
+        double scale = 1.0;
+        for (int p = 0; p < terms; ++p, scale *= scale_step)
+            g[p] *= scale;
+    }
+}
+
 void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out)
 {
     static const auto inverse = [] {

@@ -88,6 +88,21 @@ private:
     std::vector<double> d_point_a; // scatterers: each one's amplitude
 };
 
+/* δk_max of a plan's sub-bands (rad/m): its subcarrier rows hold (δk_m/δk_max)^p ∈ [−1, 1]. */
+double band_scale(const frame_settings& fs, const expansion_plan& plan);
+
+/* Term k = band·(P+1) + p of a plan on subcarrier m: (δk_m/δk_max)^p inside the band, 0 outside. */
+double term_factor(const frame_settings& fs, const expansion_plan& plan, int term, int m);
+
+/* Every term of a body at time t_s: out[band·(P+1) + p] = G_p(t_s)·δk_max^p at the band's
+ * reference wavenumber (plan.terms() values; snap is scratch). */
+void body_terms(const body_model& model,
+                const expansion_plan& plan,
+                const frame_settings& fs,
+                double t_s,
+                body_snapshot& snap,
+                std::complex<double>* out);
+
 /* G_p for p = 0..P of one snapshot at reference wavenumber kappa_ref: out[p]. */
 void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out);
 

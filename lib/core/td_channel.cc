@@ -3,9 +3,11 @@
 #include "core/checks.h"
 #include "core/complex_kernels.h"
 #include "core/complex_mul.h"
+#include "core/scatterer_moments.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/steering.h>
 #include <gnuradio/sems/core/td_channel.h>
+#include <gnuradio/sems/core/walker_model.h>
 #include <volk/volk.h>
 #include <algorithm>
 #include <cmath>
@@ -22,6 +24,9 @@ constexpr double two_pi = 2.0 * M_PI;
 // Phase error allowed by the linear (secant) micro-Doppler phase inside a chunk (rad): about
 // float's own phase resolution.
 constexpr double md_phase_tolerance_rad = 1e-7;
+// Error allowed by the interpolation of a scatterer body's terms between exact anchors,
+// relative to a unit-power target (td_channel.h).
+constexpr double body_interpolation_tolerance = 1e-6;
 
 inline double frac(double x) { return x - std::floor(x); }
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }
@@ -48,9 +53,60 @@ void fill_phasors(gr_complex* dst, int n, std::complex<double> scale, double cyc
     }
 }
 
+// ω, the fastest angular rate of a body's scatterer motion (td_channel.h): their radial
+// displacement r has |r^(k)| ≤ v·ω^(k−1), v the peak speed (micro_motion_peak_speed_mps).
+double motion_rate(const scatterer_body& b, double v)
+{
+    const double speed = std::fabs(b.speed_mps);
+    struct {
+        double v, speed;
+        double operator()(const rotor_motion& r) const
+        {
+            const double reach = r.blade_length_m * std::cos(r.elevation_rad);
+            return reach > 0.0 ? v / reach : 0.0; // 2π f_max
+        }
+        double operator()(const wheels_motion& w) const { return speed / w.wheel_radius_m; }
+        double operator()(const scatterers_motion& s) const
+        {
+            double rate = 0.0;
+            for (const auto& p : s.scatterers)
+                for (const auto& h : p.harmonics)
+                    if (h.amplitude_m > 0.0)
+                        rate = std::max(rate, two_pi * h.rate_hz);
+            return rate;
+        }
+        double operator()(const walker_motion& w) const
+        {
+            // the gait's trajectories: harmonics of the cycle, taken up to the 8th
+            const double cycle = walker::cycle_duration_s(w.height_m, speed);
+            return std::isfinite(cycle) && cycle > 0.0 ? 8.0 * two_pi / cycle : 0.0;
+        }
+    } rate{ v, speed };
+    return std::visit(rate, b.motion);
+}
+
+bool same_body(const scatterer_body& a, const scatterer_body& b)
+{
+    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
+}
+
 } // namespace
 
 struct td_channel::impl {
+    // A scatterer body of the frame: its model, its expansion, and its terms at the chunk
+    // anchors of the current symbol.
+    struct body {
+        detail::body_model model;
+        detail::expansion_plan plan;
+        std::vector<double> anchor_k;        // the anchors' sample offsets in the symbol (0 first)
+        std::vector<int> base;               // per sample: its first anchor
+        std::vector<float> weight;           // per sample: 4 weights of anchors base .. base + 3
+        std::vector<std::complex<double>> g; // anchors x terms (double: exact anchors)
+        std::vector<gr_complex> gf;          // the same in float, 3 anchors of zeros after
+        uint64_t symbol = ~uint64_t(0);      // the symbol g holds
+        body(const scatterer_body& b, const frame_settings& fs) : model(b, fs) {}
+    };
+
     struct path {
         int shift = 0;        // D: whole samples
         double frac = 0.0;    // δ in [0, 1)
@@ -67,6 +123,10 @@ struct td_channel::impl {
         std::vector<gr_complex> symbol_phase; // exp(j2π ν (first_symbol + n) T), n = 0..N-1
         gr_complex w0_prev{ 0.0f, 0.0f };     // the previous symbol's tone sum at -δ
         bool filled = false;                  // tables and buf hold p's (set_paths)
+        int body = -1;   // a term of a scatterer body's path: the body
+        int term = 0;    // its term (band·(P+1) + p)
+        int terms = 1;   // the path's terms (rows l − term .. l − term + terms − 1)
+        double term_key = -1.0; // what its filter was built for (-1: a point path)
     };
 
     int m, cp, s, n;
@@ -75,9 +135,14 @@ struct td_channel::impl {
     gr::fft::fft_complex_rev rev;
     std::vector<gr_complex> x_prev, x_cur; // FFT of the symbols' last M samples
     std::vector<gr_complex> raw_prev;      // the previous symbol's samples
-    std::vector<path> paths;
+    std::vector<path> paths; // rows: one per point path, plan.terms() per body path
     size_t n_paths = 0;
     uint64_t first_symbol = 0;
+    frame_settings fs;
+    std::vector<body> bodies;
+    size_t n_bodies = 0;
+    detail::body_snapshot snap;
+    std::vector<gr_complex> acc; // a body path's terms summed before its Doppler
 
     impl(const frame_settings& fs)
         : m(fs.n_subcarriers),
@@ -91,8 +156,95 @@ struct td_channel::impl {
           rev(fs.n_subcarriers),
           x_prev(m),
           x_cur(m),
-          raw_prev(s)
+          raw_prev(s),
+          fs(fs),
+          acc(s)
     {
+    }
+
+    // The body's terms at the anchors of symbol sym (once per symbol, shared by its paths).
+    void body_anchors(body& bd, uint64_t sym)
+    {
+        if (bd.symbol == sym)
+            return;
+        bd.symbol = sym;
+        const int terms = bd.plan.terms();
+        const double t0 = static_cast<double>(sym) * t; // the frequency-domain model's t_n
+        for (size_t j = 0; j < bd.anchor_k.size(); ++j) {
+            const double k = bd.anchor_k[j];
+            std::complex<double>* g = bd.g.data() + j * terms;
+            detail::body_terms(bd.model, bd.plan, fs, k == 0.0 ? t0 : t0 + k / b, snap, g);
+            for (int i = 0; i < terms; ++i)
+                bd.gf[size_t(j) * terms + i] = gr_complex(g[i]);
+        }
+    }
+
+    // acc[k] += src[k] · g(k), g interpolated between the body's anchors (term `term`).
+    static void accumulate_interpolated(gr_complex* accum, const gr_complex* src, const body& bd, int term, int s)
+    {
+        const size_t terms = static_cast<size_t>(bd.plan.terms());
+        const gr_complex* g = bd.gf.data() + term;
+        for (int k = 0; k < s; ++k) {
+            const gr_complex* a = g + size_t(bd.base[k]) * terms;
+            const float* w = bd.weight.data() + 4 * size_t(k);
+            accum[k] += src[k] * (w[0] * a[0] + w[1] * a[terms] + w[2] * a[2 * terms] + w[3] * a[3 * terms]);
+        }
+    }
+
+    // The body's anchors and each sample's weights: a constant for a still body, else
+    // Lagrange interpolation of degree d = 1, 2 or 3 through d + 1 anchors h apart per segment,
+    // the degree and segments needing the fewest anchors within body_interpolation_tolerance:
+    // error ≤ |h^(d+1)|·C_d·h^(d+1)/(d+1)!, C_d = max over the segment of |Π_i (u − i)| (1/4,
+    // 2/(3√3), 1), |h^(n)| ≤ Σ|a|(c + 2ω)^n for n ≤ 4 (c = κv, td_channel.h).
+    void plan_anchors(body& bd, double amplitude_sum, double kappa_v, double omega) const
+    {
+        bd.anchor_k.clear();
+        const double rate = (kappa_v + 2.0 * omega) / b; // per sample
+        int degree = 0, segments = 1;
+        if (rate > 0.0) {
+            int best = 0;
+            const double c_d[] = { 0.0, 0.25, 2.0 / (3.0 * std::sqrt(3.0)), 1.0 };
+            for (int d = 1, factorial = 2; d <= 3; ++d, factorial *= d + 1) {
+                const double h_max =
+                    std::pow(body_interpolation_tolerance * factorial / (amplitude_sum * c_d[d]), 1.0 / (d + 1)) / rate;
+                // anchors on samples for d = 1 (the segment a whole number of samples)
+                const double h = d == 1 ? std::floor(h_max) : h_max;
+                const int seg = h >= 1.0 ? std::max(1, static_cast<int>(std::ceil(s / (d * h)))) : s;
+                if (best == 0 || d * seg + 1 < best) {
+                    best = d * seg + 1;
+                    degree = d;
+                    segments = seg;
+                }
+            }
+        }
+        const int n_anchors = degree * segments + 1;
+        for (int j = 0; j < n_anchors; ++j)
+            bd.anchor_k.push_back(degree == 0 ? 0.0 : double(s) * j / (n_anchors - 1));
+        bd.base.resize(s);
+        bd.weight.resize(size_t(4) * s);
+        for (int k = 0; k < s; ++k) {
+            float* wk = bd.weight.data() + 4 * size_t(k);
+            std::fill(wk, wk + 4, 0.0f);
+            if (degree == 0) {
+                bd.base[k] = 0;
+                wk[0] = 1.0f;
+                continue;
+            }
+            const double h = double(s) / (n_anchors - 1);
+            const int seg = std::min(segments - 1, static_cast<int>(k / (degree * h)));
+            bd.base[k] = degree * seg;
+            const double u = (k - bd.anchor_k[degree * seg]) / h; // in [0, degree]
+            for (int i = 0; i <= degree; ++i) {
+                double w = 1.0;
+                for (int j = 0; j <= degree; ++j)
+                    if (j != i)
+                        w *= (u - j) / (i - j);
+                wk[i] = static_cast<float>(w);
+            }
+        }
+        bd.g.resize(size_t(n_anchors) * bd.plan.terms());
+        bd.gf.assign(size_t(n_anchors + 3) * bd.plan.terms(), gr_complex(0.0f, 0.0f));
+        bd.symbol = ~uint64_t(0);
     }
 
     // Inverse FFT of x ⊙ shift_phasor: the symbol's tone sum at times j - δ (j = 0..M-1),
@@ -139,7 +291,8 @@ struct td_channel::impl {
         }
         const gr_complex* w = shifted_core(pa, x_cur);
         with_prefix(w, cur);
-        cur[0] = pa.w0_prev; // time -δ lies in the previous symbol: its tone sum there
+        if (pa.frac > 0.0) // time -δ lies in the previous symbol: its tone sum there
+            cur[0] = pa.w0_prev;
         pa.w0_prev = w[0];
     }
 
@@ -206,56 +359,127 @@ void td_channel::reset()
 
 void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t first_symbol)
 {
+    for (size_t l = 0; l < paths.size(); ++l)
+        if (paths[l].body >= 0)
+            throw std::invalid_argument("td_channel: path " + std::to_string(l) + " refers to scatterer body " +
+                                        std::to_string(paths[l].body) +
+                                        ": set_paths takes point paths only, set_frame a frame with its bodies");
+    set_paths(paths, nullptr, first_symbol);
+}
+
+void td_channel::set_frame(const frame_realization& r, uint64_t first_symbol)
+{
+    set_paths(r.paths, &r.bodies, first_symbol);
+}
+
+void td_channel::set_paths(const std::vector<channel_path>& paths,
+                           const std::vector<scatterer_body>* bodies,
+                           uint64_t first_symbol)
+{
     auto& I = *d;
-    if (I.paths.size() < paths.size())
-        I.paths.resize(paths.size());
-    I.n_paths = paths.size();
-    I.first_symbol = first_symbol;
     const int m = I.m;
+    // Scatterer bodies: a model, its expansion and its anchors, kept while its parameters stay
+    // (a fixed scene's are set up once).
+    const size_t n_bodies = bodies ? bodies->size() : 0;
+    if (I.bodies.size() > n_bodies)
+        I.bodies.erase(I.bodies.begin() + n_bodies, I.bodies.end());
+    const double kappa_max =
+        4.0 * M_PI * (d_fs.carrier_hz + (m - 1) * d_fs.subcarrier_spacing_hz()) / speed_of_light_mps;
+    for (size_t b = 0; b < n_bodies; ++b) {
+        const auto& rb = (*bodies)[b];
+        if (b >= I.bodies.size())
+            I.bodies.emplace_back(rb, d_fs);
+        else if (!same_body(I.bodies[b].model.body(), rb))
+            I.bodies[b] = impl::body(rb, d_fs);
+        else
+            continue;
+        auto& bd = I.bodies[b];
+        bd.plan = detail::plan_expansion(d_fs, bd.model.extent_m(), bd.model.amplitude_sum());
+        const double v = micro_motion_peak_speed_mps(rb.motion, rb.speed_mps);
+        I.plan_anchors(bd, bd.model.amplitude_sum(), kappa_max * v, motion_rate(rb, v));
+    }
+    I.n_bodies = n_bodies;
+
+    // Rows: one per point path, plan.terms() per body path.
+    size_t rows = 0;
+    for (size_t l = 0; l < paths.size(); ++l) {
+        const int body = paths[l].body;
+        if (body >= 0 && static_cast<size_t>(body) >= n_bodies)
+            throw std::invalid_argument("td_channel: path " + std::to_string(l) + " refers to scatterer body " +
+                                        std::to_string(body) + " but the frame has " + std::to_string(n_bodies));
+        rows += body >= 0 ? static_cast<size_t>(I.bodies[body].plan.terms()) : 1;
+    }
+    if (I.paths.size() < rows)
+        I.paths.resize(rows);
+    I.n_paths = rows;
+    I.first_symbol = first_symbol;
+    size_t row = 0;
     for (size_t l = 0; l < paths.size(); ++l) {
         const auto& p = paths[l];
-        auto& pa = I.paths[l];
         const double samples = p.delay_s * I.b;
         if (!checks::non_negative(samples) || samples >= m)
             throw std::invalid_argument("td_channel: path " + std::to_string(l) + " delay " +
                                         std::to_string(p.delay_s) + " s is outside [0, 1/Δf) = [0, " +
                                         std::to_string(m / I.b) + ") s");
-        // A fixed scene's path keeps its tables, and its delayed samples of the previous
-        // symbol (which depend on the delay and gain only) stay valid across the frame start.
-        const bool same_samples = pa.filled && pa.p.delay_s == p.delay_s && pa.p.gain == p.gain;
-        const bool same_doppler = pa.filled && pa.p.doppler_hz == p.doppler_hz;
-        pa.p = p;
-        pa.shift = static_cast<int>(std::floor(samples));
-        pa.frac = samples - pa.shift;
-        pa.fractional = pa.frac > 0.0;
-        pa.has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
-        pa.moving = pa.has_md || p.doppler_hz != 0.0;
-        pa.anchor = I.s;
-        if (pa.has_md) {
-            const double beta = I.md_scale * p.md_amplitude_m, omega = two_pi * p.md_rate_hz;
-            // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
-            const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
-            pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
-            pa.md_step = cis_cycles(p.md_rate_hz * pa.anchor / I.b);
-            const int last = I.s % pa.anchor == 0 ? pa.anchor : I.s % pa.anchor;
-            pa.md_step_last = cis_cycles(p.md_rate_hz * last / I.b);
+        const impl::body* bd = p.body >= 0 ? &I.bodies[p.body] : nullptr;
+        const int terms = bd ? bd->plan.terms() : 1;
+        for (int term = 0; term < terms; ++term, ++row) {
+            auto& pa = I.paths[row];
+            // What the term's filter depends on besides delay and gain (FD's delay-row key).
+            const double term_key =
+                bd ? term + 1000.0 * bd->plan.order + 1e6 * bd->plan.band_len : -1.0;
+            // A fixed scene's path keeps its tables, and its delayed samples of the previous
+            // symbol (which depend on the delay, gain and filter only) stay valid across the
+            // frame start.
+            const bool same_samples =
+                pa.filled && pa.p.delay_s == p.delay_s && pa.p.gain == p.gain && pa.term_key == term_key;
+            const bool same_doppler =
+                pa.filled && pa.p.doppler_hz == p.doppler_hz && pa.doppler.size() == static_cast<size_t>(I.s);
+            pa.p = p;
+            pa.body = p.body;
+            pa.term = term;
+            pa.terms = terms;
+            pa.term_key = term_key;
+            pa.shift = static_cast<int>(std::floor(samples));
+            pa.frac = samples - pa.shift;
+            pa.fractional = bd || pa.frac > 0.0; // a body's terms are filtered per symbol
+            pa.has_md = !bd && p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0; // a body has no sinusoid (as FD)
+            pa.moving = pa.has_md || p.doppler_hz != 0.0;
+            pa.anchor = I.s;
+            if (pa.has_md) {
+                const double beta = I.md_scale * p.md_amplitude_m, omega = two_pi * p.md_rate_hz;
+                // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
+                const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
+                pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
+                pa.md_step = cis_cycles(p.md_rate_hz * pa.anchor / I.b);
+                const int last = I.s % pa.anchor == 0 ? pa.anchor : I.s % pa.anchor;
+                pa.md_step_last = cis_cycles(p.md_rate_hz * last / I.b);
+            }
+            // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15);
+            // a body path's Doppler is applied once, after its terms: its first row holds the tables.
+            if (term == 0) {
+                if (!same_doppler) {
+                    pa.doppler.resize(I.s);
+                    fill_phasors(pa.doppler.data(), I.s, 1.0, p.doppler_hz / I.b);
+                }
+                pa.symbol_phase.resize(I.n);
+                fill_phasors(pa.symbol_phase.data(),
+                             I.n,
+                             doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, I.t),
+                             p.doppler_hz * I.t);
+            } else {
+                pa.doppler.clear(); // not this row's: filled again if it becomes a path's first
+            }
+            if (!same_samples) {
+                pa.shift_phasor.resize(m);
+                fill_phasors(pa.shift_phasor.data(), m, p.gain / static_cast<double>(m), -pa.frac / m);
+                if (bd)
+                    for (int i = 0; i < m; ++i)
+                        pa.shift_phasor[i] *= static_cast<float>(detail::term_factor(d_fs, bd->plan, term, i));
+                I.fill_previous(pa);
+            }
+            pa.filled = true;
         }
-        // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15).
-        if (!same_doppler) {
-            pa.doppler.resize(I.s);
-            fill_phasors(pa.doppler.data(), I.s, 1.0, p.doppler_hz / I.b);
-        }
-        pa.symbol_phase.resize(I.n);
-        fill_phasors(pa.symbol_phase.data(),
-                     I.n,
-                     doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, I.t),
-                     p.doppler_hz * I.t);
-        if (!same_samples) {
-            pa.shift_phasor.resize(m);
-            fill_phasors(pa.shift_phasor.data(), m, p.gain / static_cast<double>(m), -pa.frac / m);
-            I.fill_previous(pa);
-        }
-        pa.filled = true;
     }
 }
 
@@ -276,6 +500,25 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
         auto& pa = I.paths[l];
         I.fill_current(pa, in);
         const gr_complex* src = pa.buf.data() + s - pa.shift;
+        if (pa.body >= 0) { // a term of a body path: summed, then the path's Doppler
+            auto& bd = I.bodies[pa.body];
+            I.body_anchors(bd, sym);
+            if (pa.term == 0)
+                std::fill(I.acc.begin(), I.acc.end(), gr_complex(0.0f, 0.0f));
+            impl::accumulate_interpolated(I.acc.data(), src, bd, pa.term, s);
+            I.keep_tail(pa);
+            if (pa.term + 1 < pa.terms)
+                continue;
+            const auto& first = I.paths[l - pa.term]; // the path's first row holds its Doppler tables
+            if (first.moving)
+                detail::accumulate_rotated(out, I.acc.data(), first.doppler.data(), first.symbol_phase[n], s);
+            else
+                volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
+                                    reinterpret_cast<const float*>(out),
+                                    reinterpret_cast<const float*>(I.acc.data()),
+                                    2 * s);
+            continue;
+        }
         if (pa.has_md)
             I.accumulate_micro_doppler(pa, sym, src, out);
         else if (pa.moving)
