@@ -13,6 +13,7 @@
 #include "qa/ofdm_modem.h"
 #include "scene_input.h"
 #include <gnuradio/sems/core/td_channel.h>
+#include <limits>
 #include <stdexcept>
 
 using namespace sems_fuzz;
@@ -58,8 +59,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             const uint64_t first = f * static_cast<uint64_t>(n);
 
             // The frame as drawn: finite and bounded.
-            const double bound = gain_sum(r.paths) * std::sqrt(double(m)) * (1.0 + 1e-4 + 2.4e-7 * r.paths.size());
-            td.set_paths(r.paths, first);
+            // (a scatterer body's return is a sum of its scatterers: only finiteness is checked there)
+            const double bound = r.bodies.empty()
+                                     ? gain_sum(r.paths) * std::sqrt(double(m)) * (1.0 + 1e-4 + 2.4e-7 * r.paths.size())
+                                     : std::numeric_limits<double>::infinity();
+            td.set_frame(r, first);
             for (int k = 0; k < symbols; ++k) {
                 symbols_of.draw(x.data(), m);
                 o.tx(x.data(), t.data());
@@ -77,7 +81,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             // Its static paths inside the prefix against the frequency-domain model.
             std::vector<channel_path> inside;
             for (auto p : r.paths)
-                if (fs.delay_index(p.delay_s) <= fs.cp_len) {
+                if (p.body < 0 && fs.delay_index(p.delay_s) <= fs.cp_len) {
                     p.doppler_hz = 0.0;
                     p.md_rate_hz = p.md_amplitude_m = p.md_phase_rad = 0.0;
                     inside.push_back(p);

@@ -167,7 +167,12 @@ inline void check_realization(const frame_settings& fs, const scene& sc, const f
         fail("a drawn frame's truth has SNR %g, not +inf (noiseless)", t.snr_db);
     if (!sc.is_random()) {
         const auto& toi = sc.targets().at(static_cast<size_t>(sc.target_of_interest()));
-        if (t.class_id != static_cast<int>(toi.cls) || t.range_m != toi.range_m || t.velocity_mps != toi.velocity_mps)
+        const auto& track = sc.track();
+        if (track && !(t.range_m >= track->range_min_m && t.range_m <= track->range_max_m))
+            fail("moving scene: truth range %g m outside the track [%g, %g]", t.range_m, track->range_min_m,
+                 track->range_max_m);
+        if (t.class_id != static_cast<int>(toi.cls) || (!track && t.range_m != toi.range_m) ||
+            std::fabs(t.velocity_mps) != std::fabs(toi.velocity_mps))
             fail("fixed scene: truth (class %d, %g m, %g m/s) is not target %d (class %d, %g m, %g m/s)", t.class_id,
                  t.range_m, t.velocity_mps, sc.target_of_interest(), static_cast<int>(toi.cls), toi.range_m,
                  toi.velocity_mps);
@@ -175,7 +180,7 @@ inline void check_realization(const frame_settings& fs, const scene& sc, const f
         const auto labels = sc.label_classes();
         if (std::none_of(labels.begin(), labels.end(), [&](auto c) { return static_cast<int>(c) == t.class_id; }))
             fail("random scene: truth class %d is not a label class of the scene", t.class_id);
-        const auto& spec = gr::sems::class_info(t.class_id);
+        const auto& spec = sc.library().at(t.class_id);
         if (t.class_name != spec.name)
             fail("truth class name '%s' is not class %d's '%s'", t.class_name.c_str(), t.class_id, spec.name.c_str());
         if (!(t.range_m >= spec.range_min_m && t.range_m <= spec.range_max_m))
