@@ -122,6 +122,8 @@ int main(int argc, char** argv)
         ("delay-snrs", po::value(&delay_snrs), "override: delay SNR points (dB)")
         ("np-sweep", po::value(&np_sweep), "override: pilot budgets of experiment 5")
         ("clutter-csr", po::value(&c.clutter_csr_db)->default_value(c.clutter_csr_db), "clutter-to-signal ratio of the strong-clutter scene (dB)")
+        ("class-library", po::value(&c.class_library)->default_value(c.class_library),
+         "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic) or file")
         ("multipath-paths", po::value(&c.multipath_paths)->default_value(c.multipath_paths), "paths per target in the multipath scene")
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")

@@ -48,6 +48,7 @@ int main(int argc, char** argv)
 {
     training_settings s;
     std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading;
+    std::string class_library_name;
     int paths = 1;
     double clutter_csr = std::numeric_limits<double>::quiet_NaN();
     bool no_md = false;
@@ -62,7 +63,11 @@ int main(int argc, char** argv)
         ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
         ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler): train the decoder only")
         ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
-        ("classes", po::value(&classes)->default_value("pedestrian,car,drone"), "random scene: comma-separated classes")
+        ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
+         "random scene: comma-separated classes of --class-library (default: the paper's three; with another "
+         "library, every class of it)")
+        ("class-library", po::value(&class_library_name)->default_value("paper"),
+         "random scene: the class library, by name (paper, kinematic) or file (format sems.classes)")
         ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
         ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
         ("no-micro-doppler", po::bool_switch(&no_md), "random scene: no micro-Doppler")
@@ -182,14 +187,22 @@ int main(int argc, char** argv)
         if (!scene_file.empty() && !vm["heading"].defaulted())
             throw std::invalid_argument("--heading is for random scenes built from the flags; with --scene, "
                                         "set \"heading\" in the scene file");
+        if (!scene_file.empty() && !vm["class-library"].defaulted())
+            throw std::invalid_argument("--class-library is for random scenes built from the flags; with --scene, "
+                                        "set \"classes\" in the scene file");
         if (!scene_file.empty()) {
             s.scene_spec = scene::load(scene_file);
             s.scene_source = scene_file;
         } else {
+            const auto lib = class_library::find(class_library_name);
+            const bool all_classes = vm["classes"].defaulted() && lib->name() != class_library::paper()->name();
+            if (all_classes)
+                classes = "all of " + lib->name();
             random_spec r;
-            r.classes.clear();
-            for (const auto& c : split_list(classes))
-                r.classes.push_back(class_from_name(c));
+            r.classes.clear(); // empty: every class of the library
+            if (!all_classes)
+                for (const auto& c : split_list(classes))
+                    r.classes.push_back(static_cast<target_class>(lib->id_of(c)));
             r.paths_per_target = paths;
             r.micro_doppler = !no_md;
             r.heading = heading_from_name(heading);
@@ -199,7 +212,7 @@ int main(int argc, char** argv)
                 c.csr_db = clutter_csr;
                 clutter = c;
             }
-            s.scene_spec = scene::random(r, clutter);
+            s.scene_spec = scene::random(r, clutter, fading_kind::rayleigh, lib);
             std::ostringstream src;
             src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
                 << (no_md ? ", no micro-Doppler" : "") << ", heading " << heading

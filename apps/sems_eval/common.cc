@@ -83,7 +83,10 @@ std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, 
 
 scene recognition_scene(const std::string& scenario, const config& c)
 {
-    random_spec r; // all three classes, single path
+    random_spec r; // every class of the library (the paper's three), single path
+    const auto lib = class_library::find(c.class_library);
+    if (lib->name() != class_library::paper()->name())
+        r.classes.clear(); // empty: every class of the library
     std::optional<clutter_spec> clutter;
     if (scenario == "no_md")
         r.micro_doppler = false;
@@ -95,7 +98,7 @@ scene recognition_scene(const std::string& scenario, const config& c)
         r.heading = heading_kind::any;
     } else if (scenario != "default")
         throw std::invalid_argument("unknown recognition scenario " + scenario);
-    return scene::random(r, clutter);
+    return scene::random(r, clutter, fading_kind::rayleigh, lib);
 }
 
 scene delay_scene(int paths)

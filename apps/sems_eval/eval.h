@@ -46,6 +46,7 @@ struct config {
     std::vector<int> np_sweep{ 2, 8, 32 };
     int multipath_paths = 3;
     double clutter_csr_db = 10.0;
+    std::string class_library = "paper"; // experiments 1-3: the recognition scenes' class library (name or file)
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;

@@ -27,12 +27,14 @@ std::vector<int> truth_labels(const test_set& ts)
     return y;
 }
 
-// Class ids of a classifier bundle's outputs.
-std::vector<int> output_classes(const model_bundle& b)
+// Class ids (in the scene's library) of a classifier bundle's outputs; a bundle trained on
+// another class library is refused with the reason (model_bundle::check_library).
+std::vector<int> output_classes(const model_bundle& b, const scene& sc)
 {
+    b.check_library(sc.library(), "sems_eval");
     std::vector<int> ids;
     for (const auto& n : b.class_names)
-        ids.push_back(static_cast<int>(class_from_name(n)));
+        ids.push_back(sc.library().id_of(n));
     return ids;
 }
 
@@ -175,7 +177,7 @@ void run_recognition(const config& c, std::ostream& log)
             << " test frames, seed " << test_seed << std::endl;
         const test_set ts = make_test_set(c.fs, sc, c.test_frames, test_seed);
         const auto truth = truth_labels(ts);
-        const int n_classes = static_cast<int>(class_table().size());
+        const int n_classes = sc.library().size();
 
         auto write = [&](const std::string& method, const std::string& mask, int pilots, double snr,
                          const class_score& s, double us, double train_s, const std::string& model,
@@ -193,7 +195,7 @@ void run_recognition(const config& c, std::ostream& log)
         };
         auto evaluate = [&](const dl_method& m, const decoder_source& src, std::optional<uint64_t> train_seed) {
             const bundle_decoder dec(src.bundle, c.threads);
-            const auto ids = output_classes(src.bundle);
+            const auto ids = output_classes(src.bundle, sc);
             const int p = dec.n_pilots();
             if (m.noiseless_input) {
                 double us = 0.0;
@@ -262,8 +264,14 @@ void run_recognition(const config& c, std::ostream& log)
             src.bundle = model_bundle::load(c.shipped_classifier);
             src.origin = c.shipped_classifier;
             const std::string kind = src.bundle.mask.origin().value("kind", std::string("unknown"));
+            const std::string other_library =
+                src.bundle.library ? src.bundle.library->difference(sc.library()) : std::string();
             if (src.bundle.task != task_kind::classify || src.bundle.frame != c.fs)
                 log << "  shipped classifier " << c.shipped_classifier << " does not match: skipped" << std::endl;
+            else if (!other_library.empty())
+                log << "  shipped classifier " << c.shipped_classifier << " was trained on class library \""
+                    << src.bundle.library->name() << "\", the scene's is \"" << sc.library().name()
+                    << "\": skipped (" << other_library << ")" << std::endl;
             else
                 evaluate({ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false }, src,
                          std::nullopt);

@@ -45,6 +45,7 @@ void run_tsne(const config& c, std::ostream& log)
     csv_file csv(c.out_dir + "/exp2_tsne_features.csv", header);
     for (const auto& it : items) {
         const auto src = train_or_load(c, it.model, it.s, log);
+        src.bundle.check_library(sc.library(), "sems_eval"); // refused with the reason
         const bundle_decoder dec(src.bundle, c.threads);
         const auto obs = ts.observe(src.bundle.mask, c.tsne_snr_db);
         const int d = dec.feature_size(), p = dec.n_pilots(), nc = static_cast<int>(src.bundle.class_names.size());
@@ -58,8 +59,7 @@ void run_tsne(const config& c, std::ostream& log)
         int correct = 0;
         for (int f = 0; f < ts.count; ++f) {
             const float* pr = probs.data() + size_t(f) * nc;
-            const int pred =
-                static_cast<int>(class_from_name(src.bundle.class_names[std::max_element(pr, pr + nc) - pr]));
+            const int pred = sc.library().id_of(src.bundle.class_names[std::max_element(pr, pr + nc) - pr]);
             correct += pred == ts.truth[f].class_id;
             std::vector<std::string> row{ it.method, std::to_string(f), std::to_string(ts.truth[f].class_id),
                                           ts.truth[f].class_name, num(c.tsne_snr_db), std::to_string(pred),

@@ -29,7 +29,8 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           int n_subcarriers,
                                           double bandwidth_hz,
                                           double carrier_hz,
-                                          double symbol_interval_s)
+                                          double symbol_interval_s,
+                                          const std::string& class_library)
 {
     detail::check_snr(who, snr_db);
     frame_settings fs;
@@ -41,7 +42,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.cp_len = 0; // the frequency-domain emulator has no cyclic prefix (ofdm_tx/rx add it)
     fs.validate();
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
-                                          heading, clutter_paths, clutter_csr_db);
+                                          heading, clutter_paths, clutter_csr_db, class_library);
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db);
 }
 
@@ -54,7 +55,8 @@ target_channel_impl::target_channel_impl(channel_model model, double snr_db)
       d_m(d_model.settings().n_subcarriers),
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
-      d_frame_key(pmt::intern(keys::frame_tag))
+      d_frame_key(pmt::intern(keys::frame_tag)),
+      d_truth(d_model.scene_spec().library().name())
 {
     d_tags.reserve(16);
 }
@@ -82,7 +84,7 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
     d_row = 0;
     d_started = true;
 
-    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r.truth, frame, d_frame_snr_db), alias_pmt());
+    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r, frame, d_frame_snr_db), alias_pmt());
 }
 
 int target_channel_impl::work(int noutput_items,

@@ -25,7 +25,8 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
                                                 double bandwidth_hz,
                                                 double carrier_hz,
                                                 double symbol_interval_s,
-                                                int cp_len)
+                                                int cp_len,
+                                                const std::string& class_library)
 {
     detail::check_snr(who, snr_db);
     if (cp_len < 0)
@@ -44,7 +45,7 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
     }
     // (No heading parameter here yet: random scenes use the default heading; a scene JSON may set "any".)
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
-                                          heading_name(random_spec{}.heading), clutter_paths, clutter_csr_db);
+                                          heading_name(random_spec{}.heading), clutter_paths, clutter_csr_db, class_library);
     try { // the model checks the scene against the frame, td_channel T against the symbol length
         return gnuradio::make_block_sptr<target_channel_td_impl>(channel_model(fs, sc, seed), snr_db);
     } catch (const std::invalid_argument& e) {
@@ -62,7 +63,8 @@ target_channel_td_impl::target_channel_td_impl(channel_model model, double snr_d
       d_s(d_td.symbol_len()),
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
-      d_frame_key(pmt::intern(keys::frame_tag))
+      d_frame_key(pmt::intern(keys::frame_tag)),
+      d_truth(d_model.scene_spec().library().name())
 {
     set_output_multiple(d_s); // whole symbols per call
     d_tags.reserve(16);
@@ -85,7 +87,7 @@ void target_channel_td_impl::start_frame(uint64_t frame, uint64_t out_offset)
     d_row = 0;
     d_started = true;
     ++d_frames;
-    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r.truth, frame, d_frame_snr_db), alias_pmt());
+    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r, frame, d_frame_snr_db), alias_pmt());
 }
 
 int target_channel_td_impl::work(int noutput_items,

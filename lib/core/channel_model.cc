@@ -7,6 +7,7 @@
 #include "core/scatterer_moments.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/steering.h>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -489,6 +490,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     truth.velocity_mps = toi.velocity_mps;
     truth.snr_db = std::numeric_limits<double>::infinity();
     truth.n_paths = static_cast<int>(out.paths.size());
+    out.truth_body = toi.motion ? static_cast<int>(std::count_if(targets.data(), &toi, [](const target_spec& t) { return t.motion.has_value(); })) : -1;
 }
 
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const

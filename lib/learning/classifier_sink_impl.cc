@@ -3,6 +3,7 @@
 #include "learning/classifier_sink_impl.h"
 
 #include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/class_library.h>
 #include <gnuradio/sems/core/tags.h>
 #include <gnuradio/sems/core/target_class.h>
 #include <algorithm>
@@ -19,7 +20,10 @@ constexpr const char* block_name = "classifier_sink";
 // ---------------------------------------------------------------- classifier_task
 
 classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder)
-    : d_decoder(std::move(decoder)), d_names(d_decoder->bundle().class_names)
+    : d_decoder(std::move(decoder)),
+      d_names(d_decoder->bundle().class_names),
+      d_library_key(pmt::intern(keys::class_library)),
+      d_accepted_library(pmt::PMT_NIL)
 {
     reset_metrics();
 }
@@ -58,13 +62,44 @@ int classifier_task::class_of_truth(const pmt::pmt_t& truth) const
         if (!pmt::is_integer(id))
             return -2;
         try {
-            name = class_info(static_cast<int>(pmt::to_long(id))).name;
+            // An id of the input's library, the bundle's (check_library refuses any other).
+            const auto& lib = d_decoder->bundle().library;
+            const int c = static_cast<int>(pmt::to_long(id));
+            name = lib ? lib->at(c).name : class_info(c).name;
         } catch (const std::exception&) {
             return -1;
         }
     }
     const auto it = std::find(d_names.begin(), d_names.end(), name);
     return it == d_names.end() ? -1 : static_cast<int>(it - d_names.begin());
+}
+
+void classifier_task::check_library(const pmt::pmt_t& truth)
+{
+    const pmt::pmt_t lib = pmt::dict_ref(truth, d_library_key, pmt::PMT_NIL);
+    if (!pmt::is_symbol(lib) || pmt::eq(lib, d_accepted_library)) // the common case: one pointer compare
+        return;
+    const std::string name = pmt::symbol_to_string(lib);
+    auto known = d_refusals.find(name);
+    if (known == d_refusals.end()) {
+        std::string why;
+        const auto& bundle = d_decoder->bundle();
+        try {
+            bundle.check_library(*class_library::find(name), block_name);
+        } catch (const std::runtime_error& e) {
+            why = e.what();
+        } catch (const std::invalid_argument& e) { // a library this machine cannot find
+            if (!bundle.library || bundle.library->name() != name)
+                why = std::string(block_name) + ": the bundle " + bundle.directory + " was trained on class library \"" +
+                      (bundle.library ? bundle.library->name() : std::string("paper")) +
+                      "\" but its input's frames come from class library \"" + name + "\", which cannot be read: " +
+                      e.what();
+        }
+        known = d_refusals.emplace(name, why).first;
+    }
+    if (!known->second.empty())
+        throw std::runtime_error(known->second);
+    d_accepted_library = lib;
 }
 
 bool classifier_task::score(pmt::pmt_t& result, const pmt::pmt_t& truth)
@@ -135,6 +170,27 @@ classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
       sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
                  n_symbols, n_subcarriers)
 {
+}
+
+int classifier_sink_impl::work(int noutput_items,
+                               gr_vector_const_void_star& input_items,
+                               gr_vector_void_star& output_items)
+{
+    if (d_refused)
+        return WORK_DONE;
+    static const pmt::pmt_t truth_key = pmt::intern(keys::truth_tag);
+    const uint64_t first = nitems_read(0);
+    get_tags_in_range(d_truth_tags, 0, first, first + static_cast<uint64_t>(noutput_items), truth_key);
+    try {
+        for (const auto& t : d_truth_tags)
+            if (detail::is_truth(t.value))
+                d_task.check_library(t.value); // block thread only
+    } catch (const std::runtime_error& e) {
+        d_logger->error("{} (refusing the stream)", e.what());
+        d_refused = true;
+        return WORK_DONE;
+    }
+    return sink_block::work(noutput_items, input_items, output_items);
 }
 
 double classifier_sink_impl::accuracy() const

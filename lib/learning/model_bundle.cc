@@ -70,6 +70,8 @@ nlohmann::json model_bundle::to_json() const
                          { "weights_file", weights_name },
                          { "training", training.is_null() ? nlohmann::json::object() : training },
                          { "metrics", metrics.is_null() ? nlohmann::json::object() : metrics } };
+    if (task == task_kind::classify && library)
+        j["class_library"] = library->to_json();
     return j;
 }
 
@@ -160,6 +162,21 @@ model_bundle model_bundle::load(const std::string& dir)
         json_read::fail(join(dir, mask_name), "pilots",
                         "holds " + std::to_string(b.mask.size()) + " pilots but bundle.json says n_pilots = " +
                             std::to_string(np));
+    // The class library it was trained on (older bundles: the paper's table).
+    if (b.task == task_kind::classify) {
+        if (r.has("class_library")) {
+            b.library = class_library::from_json(r.require("class_library"), path + ": class_library");
+            const auto known = b.library->class_names();
+            for (const auto& name : b.class_names)
+                if (std::find(known.begin(), known.end(), name) == known.end())
+                    json_read::fail(path, "class_names",
+                                    "\"" + name + "\" is not a class of its class_library \"" + b.library->name() + "\"");
+        } else {
+            b.library = class_library::paper();
+        }
+    } else if (r.has("class_library")) {
+        json_read::fail(path, "class_library", "a delay model has no classes");
+    }
     // Free-form records of how the bundle was made and what it measured.
     r.allow("training");
     r.allow("metrics");
@@ -167,6 +184,18 @@ model_bundle model_bundle::load(const std::string& dir)
     b.training = j.value("training", nlohmann::json::object());
     b.metrics = j.value("metrics", nlohmann::json::object());
     return b;
+}
+
+void model_bundle::check_library(const class_library& input, const std::string& who) const
+{
+    if (task != task_kind::classify || !library)
+        return;
+    const auto why = library->difference(input);
+    if (!why.empty())
+        throw std::runtime_error(who + ": the bundle " + (directory.empty() ? std::string("(unsaved)") : directory) +
+                                 " was trained on class library \"" + library->name() +
+                                 "\" but its input's frames come from class library \"" + input.name() +
+                                 "\": " + why);
 }
 
 void model_bundle::check_compatible(const frame_settings& fs,

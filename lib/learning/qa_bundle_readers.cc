@@ -10,11 +10,13 @@
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cstdlib>
+#include <stdexcept>
 #include <fstream>
 #include <functional>
 #include <limits>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 using namespace gr::sems;
 using gr::sems::qa::assert_error;
@@ -54,6 +56,7 @@ class qa_bundle_readers : public CppUnit::TestFixture
     CPPUNIT_TEST(integers_are_bounded);
     CPPUNIT_TEST(network_settings_are_strict);
     CPPUNIT_TEST(decoder_refuses_non_finite_frames);
+    CPPUNIT_TEST(class_library_is_recorded);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -187,6 +190,44 @@ public:
         std::vector<gr_complex> one(cls.n_pilots(), gr_complex(inf, inf));
         assert_error([&] { cls.features(one.data(), 1); }, "bundle_decoder::features: frame 0 of the batch of 1");
         assert_error([&] { del.estimate_delay(one.data(), 1); }, "bundle_decoder::estimate_delay: frame 0");
+    }
+
+    void class_library_is_recorded()
+    {
+        // The shipped bundles predate the key: the paper's table.
+        auto b = model_bundle::load(edited_bundle("classifier", [](json&) {}));
+        CPPUNIT_ASSERT(b.library && b.library->same_classes(*class_library::paper()));
+        b.check_library(*class_library::paper(), "qa");
+        // A bundle records its library in full and reads it back.
+        const auto kin = class_library::find("kinematic");
+        auto d = edited_bundle("classifier", [&](json& j) {
+            j["class_library"] = kin->to_json();
+            j["class_names"] = { "adult", "car", "quadcopter" }; // a subset, in label order
+        });
+        b = model_bundle::load(d);
+        CPPUNIT_ASSERT_EQUAL(kin->name(), b.library->name());
+        CPPUNIT_ASSERT(b.library->same_classes(*kin));
+        CPPUNIT_ASSERT_EQUAL(kin->to_json().dump(), b.to_json()["class_library"].dump());
+        b.check_library(*kin, "qa");
+        // Frames of another library are refused, naming both and how they differ.
+        try {
+            b.check_library(*class_library::paper(), "qa");
+            CPPUNIT_FAIL("a bundle of the kinematic library accepted the paper's frames");
+        } catch (const std::runtime_error& e) {
+            const std::string what = e.what();
+            for (const std::string& needle : std::vector<std::string>{ "qa: the bundle " + d, "class library \"kinematic\"",
+                                              "class library \"paper\"", kin->difference(*class_library::paper()) })
+                CPPUNIT_ASSERT_MESSAGE("message \"" + what + "\" lacks \"" + needle + "\"",
+                                       what.find(needle) != std::string::npos);
+        }
+        // Class names outside the recorded library, a library on a delay model, a bad library.
+        d = edited_bundle("classifier", [&](json& j) { j["class_library"] = kin->to_json(); });
+        assert_error([&] { load(d); },
+                     d + "/bundle.json: class_names: \"pedestrian\" is not a class of its class_library \"kinematic\"");
+        d = edited_bundle("delay_single", [&](json& j) { j["class_library"] = kin->to_json(); });
+        assert_error([&] { load(d); }, "bundle.json: class_library: a delay model has no classes");
+        d = edited_bundle("classifier", [&](json& j) { j["class_library"] = { { "format", "sems.classes" } }; });
+        assert_error([&] { load(d); }, "bundle.json: class_library");
     }
 };
 

@@ -547,6 +547,7 @@ training_result trainer::run()
     model_bundle& b = res.bundle;
     b.task = d_s.task;
     b.class_names = d_s.task == task_kind::classify ? d_data.class_names : std::vector<std::string>{};
+    b.library = d_s.task == task_kind::classify ? sc.library_ptr() : nullptr; // bundle.json's class_library
     b.frame = d_s.frame;
     b.mask = given_mask ? *given_mask
                         : pilot_mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), mask_origin, "learned mask");

@@ -47,6 +47,16 @@ class qa_docstrings(gr_unittest.TestCase):
         self.check(sems.frame_settings, "core/frame_settings.h", "struct SEMS_API frame_settings")
         self.check(sems.channel_model, "core/channel_model.h", "class SEMS_API channel_model")
         self.check(sems.scene, "core/scene.h", "class SEMS_API scene")
+        self.check(sems.class_library, "core/class_library.h", "class SEMS_API class_library")
+        self.check(sems.class_definition, "core/class_library.h", "struct SEMS_API class_definition")
+        self.check(sems.rotor_motion, "core/micro_motion.h", "struct SEMS_API rotor_motion")
+        self.check(sems.walker_motion, "core/micro_motion.h", "struct SEMS_API walker_motion")
+        self.check(sems.wheels_motion, "core/micro_motion.h", "struct SEMS_API wheels_motion")
+        self.check(sems.scatterers_motion, "core/micro_motion.h", "struct SEMS_API scatterers_motion")
+        self.check(sems.scatterer_body, "core/channel_model.h", "struct SEMS_API scatterer_body")
+        self.check(sems.track_spec, "core/scene.h", "struct SEMS_API track_spec")
+        self.check(sems.micro_motion_model, "core/micro_motion.h", "SEMS_API std::string micro_motion_model")
+        self.check(sems.class_library.find, "core/class_library.h", "static std::shared_ptr<const class_library> find")
 
     def test_learning(self):
         # The learning names load lazily: this also checks the lazy module keeps its docs.

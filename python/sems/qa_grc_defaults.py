@@ -58,6 +58,7 @@ def cxx_defaults():
         # seed: no getter; the bindings' default is make()'s (checked through the signature).
         "seed": bound_default(sems.target_channel, "seed"),
         "clutter_csr_db": bound_default(sems.target_channel, "clutter_csr_db"),
+        "class_library": bound_default(sems.target_channel, "class_library"),
     })
     # pilot_mapper / pilot_extractor: built with one pilot, every other argument defaulted.
     mapper = sems.pilot_mapper(pilot_positions=[0])
@@ -207,8 +208,8 @@ class qa_grc_defaults(gr_unittest.TestCase):
                 self.assertIn(p["id"], self.cxx[block],
                               f"{block}.{p['id']}: default {p.get('default')!r} is neither compared with a "
                               f"C++ default nor listed as GRC-only")
-                # An enum's default is an option name, not an expression.
-                grc = str(p["default"]) if p.get("dtype") == "enum" else grc_value(p["default"])
+                # An enum's default is an option name, a string's its text, not an expression.
+                grc = str(p["default"]) if p.get("dtype") in ("enum", "string") else grc_value(p["default"])
                 cxx = self.cxx[block][p["id"]]
                 self.assertTrue(same(grc, cxx), f"{block}.{p['id']}: GRC default {grc!r} != C++ default {cxx!r}")
                 checked += 1

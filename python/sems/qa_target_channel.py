@@ -75,6 +75,9 @@ class qa_target_channel(gr_unittest.TestCase):
             self.assertEqual(d[sems.keys.class_name], "drone")
             self.assertEqual(d[sems.keys.n_paths], 3)
             self.assertEqual(d[sems.keys.snr_db], math.inf)
+            self.assertEqual(d[sems.keys.micro_motion], truths[f][sems.keys.micro_motion])
+            self.assertIsNone(d[sems.keys.micro_motion_params])  # no scatterer body
+            self.assertEqual(d[sems.keys.class_library], "paper")
             for key in (sems.keys.delay_s, sems.keys.delay_index, sems.keys.range_m, sems.keys.velocity_mps):
                 self.assertAlmostEqual(d[key], truths[f][key], delta=1e-12 * max(1.0, abs(truths[f][key])))
 

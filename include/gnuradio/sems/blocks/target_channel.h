@@ -66,6 +66,9 @@ public:
      * \param bandwidth_hz     B (frame_settings::bandwidth_hz)
      * \param carrier_hz       f_c (frame_settings::carrier_hz)
      * \param symbol_interval_s T (frame_settings::symbol_interval_s)
+     * \param class_library    random scenes: the class library `classes` names classes of, by
+     *                         name ("paper", "kinematic") or file (class_library::find); a fixed
+     *                         scene names its own in its "classes" key
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -83,7 +86,8 @@ public:
                      int n_subcarriers = frame_settings{}.n_subcarriers,
                      double bandwidth_hz = frame_settings{}.bandwidth_hz,
                      double carrier_hz = frame_settings{}.carrier_hz,
-                     double symbol_interval_s = frame_settings{}.symbol_interval_s);
+                     double symbol_interval_s = frame_settings{}.symbol_interval_s,
+                     const std::string& class_library = "paper");
 
     /*!
      * \brief Sets the SNR from the next frame.

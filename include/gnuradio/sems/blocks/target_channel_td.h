@@ -62,6 +62,9 @@ public:
      * \param carrier_hz       f_c
      * \param symbol_interval_s T, slow-time spacing of the symbols (>= (M + cp_len)/B)
      * \param cp_len           cyclic prefix in samples (>= 0)
+     * \param class_library    random scenes: the class library `classes` names classes of, by
+     *                         name ("paper", "kinematic") or file (class_library::find); a fixed
+     *                         scene names its own in its "classes" key
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -79,7 +82,8 @@ public:
                      double bandwidth_hz = frame_settings{}.bandwidth_hz,
                      double carrier_hz = frame_settings{}.carrier_hz,
                      double symbol_interval_s = frame_settings{}.symbol_interval_s,
-                     int cp_len = frame_settings{}.cp_len);
+                     int cp_len = frame_settings{}.cp_len,
+                     const std::string& class_library = "paper");
 
     /*!
      * \brief Sets the SNR from the next frame.

@@ -28,6 +28,12 @@ constexpr const char* range_m = "range_m";           ///< range in m
 constexpr const char* velocity_mps = "velocity_mps"; ///< radial velocity in m/s
 constexpr const char* snr_db = "snr_db";             ///< SNR per resource element in dB
 constexpr const char* n_paths = "n_paths";           ///< number of channel paths of the frame
+constexpr const char* micro_motion = "micro_motion"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", "walker", "wheels", "scatterers")
+/*! \brief The drawn parameters of the target of interest's scatterer body: a dict holding
+ *         micro_motion_to_json's object plus "speed_mps" and "heading_rad" (arrays as PMT vectors);
+ *         PMT_NIL (None in Python) without a body. */
+constexpr const char* micro_motion_params = "micro_motion_params";
+constexpr const char* class_library = "class_library"; ///< the scene's class library name (class_library::name)
 constexpr const char* label = "label";               ///< predicted class id
 constexpr const char* probs = "probs";               ///< class probabilities (f32vector)
 constexpr const char* truth = "truth";               ///< the frame's truth dict, when tagged

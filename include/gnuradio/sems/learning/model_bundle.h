@@ -7,9 +7,11 @@
 #define INCLUDED_SEMS_LEARNING_MODEL_BUNDLE_H
 
 #include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/core/class_library.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,11 @@ struct SEMS_LEARNING_API model_bundle {
     std::string directory;                ///< where it was loaded from or saved to
     task_kind task = task_kind::classify; ///< the decoder's task
     std::vector<std::string> class_names; ///< classify only
+    /*!
+     * \brief Classify only: the class library it was trained on (bundle.json's
+     *        `class_library`, the library's full JSON; absent: the paper's table).
+     */
+    std::shared_ptr<const class_library> library;
     frame_settings frame;                 ///< the frame it was trained on
     pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask
     nlohmann::json decoder;  ///< {"kind": ..., settings}
@@ -88,6 +95,14 @@ struct SEMS_LEARNING_API model_bundle {
      * \throws std::invalid_argument naming `who` and the mismatch.
      */
     void check_compatible(const frame_settings& fs, int n_pilots, task_kind expected, const std::string& who) const;
+    /*!
+     * \brief Refuses to classify frames of another class library than the bundle's.
+     * \param input the library of the frames (their scene's, or the truth tag's `class_library`).
+     * \param who names the block or tool in errors.
+     * \throws std::runtime_error naming `who`, both libraries and their difference
+     *         (class_library::difference).
+     */
+    void check_library(const class_library& input, const std::string& who) const;
 };
 
 } // namespace sems

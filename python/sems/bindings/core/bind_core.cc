@@ -4,6 +4,7 @@
  * boundary as text (to_json_string / parse), the same text the files hold.
  */
 #include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/class_library.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <gnuradio/sems/core/scene.h>
@@ -33,6 +34,7 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::velocity_mps] = t.velocity_mps;
     d[keys::snr_db] = t.snr_db;
     d[keys::n_paths] = t.n_paths;
+    d[keys::micro_motion] = t.micro_motion;
     return d;
 }
 
@@ -50,6 +52,9 @@ void bind_keys(py::module& m)
     k.attr("velocity_mps") = keys::velocity_mps;
     k.attr("snr_db") = keys::snr_db;
     k.attr("n_paths") = keys::n_paths;
+    k.attr("micro_motion") = keys::micro_motion;
+    k.attr("micro_motion_params") = keys::micro_motion_params;
+    k.attr("class_library") = keys::class_library;
     k.attr("label") = keys::label;
     k.attr("probs") = keys::probs;
     k.attr("truth") = keys::truth;
@@ -159,6 +164,8 @@ void bind_scene(py::module& m)
         .value("pedestrian", target_class::pedestrian)
         .value("car", target_class::car)
         .value("drone", target_class::drone);
+    // Class ids beyond the paper's three (another library's classes) pass as ints.
+    py::implicitly_convertible<int, target_class>();
     m.def("class_names", &class_names, D(class_names));
     m.def("class_from_name", &class_from_name, D(class_from_name), py::arg("name"));
 
@@ -181,17 +188,37 @@ void bind_scene(py::module& m)
 
     py::class_<target_spec>(m, "target_spec", D(target_spec))
         .def(py::init([](target_class cls, double range_m, double velocity_mps, std::optional<micro_doppler> md,
-                         double power, std::vector<path_spec> paths) {
-                 return target_spec{ cls, range_m, velocity_mps, md, power, paths };
+                         double power, std::vector<path_spec> paths, double speed_mps, double heading_rad,
+                         std::optional<micro_motion> motion) {
+                 return target_spec{ cls, range_m, velocity_mps, speed_mps, heading_rad, md, motion, power, paths };
              }),
              py::arg("cls"), py::arg("range_m"), py::arg("velocity_mps"), py::arg("md") = py::none(),
-             py::arg("power") = 1.0, py::arg("paths") = std::vector<path_spec>{ path_spec{} })
+             py::arg("power") = 1.0, py::arg("paths") = std::vector<path_spec>{ path_spec{} },
+             py::arg("speed_mps") = target_spec{}.speed_mps, py::arg("heading_rad") = target_spec{}.heading_rad,
+             py::arg("motion") = py::none())
         .def_readwrite("cls", &target_spec::cls)
         .def_readwrite("range_m", &target_spec::range_m)
         .def_readwrite("velocity_mps", &target_spec::velocity_mps)
+        .def_readwrite("speed_mps", &target_spec::speed_mps, D(target_spec, speed_mps))
+        .def_readwrite("heading_rad", &target_spec::heading_rad, D(target_spec, heading_rad))
         .def_readwrite("md", &target_spec::md)
+        .def_readwrite("motion", &target_spec::motion, D(target_spec, motion))
         .def_readwrite("power", &target_spec::power)
         .def_readwrite("paths", &target_spec::paths);
+    m.def("target_speed_heading", &target_speed_heading, D(target_speed_heading), py::arg("t"));
+
+    py::enum_<track_bound>(m, "track_bound", D(track_bound))
+        .value("restart", track_bound::restart)
+        .value("reflect", track_bound::reflect);
+    py::class_<track_spec>(m, "track_spec", D(track_spec))
+        .def(py::init([](double range_min_m, double range_max_m, track_bound at_bound) {
+                 return track_spec{ range_min_m, range_max_m, at_bound };
+             }),
+             py::arg("range_min_m") = track_spec{}.range_min_m, py::arg("range_max_m") = track_spec{}.range_max_m,
+             py::arg("at_bound") = track_spec{}.at_bound)
+        .def_readwrite("range_min_m", &track_spec::range_min_m, D(track_spec, range_min_m))
+        .def_readwrite("range_max_m", &track_spec::range_max_m, D(track_spec, range_max_m))
+        .def_readwrite("at_bound", &track_spec::at_bound, D(track_spec, at_bound));
 
     py::class_<clutter_spec>(m, "clutter_spec", D(clutter_spec))
         .def(py::init([](double csr_db, int n_paths, double range_min_m, double range_max_m,
@@ -232,8 +259,12 @@ void bind_scene(py::module& m)
     py::class_<scene>(m, "scene", D(scene))
         .def_static("fixed", &scene::fixed, py::arg("targets"), py::arg("clutter") = py::none(),
                     py::arg("target_of_interest") = 0, py::arg("fading") = fading_kind::rayleigh)
-        .def_static("random", &scene::random, py::arg("spec") = random_spec{}, py::arg("clutter") = py::none(),
-                    py::arg("fading") = fading_kind::rayleigh)
+        .def_static(
+            "random",
+            [](random_spec spec, std::optional<clutter_spec> clutter, fading_kind fading,
+               std::shared_ptr<class_library> library) { return scene::random(spec, clutter, fading, library); },
+            D(scene, random), py::arg("spec") = random_spec{}, py::arg("clutter") = py::none(),
+            py::arg("fading") = fading_kind::rayleigh, py::arg("library") = py::none())
         .def_static("load", &scene::load, py::arg("path"))
         .def_static("parse", &scene::parse, py::arg("json_text"), py::arg("source") = "scene text")
         .def("save", &scene::save, py::arg("path"))
@@ -241,7 +272,17 @@ void bind_scene(py::module& m)
         .def("is_random", &scene::is_random)
         .def("targets", &scene::targets)
         .def("target_of_interest", &scene::target_of_interest)
-        .def("label_classes", &scene::label_classes);
+        .def("label_classes", &scene::label_classes)
+        .def(
+            "library", [](const scene& sc) { return std::const_pointer_cast<class_library>(sc.library_ptr()); },
+            D(scene, library))
+        .def(
+            "with_library",
+            [](const scene& sc, std::shared_ptr<class_library> lib) { return sc.with_library(lib); },
+            D(scene, with_library), py::arg("lib"))
+        .def("track", &scene::track, D(scene, track))
+        .def("with_track", &scene::with_track, D(scene, with_track), py::arg("t"))
+        .def("class_name", &scene::class_name, D(scene, class_name), py::arg("c"));
 }
 
 void bind_channel_model(py::module& m)
@@ -255,10 +296,18 @@ void bind_channel_model(py::module& m)
         .def_readonly("md_amplitude_m", &channel_path::md_amplitude_m)
         .def_readonly("md_phase_rad", &channel_path::md_phase_rad)
         .def_readonly("gain", &channel_path::gain)
-        .def_readonly("mean_power", &channel_path::mean_power);
+        .def_readonly("mean_power", &channel_path::mean_power)
+        .def_readonly("body", &channel_path::body, D(channel_path, body));
+
+    py::class_<scatterer_body>(m, "scatterer_body", D(scatterer_body))
+        .def_readonly("motion", &scatterer_body::motion, D(scatterer_body, motion))
+        .def_readonly("speed_mps", &scatterer_body::speed_mps, D(scatterer_body, speed_mps))
+        .def_readonly("heading_rad", &scatterer_body::heading_rad, D(scatterer_body, heading_rad));
 
     py::class_<frame_realization>(m, "frame_realization", D(frame_realization))
         .def_readonly("paths", &frame_realization::paths)
+        .def_readonly("bodies", &frame_realization::bodies, D(frame_realization, bodies))
+        .def_readonly("truth_body", &frame_realization::truth_body, D(frame_realization, truth_body))
         .def_property_readonly("truth", [](const frame_realization& r) { return truth_dict(r.truth); });
 
     py::class_<channel_model>(m, "channel_model", D(channel_model))
@@ -305,9 +354,12 @@ void bind_channel_model(py::module& m)
 
 } // namespace
 
+void bind_micro_motion(py::module& m); // bind_micro_motion.cc
+
 void bind_core(py::module& m)
 {
     bind_keys(m);
+    bind_micro_motion(m);
     bind_frame_settings(m);
     bind_pilot_mask(m);
     bind_scene(m);

@@ -32,6 +32,7 @@ void bind_target_channel(py::module& m)
              py::arg("bandwidth_hz") = defaults.bandwidth_hz,
              py::arg("carrier_hz") = defaults.carrier_hz,
              py::arg("symbol_interval_s") = defaults.symbol_interval_s,
+             py::arg("class_library") = "paper",
              D(target_channel, make))
         .def("set_snr_db", &target_channel::set_snr_db, D(target_channel, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel::snr_db, D(target_channel, snr_db))

@@ -57,6 +57,16 @@ void bind_learning(py::module& m)
         .def_readonly("directory", &model_bundle::directory)
         .def_readonly("task", &model_bundle::task)
         .def_readonly("class_names", &model_bundle::class_names)
+        .def_property_readonly(
+            "library",
+            [](const model_bundle& b) { return std::const_pointer_cast<class_library>(b.library); },
+            D(model_bundle, library))
+        .def(
+            "check_library",
+            [](const model_bundle& b, const class_library& input, const std::string& who) {
+                b.check_library(input, who);
+            },
+            D(model_bundle, check_library), py::arg("input"), py::arg("who") = "model_bundle")
         .def_readonly("frame", &model_bundle::frame)
         .def_readonly("mask", &model_bundle::mask)
         .def_property_readonly("n_pilots", [](const model_bundle& b) { return b.mask.size(); })
