@@ -106,9 +106,15 @@ std::pair<double, double> read_pair(const json& v, const std::string& field, con
 
 } // namespace
 
-scene scene::fixed(std::vector<target_spec> targets, std::optional<clutter_spec> clutter, int toi, fading_kind fading)
+scene scene::fixed(std::vector<target_spec> targets,
+                   std::optional<clutter_spec> clutter,
+                   int toi,
+                   fading_kind fading,
+                   std::shared_ptr<const class_library> library)
 {
     scene s;
+    if (library)
+        s.d_library = std::move(library);
     s.d_targets = std::move(targets);
     s.d_clutter = std::move(clutter);
     s.d_toi = toi;

@@ -123,13 +123,15 @@ public:
      * \param clutter the clutter, if any.
      * \param target_of_interest index of the target the truth describes.
      * \param fading the gains' fading.
+     * \param library the class library the targets' classes index (null: the paper's).
      * \return the scene.
      * \throws std::invalid_argument naming the bad field.
      */
     static scene fixed(std::vector<target_spec> targets,
                        std::optional<clutter_spec> clutter = std::nullopt,
                        int target_of_interest = 0,
-                       fading_kind fading = fading_kind::rayleigh);
+                       fading_kind fading = fading_kind::rayleigh,
+                       std::shared_ptr<const class_library> library = nullptr);
     /*!
      * \brief A random scene drawn per frame from the class table.
      * \param spec how frames are drawn.

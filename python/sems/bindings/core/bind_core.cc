@@ -257,8 +257,12 @@ void bind_scene(py::module& m)
         .def_readwrite("heading", &random_spec::heading);
 
     py::class_<scene>(m, "scene", D(scene))
-        .def_static("fixed", &scene::fixed, py::arg("targets"), py::arg("clutter") = py::none(),
-                    py::arg("target_of_interest") = 0, py::arg("fading") = fading_kind::rayleigh)
+        .def_static(
+            "fixed",
+            [](std::vector<target_spec> targets, std::optional<clutter_spec> clutter, int toi, fading_kind fading,
+               std::shared_ptr<class_library> library) { return scene::fixed(targets, clutter, toi, fading, library); },
+            D(scene, fixed), py::arg("targets"), py::arg("clutter") = py::none(), py::arg("target_of_interest") = 0,
+            py::arg("fading") = fading_kind::rayleigh, py::arg("library") = py::none())
         .def_static(
             "random",
             [](random_spec spec, std::optional<clutter_spec> clutter, fading_kind fading,
