@@ -5,6 +5,7 @@
  *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
  *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
+ *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
  *
  * See include/gnuradio/sems/learning/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
@@ -15,6 +16,7 @@
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace po = boost::program_options;
@@ -47,7 +49,7 @@ double parse_snr(const std::string& s)
 int main(int argc, char** argv)
 {
     training_settings s;
-    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading;
+    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading, from;
     std::string class_library_name;
     int paths = 1;
     double clutter_csr = std::numeric_limits<double>::quiet_NaN();
@@ -57,7 +59,10 @@ int main(int argc, char** argv)
     // clang-format off
     opts.add_options()
         ("help,h", "this help")
-        ("task", po::value(&task)->required(), "classify | delay")
+        ("task", po::value(&task), "classify | delay (required unless --from)")
+        ("from", po::value(&from), "train again from this bundle's recorded settings (a bundle directory or name, e.g. classifier): "
+                                   "same settings and seed, same mask and weights; only --out, --frames, --epochs, --decoder-epochs, "
+                                   "--batch, --eval-frames, --eval-snr, --threads, --quiet and the distributed options may be given with it")
         ("objective", po::value(&s.objective)->default_value(s.objective), "task (SemS) | mse (reconstruction baseline)")
         ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
         ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
@@ -120,6 +125,7 @@ int main(int argc, char** argv)
         ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
         ("quiet", "no per-epoch progress")
+        ("dry-run", "print the resolved settings (JSON: training record, decoder settings, frame) and exit without training")
         // Distributed training (docs/reference/distributed_training.md); the flags override
         // WORLD_SIZE, RANK, MASTER_ADDR, MASTER_PORT and GLOO_SOCKET_IFNAME.
         ("world-size", po::value<int>(), "number of ranks (processes) training together (default: WORLD_SIZE or 1)")
@@ -140,6 +146,37 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         s.verbose = !vm.count("quiet");
+        if (!from.empty()) {
+            // The bundle's own settings; only sizes, output and where it runs may change.
+            static const std::set<std::string> allowed = { "from", "out", "frames", "epochs", "decoder-epochs",
+                                                            "batch", "eval-frames", "eval-snr", "threads", "quiet", "dry-run",
+                                                            "world-size", "rank", "store-file", "master-addr",
+                                                            "master-port", "gloo-interface", "dist-timeout" };
+            for (const auto& [name, value] : vm)
+                if (!value.defaulted() && !allowed.count(name))
+                    throw std::invalid_argument("--" + name + " cannot be given with --from (the bundle's recorded "
+                                                "settings are used; only sizes, --out and --threads may change)");
+            auto r = training_settings::from_bundle(model_bundle::load(from));
+            auto size = [&](const char* flag, int& field, int value) {
+                if (!vm[flag].defaulted())
+                    field = value;
+            };
+            size("frames", r.frames, s.frames);
+            size("epochs", r.epochs, s.epochs);
+            size("decoder-epochs", r.decoder_epochs, s.decoder_epochs);
+            size("batch", r.batch, s.batch);
+            size("eval-frames", r.eval_frames, s.eval_frames);
+            if (!vm["threads"].defaulted())
+                r.threads = s.threads;
+            if (!vm["eval-snr"].defaulted()) {
+                r.eval_snr_db.clear();
+                for (const auto& v : split_list(eval_snr))
+                    r.eval_snr_db.push_back(parse_snr(v));
+            }
+            r.out_dir = s.out_dir;
+            r.verbose = s.verbose;
+            s = r;
+        }
         s.distributed = distributed_settings::from_environment();
         if (vm.count("world-size"))
             s.distributed.world_size = vm["world-size"].as<int>();
@@ -161,69 +198,85 @@ int main(int argc, char** argv)
             s.encoder.factorized = false;
         if (vm.count("free-scores"))
             s.encoder.free_scores = true;
-        s.task = task_from_name(task);
-        if (vm.count("width")) {
-            s.classifier.width = vm["width"].as<int>();
-            s.delay.width = vm["width"].as<int>();
-        }
-        if (vm.count("depth")) {
-            s.classifier.depth = vm["depth"].as<int>();
-            s.delay.depth = vm["depth"].as<int>();
-        }
-        if (!snr.empty() && (!snr_min.empty() || !snr_max.empty()))
-            throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
-        if (!snr.empty()) {
-            s.snr_min_db = s.snr_max_db = parse_snr(snr);
-        } else if (!snr_min.empty() || !snr_max.empty()) {
-            if (snr_min.empty() || snr_max.empty())
-                throw std::invalid_argument("--snr-min and --snr-max go together");
-            s.snr_min_db = parse_snr(snr_min);
-            s.snr_max_db = parse_snr(snr_max);
-        }
-        s.eval_snr_db.clear();
-        for (const auto& v : split_list(eval_snr))
-            s.eval_snr_db.push_back(parse_snr(v));
-
-        if (!scene_file.empty() && !vm["heading"].defaulted())
-            throw std::invalid_argument("--heading is for random scenes built from the flags; with --scene, "
-                                        "set \"heading\" in the scene file");
-        if (!scene_file.empty() && !vm["class-library"].defaulted())
-            throw std::invalid_argument("--class-library is for random scenes built from the flags; with --scene, "
-                                        "set \"classes\" in the scene file");
-        if (!scene_file.empty()) {
-            s.scene_spec = scene::load(scene_file);
-            s.scene_source = scene_file;
-        } else {
-            const auto lib = class_library::find(class_library_name);
-            const bool all_classes = vm["classes"].defaulted() && lib->name() != class_library::paper()->name();
-            if (all_classes)
-                classes = "all of " + lib->name();
-            random_spec r;
-            r.classes.clear(); // empty: every class of the library
-            if (!all_classes)
-                for (const auto& c : split_list(classes))
-                    r.classes.push_back(static_cast<target_class>(lib->id_of(c)));
-            r.paths_per_target = paths;
-            r.micro_doppler = !no_md;
-            r.heading = heading_from_name(heading);
-            std::optional<clutter_spec> clutter;
-            if (!std::isnan(clutter_csr)) {
-                clutter_spec c;
-                c.csr_db = clutter_csr;
-                clutter = c;
+        if (from.empty()) { // the settings from the flags
+            if (task.empty())
+                throw std::invalid_argument("--task is required (classify | delay), or --from a bundle");
+            s.task = task_from_name(task);
+            if (vm.count("width")) {
+                s.classifier.width = vm["width"].as<int>();
+                s.delay.width = vm["width"].as<int>();
             }
-            s.scene_spec = scene::random(r, clutter, fading_kind::rayleigh, lib);
-            std::ostringstream src;
-            src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
-                << (no_md ? ", no micro-Doppler" : "") << ", heading " << heading
-                << (clutter ? ", clutter CSR " + std::to_string(clutter_csr) + " dB" : "") << ")";
-            s.scene_source = src.str();
+            if (vm.count("depth")) {
+                s.classifier.depth = vm["depth"].as<int>();
+                s.delay.depth = vm["depth"].as<int>();
+            }
+            if (!snr.empty() && (!snr_min.empty() || !snr_max.empty()))
+                throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
+            if (!snr.empty()) {
+                s.snr_min_db = s.snr_max_db = parse_snr(snr);
+            } else if (!snr_min.empty() || !snr_max.empty()) {
+                if (snr_min.empty() || snr_max.empty())
+                    throw std::invalid_argument("--snr-min and --snr-max go together");
+                s.snr_min_db = parse_snr(snr_min);
+                s.snr_max_db = parse_snr(snr_max);
+            }
+            s.eval_snr_db.clear();
+            for (const auto& v : split_list(eval_snr))
+                s.eval_snr_db.push_back(parse_snr(v));
+
+            if (!scene_file.empty() && !vm["heading"].defaulted())
+                throw std::invalid_argument("--heading is for random scenes built from the flags; with --scene, "
+                                            "set \"heading\" in the scene file");
+            if (!scene_file.empty() && !vm["class-library"].defaulted())
+                throw std::invalid_argument("--class-library is for random scenes built from the flags; with --scene, "
+                                            "set \"classes\" in the scene file");
+            if (!scene_file.empty()) {
+                s.scene_spec = scene::load(scene_file);
+                s.scene_source = scene_file;
+            } else {
+                const auto lib = class_library::find(class_library_name);
+                const bool all_classes = vm["classes"].defaulted() && lib->name() != class_library::paper()->name();
+                if (all_classes)
+                    classes = "all of " + lib->name();
+                random_spec r;
+                r.classes.clear(); // empty: every class of the library
+                if (!all_classes)
+                    for (const auto& c : split_list(classes))
+                        r.classes.push_back(static_cast<target_class>(lib->id_of(c)));
+                r.paths_per_target = paths;
+                r.micro_doppler = !no_md;
+                r.heading = heading_from_name(heading);
+                std::optional<clutter_spec> clutter;
+                if (!std::isnan(clutter_csr)) {
+                    clutter_spec c;
+                    c.csr_db = clutter_csr;
+                    clutter = c;
+                }
+                s.scene_spec = scene::random(r, clutter, fading_kind::rayleigh, lib);
+                std::ostringstream src;
+                src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
+                    << (no_md ? ", no micro-Doppler" : "") << ", heading " << heading
+                    << (clutter ? ", clutter CSR " + std::to_string(clutter_csr) + " dB" : "") << ")";
+                s.scene_source = src.str();
+            }
         }
+        // The command as typed, the program by its name (not where this machine keeps it).
         std::ostringstream cmd;
-        for (int i = 0; i < argc; ++i)
-            cmd << (i ? " " : "") << argv[i];
+        const std::string program = argv[0];
+        cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
+        for (int i = 1; i < argc; ++i)
+            cmd << " " << argv[i];
         s.command_line = cmd.str();
 
+        if (vm.count("dry-run")) {
+            s.validate();
+            nlohmann::json j = { { "training", s.to_json() }, { "frame", s.frame.to_json() } };
+            j["training"]["scene"] = s.scene_spec ? s.scene_spec->to_json() : nlohmann::json();
+            j[s.task == task_kind::classify ? "classifier" : "delay"] =
+                s.task == task_kind::classify ? s.classifier.to_json() : s.delay.to_json();
+            std::cout << j.dump(2) << std::endl;
+            return 0;
+        }
         const auto res = train(s, &std::cout);
         if (s.distributed.rank == 0)
             std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;

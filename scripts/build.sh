@@ -2,9 +2,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Configures and builds gr-sems into $SEMS_BUILD_DIR, default ./build (Release). GNU Radio's
 # Python is /usr/bin/python3. SEMS_SANITIZE (e.g. address,undefined) builds with sanitizers.
+# SEMS_BUILD_TESTS / SEMS_BUILD_APPS (ON/OFF, default: the tree's setting, ON for a new tree)
+# build the C++ test runners and the apps (sems_train, sems_eval, benchmarks) or leave them out;
+# scripts/demo.sh leaves both out on a new tree (the demo runs neither).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEMS_BUILD_DIR:-$root/build}"
+options=()
+for opt in SEMS_BUILD_TESTS SEMS_BUILD_APPS; do
+  [ -z "${!opt:-}" ] || options+=("-D$opt=${!opt}")
+done
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-  -DSEMS_SANITIZE="${SEMS_SANITIZE:-}"
+  -DSEMS_SANITIZE="${SEMS_SANITIZE:-}" "${options[@]}"
 cmake --build "$build" -j"$(nproc)"

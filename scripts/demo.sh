@@ -9,8 +9,10 @@
 #   bash scripts/demo.sh [--frames N] [--snrs "0 10 20 30"] [--fast] [--no-build]
 #
 # --fast runs the fast bundles instead (models/classifier_fast, models/delay_single_fast:
-# smaller decoders on the same pilots, see docs/PERFORMANCE.md). --no-build skips the package check and the build (for a second run). The build directory
-# is $SEMS_BUILD_DIR, default ./build; the compiled flowgraph and the logs go to <build>/demo.
+# smaller decoders on the same pilots, see docs/PERFORMANCE.md). --no-build skips the package
+# check and the build (for a second run). The build directory is $SEMS_BUILD_DIR, default
+# ./build (a new one holds the module only, no tests or apps; how long the first run takes:
+# docs/guides/install.md); the compiled flowgraph and the logs go to <build>/demo.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEMS_BUILD_DIR:-$root/build}"
@@ -24,7 +26,7 @@ while [ $# -gt 0 ]; do
     --snrs) snrs="$2"; shift 2 ;;
     --no-build) do_build=0; shift ;;
     --fast) suffix=_fast; shift ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -32,7 +34,13 @@ case "$frames" in ''|*[!0-9]*|0) echo "demo.sh: --frames must be a positive inte
 
 if [ "$do_build" -eq 1 ]; then
   "$root/scripts/install_deps.sh"
-  "$root/scripts/build.sh"
+  # A new tree builds only what the demo runs: the libraries, the Python package and the GRC
+  # blocks, not the C++ tests and the apps (SEMS_BUILD_TESTS / SEMS_BUILD_APPS, scripts/build.sh).
+  # A tree configured before keeps its settings; scripts/test.sh builds everything.
+  if [ ! -f "$build/CMakeCache.txt" ]; then
+    export SEMS_BUILD_TESTS="${SEMS_BUILD_TESTS:-OFF}" SEMS_BUILD_APPS="${SEMS_BUILD_APPS:-OFF}"
+  fi
+  SEMS_BUILD_DIR="$build" "$root/scripts/build.sh"
 fi
 classifier="$root/models/classifier$suffix"
 delay="$root/models/delay_single$suffix"

@@ -5,6 +5,11 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   gnuradio gnuradio-dev libvolk2-dev libspdlog-dev libfmt-dev libgmp-dev
+  # gnuradio-companion's GTK 3 bindings: Debian's gnuradio package does not pull them in, and
+  # without them GRC stops at start ("Namespace Gtk not available").
+  gir1.2-gtk-3.0
+  # A virtual X display: the test install_grc_opens starts gnuradio-companion headless.
+  xvfb xauth
   libtorch-dev libgloo-dev
   # Debian's LibTorch calls BLAS through libblas.so.3: without OpenBLAS that is the reference
   # (netlib) BLAS, and training runs 3.3x slower (sgemm_ was 70 % of a training profile).

@@ -12,5 +12,6 @@ export SEMS_SANITIZE="${SEMS_SANITIZE-}"
 if [ -n "$SEMS_SANITIZE" ]; then default_build="$root/build-sanitize"; else default_build="$root/build"; fi
 export SEMS_BUILD_DIR="${SEMS_BUILD_DIR:-$default_build}"
 "$root/scripts/install_deps.sh"
-"$root/scripts/build.sh"
+# Everything, also on a tree scripts/demo.sh configured without tests and apps.
+SEMS_BUILD_TESTS=ON SEMS_BUILD_APPS=ON "$root/scripts/build.sh"
 ctest --test-dir "$SEMS_BUILD_DIR" --output-on-failure -j"$(nproc)" "$@"

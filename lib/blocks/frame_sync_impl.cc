@@ -26,25 +26,35 @@ frame_sync::sptr frame_sync::make(const std::string& mask_file,
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     try {
         return gnuradio::make_block_sptr<frame_sync_impl>(
-            frame_search(mask, cp_len, pilot_power, search_frames, threshold));
+            frame_search(mask, cp_len, pilot_power, search_frames, threshold), mask.n_symbols(),
+            mask.n_subcarriers(), cp_len);
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(who) + ": " + e.what());
     }
 }
 
-frame_sync_impl::frame_sync_impl(frame_search search)
+frame_sync_impl::frame_sync_impl(frame_search search, int n_symbols, int n_subcarriers, int cp_len)
     : gr::block(who,
                 gr::io_signature::make(1, 1, sizeof(gr_complex)),
                 gr::io_signature::make(1, 1, sizeof(gr_complex))),
       d_search(std::move(search)),
       d_frame_key(pmt::intern(keys::frame_tag)),
-      d_port(pmt::intern("sync"))
+      d_port(pmt::intern("sync")),
+      d_spacing(who, n_symbols, n_subcarriers, cp_len)
 {
     message_port_register_out(d_port);
     // Tags are placed by hand: input and output offsets differ by the offset found. Incoming
     // frame tags are dropped (this block numbers the frames it finds); every other tag (a
     // replayed sems_truth, ...) goes out on the same sample, at input offset − offset().
     set_tag_propagation_policy(TPP_DONT);
+}
+
+bool frame_sync_impl::check_spacing(const std::vector<gr::tag_t>& tags)
+{
+    for (const auto& t : tags) // another cyclic prefix upstream: refuse the stream
+        if (pmt::eqv(t.key, d_frame_key) && !d_spacing.check(t, d_logger))
+            return false;
+    return true;
 }
 
 void frame_sync_impl::carry_tags(const std::vector<gr::tag_t>& tags, uint64_t first, uint64_t n)
@@ -80,6 +90,8 @@ int frame_sync_impl::general_work(int noutput_items,
         const uint64_t read = nitems_read(0);
         std::vector<gr::tag_t> tags;
         get_tags_in_range(tags, 0, read, read + static_cast<uint64_t>(ninput_items[0]));
+        if (!check_spacing(tags))
+            return WORK_DONE;
         for (auto& t : tags)
             if (!pmt::eqv(t.key, d_frame_key))
                 d_buf_tags.push_back(std::move(t));
@@ -128,6 +140,8 @@ int frame_sync_impl::general_work(int noutput_items,
         std::memcpy(out, in, sizeof(gr_complex) * n);
         std::vector<gr::tag_t> tags;
         get_tags_in_range(tags, 0, nitems_read(0), nitems_read(0) + static_cast<uint64_t>(n));
+        if (!check_spacing(tags))
+            return WORK_DONE;
         tags.erase(std::remove_if(tags.begin(),
                                   tags.end(),
                                   [this](const gr::tag_t& t) { return pmt::eqv(t.key, d_frame_key); }),

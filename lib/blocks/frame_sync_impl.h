@@ -3,10 +3,12 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
 #define INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
 
+#include "blocks/frame_spacing.h"
 #include <gnuradio/sems/blocks/frame_sync.h>
 #include <gnuradio/sems/core/frame_search.h>
 #include <pmt/pmt.h>
 #include <atomic>
+#include <string>
 #include <vector>
 
 namespace gr {
@@ -15,13 +17,14 @@ namespace sems {
 class frame_sync_impl : public frame_sync
 {
 public:
-    explicit frame_sync_impl(frame_search search);
+    frame_sync_impl(frame_search search, int n_symbols, int n_subcarriers, int cp_len);
 
     bool locked() const override { return d_locked; }
     int64_t offset() const override { return d_offset; }
     double metric() const override { return d_metric; }
     uint64_t failures() const override { return d_failures; }
     int frame_len() const override { return d_search.frame_len(); }
+    std::string stream_error() const override { return d_spacing.error(); }
 
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
     int general_work(int noutput_items,
@@ -45,6 +48,10 @@ private:
     // they go out at input offset − d_offset once locked (those before the frame are dropped).
     std::vector<gr::tag_t> d_buf_tags;
     const pmt::pmt_t d_frame_key, d_port;
+    detail::frame_spacing_check d_spacing; // the incoming frame tags' cyclic prefix
+
+    //! Checks the incoming frame tags' spacing; false (and the error logged) on a mismatch.
+    bool check_spacing(const std::vector<gr::tag_t>& tags);
 
     //! Adds `tags` at output offsets (input offset − d_offset) that fall in [first, first + n).
     void carry_tags(const std::vector<gr::tag_t>& tags, uint64_t first, uint64_t n);

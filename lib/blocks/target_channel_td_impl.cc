@@ -64,7 +64,8 @@ target_channel_td_impl::target_channel_td_impl(channel_model model, double snr_d
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
       d_frame_key(pmt::intern(keys::frame_tag)),
-      d_truth(d_model.scene_spec().library().name())
+      d_truth(d_model.scene_spec().library().name()),
+      d_spacing(who, d_n, d_model.settings().n_subcarriers, d_model.settings().cp_len)
 {
     set_output_multiple(d_s); // whole symbols per call
     d_tags.reserve(16);
@@ -100,6 +101,9 @@ int target_channel_td_impl::work(int noutput_items,
     const int symbols = noutput_items / d_s; // output multiple: noutput_items = symbols·S
 
     get_tags_in_window(d_tags, 0, 0, noutput_items, d_frame_key);
+    for (const auto& t : d_tags)
+        if (!d_spacing.check(t, d_logger)) // another cyclic prefix upstream: refuse the stream
+            return WORK_DONE;
     size_t next_tag = 0;
 
     for (int k = 0; k < symbols; ++k) {

@@ -4,10 +4,12 @@
 #define INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H
 
 #include "blocks/channel_block_common.h"
+#include "blocks/frame_spacing.h"
 #include <gnuradio/sems/blocks/target_channel_td.h>
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <atomic>
+#include <string>
 
 namespace gr {
 namespace sems {
@@ -24,6 +26,7 @@ public:
     uint64_t frames() const override { return d_frames; }
     uint64_t nonfinite_symbols() const override { return d_nonfinite; }
     uint64_t misaligned_tags() const override { return d_misaligned; }
+    std::string stream_error() const override { return d_spacing.error(); }
 
     int work(int noutput_items, gr_vector_const_void_star& input_items, gr_vector_void_star& output_items) override;
 
@@ -47,6 +50,7 @@ private:
     const pmt::pmt_t d_frame_key;
     detail::truth_dict d_truth; // caches the previous frame's dict
     std::vector<gr::tag_t> d_tags;
+    detail::frame_spacing_check d_spacing; // the stream's cyclic prefix, from its frame tags
 };
 
 } // namespace sems

@@ -5,8 +5,12 @@
 #include <gnuradio/sems/learning/network_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <algorithm>
+#include <dlfcn.h>
+#include <climits>
+#include <cstdlib>
 #include <sys/stat.h>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace gr {
 namespace sems {
@@ -24,6 +28,49 @@ bool is_directory(const std::string& path)
     struct stat st;
     return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
+
+bool is_file(const std::string& path)
+{
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+std::string real_path(const std::string& path)
+{
+    char buf[PATH_MAX];
+    return ::realpath(path.c_str(), buf) ? std::string(buf) : path;
+}
+
+// The folder of the shared library this code runs in (empty if unknown).
+std::string library_folder()
+{
+    Dl_info info;
+    if (::dladdr(reinterpret_cast<void*>(&library_folder), &info) == 0 || !info.dli_fname)
+        return {};
+    const std::string lib = real_path(info.dli_fname);
+    const auto slash = lib.rfind('/');
+    return slash == std::string::npos ? std::string() : lib.substr(0, slash);
+}
+
+bool under(const std::string& path, const std::string& folder)
+{
+    return !folder.empty() && path.size() > folder.size() && path.compare(0, folder.size(), folder) == 0 &&
+           path[folder.size()] == '/';
+}
+
+// Where CMake configured the build (lib/learning/CMakeLists.txt defines these for this file).
+#ifndef SEMS_BUILD_SOURCE_DIR
+#define SEMS_BUILD_SOURCE_DIR ""
+#endif
+#ifndef SEMS_BUILD_BINARY_DIR
+#define SEMS_BUILD_BINARY_DIR ""
+#endif
+#ifndef SEMS_INSTALL_MODELS_DIR
+#define SEMS_INSTALL_MODELS_DIR ""
+#endif
+#ifndef SEMS_LIBDIR_TO_MODELS
+#define SEMS_LIBDIR_TO_MODELS ""
+#endif
 
 // A file of the bundle as bundle.json names it: a plain file name inside the bundle
 // directory (no folders, not "." or ".."), `fallback` when the key is absent.
@@ -86,10 +133,60 @@ void model_bundle::save(const std::string& dir) const
 
 std::string model_bundle::weights_path() const { return join(directory, weights_name); }
 
-model_bundle model_bundle::load(const std::string& dir)
+std::vector<std::string> model_bundle::search_path()
 {
-    if (!is_directory(dir))
-        throw std::invalid_argument(dir + ": model bundle directory does not exist");
+    std::vector<std::string> dirs;
+    auto add = [&dirs](const std::string& d) {
+        if (!d.empty() && std::find(dirs.begin(), dirs.end(), d) == dirs.end())
+            dirs.push_back(d);
+    };
+    if (const char* env = std::getenv("SEMS_MODELS_PATH")) {
+        const std::string list = env;
+        size_t start = 0;
+        while (start <= list.size()) {
+            const auto end = std::min(list.find(':', start), list.size());
+            add(list.substr(start, end - start));
+            start = end + 1;
+        }
+    }
+    if (const char* src = std::getenv("SEMS_SOURCE_DIR"); src && *src)
+        add(join(src, "models"));
+    const std::string libdir = library_folder();
+    const std::string build_dir = SEMS_BUILD_BINARY_DIR;
+    if (!build_dir.empty() && under(libdir, real_path(build_dir)))
+        add(join(SEMS_BUILD_SOURCE_DIR, "models")); // running from the build tree
+    else if (!libdir.empty() && *SEMS_LIBDIR_TO_MODELS)
+        add(real_path(join(libdir, SEMS_LIBDIR_TO_MODELS))); // next to the installed library
+    add(SEMS_INSTALL_MODELS_DIR);
+    return dirs;
+}
+
+std::string model_bundle::find(const std::string& name)
+{
+    if (name.empty())
+        throw std::invalid_argument("model bundle: no bundle name or directory given");
+    if (is_directory(name))
+        return name;
+    std::string searched;
+    if (name.front() != '/') {
+        for (const auto& d : search_path()) {
+            const auto candidate = join(d, name);
+            if (is_file(join(candidate, bundle_file)))
+                return candidate;
+            searched += "\n  " + candidate;
+        }
+    }
+    char cwd[PATH_MAX];
+    const std::string here = ::getcwd(cwd, sizeof cwd) ? std::string(cwd) : std::string("?");
+    throw std::invalid_argument(name + ": model bundle directory does not exist; searched:\n  " + name +
+                                " (as given, working directory " + here + ")" + searched +
+                                "\n(a bundle name is looked up in $SEMS_MODELS_PATH, the source tree's "
+                                "models/ and the installed share/gr-sems/models)");
+}
+
+model_bundle model_bundle::load(const std::string& name)
+{
+    const std::string dir = find(name); // names every place searched when not found
     const std::string path = join(dir, bundle_file);
     const auto j = json_read::parse_file(path); // names the file when missing or malformed
     json_read::check_format(j, format_name, format_version, path);

@@ -667,8 +667,107 @@ json training_settings::to_json() const
              { "delay_margin", delay_margin },
              { "delay_ce_weight", delay_ce_weight },
              { "delay_ce_weight_final", delay_ce_weight_final },
+             { "lr_final_scale", lr_final_scale },
+             { "eval_snr_db", eval_snr_db },
+             { "eval_frames", eval_frames },
              { "encoder", encoder.to_json() },
+             { "reconstruction", reconstruction.to_json() },
              { "command_line", command_line } };
+}
+
+training_settings training_settings::from_bundle(const model_bundle& b)
+{
+    const std::string path = (b.directory.empty() ? std::string("(in memory)") : b.directory) + "/" +
+                             model_bundle::bundle_file;
+    const json& t = b.training;
+    auto bad = [&](const std::string& key, const std::string& problem) {
+        throw std::invalid_argument(path + ": training." + key + ": " + problem);
+    };
+    if (!t.is_object() || t.empty())
+        bad("", "no training record: the bundle cannot be trained again from it");
+    // A recorded value (required, or a default for keys older bundles lack) of type T.
+    auto get = [&](const std::string& key, auto fallback, bool required) {
+        using T = decltype(fallback);
+        if (!t.contains(key)) {
+            if (required)
+                bad(key, "missing");
+            return fallback;
+        }
+        try {
+            return t.at(key).get<T>();
+        } catch (const json::exception&) {
+            bad(key, "has the wrong type: " + t.at(key).dump());
+        }
+        return fallback;
+    };
+    training_settings s;
+    s.task = b.task;
+    s.frame = b.frame;
+    s.objective = get("objective", s.objective, true);
+    s.n_pilots = get("n_pilots", s.n_pilots, true);
+    s.mask_pattern = get("mask_pattern", std::string(), false);
+    if (!get("mask_file", std::string(), false).empty())
+        s.mask_file = b.directory + "/" + b.mask_name; // the given mask, as the bundle holds it
+    s.snr_min_db = get("snr_min_db", s.snr_min_db, true);
+    s.snr_max_db = get("snr_max_db", s.snr_max_db, true);
+    s.frames = get("frames", s.frames, true);
+    s.epochs = get("epochs", s.epochs, true);
+    s.decoder_epochs = get("decoder_epochs", s.decoder_epochs, true);
+    s.batch = get("batch", s.batch, true);
+    s.lr = get("lr", s.lr, true);
+    s.patience = get("patience", s.patience, true);
+    s.mask_settle_epochs = get("mask_settle_epochs", 0, false); // absent: trained before the rule
+    s.threads = get("threads", s.threads, false);
+    s.seed = get("seed", s.seed, true);
+    s.delay_spacing = get("delay_spacing", s.delay_spacing, true);
+    s.delay_margin = get("delay_margin", s.delay_margin, true);
+    s.delay_ce_weight = get("delay_ce_weight", s.delay_ce_weight, false);
+    s.delay_ce_weight_final = get("delay_ce_weight_final", s.delay_ce_weight_final, false);
+    // Records before lr_final_scale was a key hold it in lr_schedule ("... cosine to lr*0.020000").
+    if (t.contains("lr_final_scale")) {
+        s.lr_final_scale = get("lr_final_scale", s.lr_final_scale, true);
+    } else {
+        const auto schedule = get("lr_schedule", std::string(), true);
+        const auto star = schedule.rfind("lr*");
+        if (star == std::string::npos)
+            bad("lr_schedule", "does not name the final learning-rate scale (\"lr*<scale>\"): " + schedule);
+        s.lr_final_scale = std::stod(schedule.substr(star + 3));
+    }
+    // The test points: recorded, or those the metrics were scored at.
+    if (t.contains("eval_snr_db")) {
+        s.eval_snr_db = get("eval_snr_db", s.eval_snr_db, true);
+    } else if (b.metrics.contains("test_by_snr")) {
+        s.eval_snr_db.clear();
+        for (const auto& m : b.metrics.at("test_by_snr"))
+            s.eval_snr_db.push_back(m.value("snr_min_db", 0.0));
+    }
+    s.eval_frames = get("eval_frames", 0, false);
+    if (!t.contains("scene"))
+        bad("scene", "missing");
+    s.scene_spec = scene::from_json(t.at("scene"), path + ": training.scene");
+    s.scene_source = get("scene_source", s.scene_source, false);
+    // The encoder only trains a learned mask (older records of fixed-mask runs hold keys
+    // the encoder settings no longer have).
+    if (s.mask_file.empty() && s.mask_pattern.empty()) {
+        if (!t.contains("encoder"))
+            bad("encoder", "missing");
+        s.encoder = nn::encoder_settings::from_json(t.at("encoder"), path + ": training.encoder");
+    }
+    if (t.contains("reconstruction"))
+        s.reconstruction = nn::reconstruction_settings::from_json(t.at("reconstruction"),
+                                                                  path + ": training.reconstruction");
+    const json no_settings = json::object();
+    const json& settings = b.decoder.contains("settings") ? b.decoder.at("settings") : no_settings;
+    if (b.task == task_kind::classify)
+        s.classifier = nn::classifier_settings::from_json(settings, path + ": decoder.settings");
+    else
+        s.delay = nn::delay_settings::from_json(settings, path + ": decoder.settings");
+    try {
+        s.validate();
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(path + ": " + e.what());
+    }
+    return s;
 }
 
 training_result train(const training_settings& settings, std::ostream* log)

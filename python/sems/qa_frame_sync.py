@@ -87,6 +87,22 @@ class qa_frame_sync(gr_unittest.TestCase):
         self.assertEqual(fs.failures(), 12 - 4)  # windows of 5 frames sliding by one over 12 frames
         self.assertLess(fs.metric(), 25.0)
 
+    def test_002b_other_cyclic_prefix_refused(self):
+        # Samples of a CP-16 transmitter with their frame tags, synchronised with CP 48: the
+        # tags' spacing gives the transmitter's prefix away, the block stops and names both.
+        n, m = 32, 64
+        key = pmt.intern(sems.keys.frame_tag)
+        x = self.transmit(6, 16, seed=3)
+        tags = [gr.tag_utils.python_to_tag((f * n * (m + 16), key, pmt.from_uint64(f))) for f in range(6)]
+        src = blocks.vector_source_c(x.tolist(), tags=tags)
+        fs = sems.frame_sync(mask_file=MASK, cp_len=48)
+        sink = blocks.vector_sink_c()
+        tb = gr.top_block()
+        tb.connect(src, fs, sink)
+        tb.run()
+        self.assertIn("transmitter's cyclic prefix is 16 samples, this block's cp_len is 48", fs.stream_error())
+        self.assertEqual(len(sink.data()), 0)
+
     def test_003_bad_parameters(self):
         for kw, needle in ((dict(mask_file=MASK, cp_len=-1), "cp_len"),
                            (dict(mask_file=MASK, search_frames=0), "frames"),

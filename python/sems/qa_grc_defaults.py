@@ -79,7 +79,7 @@ def cxx_defaults():
     channel_td.update({
         "n_symbols": td_frame.n_symbols, "n_subcarriers": td_frame.n_subcarriers,
         "bandwidth_hz": td_frame.bandwidth_hz, "carrier_hz": td_frame.carrier_hz,
-        "symbol_interval_s": td_frame.symbol_interval_s, "snr_db": td.snr_db(),
+        "symbol_interval_s": td_frame.symbol_interval_s, "snr_db": td.snr_db(), "cp_len": td_frame.cp_len,
         "n_targets": td_rnd["random"]["targets"], "paths_per_target": td_rnd["random"]["paths_per_target"],
         "micro_doppler": td_rnd["random"]["micro_doppler"],
         "seed": bound_default(sems.target_channel_td, "seed"),
@@ -87,7 +87,7 @@ def cxx_defaults():
     })
     # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
     sync = {name: bound_default(sems.frame_sync, name)
-            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold")}
+            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold", "cp_len")}
     sync.update(pilot_frame)
     # range_doppler_map: no getters for its settings; the bindings' defaults (make()'s).
     rd_map = {name: bound_default(sems.range_doppler_map, name)
@@ -154,15 +154,6 @@ GRC_ONLY = {
     ("sems_tag_file_replay", "path"): "required in Python",
 }
 
-# Deliberate, documented differences: GRC default, C++ default, where the reason is written.
-# docs/reference/time_domain.md: time-domain flowgraphs default to CP 48 (covers the class table's delays),
-# the C++/Python default stays frame_settings' 16 so a chain of defaults matches ofdm_tx/ofdm_rx.
-DELIBERATE = {
-    ("sems_target_channel_td", "cp_len"): (48, "frame_settings.cp_len", "docs/reference/time_domain.md"),
-    ("sems_frame_sync", "cp_len"): (48, "frame_settings.cp_len", "docs/reference/time_domain.md"),
-}
-
-
 def load_blocks():
     files = sorted(glob.glob(os.path.join(GRC_DIR, "sems_*.block.yml")))
     assert files, f"no GRC blocks under {GRC_DIR}"
@@ -193,15 +184,6 @@ class qa_grc_defaults(gr_unittest.TestCase):
         for block, d in self.blocks.items():
             for p in d.get("parameters", []):
                 key = (block, p["id"])
-                if key in DELIBERATE:
-                    grc_expected, cxx_name, doc = DELIBERATE[key]
-                    self.assertEqual(grc_value(p["default"]), grc_expected, key)
-                    self.assertNotEqual(grc_expected, sems.frame_settings().cp_len, f"{key}: no longer a deviation")
-                    with open(os.path.join(SOURCE, doc)) as f:
-                        self.assertIn("CP = 48", f.read(), f"{key}: the reason is no longer in {doc}")
-                    self.assertIn(f"C++/Python default is frame_settings' {sems.frame_settings().cp_len}",
-                                  d["documentation"], f"{key}: the GRC documentation must state the C++ default")
-                    continue
                 if key in GRC_ONLY:
                     self.assertNotIn(p["id"], self.cxx[block], f"{key} is both GRC-only and compared")
                     continue
@@ -222,6 +204,15 @@ class qa_grc_defaults(gr_unittest.TestCase):
             sig = inspect.signature(cls.__init__).parameters
             self.assertEqual(sig["n_subcarriers"].default, fs.n_subcarriers, cls.__name__)
             self.assertEqual(sig["cp_len"].default, fs.cp_len, cls.__name__)
+
+    def test_one_cp_default(self):
+        # Every time-domain block, in GRC and in C++/Python, has frame_settings' cyclic prefix.
+        cp = sems.frame_settings().cp_len
+        for block in ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_frame_sync"):
+            p = [p for p in self.blocks[block]["parameters"] if p["id"] == "cp_len"][0]
+            self.assertEqual(grc_value(p["default"]), cp, block)
+        self.assertEqual(sems.target_channel_td().settings().cp_len, cp)
+        self.assertEqual(bound_default(sems.frame_sync, "cp_len"), cp)
 
     def test_every_parameter_documented(self):
         for block, d in self.blocks.items():

@@ -227,6 +227,31 @@ class qa_target_channel_td(gr_unittest.TestCase):
         self.assertEqual(ch.misaligned_tags(), 1)
         self.assertEqual(ch.nonfinite_symbols(), 1)
 
+    def test_007b_other_cyclic_prefix_refused(self):
+        # ofdm_tx with CP 16, the channel with CP 48: the frame tags are 32·80 samples apart,
+        # not 32·112. The channel stops the stream and names both prefixes.
+        n, m = 32, 64
+        x = qpsk(4 * n, m)
+        src = blocks.vector_source_c(x.ravel().tolist(), vlen=m, tags=frame_tags(4, n))
+        ch = sems.target_channel_td(cp_len=48)
+        sink = blocks.vector_sink_c()
+        tb = gr.top_block()
+        tb.connect(src, sems.ofdm_tx(m, 16), ch, sink)
+        tb.run()  # returns: the stream is stopped, not hung
+        err = ch.stream_error()
+        self.assertIn("transmitter's cyclic prefix is 16 samples, this block's cp_len is 48", err)
+        self.assertIn("2560 samples after frame 0", err)
+        self.assertLess(len(sink.data()), 4 * n * (m + 48))
+        # The same chain with one prefix runs to the end without an error.
+        ch = sems.target_channel_td(cp_len=16)
+        sink = blocks.vector_sink_c()
+        src = blocks.vector_source_c(x.ravel().tolist(), vlen=m, tags=frame_tags(4, n))
+        tb = gr.top_block()
+        tb.connect(src, sems.ofdm_tx(m, 16), ch, sink)
+        tb.run()
+        self.assertEqual(ch.stream_error(), "")
+        self.assertEqual(len(sink.data()), 4 * n * (m + 16))
+
     def test_008_live_snr_setter(self):
         ch = sems.target_channel_td()
         ch.set_snr_db(7.0)

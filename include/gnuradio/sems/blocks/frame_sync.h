@@ -13,7 +13,10 @@
  *
  * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
  * output offset = input offset − offset(); tags on the dropped samples are dropped with them,
- * and incoming keys::frame_tag tags are dropped (the frames are numbered here).
+ * and incoming keys::frame_tag tags are dropped (the frames are numbered here). Incoming
+ * frame tags further apart than N·(M + cp_len) samples per frame (a transmitter with another
+ * cyclic prefix) stop the stream (WORK_DONE) with an error naming both prefix lengths,
+ * kept in stream_error().
  */
 #ifndef INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
 #define INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
@@ -66,6 +69,12 @@ public:
     virtual double metric() const = 0;        //!< \return F·L·ρ of the last search
     virtual uint64_t failures() const = 0;    //!< \return searches that found no frame
     virtual int frame_len() const = 0;        //!< \return L = N·(M + cp_len)
+    /*!
+     * \brief Why the block stopped the stream, empty while it runs: incoming frame tags
+     *        spaced for another cyclic prefix (the message names both prefix lengths).
+     * \return the error message, or "".
+     */
+    virtual std::string stream_error() const = 0;
 };
 
 } // namespace sems

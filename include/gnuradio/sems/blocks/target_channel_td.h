@@ -11,7 +11,10 @@
  *
  * Frames of N symbols: aligned to keys::frame_tag tags on a symbol's first sample (the
  * frame index is the tag's value; a tag that is not on a symbol boundary is counted in
- * misaligned_tags() and ignored), counted from 0 otherwise. keys::truth_tag (the same
+ * misaligned_tags() and ignored), counted from 0 otherwise. Tags further apart than
+ * N·(M + cp_len) samples per frame come from a transmitter with another cyclic prefix: the
+ * block then stops the stream (work() returns WORK_DONE), logs an error naming both prefix
+ * lengths and keeps it in stream_error(). keys::truth_tag (the same
  * dict as target_channel) goes on the first sample of every frame.
  *
  * Noise CN(0, σ²) on every sample, σ² = 10^(-SNR/10): with ofdm_tx/ofdm_rx's unitary
@@ -102,6 +105,12 @@ public:
     virtual uint64_t frames() const = 0;            //!< \return frames started
     virtual uint64_t nonfinite_symbols() const = 0; //!< \return input symbols with a NaN/Inf sample
     virtual uint64_t misaligned_tags() const = 0;   //!< \return frame tags off a symbol boundary (ignored)
+    /*!
+     * \brief Why the block stopped the stream, empty while it runs: frame tags spaced for
+     *        another cyclic prefix (the message names the transmitter's and this block's).
+     * \return the error message, or "".
+     */
+    virtual std::string stream_error() const = 0;
 };
 
 } // namespace sems

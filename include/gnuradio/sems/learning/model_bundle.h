@@ -71,11 +71,37 @@ struct SEMS_LEARNING_API model_bundle {
     std::string weights_path() const;
 
     /*!
+     * \brief The folders a bundle name is looked up in, in order (after the name as given).
+     * \details
+     *  1. each entry of the environment variable SEMS_MODELS_PATH (colon-separated);
+     *  2. the source tree's models/ folder: $SEMS_SOURCE_DIR/models when that variable is
+     *     set, and the source tree this library was built from when it runs from its build
+     *     tree (not once installed);
+     *  3. the installed data folder, `<prefix>/share/gr-sems/models`, found next to the
+     *     installed library (so a copy installed to another prefix finds its own models),
+     *     then the configured install prefix's.
+     * Folders that do not exist are listed too (find() names every place it looked).
+     * \return the folders, without duplicates.
+     */
+    static std::vector<std::string> search_path();
+    /*!
+     * \brief Resolves a bundle name or path to a bundle directory.
+     * \details `name` is used as given when it is a directory holding bundle.json (an
+     * absolute path, or relative to the working directory); otherwise it is looked up in
+     * each folder of search_path() in order, so a bare name such as `classifier` finds the
+     * shipped bundle from any working directory.
+     * \param name a bundle directory or a bundle name (e.g. "classifier", "delay_single").
+     * \return the directory that holds name's bundle.json.
+     * \throws std::invalid_argument when none holds it, listing every place searched.
+     */
+    static std::string find(const std::string& name);
+    /*!
      * \brief Reads and validates dir/bundle.json and the mask file it names (weights are
      *        read by bundle_decoder).
-     * \param dir the bundle directory.
-     * \return the bundle.
-     * \throws std::invalid_argument naming the file and the problem.
+     * \param dir the bundle directory, or a bundle name resolved by find().
+     * \return the bundle (directory is the resolved directory).
+     * \throws std::invalid_argument naming the file and the problem, or every place
+     *         searched when no bundle of that name was found.
      */
     static model_bundle load(const std::string& dir);
     /*!

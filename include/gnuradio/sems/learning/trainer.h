@@ -104,6 +104,20 @@ struct SEMS_LEARNING_API training_settings {
     void validate() const;
     /*! \brief What bundle.json records under "training". \return the JSON object. */
     nlohmann::json to_json() const;
+    /*!
+     * \brief The settings a bundle was trained with, from its bundle.json, to train it again.
+     * \details The training record gives the objective, sizes, SNR range, schedule, seed,
+     * scene and encoder; the decoder's settings come from bundle.json's `decoder.settings`
+     * (keys a bundle predates take the values it was trained with, as when it is loaded);
+     * the frame from `frame`. A record without `mask_settle_epochs` predates that rule (0).
+     * A bundle trained on a given mask is retrained on its own mask file. Same settings and
+     * seed give the same mask and weights (the class documentation above). out_dir,
+     * command_line and the distributed settings are left for the caller.
+     * \param b the loaded bundle.
+     * \return the settings, validated.
+     * \throws std::invalid_argument naming bundle.json and the missing or bad key.
+     */
+    static training_settings from_bundle(const model_bundle& b);
 };
 
 /*! \brief What train() returns: the bundle, the history and the scored test frames. */

@@ -31,5 +31,6 @@ void bind_frame_sync(py::module& m)
         .def("offset", &frame_sync::offset, D(frame_sync, offset))
         .def("metric", &frame_sync::metric, D(frame_sync, metric))
         .def("failures", &frame_sync::failures, D(frame_sync, failures))
-        .def("frame_len", &frame_sync::frame_len, D(frame_sync, frame_len));
+        .def("frame_len", &frame_sync::frame_len, D(frame_sync, frame_len))
+        .def("stream_error", &frame_sync::stream_error, D(frame_sync, stream_error));
 }

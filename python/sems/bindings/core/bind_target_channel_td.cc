@@ -46,5 +46,6 @@ void bind_target_channel_td(py::module& m)
         .def("scene_json", &target_channel_td::scene_json, D(target_channel_td, scene_json))
         .def("frames", &target_channel_td::frames, D(target_channel_td, frames))
         .def("nonfinite_symbols", &target_channel_td::nonfinite_symbols, D(target_channel_td, nonfinite_symbols))
-        .def("misaligned_tags", &target_channel_td::misaligned_tags, D(target_channel_td, misaligned_tags));
+        .def("misaligned_tags", &target_channel_td::misaligned_tags, D(target_channel_td, misaligned_tags))
+        .def("stream_error", &target_channel_td::stream_error, D(target_channel_td, stream_error));
 }

@@ -51,6 +51,8 @@ void bind_learning(py::module& m)
 
     py::class_<model_bundle>(m, "model_bundle", D(model_bundle))
         .def_static("load", &model_bundle::load, py::arg("dir"))
+        .def_static("find", &model_bundle::find, D(model_bundle, find), py::arg("name"))
+        .def_static("search_path", &model_bundle::search_path, D(model_bundle, search_path))
         .def_readonly("mask_name", &model_bundle::mask_name, D(model_bundle, mask_name))
         .def_readonly("weights_name", &model_bundle::weights_name, D(model_bundle, weights_name))
         .def("weights_path", &model_bundle::weights_path, D(model_bundle, weights_path))
