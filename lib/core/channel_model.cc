@@ -84,12 +84,6 @@ struct frame_channel::scratch {
     detail::body_snapshot snap;
 };
 
-namespace {
-bool same_body(const scatterer_body& a, const scatterer_body& b)
-{
-    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
-}
-} // namespace
 
 frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
     : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
@@ -155,7 +149,7 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         // A fixed scene's bodies are the same every frame: set up once (a walker's takes ~0.1 ms).
         if (b >= sc.models.size())
             sc.models.emplace_back((*bodies)[b], fs);
-        else if (!same_body(sc.models[b].body(), (*bodies)[b]))
+        else if (!detail::same_body(sc.models[b].body(), (*bodies)[b]))
             sc.models[b] = detail::body_model((*bodies)[b], fs);
         const detail::body_model& model = sc.models[b];
         const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());

@@ -103,6 +103,13 @@ void body_terms(const body_model& model,
                 body_snapshot& snap,
                 std::complex<double>* out);
 
+/* Whether two bodies move alike (same model, parameters, speed and heading): a body_model set
+ * up for one serves the other. */
+inline bool same_body(const scatterer_body& a, const scatterer_body& b)
+{
+    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
+}
+
 /* G_p for p = 0..P of one snapshot at reference wavenumber kappa_ref: out[p]. */
 void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out);
 

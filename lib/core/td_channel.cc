@@ -85,11 +85,6 @@ double motion_rate(const scatterer_body& b, double v)
     return std::visit(rate, b.motion);
 }
 
-bool same_body(const scatterer_body& a, const scatterer_body& b)
-{
-    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
-}
-
 } // namespace
 
 struct td_channel::impl {
@@ -389,7 +384,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths,
         const auto& rb = (*bodies)[b];
         if (b >= I.bodies.size())
             I.bodies.emplace_back(rb, d_fs);
-        else if (!same_body(I.bodies[b].model.body(), rb))
+        else if (!detail::same_body(I.bodies[b].model.body(), rb))
             I.bodies[b] = impl::body(rb, d_fs);
         else
             continue;
