@@ -17,7 +17,7 @@ python=/usr/bin/python3
 prefix="$(mktemp -d /tmp/sems-prefix.XXXXXX)"
 work="$(mktemp -d /tmp/sems-examples.XXXXXX)"
 trap 'rm -rf "$prefix" "$work"' EXIT
-run_preload="${LD_PRELOAD:-}" # sanitized builds (CMakeLists.txt): only the flowgraphs need it
+run_preload="${LD_PRELOAD:-}" # sanitized builds (CMakeLists.txt): whatever imports the module needs it
 unset LD_PRELOAD
 cmake --install "$build" --prefix "$prefix" > /dev/null
 unset SEMS_SOURCE_DIR SEMS_MODELS_PATH LD_LIBRARY_PATH
@@ -36,9 +36,9 @@ if [ "$mode" = grc ]; then
   command -v xvfb-run > /dev/null || { echo "check_installed_examples: xvfb-run missing (apt-get install xvfb), skipped"; exit 77; }
   # GRC's own loader resolves every block of the flowgraph from the prefix (the GUI would only
   # draw a missing block in red), then the GUI runs until closed: 25 s to start, then stopped.
-  grcc -o out sems_demo.grc > grcc.log 2>&1 || { cat grcc.log; fail "GRC could not load sems_demo.grc"; }
+  LD_PRELOAD="$run_preload" grcc -o out sems_demo.grc > grcc.log 2>&1 || { cat grcc.log; fail "GRC could not load sems_demo.grc"; }
   status=0
-  timeout 25 xvfb-run -a gnuradio-companion "$work/sems_demo.grc" > grc.log 2>&1 || status=$?
+  timeout 25 xvfb-run -a env LD_PRELOAD="$run_preload" gnuradio-companion "$work/sems_demo.grc" > grc.log 2>&1 || status=$?
   [ "$status" -eq 124 ] || { cat grc.log; fail "gnuradio-companion exited with $status before it was stopped"; }
   if grep -E "Namespace Gtk not available|Traceback|Block key .* not found|[Ee]rror" grc.log; then
     fail "gnuradio-companion reported the errors above (grc.log)"
@@ -49,7 +49,7 @@ if [ "$mode" = grc ]; then
 fi
 
 # The bundles by name come from the prefix, and the modules from the prefix.
-"$python" - "$prefix" <<'PY'
+LD_PRELOAD="$run_preload" "$python" - "$prefix" <<'PY'
 import os, sys
 from gnuradio import sems
 prefix = os.path.realpath(sys.argv[1])
@@ -71,7 +71,7 @@ run() { # run NAME ARGS...: the compiled flowgraph, at most 300 s
 }
 for g in *.grc; do
   name="${g%.grc}"
-  grcc -o "out/$name" "$g" > "grcc_$name.log" 2>&1 || { cat "grcc_$name.log"; fail "grcc could not compile $g"; }
+  LD_PRELOAD="$run_preload" grcc -o "out/$name" "$g" > "grcc_$name.log" 2>&1 || { cat "grcc_$name.log"; fail "grcc could not compile $g"; }
   "$python" -m py_compile "out/$name/$name.py"
 done
 run sems_chain_snr --frames 200
