@@ -379,7 +379,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
 {
     rng& g = d_rng->draws;
     out.paths.clear(); // keeps the capacity
-    out.bodies.clear();
+    size_t n_bodies = 0; // out.bodies keeps its elements: a body assigned in place keeps its buffers
     const double clutter_share = d_scene.clutter() ? db_to_linear(d_scene.clutter()->csr_db) : 0.0;
     const double target_total = 1.0 / (1.0 + clutter_share);
 
@@ -441,8 +441,13 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
         int body = -1;
         if (t.motion) {
             const auto sh = target_speed_heading(t);
-            body = static_cast<int>(out.bodies.size());
-            out.bodies.push_back(scatterer_body{ *t.motion, sh.first, sh.second });
+            body = static_cast<int>(n_bodies);
+            if (out.bodies.size() <= n_bodies)
+                out.bodies.emplace_back();
+            auto& b = out.bodies[n_bodies++];
+            b.motion = *t.motion; // the same model's assignment reuses its lists' capacity
+            b.speed_mps = sh.first;
+            b.heading_rad = sh.second;
         }
         for (const auto& p : t.paths) {
             channel_path cp;
@@ -458,6 +463,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             out.paths.push_back(cp);
         }
     }
+    out.bodies.resize(n_bodies);
     if (const auto& c = d_scene.clutter()) {
         const int n = c->ranges_m.empty() ? c->n_paths : static_cast<int>(c->ranges_m.size());
         for (int k = 0; k < n; ++k) {
