@@ -45,18 +45,8 @@ bool file_exists(const std::string& p)
 
 std::pair<double, double> read_interval(object_reader& r, const char* key)
 {
-    const json& v = r.require(key);
-    const std::string f = r.field(key);
-    if (v.is_number()) {
-        const double x = json_read::finite_number(v, f, r.source());
-        return { x, x };
-    }
-    object_reader::checked_array(v, f, r.source(), 2, 2);
-    const double lo = json_read::finite_number(v[0], f + "[0]", r.source());
-    const double hi = json_read::finite_number(v[1], f + "[1]", r.source());
-    if (lo > hi)
-        fail(r.source(), f, "empty interval: min " + std::to_string(lo) + " exceeds max " + std::to_string(hi));
-    return { lo, hi };
+    const auto p = detail::read_number_or_interval(r.require(key), r.field(key), r.source());
+    return { p.lo, p.hi };
 }
 
 double sinusoid_peak(const detail::motion_template& t, detail::endpoint e)

@@ -173,18 +173,9 @@ public:
 private:
     motion_param read_value(const json& v, const std::string& f)
     {
-        motion_param p;
-        if (v.is_array()) {
+        if (v.is_array())
             require_interval_allowed(f);
-            object_reader::checked_array(v, f, d_r.source(), 2, 2);
-            p.lo = json_read::finite_number(v[0], f + "[0]", d_r.source());
-            p.hi = json_read::finite_number(v[1], f + "[1]", d_r.source());
-            check_order(p, f);
-            p.interval = true;
-        } else {
-            p.lo = p.hi = json_read::finite_number(v, f, d_r.source());
-        }
-        return p;
+        return read_number_or_interval(v, f, d_r.source());
     }
 
     void require_interval_allowed(const std::string& f) const
@@ -282,6 +273,22 @@ micro_motion draw_any(const motion_template& t, rng* g, endpoint e)
 }
 
 } // namespace
+
+motion_param read_number_or_interval(const json& v, const std::string& field, const std::string& source)
+{
+    motion_param p;
+    if (v.is_array()) {
+        object_reader::checked_array(v, field, source, 2, 2);
+        p.lo = json_read::finite_number(v[0], field + "[0]", source);
+        p.hi = json_read::finite_number(v[1], field + "[1]", source);
+        if (p.lo > p.hi)
+            fail(source, field, "empty interval: min " + std::to_string(p.lo) + " exceeds max " + std::to_string(p.hi));
+        p.interval = true;
+    } else {
+        p.lo = p.hi = json_read::finite_number(v, field, source);
+    }
+    return p;
+}
 
 motion_template read_motion_template(const json& j, const std::string& source, const std::string& field, bool intervals)
 {

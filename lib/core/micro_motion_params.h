@@ -44,6 +44,9 @@ struct motion_template {
 
 enum class endpoint { low, high };
 
+/*! A number, or an interval [lo, hi] (lo <= hi, both finite): the one reader of both forms. */
+motion_param read_number_or_interval(const nlohmann::json& v, const std::string& field, const std::string& source);
+
 /*!
  * Reads a "micro_motion" object.
  * intervals_allowed: class libraries draw from [lo, hi]; scenes give values.
