@@ -155,23 +155,13 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());
         sc.plans[b] = plan;
         sc.g_offset[b] = g_size;
-        sc.dk_scale[b] = std::max(0.5 * (plan.band_len - 1) * dk, 1e-300);
+        sc.dk_scale[b] = detail::band_scale(fs, plan);
         g_size += size_t(d_n) * plan.terms();
         sc.g.resize(g_size);
-        const int terms = plan.order + 1;
+        // Per symbol the body's terms G_p δk_max^p (the delay rows hold (δk/δk_max)^p ∈ [−1, 1]).
         for (int n = 0; n < d_n; ++n) {
             const double t = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
-            model.snapshot(t, sc.snap);
-            for (int band = 0; band < plan.sub_bands; ++band) {
-                const int m0 = band * plan.band_len;
-                const int len = std::min(plan.band_len, d_m - m0);
-                const double f_ref = fs.carrier_hz + (m0 + 0.5 * (len - 1)) * fs.subcarrier_spacing_hz();
-                std::complex<double>* g = sc.g.data() + sc.g_offset[b] + (size_t(n) * plan.sub_bands + band) * terms;
-                detail::moments(sc.snap, 4.0 * M_PI * f_ref / speed_of_light_mps, plan.order, g);
-                double scale = 1.0; // G_p δk_max^p: the delay rows hold (δk/δk_max)^p ∈ [−1, 1]
-                for (int p = 0; p < terms; ++p, scale *= sc.dk_scale[b])
-                    g[p] *= scale;
-            }
+            detail::body_terms(model, plan, fs, t, sc.snap, sc.g.data() + sc.g_offset[b] + size_t(n) * plan.terms());
         }
     }
 
