@@ -13,6 +13,10 @@
  *                            periodogram, UP/RP/OP-MUSIC, CRB
  *   5 exp5_pilot_budget.csv  SemS delay MAE vs SNR for each N_p
  *   6 exp6_cost.csv          inference time per frame next to each method's accuracy / MAE
+ *   7 exp7_kinematic.csv     experiment 1 on targets of moving scatterers (a kinematic class
+ *                            library, any heading), with the staggered band-edge pattern;
+ *     exp7_confusion.csv     every method's confusion matrix at --confusion-snr;
+ *     exp7_pilot_budget.csv  SemS against the Doppler and staggered patterns at each N_p
  * Test frames: one channel_model seed per scene (scene/gain and noise generators are
  * separate), noise drawn once with unit variance and scaled, so every SNR point and
  * every method sees exactly the same frames. Decoders are trained with the project's
@@ -50,6 +54,24 @@ std::vector<double> parse_list(const std::string& s)
     return out;
 }
 
+// A comma-separated subset of `allowed`; an unknown name is an error naming the flag.
+std::set<std::string> parse_names(const std::string& list, const std::set<std::string>& allowed, const std::string& flag)
+{
+    std::set<std::string> out;
+    std::stringstream ss(list);
+    std::string name;
+    while (std::getline(ss, name, ',')) {
+        if (!allowed.count(name)) {
+            std::string known;
+            for (const auto& a : allowed)
+                known += (known.empty() ? "" : ", ") + a;
+            throw std::invalid_argument(flag + ": \"" + name + "\" is not one of " + known);
+        }
+        out.insert(name);
+    }
+    return out;
+}
+
 void apply_size(config& c)
 {
     if (c.size == "test") {
@@ -66,6 +88,7 @@ void apply_size(config& c)
         c.snrs = { -10, 10, 30 };
         c.delay_snrs = { 0, 30 };
         c.np_sweep = { 2, 8 };
+        c.exp7_np_sweep = { 8 };
         c.classic_oversample = 4;
     } else if (c.size == "full") {
         // 3 + 3 epochs: what the documented run used (docs/RESULTS.md: experiments 1, 3 and 4
@@ -89,6 +112,7 @@ void apply_size(config& c)
         c.snrs = { -10, -5, 0, 5, 10, 15, 20, 25, 30 };
         c.delay_snrs = { -10, -5, 0, 5, 10, 15, 20, 25, 30 };
         c.np_sweep = { 2, 8, 16, 32, 64, 128 };
+        c.exp7_np_sweep = { 128, 64, 16, 8 }; // with the main part's 32: 8..128
         c.classic_oversample = 16;
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
@@ -100,14 +124,15 @@ void apply_size(config& c)
 int main(int argc, char** argv)
 {
     config c;
-    std::string experiments = "1,2,3,4,5,6", snrs, delay_snrs, np_sweep, delay_scenarios = "single,multipath";
+    std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget",
+                delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
     // clang-format off
     opts.add_options()
         ("help,h", "this help")
         ("size", po::value(&c.size)->default_value(c.size), "test (seconds, CI) | full (the documented run)")
         ("out", po::value(&c.out_dir)->required(), "output directory (CSVs, masks, cached bundles)")
-        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..6")
+        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..7")
         ("seed", po::value(&c.seed)->default_value(c.seed), "seed of the test frames and the first training seed")
         ("seeds", po::value<int>(), "override: training seeds per learned method (seed, seed + 1, ...; test 1, full 3)")
         ("threads", po::value(&c.threads)->default_value(c.threads), "LibTorch threads (training and inference)")
@@ -124,6 +149,12 @@ int main(int argc, char** argv)
         ("clutter-csr", po::value(&c.clutter_csr_db)->default_value(c.clutter_csr_db), "clutter-to-signal ratio of the strong-clutter scene (dB)")
         ("class-library", po::value(&c.class_library)->default_value(c.class_library),
          "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic) or file")
+        ("exp7-class-library", po::value(&c.exp7_class_library)->default_value(c.exp7_class_library),
+         "experiment 7: the class library of targets of moving scatterers, by name or file")
+        ("exp7-np-sweep", po::value(&exp7_np_sweep), "override: experiment 7's pilot budgets besides 32 (test 8; full 128,64,16,8)")
+        ("exp7-parts", po::value(&exp7_parts)->default_value(exp7_parts),
+         "experiment 7: comma-separated subset of main (N_p 32, every method),budget (the N_p sweep), to split a run over processes")
+        ("confusion-snr", po::value(&c.confusion_snr_db)->default_value(c.confusion_snr_db), "experiment 7: SNR (dB) of the confusion matrices")
         ("multipath-paths", po::value(&c.multipath_paths)->default_value(c.multipath_paths), "paths per target in the multipath scene")
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
@@ -145,15 +176,8 @@ int main(int argc, char** argv)
         apply_size(c);
         c.exp1_any_heading = !vm.count("no-any-heading");
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
-        c.delay_scenarios.clear();
-        for (std::string rest = delay_scenarios; !rest.empty();) {
-            const auto comma = rest.find(',');
-            const std::string name = rest.substr(0, comma);
-            if (name != "single" && name != "multipath")
-                throw std::invalid_argument("--delay-scenarios: \"" + name + "\" is not single or multipath");
-            c.delay_scenarios.insert(name);
-            rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-        }
+        c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
+        c.exp7_parts = parse_names(exp7_parts, { "main", "budget" }, "--exp7-parts");
         if (vm.count("test-frames"))
             c.test_frames = vm["test-frames"].as<int>();
         if (vm.count("train-frames"))
@@ -178,6 +202,11 @@ int main(int argc, char** argv)
             c.snrs = parse_list(snrs);
         if (!delay_snrs.empty())
             c.delay_snrs = parse_list(delay_snrs);
+        if (!exp7_np_sweep.empty()) {
+            c.exp7_np_sweep.clear();
+            for (double v : parse_list(exp7_np_sweep))
+                c.exp7_np_sweep.push_back(static_cast<int>(v));
+        }
         if (!np_sweep.empty()) {
             c.np_sweep.clear();
             for (double v : parse_list(np_sweep))
@@ -185,8 +214,8 @@ int main(int argc, char** argv)
         }
         c.experiments.clear();
         for (double e : parse_list(experiments)) {
-            if (e < 1 || e > 6 || e != static_cast<int>(e))
-                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..6");
+            if (e < 1 || e > 7 || e != static_cast<int>(e))
+                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..7");
             c.experiments.insert(static_cast<int>(e));
         }
         if (c.test_frames < 2 || c.train_frames < 10 || c.svm_train_frames < 6 || c.tsne_frames < 2)
@@ -196,6 +225,9 @@ int main(int argc, char** argv)
         for (int np : c.np_sweep)
             if (np < 1 || np > c.fs.grid_size())
                 throw std::invalid_argument("--np-sweep: " + std::to_string(np) + " is outside [1, N*M]");
+        for (int np : c.exp7_np_sweep)
+            if (np < 1 || np > c.fs.grid_size())
+                throw std::invalid_argument("--exp7-np-sweep: " + std::to_string(np) + " is outside [1, N*M]");
         std::ostringstream cmd;
         for (int i = 0; i < argc; ++i)
             cmd << (i ? " " : "") << argv[i];
@@ -213,7 +245,7 @@ int main(int argc, char** argv)
         first.experiments.clear();
         rest.experiments.clear();
         for (int e : c.experiments)
-            (e == 3 ? rest : first).experiments.insert(e);
+            (e == 3 || e == 7 ? rest : first).experiments.insert(e);
         run_recognition(first, std::cout);
         write_cost(c, std::cout);
         run_delay(c, std::cout);

@@ -66,7 +66,7 @@ int main(int argc, char** argv)
         ("objective", po::value(&s.objective)->default_value(s.objective), "task (SemS) | mse (reconstruction baseline)")
         ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
         ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
-        ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler): train the decoder only")
+        ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler|staggered): train the decoder only")
         ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
         ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "

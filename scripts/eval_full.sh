@@ -19,36 +19,10 @@
 # The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test
 # runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-out="$root/out/eval_full"
-results="$root/docs/results"
-size=full
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --out) out="$2"; shift 2 ;;
-    --results) results="$2"; shift 2 ;;
-    --size) size="$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
-    *) echo "eval_full.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
-  esac
-done
-eval_bin="${SEMS_EVAL:-$root/build/apps/sems_eval}"
-[ -x "$eval_bin" ] || { echo "eval_full.sh: $eval_bin is missing: build first (scripts/build.sh) or set SEMS_EVAL" >&2; exit 2; }
-mkdir -p "$out" "$results"
-# The run's own record (its stamps and the plotting output) goes beside the figures it made.
-exec > >(tee "$results/eval_full.log") 2>&1
-start=$(date +%s)
-stamp() { echo "[$(date -u +%H:%M:%S)] $*"; }
-
-run_part() { # name, then sems_eval arguments
-  local name="$1"; shift
-  local t0; t0=$(date +%s)
-  if OMP_NUM_THREADS=1 "$eval_bin" --size "$size" --threads 1 --out "$out/$name" "$@" >"$out/$name.log" 2>&1; then
-    stamp "$name done in $(( $(date +%s) - t0 )) s"
-  else
-    stamp "$name FAILED after $(( $(date +%s) - t0 )) s, see $out/$name.log"; return 1
-  fi
-}
+script=eval_full.sh
+out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_full"
+log=eval_full.log
+source "$(dirname "$0")/eval_parts.sh"
 
 stamp "sems_eval --size $size, 3 processes, logs in $out/*.log"
 pids=()

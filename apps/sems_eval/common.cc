@@ -84,7 +84,7 @@ std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, 
 scene recognition_scene(const std::string& scenario, const config& c)
 {
     random_spec r; // every class of the library (the paper's three), single path
-    const auto lib = class_library::find(c.class_library);
+    const auto lib = class_library::find(scenario == "kinematic" ? c.exp7_class_library : c.class_library);
     if (lib->name() != class_library::paper()->name())
         r.classes.clear(); // empty: every class of the library
     std::optional<clutter_spec> clutter;
@@ -94,7 +94,7 @@ scene recognition_scene(const std::string& scenario, const config& c)
         clutter_spec cl;
         cl.csr_db = c.clutter_csr_db;
         clutter = cl;
-    } else if (scenario == "any") {
+    } else if (scenario == "any" || scenario == "kinematic") {
         r.heading = heading_kind::any;
     } else if (scenario != "default")
         throw std::invalid_argument("unknown recognition scenario " + scenario);

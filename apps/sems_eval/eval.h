@@ -47,6 +47,10 @@ struct config {
     int multipath_paths = 3;
     double clutter_csr_db = 10.0;
     std::string class_library = "paper"; // experiments 1-3: the recognition scenes' class library (name or file)
+    std::string exp7_class_library = "kinematic"; // experiment 7: targets of moving scatterers (name or file)
+    std::vector<int> exp7_np_sweep{ 8 };          // experiment 7's pilot budgets besides its 32
+    std::set<std::string> exp7_parts{ "main", "budget" }; // one per process lets two cores share a run
+    double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -88,7 +92,8 @@ std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, 
                                const pilot_mask& mask);
 
 // Scenes of the experiments.
-scene recognition_scene(const std::string& scenario, const config& c); // default | any | no_md | clutter
+// default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)
+scene recognition_scene(const std::string& scenario, const config& c);
 scene delay_scene(int paths);
 
 // Accuracy and macro-F1 (unweighted mean of per-class F1 over the classes present).
@@ -156,7 +161,7 @@ std::string write_mask(const config& c, const pilot_mask& mask, const std::strin
 pilot_mask full_grid_mask(const frame_settings& fs);
 
 // Experiments.
-void run_recognition(const config& c, std::ostream& log);   // 1 and 3
+void run_recognition(const config& c, std::ostream& log);   // 1, 3 and 7
 void run_tsne(const config& c, std::ostream& log);          // 2
 void run_delay(const config& c, std::ostream& log);         // 4
 void run_pilot_budget(const config& c, std::ostream& log);  // 5

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* sems_eval experiments 1 and 3: accuracy and macro-F1 against SNR for SemS and every
+/* sems_eval experiments 1, 3 and 7: accuracy and macro-F1 against SNR for SemS and every
  * recognition baseline, on the same test frames (default scene; without micro-Doppler;
- * with strong clutter). */
+ * with strong clutter; targets of moving scatterers from a kinematic class library, with the
+ * confusion matrices and the pilot budget sweep). */
 #include "eval.h"
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/baselines/doppler_features.h>
@@ -82,19 +83,36 @@ std::vector<gr_complex> remove_static(std::vector<gr_complex> obs, int count, co
     return obs;
 }
 
+enum class method_kind { sems, mse, perfect_csi, pattern };
+
 struct dl_method {
     std::string method, model_name, mask_label; // model_name: the cache name before its seed suffix
     training_settings settings;
     bool noiseless_input = false;
+    method_kind kind = method_kind::sems;
 };
 
+// The hand patterns the SemS decoder is also trained on (experiments 1 and 7). A body of
+// moving scatterers spans part of a delay cell, so experiment 7 adds the staggered band-edge
+// pattern: every symbol's slow time, as the Doppler pattern has, and the band's whole aperture.
+std::vector<std::string> hand_patterns(const config& c, const std::string& scen)
+{
+    if (scen == "kinematic")
+        return { "doppler", "uniform", "random", "staggered" };
+    if (scen == "default" || scen == "any")
+        return c.exp1_hand_patterns ? std::vector<std::string>{ "doppler", "uniform", "random" }
+                                    : std::vector<std::string>{};
+    return {};
+}
+
 // The learned methods of one scenario, trained with train_seed: all by the same trainer at
-// the same data budget.
-std::vector<dl_method> learned_methods(const config& c, const std::string& scen, const scene& sc, bool exp1,
+// the same data budget. Cache names carry N_p when it is not the experiments' 32.
+std::vector<dl_method> learned_methods(const config& c, const std::string& scen, const scene& sc,
                                        const std::string& full_mask, int np, uint64_t train_seed)
 {
     std::vector<dl_method> dl;
-    dl_method m{ "SemS", "cls_" + scen + "_sems", "learned (task)",
+    const std::string prefix = "cls_" + scen + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
+    dl_method m{ "SemS", prefix + "sems", "learned (task)",
                  base_training(c, task_kind::classify, sc, "sems_eval " + scen, train_seed), false };
     m.settings.n_pilots = np;
     // Under static clutter every network gets the documented zero-Doppler stage (MTI: each
@@ -104,13 +122,15 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
     dl.push_back(m);
     dl_method mse = m;
     mse.method = "MSE-DL";
-    mse.model_name = "cls_" + scen + "_mse";
+    mse.model_name = prefix + "mse";
     mse.mask_label = "learned (MSE)";
     mse.settings.objective = "mse";
+    mse.kind = method_kind::mse;
     dl.push_back(mse);
     dl_method pcsi = m;
     pcsi.method = "Perfect CSI (noiseless)";
-    pcsi.model_name = "cls_" + scen + "_pcsi_noiseless";
+    pcsi.model_name = prefix + "pcsi_noiseless";
+    pcsi.kind = method_kind::perfect_csi;
     pcsi.mask_label = "full grid";
     pcsi.settings.n_pilots = c.fs.grid_size();
     pcsi.settings.mask_file = full_mask;
@@ -121,25 +141,180 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
     pcsi.noiseless_input = true;
     dl.push_back(pcsi);
     // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
-    if (exp1 && c.exp1_hand_patterns)
-        for (const std::string pattern : { "doppler", "uniform", "random" }) {
-            dl_method hp = m;
-            hp.method = "SemS decoder (" + pattern + " pilots)";
-            hp.model_name = "cls_" + scen + "_" + pattern;
-            hp.mask_label = pattern;
-            hp.settings = hand_pattern_training(m.settings, pattern);
-            dl.push_back(hp);
-        }
-    if (scen == "default") {
+    for (const std::string& pattern : hand_patterns(c, scen)) {
+        dl_method hp = m;
+        hp.method = "SemS decoder (" + pattern + " pilots)";
+        hp.model_name = prefix + pattern;
+        hp.mask_label = pattern;
+        hp.settings = hand_pattern_training(m.settings, pattern);
+        hp.kind = method_kind::pattern;
+        dl.push_back(hp);
+    }
+    if (scen == "default" || scen == "kinematic") {
         dl_method pn = pcsi;
         pn.method = "Perfect CSI (test SNR)";
-        pn.model_name = "cls_" + scen + "_pcsi_snr";
+        pn.model_name = prefix + "pcsi_snr";
         pn.settings.snr_min_db = c.train_snr_min_db;
         pn.settings.snr_max_db = c.train_snr_max_db;
         pn.noiseless_input = false;
         dl.push_back(pn);
     }
     return dl;
+}
+
+// One scenario's test frames and outputs: every method is scored on these frames and written
+// to csv (and, where given, its confusion matrix at the confusion SNR).
+struct scenario_run {
+    std::string experiment, scenario;
+    const scene& sc;
+    const test_set& ts;
+    uint64_t test_seed;
+    csv_file& csv;
+    csv_file* confusion = nullptr;
+};
+
+class scorer
+{
+public:
+    scorer(const config& c, const scenario_run& run, std::ostream& log)
+        : d_c(c), d_run(run), d_log(log), d_truth(truth_labels(run.ts)), d_n_classes(run.sc.library().size())
+    {
+    }
+
+    // Scores predictions at one SNR and writes the CSV row, the cost row and, at the
+    // confusion SNR, the confusion matrix.
+    void write(const std::string& method, const std::string& mask, int pilots, double snr,
+               const std::vector<int>& pred, double us, double train_s, const std::string& model,
+               std::optional<uint64_t> train_seed)
+    {
+        const class_score s = score(pred, d_truth, d_n_classes);
+        const std::string ts_label = train_seed_label(train_seed);
+        d_run.csv.row({ d_run.experiment, d_run.scenario, method, mask, std::to_string(pilots), num(snr),
+                        num(s.accuracy), num(s.macro_f1), std::to_string(d_run.ts.count),
+                        std::to_string(d_run.test_seed), ts_label, num(us, 4), num(train_s, 4), model });
+        cost_rows().push_back({ d_run.experiment, d_run.scenario, method, mask, d_run.test_seed, ts_label, pilots,
+                                snr, "accuracy", s.accuracy, us, d_run.ts.count, train_s });
+        d_log << "  " << d_run.scenario << " " << method << " [N_p " << pilots << ", train seed " << ts_label
+              << "] snr " << num(snr) << ": acc " << num(s.accuracy, 3) << " F1 " << num(s.macro_f1, 3) << " ("
+              << num(us, 3) << " us/frame)" << std::endl;
+        if (d_run.confusion && snr == d_c.confusion_snr_db) {
+            std::vector<int> counts(size_t(d_n_classes) * d_n_classes, 0);
+            for (size_t i = 0; i < pred.size(); ++i)
+                if (pred[i] >= 0 && pred[i] < d_n_classes)
+                    ++counts[size_t(d_truth[i]) * d_n_classes + pred[i]];
+            for (int t = 0; t < d_n_classes; ++t)
+                for (int p = 0; p < d_n_classes; ++p)
+                    d_run.confusion->row({ d_run.experiment, d_run.scenario, method, mask, std::to_string(pilots),
+                                           num(snr), ts_label, d_run.sc.library().at(t).name,
+                                           d_run.sc.library().at(p).name,
+                                           std::to_string(counts[size_t(t) * d_n_classes + p]) });
+        }
+    }
+
+    // A trained decoder on the test frames at every SNR (once, noiseless, for a noiseless method).
+    void evaluate(const dl_method& m, const decoder_source& src, std::optional<uint64_t> train_seed)
+    {
+        const bundle_decoder dec(src.bundle, d_c.threads);
+        const auto ids = output_classes(src.bundle, d_run.sc);
+        const int p = dec.n_pilots();
+        if (m.noiseless_input) {
+            double us = 0.0;
+            const auto obs = d_run.ts.observe(src.bundle.mask, std::numeric_limits<double>::infinity());
+            const auto pred = classify_all(dec, obs, d_run.ts.count, ids, us);
+            for (double snr : d_c.snrs) // the input does not depend on the test SNR
+                write(m.method, m.mask_label, p, snr, pred, us, src.train_seconds, src.origin, train_seed);
+            return;
+        }
+        for (double snr : d_c.snrs) {
+            double us = 0.0;
+            const auto obs = d_run.ts.observe(src.bundle.mask, snr);
+            const auto pred = classify_all(dec, obs, d_run.ts.count, ids, us); // sets us before it is written
+            write(m.method, m.mask_label, p, snr, pred, us, src.train_seconds, src.origin, train_seed);
+        }
+    }
+
+    // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots, trained
+    // on their own frames (drawn with the training seed) over the same SNR range as the
+    // networks; under clutter also with the classical MTI in front (its best standard form there).
+    void svms(int np, uint64_t seed)
+    {
+        const int count = d_c.svm_train_frames;
+        const train_set tr =
+            make_train_set(d_c.fs, d_run.sc, count, seed + 202, d_c.train_snr_min_db, d_c.train_snr_max_db);
+        std::vector<std::pair<std::string, bool>> svms{ { "uniform", false }, { "doppler", false } };
+        if (d_run.scenario == "clutter")
+            svms.insert(svms.end(), { { "uniform", true }, { "doppler", true } });
+        for (const auto& [pattern, mti] : svms) {
+            const auto mask = pilot_mask::from_pattern(pattern, d_c.fs.n_symbols, d_c.fs.n_subcarriers, np);
+            const doppler_features fx(d_c.fs, mask);
+            auto prepare = [&, mti = mti](std::vector<gr_complex> o, int n) {
+                return mti ? remove_static(std::move(o), n, mask) : o;
+            };
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto tr_obs = prepare(gather(tr.y, count, d_c.fs, mask), count);
+            std::vector<std::vector<double>> x;
+            std::vector<int> y;
+            for (int f = 0; f < count; ++f) {
+                x.push_back(fx.extract(tr_obs.data() + size_t(f) * np));
+                y.push_back(tr.truth[f].class_id);
+            }
+            const feature_svm svm(x, y);
+            const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
+            const std::string method = "SVM (" + pattern + " pilots" + (mti ? ", MTI)" : ")");
+            for (double snr : d_c.snrs) {
+                const auto obs = prepare(d_run.ts.observe(mask, snr), d_run.ts.count);
+                std::vector<int> pred(d_run.ts.count);
+                const auto t1 = std::chrono::steady_clock::now();
+                for (int f = 0; f < d_run.ts.count; ++f)
+                    pred[f] = svm.predict(fx.extract(obs.data() + size_t(f) * np));
+                const double us = 1e6 * seconds_between(t1, std::chrono::steady_clock::now()) / d_run.ts.count;
+                write(method, pattern, np, snr, pred, us, train_s,
+                      "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV", seed);
+            }
+        }
+    }
+
+private:
+    const config& d_c;
+    const scenario_run& d_run;
+    std::ostream& d_log;
+    std::vector<int> d_truth;
+    int d_n_classes;
+};
+
+const std::vector<std::string> confusion_header{ "experiment", "scenario", "method", "mask", "n_pilots", "snr_db",
+                                                 "train_seed", "true_class", "predicted_class", "count" };
+
+test_set scenario_test_set(const config& c, const std::string& scen, const scene& sc, uint64_t test_seed,
+                           std::ostream& log, const std::string& exp)
+{
+    log << "[" << now_utc() << "] exp " << exp << " (" << scen << "): " << c.test_frames << " test frames, seed "
+        << test_seed << std::endl;
+    return make_test_set(c.fs, sc, c.test_frames, test_seed);
+}
+
+// Experiment 7's pilot budget sweep: SemS with learned pilots against the best hand patterns
+// (Doppler and staggered) at every N_p of c.exp7_np_sweep, on experiment 7's test frames.
+void run_kinematic_budget(const config& c, std::ostream& log)
+{
+    const scene sc = recognition_scene("kinematic", c);
+    const uint64_t test_seed = c.seed + 101;
+    const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (pilot budget)");
+    csv_file csv(c.out_dir + "/exp7_pilot_budget.csv", header);
+    const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, nullptr };
+    scorer sc_run(c, run, log);
+    const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
+    // N_p outermost, in the order given (the largest budgets first answer the question the
+    // sweep asks soonest), then seeds, so a stopped run has every method of its budgets.
+    for (int np : c.exp7_np_sweep)
+        for (uint64_t seed : training_seeds(c))
+            for (const auto& m : learned_methods(c, "kinematic", sc, full_mask, np, seed)) {
+                const bool wanted = m.kind == method_kind::sems ||
+                                    (m.kind == method_kind::pattern &&
+                                     (m.mask_label == "doppler" || m.mask_label == "staggered"));
+                if (wanted)
+                    sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
+            }
 }
 
 } // namespace
@@ -156,105 +331,36 @@ void run_recognition(const config& c, std::ostream& log)
         scenarios.push_back("no_md");
         scenarios.push_back("clutter");
     }
-    if (scenarios.empty())
-        return;
-    std::unique_ptr<csv_file> csv1, csv3;
+    if (c.experiments.count(7) && c.exp7_parts.count("main"))
+        scenarios.push_back("kinematic");
+    std::unique_ptr<csv_file> csv1, csv3, csv7, confusion7;
     if (c.experiments.count(1))
         csv1 = std::make_unique<csv_file>(c.out_dir + "/exp1_recognition.csv", header);
     if (c.experiments.count(3))
         csv3 = std::make_unique<csv_file>(c.out_dir + "/exp3_conditions.csv", header);
+    if (c.experiments.count(7) && c.exp7_parts.count("main")) {
+        csv7 = std::make_unique<csv_file>(c.out_dir + "/exp7_kinematic.csv", header);
+        confusion7 = std::make_unique<csv_file>(c.out_dir + "/exp7_confusion.csv", confusion_header);
+    }
     const int np = 32;
-    const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
+    const std::string full_mask = scenarios.empty() ? "" : write_mask(c, full_grid_mask(c.fs), "full_grid");
 
     for (const auto& scen : scenarios) {
-        const bool exp1 = scen == "default" || scen == "any";
-        const std::string exp = exp1 ? "1" : "3";
-        csv_file& csv = exp1 ? *csv1 : *csv3;
+        const bool exp1 = scen == "default" || scen == "any", exp7 = scen == "kinematic";
+        const std::string exp = exp1 ? "1" : exp7 ? "7" : "3";
         const scene sc = recognition_scene(scen, c);
         // The same test frames for every method and every training seed.
         const uint64_t test_seed = c.seed + 101;
-        log << "[" << now_utc() << "] exp " << exp << " (" << scen << "): " << c.test_frames
-            << " test frames, seed " << test_seed << std::endl;
-        const test_set ts = make_test_set(c.fs, sc, c.test_frames, test_seed);
-        const auto truth = truth_labels(ts);
-        const int n_classes = sc.library().size();
-
-        auto write = [&](const std::string& method, const std::string& mask, int pilots, double snr,
-                         const class_score& s, double us, double train_s, const std::string& model,
-                         std::optional<uint64_t> train_seed) {
-            const std::string ts_label = train_seed_label(train_seed);
-            csv.row({ exp, scen, method, mask, std::to_string(pilots), num(snr), num(s.accuracy), num(s.macro_f1),
-                      std::to_string(ts.count), std::to_string(test_seed), ts_label, num(us, 4), num(train_s, 4),
-                      model });
-            cost_rows().push_back(
-                { exp, scen, method, mask, test_seed, ts_label, pilots, snr, "accuracy", s.accuracy, us, ts.count,
-                  train_s });
-            log << "  " << scen << " " << method << " [train seed " << ts_label << "] snr " << num(snr) << ": acc "
-                << num(s.accuracy, 3) << " F1 " << num(s.macro_f1, 3) << " (" << num(us, 3) << " us/frame)"
-                << std::endl;
-        };
-        auto evaluate = [&](const dl_method& m, const decoder_source& src, std::optional<uint64_t> train_seed) {
-            const bundle_decoder dec(src.bundle, c.threads);
-            const auto ids = output_classes(src.bundle, sc);
-            const int p = dec.n_pilots();
-            if (m.noiseless_input) {
-                double us = 0.0;
-                const auto obs = ts.observe(src.bundle.mask, std::numeric_limits<double>::infinity());
-                const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
-                for (double snr : c.snrs) // the input does not depend on the test SNR
-                    write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin, train_seed);
-                return;
-            }
-            for (double snr : c.snrs) {
-                double us = 0.0;
-                const auto obs = ts.observe(src.bundle.mask, snr);
-                const auto s = score(classify_all(dec, obs, ts.count, ids, us), truth, n_classes);
-                write(m.method, m.mask_label, p, snr, s, us, src.train_seconds, src.origin, train_seed);
-            }
-        };
+        const test_set ts = scenario_test_set(c, scen, sc, test_seed, log, exp);
+        const scenario_run run{ exp, scen, sc, ts, test_seed, exp1 ? *csv1 : exp7 ? *csv7 : *csv3,
+                                exp7 ? confusion7.get() : nullptr };
+        scorer sc_run(c, run, log);
 
         // Seeds outermost: a stopped run still has every method for its first seeds.
         for (uint64_t seed : c.only_shipped ? std::vector<uint64_t>{} : training_seeds(c)) {
-            for (const auto& m : learned_methods(c, scen, sc, exp1, full_mask, np, seed))
-                evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
-
-            // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots,
-            // trained on their own frames (drawn with the training seed) over the same SNR
-            // range as the networks.
-            const train_set tr =
-                make_train_set(c.fs, sc, c.svm_train_frames, seed + 202, c.train_snr_min_db, c.train_snr_max_db);
-            // Under clutter also with the classical MTI in front (the SVM's best standard form there).
-            std::vector<std::pair<std::string, bool>> svms{ { "uniform", false }, { "doppler", false } };
-            if (scen == "clutter")
-                svms.insert(svms.end(), { { "uniform", true }, { "doppler", true } });
-            for (const auto& [pattern, mti] : svms) {
-                const auto mask = pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np);
-                const doppler_features fx(c.fs, mask);
-                auto prepare = [&, mti = mti](std::vector<gr_complex> o, int count) {
-                    return mti ? remove_static(std::move(o), count, mask) : o;
-                };
-                const auto t0 = std::chrono::steady_clock::now();
-                const auto tr_obs = prepare(gather(tr.y, c.svm_train_frames, c.fs, mask), c.svm_train_frames);
-                std::vector<std::vector<double>> x;
-                std::vector<int> y;
-                for (int f = 0; f < c.svm_train_frames; ++f) {
-                    x.push_back(fx.extract(tr_obs.data() + size_t(f) * np));
-                    y.push_back(tr.truth[f].class_id);
-                }
-                const feature_svm svm(x, y);
-                const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
-                const std::string method = "SVM (" + pattern + " pilots" + (mti ? ", MTI)" : ")");
-                for (double snr : c.snrs) {
-                    const auto obs = prepare(ts.observe(mask, snr), ts.count);
-                    std::vector<int> pred(ts.count);
-                    const auto t1 = std::chrono::steady_clock::now();
-                    for (int f = 0; f < ts.count; ++f)
-                        pred[f] = svm.predict(fx.extract(obs.data() + size_t(f) * np));
-                    const double us = 1e6 * seconds_between(t1, std::chrono::steady_clock::now()) / ts.count;
-                    write(method, pattern, np, snr, score(pred, truth, n_classes), us, train_s,
-                          "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV", seed);
-                }
-            }
+            for (const auto& m : learned_methods(c, scen, sc, full_mask, np, seed))
+                sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
+            sc_run.svms(np, seed);
         }
 
         if (scen == "default" && !c.shipped_classifier.empty()) {
@@ -273,10 +379,12 @@ void run_recognition(const config& c, std::ostream& log)
                     << src.bundle.library->name() << "\", the scene's is \"" << sc.library().name()
                     << "\": skipped (" << other_library << ")" << std::endl;
             else
-                evaluate({ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false }, src,
-                         std::nullopt);
+                sc_run.evaluate({ "Shipped bundle (" + kind + " pilots)", "", kind, training_settings{}, false }, src,
+                                std::nullopt);
         }
     }
+    if (c.experiments.count(7) && c.exp7_parts.count("budget") && !c.only_shipped)
+        run_kinematic_budget(c, log);
 }
 
 } // namespace sems_eval

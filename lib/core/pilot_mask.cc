@@ -148,6 +148,31 @@ pilot_mask pilot_mask::doppler(int n_symbols, int n_subcarriers, int count)
                       { { "kind", "doppler" }, { "subcarriers", k } }, "doppler pilot mask");
 }
 
+pilot_mask pilot_mask::staggered(int n_symbols, int n_subcarriers, int count)
+{
+    check_count(n_symbols, n_subcarriers, count, "staggered pilot mask");
+    // Every symbol (or, below N pilots, evenly spread symbols) carries its share of the pilots,
+    // and pilot i in symbol order sits on column i mod K of K subcarriers spread from band edge
+    // to band edge, K twice the subcarriers the Doppler pattern would use: slow time is sampled
+    // at every symbol, as with the Doppler pattern, while the pilots span the whole band, whose
+    // aperture resolves a body's extent in range.
+    const int per_col = (count + n_symbols - 1) / n_symbols;
+    const int k = std::min(n_subcarriers, 2 * per_col);
+    std::vector<int> cols(k);
+    for (int j = 0; j < k; ++j)
+        cols[j] = k == 1 ? 0 : static_cast<int>(std::lround(double(j) * (n_subcarriers - 1) / (k - 1)));
+    std::vector<int> per_symbol(n_symbols, count / n_symbols);
+    for (int r : spread(count % n_symbols, n_symbols))
+        ++per_symbol[r];
+    std::vector<pilot_position> pilots;
+    int i = 0;
+    for (int n = 0; n < n_symbols; ++n)
+        for (int t = 0; t < per_symbol[n]; ++t, ++i)
+            pilots.push_back({ n, cols[i % k] });
+    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+                      { { "kind", "staggered" }, { "subcarriers", k } }, "staggered pilot mask");
+}
+
 pilot_mask pilot_mask::from_pattern(
     const std::string& pattern, int n_symbols, int n_subcarriers, int count, uint64_t seed)
 {
@@ -157,7 +182,10 @@ pilot_mask pilot_mask::from_pattern(
         return random(n_symbols, n_subcarriers, count, seed);
     if (pattern == "doppler")
         return doppler(n_symbols, n_subcarriers, count);
-    throw std::invalid_argument("unknown pilot pattern \"" + pattern + "\" (known: uniform, random, doppler)");
+    if (pattern == "staggered")
+        return staggered(n_symbols, n_subcarriers, count);
+    throw std::invalid_argument("unknown pilot pattern \"" + pattern +
+                                "\" (known: uniform, random, doppler, staggered)");
 }
 
 pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& source)

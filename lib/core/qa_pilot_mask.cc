@@ -6,6 +6,7 @@
 #include <cppunit/extensions/HelperMacros.h>
 #include <cstdio>
 #include <numeric>
+#include <map>
 #include <set>
 #include <string>
 
@@ -28,6 +29,7 @@ class qa_pilot_mask : public CppUnit::TestFixture
     CPPUNIT_TEST_SUITE(qa_pilot_mask);
     CPPUNIT_TEST(uniform_lattice);
     CPPUNIT_TEST(doppler_pattern);
+    CPPUNIT_TEST(staggered_spans_band_at_every_symbol);
     CPPUNIT_TEST(random_is_seeded);
     CPPUNIT_TEST(count_extremes);
     CPPUNIT_TEST(mask_order_and_exports);
@@ -64,6 +66,32 @@ public:
         CPPUNIT_ASSERT_EQUAL(size_t(2), cols2.size());
     }
 
+    void staggered_spans_band_at_every_symbol()
+    {
+        // 32 pilots: band edges 0 and 63 alternating, one pilot per symbol.
+        const auto m32 = pilot_mask::staggered(32, 64, 32);
+        for (const auto& p : m32.positions())
+            CPPUNIT_ASSERT_EQUAL(p.n % 2 == 0 ? 0 : 63, p.m);
+        // 128 pilots: 4 per symbol on alternating halves of 8 subcarriers 0, 9, ..., 63.
+        const auto m128 = pilot_mask::staggered(32, 64, 128);
+        std::map<int, std::set<int>> by_symbol;
+        for (const auto& p : m128.positions())
+            by_symbol[p.n].insert(p.m);
+        CPPUNIT_ASSERT_EQUAL(size_t(32), by_symbol.size());
+        CPPUNIT_ASSERT(by_symbol[0] == (std::set<int>{ 0, 9, 18, 27 }));
+        CPPUNIT_ASSERT(by_symbol[1] == (std::set<int>{ 36, 45, 54, 63 }));
+        // Fewer pilots than symbols: evenly spread symbols, still both edges.
+        const auto m8 = pilot_mask::staggered(32, 64, 8);
+        std::set<int> cols, rows;
+        for (const auto& p : m8.positions()) {
+            cols.insert(p.m);
+            rows.insert(p.n);
+        }
+        CPPUNIT_ASSERT(cols == (std::set<int>{ 0, 63 }));
+        CPPUNIT_ASSERT_EQUAL(size_t(8), rows.size());
+        CPPUNIT_ASSERT_EQUAL(std::string("staggered"), m8.origin().value("kind", std::string()));
+    }
+
     void random_is_seeded()
     {
         CPPUNIT_ASSERT(pilot_mask::random(32, 64, 32, 7) == pilot_mask::random(32, 64, 32, 7));
@@ -72,7 +100,7 @@ public:
 
     void count_extremes()
     {
-        for (const char* pattern : { "uniform", "random", "doppler" }) {
+        for (const char* pattern : { "uniform", "random", "doppler", "staggered" }) {
             CPPUNIT_ASSERT_EQUAL(1, pilot_mask::from_pattern(pattern, 32, 64, 1, 3).size());
             auto all = pilot_mask::from_pattern(pattern, 32, 64, 32 * 64, 3);
             CPPUNIT_ASSERT_EQUAL(32 * 64, all.size()); // every resource element, no duplicates

@@ -3,6 +3,8 @@
 #include "learning/trainer_data.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <algorithm>
+#include <list>
+#include <mutex>
 #include <stdexcept>
 
 namespace gr {
@@ -14,9 +16,59 @@ split slice(const torch::Tensor& h, const torch::Tensor& label, const torch::Ten
 {
     return { h.slice(0, a, b), label.slice(0, a, b), delay.slice(0, a, b) };
 }
+
+data_set draw_data(const training_settings& s, const scene& sc);
+
+// The last few data sets drawn in this process, by what determines them (frame, scene with its
+// class library, frame count, seed). An evaluation trains many networks per training seed on
+// the same frames; they are drawn once. The tensors are shared and never written in place.
+class data_cache
+{
+public:
+    data_set get(const training_settings& s, const scene& sc)
+    {
+        const std::string key = s.frame.to_json().dump() + "|" + sc.to_json_string() + "|" +
+                                sc.library().to_json().dump() + "|" + std::to_string(s.frames) + "|" +
+                                std::to_string(s.seed);
+        std::lock_guard<std::mutex> lock(d_mutex);
+        for (auto it = d_entries.begin(); it != d_entries.end(); ++it)
+            if (it->first == key) {
+                d_entries.splice(d_entries.begin(), d_entries, it); // most recent first
+                return it->second;
+            }
+        data_set d = draw_data(s, sc);
+        d_entries.emplace_front(key, d);
+        size_t bytes = 0;
+        for (auto it = d_entries.begin(); it != d_entries.end(); ++it) {
+            bytes += bytes_of(it->second);
+            if (bytes > max_bytes || std::distance(d_entries.begin(), it) >= max_entries) {
+                d_entries.erase(it == d_entries.begin() ? std::next(it) : it, d_entries.end());
+                break;
+            }
+        }
+        return d;
+    }
+
+private:
+    static size_t bytes_of(const data_set& d)
+    {
+        return static_cast<size_t>(d.train.h.nbytes() + d.val.h.nbytes() + d.test.h.nbytes());
+    }
+    static constexpr size_t max_bytes = size_t(2) << 30; // 2 GiB: four paper-frame sets of 30 000 frames
+    static constexpr long max_entries = 4;
+    std::mutex d_mutex;
+    std::list<std::pair<std::string, data_set>> d_entries;
+};
 } // namespace
 
 data_set make_data(const training_settings& s, const scene& sc)
+{
+    static data_cache cache;
+    return cache.get(s, sc);
+}
+
+namespace {
+data_set draw_data(const training_settings& s, const scene& sc)
 {
     const auto& fs = s.frame;
     const int64_t count = s.frames, n = fs.n_symbols, m = fs.n_subcarriers;
@@ -51,6 +103,7 @@ data_set make_data(const training_settings& s, const scene& sc)
     d.test = slice(all, label, delay, n_train + n_val, count);
     return d;
 }
+} // namespace
 
 torch::Tensor draw_noise_variance(int64_t count, double lo, double hi, c10::optional<at::Generator> gen)
 {

@@ -24,6 +24,8 @@ struct data_set {
     double delay_min = 0.0, delay_max = 0.0; // over all frames
 };
 
+// The data set of s and sc: noiseless channels of s.frames frames drawn with s.seed. The
+// last few sets drawn in the process are reused (one evaluation trains many networks on them).
 data_set make_data(const training_settings& s, const scene& sc);
 
 // Per-frame σ² for SNRs (dB) drawn uniformly in [lo, hi] from `gen` (nullopt: global).

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""End-to-end: sems_eval --size test --seeds 2 writes the six experiment CSVs (every learned
-method once per training seed, on the same test frames), and plot_results.py draws one PNG per
-experiment and the tables from them; bad options fail clearly."""
+"""End-to-end: sems_eval --size test --seeds 2 writes the seven experiments' CSVs (every learned
+method once per training seed, on the same test frames), and plot_results.py and
+plot_kinematic.py draw one PNG per experiment and the tables from them; bad options fail
+clearly."""
 import csv
 import json
 import os
@@ -27,7 +28,13 @@ CSVS = {
                        "train_seed", "us_per_frame"],
     "exp5_pilot_budget.csv": ["n_pilots", "snr_db", "mae_index", "n_frames", "seed", "train_seed", "us_per_frame"],
     "exp6_cost.csv": ["method", "snr_db", "metric", "value", "us_per_frame", "n_frames", "seed", "train_seed"],
+    "exp7_kinematic.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "macro_f1", "n_frames", "seed",
+                           "train_seed", "us_per_frame"],
+    "exp7_confusion.csv": ["method", "snr_db", "train_seed", "true_class", "predicted_class", "count"],
+    "exp7_pilot_budget.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
 }
+PLOT7 = os.path.join(SOURCE, "apps", "plot_kinematic.py")
+KINEMATIC = ["adult", "bicyclist", "car", "child", "hexacopter", "quadcopter"]
 SEED = 2026  # sems_eval's default --seed: the training seeds are SEED and SEED + 1
 TRAIN_SEEDS = {str(SEED), str(SEED + 1)}
 
@@ -124,6 +131,7 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assert_per_seed(e5, ["SemS"], TRAIN_SEEDS, key=("method", "n_pilots"))
             multipath = {(r["seed"], r["n_frames"]) for r in e4 if r["scenario"] == "multipath"}
             self.assertEqual({(r["seed"], r["n_frames"]) for r in e5}, multipath)  # experiment 4's frames
+            self.check_experiment_7(out)
             e6 = rows(os.path.join(out, "exp6_cost.csv"))
             self.assertEqual({r["train_seed"] for r in e6 if r["experiment"] == "5"}, TRAIN_SEEDS)
             self.assertEqual({r["train_seed"] for r in e6 if r["method"] == "OMP"}, {"none"})
@@ -158,6 +166,52 @@ class qa_sems_eval(gr_unittest.TestCase):
                 p = os.path.join(png, name + ".png")
                 self.assertTrue(os.path.exists(p) and os.path.getsize(p) > 1000, name)
 
+    def check_experiment_7(self, out):
+        """Experiment 7: every recognition method on the kinematic library, the staggered
+        pattern beside the hand patterns, confusion matrices that account for every test frame,
+        the pilot budget sweep; plot_kinematic.py draws and tabulates them."""
+        e7 = rows(os.path.join(out, "exp7_kinematic.csv"))
+        hand = ["SemS decoder (%s pilots)" % p for p in ("doppler", "uniform", "random", "staggered")]
+        ms = ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)", "SVM (uniform pilots)",
+              "SVM (doppler pilots)"] + hand
+        self.assertEqual({r["method"] for r in e7}, set(ms))
+        self.assert_per_seed(e7, ms, TRAIN_SEEDS)
+        self.assertEqual({r["scenario"] for r in e7}, {"kinematic"})
+        self.assertTrue(all(float(r["us_per_frame"]) > 0 for r in e7), "every method is timed")
+        conf = rows(os.path.join(out, "exp7_confusion.csv"))
+        self.assertEqual({r["snr_db"] for r in conf}, {"10"})
+        self.assertEqual(sorted({r["true_class"] for r in conf}), KINEMATIC)
+        per_run, per_class = {}, {}
+        for r in conf:
+            k = (r["method"], r["train_seed"])
+            per_run[k] = per_run.get(k, 0) + int(r["count"])
+            per_class.setdefault(k, {})
+            per_class[k][r["true_class"]] = per_class[k].get(r["true_class"], 0) + int(r["count"])
+        self.assertEqual(set(per_run.values()), {24}, per_run)  # every test frame once
+        self.assertEqual(len({tuple(sorted(v.items())) for v in per_class.values()}), 1)  # the same frames
+        acc10 = {(r["method"], r["train_seed"]): float(r["accuracy"]) for r in e7 if r["snr_db"] == "10"}
+        for (m, seed), n in per_run.items():  # the diagonal is the accuracy at 10 dB
+            diag = sum(int(r["count"]) for r in conf if r["method"] == m and r["train_seed"] == seed
+                       and r["true_class"] == r["predicted_class"])
+            self.assertAlmostEqual(diag / n, acc10[(m, seed)], places=5)
+        budget = rows(os.path.join(out, "exp7_pilot_budget.csv"))
+        self.assertEqual({r["n_pilots"] for r in budget}, {"8"})
+        self.assert_per_seed(budget, ["SemS", "SemS decoder (doppler pilots)", "SemS decoder (staggered pilots)"],
+                             TRAIN_SEEDS)
+        png = os.path.join(out, "png7")
+        tables = os.path.join(out, "kinematic_tables.md")
+        r = subprocess.run(["/usr/bin/python3", PLOT7, out, "--out", png, "--tables", tables],
+                           capture_output=True, text=True, timeout=300)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        for name in ("exp7_kinematic", "exp7_confusion", "exp7_pilot_budget"):
+            p = os.path.join(png, name + ".png")
+            self.assertTrue(os.path.exists(p) and os.path.getsize(p) > 1000, name)
+        with open(tables) as f:
+            md = f.read()
+        self.assertIn("#### N_p = 8", md)
+        self.assertIn("#### N_p = 32", md)
+        self.assertIn("| SemS decoder (staggered pilots) |", md)
+
     def assert_per_seed(self, rs, methods, seeds, key=("method",)):
         """rs hold every one of methods (the first key field), and each key has, at every SNR
         point of its rows, exactly one row per training seed in seeds."""
@@ -171,7 +225,8 @@ class qa_sems_eval(gr_unittest.TestCase):
 
     def test_002_bad_options_fail_clearly(self):
         with tempfile.TemporaryDirectory() as out:
-            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "7"], "--experiments"),
+            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "8"], "--experiments"),
+                              (["--exp7-parts", "all"], "--exp7-parts"), (["--exp7-np-sweep", "0"], "--exp7-np-sweep"),
                                (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds")):
                 r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
                 self.assertNotEqual(r.returncode, 0)

@@ -52,7 +52,7 @@ struct SEMS_LEARNING_API training_settings {
     std::string objective = "task"; ///< "task" (SemS) or "mse" (reconstruction baseline)
     int n_pilots = 32;               ///< N_p
     std::string mask_file;          ///< empty: learn the mask; else train the decoder on it
-    std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler, seeded by seed)
+    std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler|staggered; random seeded by seed)
     frame_settings frame;            ///< the frame
     std::optional<scene> scene_spec; ///< empty: random scene, all classes, single path
     std::string scene_source = "default random scene"; ///< names the scene in errors and bundle.json

@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Figures and tables of experiment 7 (targets of moving scatterers) from sems_eval's CSVs.
+
+    plot_kinematic.py RESULTS [--out DIR] [--tables FILE]
+
+Reads RESULTS/exp7_kinematic.csv (with bound_exp7_kinematic.csv beside it when present: the
+Monte-Carlo Bayes classifier), exp7_confusion.csv and exp7_pilot_budget.csv; writes
+exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
+and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
+exp7_pilot_budget.png (accuracy against N_p), and with --tables the markdown tables.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+from collections import OrderedDict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_results as pr  # noqa: E402  (one set of styles, statistics and table helpers)
+
+plt = pr.plt
+np = pr.np
+
+
+def save(fig, out, name):
+    fig.tight_layout()
+    path = os.path.join(out, name)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def accuracy_figure(rows, out):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), squeeze=False)
+    pr.plot_accuracy(rows, "kinematic", axes[0], "Moving scatterers, any heading")
+    pr.footer(fig, rows)
+    return save(fig, out, "exp7_kinematic.png")
+
+
+def best_hand(rows, snr):
+    """The hand pattern (method name) with the highest mean accuracy at snr."""
+    means = OrderedDict()
+    for r in rows:
+        if r["method"].startswith("SemS decoder (") and pr.fnum(r["snr_db"]) == snr:
+            means.setdefault(r["method"], []).append(pr.fnum(r["accuracy"]))
+    return max(means, key=lambda m: sum(means[m]) / len(means[m])) if means else None
+
+
+def confusion_figure(conf, rows, out):
+    snr = pr.fnum(conf[0]["snr_db"])
+    hand = best_hand(rows, snr)
+    methods = [m for m in ("SemS", hand) if m and any(r["method"] == m for r in conf)]
+    classes = list(OrderedDict.fromkeys(r["true_class"] for r in conf))
+    fig, axes = plt.subplots(1, len(methods), figsize=(5.2 * len(methods), 4.6), squeeze=False)
+    for ax, m in zip(axes[0], methods):
+        mat = np.zeros((len(classes), len(classes)))
+        for r in conf:
+            if r["method"] == m:
+                mat[classes.index(r["true_class"]), classes.index(r["predicted_class"])] += int(r["count"])
+        frac = mat / np.maximum(mat.sum(axis=1, keepdims=True), 1)
+        ax.imshow(frac, cmap="Blues", vmin=0, vmax=1)
+        for i in range(len(classes)):
+            for j in range(len(classes)):
+                ax.text(j, i, "%.2f" % frac[i, j], ha="center", va="center", fontsize=8,
+                        color="white" if frac[i, j] > 0.6 else "black")
+        ax.set_xticks(range(len(classes)))
+        ax.set_xticklabels(classes, rotation=35, ha="right", fontsize=8)
+        ax.set_yticks(range(len(classes)))
+        ax.set_yticklabels(classes, fontsize=8)
+        ax.set_xlabel("predicted")
+        ax.set_ylabel("true")
+        seeds = len({r["train_seed"] for r in conf if r["method"] == m})
+        ax.set_title("%s at %g dB (rows: share of each true class; %d seed%s summed)" % (
+            "SemS (learned pilots)" if m == "SemS" else m, snr, seeds, "" if seeds == 1 else "s"), fontsize=9)
+    return save(fig, out, "exp7_confusion.png")
+
+
+def budget_rows(rows, budget):
+    """The pilot budget sweep's rows with the main part's N_p = 32 rows of the same methods."""
+    methods = {r["method"] for r in budget}
+    return budget + [r for r in rows if r["method"] in methods]
+
+
+def budget_figure(rows, out, snrs=(0.0, 10.0, 30.0)):
+    fig, axes = plt.subplots(1, len(snrs), figsize=(4.2 * len(snrs), 4.0), squeeze=False)
+    for ax, snr in zip(axes[0], snrs):
+        rs = [r for r in rows if pr.fnum(r["snr_db"]) == snr]
+        lines = pr.series(rs, ["method", "mask"], x="n_pilots")
+        names = pr.labels(rs)
+        shift = {k: 0.03 * (i - (len(lines) - 1) / 2) for i, k in enumerate(lines)}
+        handles = []
+        for k, (xs, means, los, his, counts) in lines.items():
+            xs = [x * 2 ** shift[k] for x in xs]  # dodge on the log axis
+            handles.append(pr.draw(ax, xs, means, los, his, counts, names[k], **pr.style(*k)))
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("pilots N_p")
+        ax.set_ylabel("accuracy")
+        ax.grid(alpha=0.3)
+        ax.set_title("%g dB" % snr, fontsize=10)
+    axes[0][0].legend(handles=handles, fontsize=7, loc="lower right")
+    pr.footer(fig, rows)
+    return save(fig, out, "exp7_pilot_budget.png")
+
+
+def budget_claim(rows):
+    """Markdown: at each N_p and SNR, SemS against the best hand pattern (pr.learned_vs_hand)."""
+    out = []
+    for n in sorted({int(pr.fnum(r["n_pilots"])) for r in rows}):
+        claim = pr.learned_vs_hand([r for r in rows if int(pr.fnum(r["n_pilots"])) == n], "kinematic")
+        if claim:
+            out += ["#### N_p = %d" % n, "", claim, ""]
+    return out
+
+
+def tables(rows, conf, budget):
+    n = pr.n_seeds(rows)
+    out = []
+    if n > 1:
+        out += ["Learned methods: mean ± half-range (max − min) / 2 over %d training seeds on the same test "
+                "frames; methods without training: single values." % n, ""]
+    out += ["### Experiment 7: accuracy", "", pr.pivot(rows, "method", "accuracy"), "",
+            "### Experiment 7: macro-F1", "", pr.pivot(rows, "method", "macro_f1"), ""]
+    claim = pr.learned_vs_hand(rows, "kinematic")
+    if claim:
+        out += ["### Experiment 7: the learned mask against the best hand pattern", "", claim, ""]
+    if conf:
+        snr = pr.fnum(conf[0]["snr_db"])
+        classes = list(OrderedDict.fromkeys(r["true_class"] for r in conf))
+        for m in OrderedDict.fromkeys(r["method"] for r in conf):
+            mat = OrderedDict(((t, p), 0) for t in classes for p in classes)
+            for r in conf:
+                if r["method"] == m:
+                    mat[(r["true_class"], r["predicted_class"])] += int(r["count"])
+            out += ["### Experiment 7: confusion of %s at %g dB (counts summed over seeds; rows true, "
+                    "columns predicted)" % (m, snr), "",
+                    "| true \\ predicted | %s |" % " | ".join(classes), "|" + "---|" * (len(classes) + 1)]
+            for t in classes:
+                out.append("| %s | %s |" % (t, " | ".join(str(mat[(t, p)]) for p in classes)))
+            out.append("")
+    if budget:
+        out += ["### Experiment 7: accuracy by pilot budget", ""]
+        for snr in (0.0, 10.0, 30.0):
+            rs = [dict(r, method="%s, N_p %s" % (r["method"], r["n_pilots"]))
+                  for r in budget if pr.fnum(r["snr_db"]) == snr]
+            rs.sort(key=lambda r: (r["method"].split(", N_p")[0], int(pr.fnum(r["n_pilots"]))))
+            out += ["#### %g dB" % snr, "", pr.pivot(rs, "method", "accuracy"), ""]
+        out += ["### Experiment 7: the learned mask against the best hand pattern by pilot budget", ""]
+        out += budget_claim(budget)
+    return "\n".join(out)
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("results", help="directory with experiment 7's CSVs")
+    ap.add_argument("--out", help="where to write the PNGs (default: the results directory)")
+    ap.add_argument("--tables", help="also write the tables as markdown to this file")
+    a = ap.parse_args(argv)
+    rows = pr.read_csv(os.path.join(a.results, "exp7_kinematic.csv"))
+    if not rows:
+        print("plot_kinematic: no exp7_kinematic.csv in %s" % a.results, file=sys.stderr)
+        return 1
+    conf = pr.read_csv(os.path.join(a.results, "exp7_confusion.csv")) or []
+    budget = pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []
+    budget = budget_rows(rows, budget) if budget else []
+    out = a.out or a.results
+    os.makedirs(out, exist_ok=True)
+    made = [accuracy_figure(rows, out)]
+    if conf:
+        made.append(confusion_figure(conf, rows, out))
+    if budget:
+        made.append(budget_figure(budget, out))
+    for p in made:
+        print("wrote", p)
+    if a.tables:
+        with open(a.tables, "w") as f:
+            f.write(tables(rows, conf, budget))
+        print("wrote", a.tables)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

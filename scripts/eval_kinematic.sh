@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Experiment 7 of docs/RESULTS.md: semantic sensing on targets of moving scatterers (the
+# kinematic class library, any heading), at the paper's budget, split over two processes of one
+# LibTorch thread each so both cores stay busy, then its CSVs, figures and tables.
+#
+#   bash scripts/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test]
+#
+# Processes (each its own output folder under DIR, default out/eval_kinematic):
+#   main    N_p = 32: SemS, the SemS decoder on the Doppler, uniform, random and staggered
+#           patterns, MSE-DL, Perfect CSI (noiseless and at the test SNR), the feature SVMs;
+#           confusion matrices at 10 dB
+#   budget  SemS against the Doppler and staggered patterns at N_p = 128, 64, 16, 8
+# Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
+# re-evaluates, and a stopped run resumes. The results (exp7_*.csv, exp7_*.png and
+# kinematic_tables.md) go to RESULTS (default docs/results), the run's record to
+# RESULTS/eval_kinematic.log. The programs are $SEMS_EVAL (default build/apps/sems_eval) and
+# /usr/bin/python3. --size test runs the same plumbing in a minute (numbers meaningless).
+set -euo pipefail
+script=eval_kinematic.sh
+out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_kinematic"
+log=eval_kinematic.log
+source "$(dirname "$0")/eval_parts.sh"
+
+stamp "sems_eval --size $size --experiments 7, 2 processes, logs in $out/*.log"
+pids=()
+run_part main --experiments 7 --exp7-parts main & pids+=($!)
+run_part budget --experiments 7 --exp7-parts budget & pids+=($!)
+status=0
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+[ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
+cp "$out/main/exp7_kinematic.csv" "$out/main/exp7_confusion.csv" "$out/budget/exp7_pilot_budget.csv" "$results/"
+/usr/bin/python3 "$root/apps/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
+stamp "done in $(( $(date +%s) - start )) s"
