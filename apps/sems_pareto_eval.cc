@@ -93,6 +93,8 @@ std::vector<gr_complex> observe(const frame_settings& fs,
     const int g = fs.grid_size();
     std::vector<gr_complex> h(static_cast<size_t>(frames) * g);
     truths = model.generate(frames, h.data());
+    // Pilots that differ in energy: pilot k's noise is scaled by mask.noise_scale(k).
+    const std::vector<gr_complex> clean = mask.equal_power() ? std::vector<gr_complex>{} : h;
     if (snr_lo == snr_hi) {
         model.add_noise(h.data(), h.size(), snr_lo);
     } else {
@@ -105,8 +107,12 @@ std::vector<gr_complex> observe(const frame_settings& fs,
     std::vector<gr_complex> obs;
     obs.reserve(static_cast<size_t>(frames) * idx.size());
     for (int f = 0; f < frames; ++f)
-        for (int i : idx)
-            obs.push_back(h[static_cast<size_t>(f) * g + i]);
+        for (size_t k = 0; k < idx.size(); ++k) {
+            const size_t at = static_cast<size_t>(f) * g + idx[k];
+            obs.push_back(clean.empty()
+                              ? h[at]
+                              : clean[at] + (h[at] - clean[at]) * static_cast<float>(mask.noise_scale(int(k))));
+        }
     return obs;
 }
 

@@ -4,6 +4,7 @@
  *   sems_train --task classify --out models/classifier --snr-min 0 --snr-max 20 --threads 2
  *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
  *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
+ *   sems_train --task classify --pilot-power learned --out powered   (learned placement and energies)
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
  *
@@ -67,6 +68,8 @@ int main(int argc, char** argv)
         ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
         ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
         ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler|staggered): train the decoder only")
+        ("pilot-power", po::value(&s.pilot_power)->default_value(s.pilot_power), "pilot energies: equal (every pilot the same) | learned (the mask learner also shares the total pilot energy among the pilots; learned masks only)")
+        ("pilot-power-floor", po::value(&s.pilot_power_floor)->default_value(s.pilot_power_floor), "--pilot-power learned: the smallest energy of a pilot, relative to equal power, in [0, 1)")
         ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
         ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "

@@ -31,12 +31,16 @@ std::vector<gr_complex> test_set::observe(const pilot_mask& mask, double snr_db)
 {
     const auto idx = mask.flat_indices();
     const size_t grid = static_cast<size_t>(fs.grid_size());
-    const float sigma = static_cast<float>(std::sqrt(channel_model::noise_variance(snr_db)));
+    const double sigma = std::sqrt(channel_model::noise_variance(snr_db));
+    // Pilot k's noise: σ/sqrt(p_k) (exactly σ for equal power).
+    std::vector<float> sigma_k(idx.size());
+    for (size_t k = 0; k < idx.size(); ++k)
+        sigma_k[k] = static_cast<float>(sigma * mask.noise_scale(static_cast<int>(k)));
     std::vector<gr_complex> out(size_t(count) * idx.size());
     for (int f = 0; f < count; ++f)
         for (size_t k = 0; k < idx.size(); ++k) {
             const size_t at = size_t(f) * grid + size_t(idx[k]);
-            out[size_t(f) * idx.size() + k] = h[at] + sigma * w[at];
+            out[size_t(f) * idx.size() + k] = h[at] + sigma_k[k] * w[at];
         }
     return out;
 }
@@ -62,6 +66,7 @@ train_set make_train_set(const frame_settings& fs, const scene& sc, int count, u
     t.y.resize(size_t(count) * grid);
     channel_model cm(fs, sc, seed);
     t.truth = cm.generate(count, t.y.data());
+    t.h = t.y; // noiseless, for masks whose pilots differ in energy
     std::mt19937_64 gen(seed ^ 0x5eed);
     for (int f = 0; f < count; ++f) {
         const double snr = lo + (hi - lo) * (double(gen() >> 11) * 0x1.0p-53);
@@ -71,13 +76,21 @@ train_set make_train_set(const frame_settings& fs, const scene& sc, int count, u
 }
 
 std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, const frame_settings& fs,
-                               const pilot_mask& mask)
+                               const pilot_mask& mask, const std::vector<gr_complex>* clean)
 {
     const auto idx = mask.flat_indices();
+    if (!mask.equal_power() && (!clean || clean->size() != grids.size()))
+        throw std::invalid_argument("gather: a mask whose pilots differ in energy needs the noiseless grids");
     std::vector<gr_complex> out(size_t(count) * idx.size());
     for (int f = 0; f < count; ++f)
-        for (size_t k = 0; k < idx.size(); ++k)
-            out[size_t(f) * idx.size() + k] = grids[size_t(f) * fs.grid_size() + idx[k]];
+        for (size_t k = 0; k < idx.size(); ++k) {
+            const size_t at = size_t(f) * fs.grid_size() + idx[k];
+            // Pilot k's noise: (Y - H)/sqrt(p_k); the grid as it is for equal power.
+            out[size_t(f) * idx.size() + k] =
+                mask.equal_power()
+                    ? grids[at]
+                    : (*clean)[at] + (grids[at] - (*clean)[at]) * static_cast<float>(mask.noise_scale(int(k)));
+        }
     return out;
 }
 
@@ -270,6 +283,8 @@ nlohmann::json cache_key(const training_settings& s)
 {
     auto key = s.to_json();
     key.erase("command_line"); // names the run, not the network
+    if (s.pilot_power == "equal")
+        key.erase("pilot_power"); // the default: caches written before the setting existed stay valid
     key["task"] = task_name(s.task);
     key["frame"] = s.frame.to_json();
     key["scene"] = s.scene_spec ? s.scene_spec->to_json() : nlohmann::json("random");

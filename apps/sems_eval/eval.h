@@ -85,11 +85,14 @@ test_set make_test_set(const frame_settings& fs, const scene& sc, int count, uin
 // Frames for training the feature SVM: per-frame SNR uniform in [lo, hi] dB.
 struct train_set {
     std::vector<gr_complex> y; // count x N x M, noisy
+    std::vector<gr_complex> h; // count x N x M, noiseless
     std::vector<frame_truth> truth;
 };
 train_set make_train_set(const frame_settings& fs, const scene& sc, int count, uint64_t seed, double lo, double hi);
+// count x N_p pilots of the mask from noisy grids. Pilot k's noise is scaled by
+// mask.noise_scale(k): a mask whose pilots differ in energy needs the noiseless grids `clean`.
 std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, const frame_settings& fs,
-                               const pilot_mask& mask);
+                               const pilot_mask& mask, const std::vector<gr_complex>* clean = nullptr);
 
 // Scenes of the experiments.
 // default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)

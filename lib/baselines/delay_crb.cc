@@ -14,20 +14,24 @@ namespace sems {
 
 double delay_crb::spread(const pilot_mask& mask, bool doppler_known)
 {
+    // Pilot k's Fisher information is weighted by its energy p_k (noise σ²/p_k); for
+    // equal power every weight is 1 and the sums are the unweighted ones.
     const auto& pos = mask.positions();
-    const double k = static_cast<double>(pos.size());
-    double mm = 0.0, nn = 0.0;
-    for (const auto& p : pos) {
-        mm += p.m;
-        nn += p.n;
+    const auto& w = mask.power();
+    double k = 0.0, mm = 0.0, nn = 0.0;
+    for (size_t i = 0; i < pos.size(); ++i) {
+        k += w[i];
+        mm += w[i] * pos[i].m;
+        nn += w[i] * pos[i].n;
     }
     mm /= k;
     nn /= k;
     double smm = 0.0, snn = 0.0, smn = 0.0;
-    for (const auto& p : pos) {
-        smm += (p.m - mm) * (p.m - mm);
-        snn += (p.n - nn) * (p.n - nn);
-        smn += (p.m - mm) * (p.n - nn);
+    for (size_t i = 0; i < pos.size(); ++i) {
+        const auto& p = pos[i];
+        smm += w[i] * (p.m - mm) * (p.m - mm);
+        snn += w[i] * (p.n - nn) * (p.n - nn);
+        smn += w[i] * (p.m - mm) * (p.n - nn);
     }
     if (doppler_known || snn <= 0.0)
         return smm;
@@ -105,6 +109,9 @@ double delay_crb::multipath_variance_index(const frame_settings& fs,
         if (with_doppler)
             j(k, 3 * l_count) = std::complex<double>(0.0, 2.0 * M_PI * fs.symbol_interval_s * pos[k].n) * mu;
     }
+    if (!mask.equal_power()) // pilot k's noise is σ²/p_k: its row weighs sqrt(p_k)
+        for (int k = 0; k < np; ++k)
+            j.row(k) *= std::sqrt(mask.power()[k]);
     const Eigen::MatrixXd fim = (2.0 / sigma2) * (j.adjoint() * j).real();
     // Singular information (coincident paths, too few pilots): no unbiased estimator, +inf.
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(fim);

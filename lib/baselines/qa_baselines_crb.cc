@@ -19,16 +19,17 @@ namespace {
 const frame_settings fs{};
 
 // [F⁻¹]_ττ of the 3 x 3 Fisher matrix of (τ, ν, φ) for |α| = 1, built numerically from
-// the derivatives and inverted by cofactors, in seconds².
+// the derivatives and inverted by cofactors, in seconds². Pilot k's noise is σ²/p_k.
 double numeric_crb_tau(const pilot_mask& mask, double sigma2)
 {
     double f[3][3] = {};
     const double df = fs.subcarrier_spacing_hz(), t = fs.symbol_interval_s;
-    for (const auto& p : mask.positions()) {
+    for (int k = 0; k < mask.size(); ++k) {
+        const auto& p = mask.positions()[k];
         const double g[3] = { -2.0 * M_PI * df * p.m, 2.0 * M_PI * t * p.n, 1.0 };
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
-                f[i][j] += 2.0 / sigma2 * g[i] * g[j];
+                f[i][j] += 2.0 * mask.power()[k] / sigma2 * g[i] * g[j];
     }
     const double det = f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1]) -
                        f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0]) +
@@ -44,6 +45,7 @@ class qa_baselines_crb : public CppUnit::TestFixture
     CPPUNIT_TEST(closed_form_matches_fisher_inverse);
     CPPUNIT_TEST(monte_carlo_of_ml_estimator_meets_the_bound);
     CPPUNIT_TEST(bad_input_is_refused);
+    CPPUNIT_TEST(pilot_energies_weigh_the_bound);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -107,6 +109,49 @@ public:
         CPPUNIT_ASSERT_MESSAGE("MSE " + std::to_string(mse) + " vs CRB " + std::to_string(crb),
                                mse > 0.85 * crb && mse < 1.25 * crb);
         CPPUNIT_ASSERT(std::abs(bias) < 0.2 * std::sqrt(crb) + 2e-3);
+    }
+
+    void pilot_energies_weigh_the_bound()
+    {
+        // Pilot k observed with noise σ²/p_k: the closed form, the numeric inverse and the
+        // one-path multipath bound agree, and moving energy to the outer subcarriers (more
+        // delay information per unit of energy) lowers the bound at the same total energy.
+        std::vector<pilot_position> pos;
+        std::vector<double> power;
+        for (int k = 0; k < 16; ++k) {
+            pos.push_back({ 2 * k, (4 * k + (k % 3) * 7) % 64 });
+            power.push_back(k % 2 ? 1.6 : 0.4);
+        }
+        const pilot_mask equal(fs.n_symbols, fs.n_subcarriers, pos);
+        const pilot_mask mask(fs.n_symbols, fs.n_subcarriers, pos, { 1.0f, 0.0f }, { { "kind", "explicit" } },
+                              "powered", power);
+        const double snr = 13.0, sigma2 = std::pow(10.0, -snr / 10.0), b2 = fs.bandwidth_hz * fs.bandwidth_hz;
+        const double v = delay_crb::variance_index(fs, mask, snr, false);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(numeric_crb_tau(mask, sigma2) * b2, v, 1e-9 * v);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(v, delay_crb::multipath_variance_index(fs, mask, snr, { { 17.3, { 1.0, 0.0 } } }),
+                                     1e-6 * v);
+        CPPUNIT_ASSERT(std::abs(v - delay_crb::variance_index(fs, equal, snr, false)) > 1e-3 * v);
+        // Pilots on subcarriers 0, 31, 32 and 63 of 8 symbols: the outer ones at energy 1.5,
+        // the inner ones at 0.5 (mean 1).
+        std::vector<pilot_position> edges;
+        for (int k = 0; k < 8; ++k) {
+            edges.push_back({ k, 0 });
+            edges.push_back({ k, 63 });
+            edges.push_back({ k, 31 });
+            edges.push_back({ k, 32 });
+        }
+        const pilot_mask flat(fs.n_symbols, fs.n_subcarriers, edges);
+        std::vector<double> outer;
+        for (const auto& p : flat.positions())
+            outer.push_back(p.m == 0 || p.m == 63 ? 1.5 : 0.5);
+        const pilot_mask heavy(fs.n_symbols, fs.n_subcarriers, flat.positions(), { 1.0f, 0.0f },
+                               { { "kind", "explicit" } }, "outer", outer);
+        // Closed form of S with weights: centre 31.5, S = Σ p_k (m_k - 31.5)².
+        const double s_flat = 16 * 31.5 * 31.5 + 16 * 0.5 * 0.5;
+        const double s_heavy = 16 * 1.5 * 31.5 * 31.5 + 16 * 0.5 * 0.5 * 0.5;
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(s_flat, delay_crb::spread(flat, true), 1e-9);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(s_heavy, delay_crb::spread(heavy, true), 1e-9);
+        CPPUNIT_ASSERT(delay_crb::variance_index(fs, heavy, snr, true) < delay_crb::variance_index(fs, flat, snr, true));
     }
 
     void bad_input_is_refused()

@@ -30,11 +30,12 @@ pilot_extractor_impl::pilot_extractor_impl(const pilot_mask& mask)
       d_n(mask.n_symbols()),
       d_m(mask.n_subcarriers()),
       d_np(mask.size()),
-      d_pilot_symbol(mask.pilot_symbol()),
       d_first_of_row(d_n + 1, 0),
       d_obs(d_np),
       d_frame_key(pmt::intern(keys::frame_tag))
 {
+    for (int k = 0; k < d_np; ++k) // Y/(sqrt(p_k)·s_p) = H + noise/sqrt(p_k)
+        d_pilot_values.push_back(d_mask.transmitted_pilot(k));
     for (const auto& p : d_mask.positions()) { // mask order: sorted by (n, m)
         d_cols.push_back(p.m);
         ++d_first_of_row[p.n + 1];
@@ -115,7 +116,7 @@ int pilot_extractor_impl::general_work(int noutput_items,
         const gr_complex* y = in + static_cast<size_t>(consumed) * d_m;
         d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
         for (int k = d_first_of_row[d_row]; k < d_first_of_row[d_row + 1]; ++k)
-            d_obs[k] = y[d_cols[k]] / d_pilot_symbol;
+            d_obs[k] = y[d_cols[k]] / d_pilot_values[k];
         ++consumed;
 
         if (++d_row < d_n)

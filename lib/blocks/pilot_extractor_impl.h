@@ -33,7 +33,7 @@ private:
 
     const pilot_mask d_mask;
     const int d_n, d_m, d_np;
-    const gr_complex d_pilot_symbol;
+    std::vector<gr_complex> d_pilot_values; // the transmitted pilot sqrt(p_k)·s_p, mask order
     std::vector<int> d_cols;          // subcarrier of each pilot, mask order
     std::vector<int> d_first_of_row;  // pilots of row n: [d_first_of_row[n], d_first_of_row[n+1])
 

@@ -35,13 +35,15 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
       d_pilot_cols(d_n),
       d_data_cols(d_n),
       d_data_before_row(d_n + 1, 0),
+      d_pilot_values(mask.size()),
+      d_pilots_before_row(d_n + 1, 0),
       d_frame_key(pmt::intern(keys::frame_tag))
 {
     check_power(who, "pilot_power", pilot_power);
     check_power(who, "data_power", data_power);
     d_pilot_power = pilot_power;
     d_data_power = data_power;
-    d_pilot_value = gr_complex(std::sqrt(pilot_power)) * d_mask.pilot_symbol();
+    latch_pilot_values(pilot_power);
     d_data_amp = static_cast<float>(std::sqrt(data_power));
 
     const auto dense = d_mask.dense();
@@ -49,6 +51,7 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
         for (int m = 0; m < d_m; ++m)
             (dense[size_t(n) * d_m + m] ? d_pilot_cols : d_data_cols)[n].push_back(m);
         d_data_before_row[n + 1] = d_data_before_row[n] + static_cast<long>(d_data_cols[n].size());
+        d_pilots_before_row[n + 1] = d_pilots_before_row[n] + static_cast<int>(d_pilot_cols[n].size());
     }
     d_data_per_frame = static_cast<int>(d_data_before_row[d_n]);
     if (d_data_per_frame > 0)
@@ -56,6 +59,13 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
     // Data-symbol tags are moved by hand onto the OFDM symbol that carries them.
     set_tag_propagation_policy(TPP_DONT);
     d_tags.reserve(64);
+}
+
+void pilot_mapper_impl::latch_pilot_values(double energy)
+{
+    // Pilot k carries sqrt(E_p)·sqrt(p_k)·s_p (pilot_mask::transmitted_pilot).
+    for (int k = 0; k < d_mask.size(); ++k)
+        d_pilot_values[k] = gr_complex(std::sqrt(energy)) * d_mask.transmitted_pilot(k);
 }
 
 void pilot_mapper_impl::set_pilot_power(double energy)
@@ -116,15 +126,17 @@ int pilot_mapper_impl::general_work(int noutput_items,
             break;
 
         if (d_row == 0) { // frame start: latch the powers for the whole frame, tag it
-            d_pilot_value = gr_complex(std::sqrt(d_pilot_power.load())) * d_mask.pilot_symbol();
+            latch_pilot_values(d_pilot_power.load());
             d_data_amp = static_cast<float>(std::sqrt(d_data_power.load()));
             add_item_tag(0, nwritten + produced, d_frame_key, pmt::from_uint64(d_frame));
             ++d_frames;
         }
 
         gr_complex* row = out + static_cast<size_t>(produced) * d_m;
-        for (int m : d_pilot_cols[d_row])
-            row[m] = d_pilot_value;
+        const auto& pilot_cols = d_pilot_cols[d_row];
+        const gr_complex* values = d_pilot_values.data() + d_pilots_before_row[d_row];
+        for (size_t j = 0; j < pilot_cols.size(); ++j)
+            row[pilot_cols[j]] = values[j];
         const gr_complex* data = in + consumed;
         for (int k = 0; k < need; ++k)
             row[data_cols[k]] = d_data_amp * data[k];

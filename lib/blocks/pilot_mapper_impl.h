@@ -33,6 +33,9 @@ public:
                      gr_vector_void_star& output_items) override;
 
 private:
+    // The pilots' values of a frame at pilot energy `energy` (E_p).
+    void latch_pilot_values(double energy);
+
     const pilot_mask d_mask;
     const int d_n, d_m;
     // Per row n: which subcarriers carry pilots and which carry data (ascending).
@@ -43,7 +46,8 @@ private:
     // Requested energies (setters and getters run on other threads than work) and the
     // amplitudes of the current frame.
     std::atomic<double> d_pilot_power, d_data_power;
-    gr_complex d_pilot_value; // sqrt(E_p)·s_p
+    std::vector<gr_complex> d_pilot_values; // sqrt(E_p·p_k)·s_p per pilot, mask order
+    std::vector<int> d_pilots_before_row;   // pilots in rows [0, n), n = 0..N
     float d_data_amp;         // sqrt(E_d)
 
     int d_row = 0;          // next row of the current frame

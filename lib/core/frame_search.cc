@@ -31,14 +31,15 @@ frame_search::frame_search(const pilot_mask& mask, int cp_len, double pilot_powe
     d_len = n * s;
     d_template.assign(size_t(d_len), gr_complex(0.0f, 0.0f));
     gr::fft::fft_complex_rev ifft(m);
-    const gr_complex p = mask.pilot_symbol() * static_cast<float>(std::sqrt(pilot_power) / std::sqrt(double(m)));
+    const float scale = static_cast<float>(std::sqrt(pilot_power) / std::sqrt(double(m)));
     const auto rows = mask.carrier_lists();
+    const auto values = mask.pilot_symbol_lists(); // sqrt(p_k)·s_p, as the mapper sends them
     for (int k = 0; k < n; ++k) {
         if (rows[k].empty())
             continue;
         std::fill(ifft.get_inbuf(), ifft.get_inbuf() + m, gr_complex(0.0f, 0.0f));
-        for (int c : rows[k])
-            ifft.get_inbuf()[c] = p;
+        for (size_t j = 0; j < rows[k].size(); ++j)
+            ifft.get_inbuf()[rows[k][j]] = values[k][j] * scale;
         ifft.execute();
         for (int i = 0; i < s; ++i)
             d_template[size_t(k) * s + i] = ifft.get_outbuf()[((i - cp_len) % m + m) % m];

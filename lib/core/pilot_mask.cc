@@ -49,6 +49,37 @@ std::vector<int> spread(int k, int n)
     return out;
 }
 
+// The pilots' energies: one per pilot, each finite and > 0 (a pilot of zero energy
+// observes nothing: its observation Y/(sqrt(p)·s_p) is undefined), mean 1.
+void check_power(const std::vector<double>& power, size_t n_pilots, const std::string& source)
+{
+    if (power.size() != n_pilots)
+        json_read::fail(source, "power",
+                        "lists " + std::to_string(power.size()) + " energies for " + std::to_string(n_pilots) +
+                            " pilots (one per pilot, in the order of the pilot list)");
+    bool all_zero = true;
+    for (size_t i = 0; i < power.size(); ++i) {
+        const std::string field = "power[" + std::to_string(i) + "]";
+        if (!std::isfinite(power[i]))
+            json_read::fail(source, field, "must be finite, got " + std::to_string(power[i]));
+        if (power[i] < 0.0)
+            json_read::fail(source, field, "must not be negative, got " + std::to_string(power[i]));
+        all_zero = all_zero && power[i] == 0.0;
+    }
+    if (all_zero)
+        json_read::fail(source, "power", "every pilot has zero energy");
+    for (size_t i = 0; i < power.size(); ++i)
+        if (power[i] == 0.0)
+            json_read::fail(source, "power[" + std::to_string(i) + "]",
+                            "is 0: every pilot needs energy > 0 (a pilot without energy observes nothing)");
+    const double mean = std::accumulate(power.begin(), power.end(), 0.0) / double(power.size());
+    if (!(std::fabs(mean - 1.0) <= pilot_mask::power_mean_tolerance))
+        json_read::fail(source, "power",
+                        "the mean is " + std::to_string(mean) +
+                            ", must be 1 (the total pilot energy of equal power) within a relative " +
+                            std::to_string(pilot_mask::power_mean_tolerance));
+}
+
 } // namespace
 
 pilot_mask::pilot_mask(int n_symbols,
@@ -56,7 +87,8 @@ pilot_mask::pilot_mask(int n_symbols,
                        std::vector<pilot_position> pilots,
                        gr_complex pilot_symbol,
                        nlohmann::json origin,
-                       const std::string& source)
+                       const std::string& source,
+                       std::vector<double> power)
     : d_n_symbols(n_symbols),
       d_n_subcarriers(n_subcarriers),
       d_pilots(std::move(pilots)),
@@ -66,6 +98,19 @@ pilot_mask::pilot_mask(int n_symbols,
     check_dims(n_symbols, n_subcarriers, source);
     if (d_pilots.empty())
         json_read::fail(source, "pilots", "a mask needs at least one pilot");
+    if (power.empty()) {
+        d_power.assign(d_pilots.size(), 1.0);
+    } else {
+        check_power(power, d_pilots.size(), source);
+        // Sorted into mask order together with the positions.
+        std::vector<size_t> order(d_pilots.size());
+        std::iota(order.begin(), order.end(), size_t(0));
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d_pilots[a] < d_pilots[b]; });
+        d_power.resize(power.size());
+        for (size_t i = 0; i < order.size(); ++i)
+            d_power[i] = power[order[i]];
+        d_equal_power = std::all_of(d_power.begin(), d_power.end(), [](double p) { return p == 1.0; });
+    }
     for (const auto& p : d_pilots)
         if (p.n < 0 || p.n >= n_symbols || p.m < 0 || p.m >= n_subcarriers)
             json_read::fail(source, "pilots",
@@ -235,11 +280,23 @@ pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& sou
             fail(source, "n_pilots",
                  "declares " + std::to_string(declared) + " pilots but the list has " + std::to_string(pilots.size()));
     }
+    // power: optional, one relative energy per pilot of the list (absent: all 1).
+    std::vector<double> power;
+    if (const auto* pw = r.find("power")) {
+        if (!pw->is_array())
+            fail(source, "power", "expected a list of one energy per pilot, got " + object_reader::short_dump(*pw));
+        if (pw->size() != pilots.size())
+            fail(source, "power",
+                 "lists " + std::to_string(pw->size()) + " energies for " + std::to_string(pilots.size()) +
+                     " pilots (one per pilot, in the order of the pilot list)");
+        for (size_t i = 0; i < pw->size(); ++i)
+            power.push_back(finite_number((*pw)[i], "power[" + std::to_string(i) + "]", source));
+    }
     // origin: free-form provenance (how the mask was made), kept as written.
     const auto* o = r.find("origin");
     nlohmann::json origin = o ? *o : nlohmann::json{ { "kind", "explicit" } };
     r.finish();
-    return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source);
+    return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source, std::move(power));
 }
 
 pilot_mask pilot_mask::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
@@ -254,14 +311,23 @@ nlohmann::json pilot_mask::to_json() const
     nlohmann::json pilots = nlohmann::json::array();
     for (const auto& p : d_pilots)
         pilots.push_back({ p.n, p.m });
-    return { { "format", format_name },
-             { "version", format_version },
-             { "n_symbols", d_n_symbols },
-             { "n_subcarriers", d_n_subcarriers },
-             { "n_pilots", size() },
-             { "pilot_symbol", { d_pilot_symbol.real(), d_pilot_symbol.imag() } },
-             { "pilots", pilots },
-             { "origin", d_origin } };
+    nlohmann::json j = { { "format", format_name },
+                         { "version", format_version },
+                         { "n_symbols", d_n_symbols },
+                         { "n_subcarriers", d_n_subcarriers },
+                         { "n_pilots", size() },
+                         { "pilot_symbol", { d_pilot_symbol.real(), d_pilot_symbol.imag() } },
+                         { "pilots", pilots },
+                         { "origin", d_origin } };
+    if (!d_equal_power) // equal-power files stay as they were
+        j["power"] = d_power;
+    return j;
+}
+
+gr_complex pilot_mask::transmitted_pilot(int k) const
+{
+    const double p = d_power.at(k);
+    return p == 1.0 ? d_pilot_symbol : d_pilot_symbol * static_cast<float>(std::sqrt(p));
 }
 
 std::string pilot_mask::to_json_string() const { return to_json().dump(); }
@@ -296,8 +362,8 @@ std::vector<std::vector<int>> pilot_mask::carrier_lists() const
 std::vector<std::vector<gr_complex>> pilot_mask::pilot_symbol_lists() const
 {
     std::vector<std::vector<gr_complex>> lists(d_n_symbols);
-    for (const auto& p : d_pilots)
-        lists[p.n].push_back(d_pilot_symbol);
+    for (size_t k = 0; k < d_pilots.size(); ++k)
+        lists[d_pilots[k].n].push_back(transmitted_pilot(static_cast<int>(k)));
     return lists;
 }
 
@@ -312,7 +378,7 @@ void pilot_mask::check_frame(const frame_settings& fs, const std::string& who) c
 bool pilot_mask::operator==(const pilot_mask& o) const
 {
     return d_n_symbols == o.d_n_symbols && d_n_subcarriers == o.d_n_subcarriers && d_pilots == o.d_pilots &&
-           d_pilot_symbol == o.d_pilot_symbol;
+           d_pilot_symbol == o.d_pilot_symbol && d_power == o.d_power;
 }
 
 } // namespace sems

@@ -4,7 +4,9 @@
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <map>
 #include <set>
@@ -35,6 +37,8 @@ class qa_pilot_mask : public CppUnit::TestFixture
     CPPUNIT_TEST(mask_order_and_exports);
     CPPUNIT_TEST(file_round_trip);
     CPPUNIT_TEST(bad_masks_are_refused);
+    CPPUNIT_TEST(power_round_trip);
+    CPPUNIT_TEST(bad_power_is_refused);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -156,6 +160,86 @@ public:
         frame_settings fs;
         assert_error([&] { pilot_mask::uniform(16, 64, 8).check_frame(fs, "pilot_extractor"); },
                      "pilot_extractor: the pilot mask is 16 x 64 but the frame is 32 x 64");
+    }
+
+    void power_round_trip()
+    {
+        // Positions out of mask order: each energy follows its pilot into mask order.
+        const std::vector<double> power{ 0.5, 2.0, 1.25, 0.25 };
+        pilot_mask mk(4, 8, { { 2, 3 }, { 0, 5 }, { 1, 1 }, { 0, 2 } }, gr_complex(0.0f, 1.0f),
+                      { { "kind", "explicit" } }, "powered", power);
+        CPPUNIT_ASSERT(!mk.equal_power());
+        const std::vector<double> in_order{ 0.25, 2.0, 1.25, 0.5 }; // (0,2) (0,5) (1,1) (2,3)
+        CPPUNIT_ASSERT(mk.power() == in_order);
+        for (int k = 0; k < mk.size(); ++k) {
+            const double p = in_order[k];
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0 / std::sqrt(p), mk.noise_scale(k), 1e-15);
+            const gr_complex x = mk.transmitted_pilot(k);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(0.0, x.real(), 1e-7);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(std::sqrt(p), x.imag(), 1e-6);
+        }
+        // The allocator's lists carry the energies, per symbol in mask order.
+        const auto lists = mk.pilot_symbol_lists();
+        CPPUNIT_ASSERT(lists[0][0] == mk.transmitted_pilot(0) && lists[0][1] == mk.transmitted_pilot(1));
+        CPPUNIT_ASSERT(lists[2][0] == mk.transmitted_pilot(3));
+
+        const std::string path = "qa_pilot_mask_power.json";
+        mk.save(path);
+        const auto back = pilot_mask::load(path);
+        std::remove(path.c_str());
+        CPPUNIT_ASSERT(back == mk);
+        CPPUNIT_ASSERT(back.power() == in_order);
+        CPPUNIT_ASSERT(mk.to_json().contains("power"));
+        // A file's power[i] belongs to pilots[i] as listed.
+        const auto listed = pilot_mask::parse(mask_text("[[3, 0], [0, 0]]", 4, 8, R"(, "power": [1.5, 0.5])"), "l.json");
+        CPPUNIT_ASSERT((listed.power() == std::vector<double>{ 0.5, 1.5 }));
+
+        // Without `power`: equal power, written as before, and the same mask as before.
+        const auto plain = pilot_mask::parse(mask_text("[[0, 1], [2, 3]]"), "plain.json");
+        CPPUNIT_ASSERT(plain.equal_power());
+        CPPUNIT_ASSERT((plain.power() == std::vector<double>{ 1.0, 1.0 }));
+        CPPUNIT_ASSERT(!plain.to_json().contains("power"));
+        CPPUNIT_ASSERT_EQUAL(1.0, plain.noise_scale(1));
+        CPPUNIT_ASSERT(plain.transmitted_pilot(0) == plain.pilot_symbol());
+        // An explicit list of ones is equal power, and equal to the mask without it.
+        const auto ones = pilot_mask::parse(mask_text("[[0, 1], [2, 3]]", 4, 8, R"(, "power": [1, 1])"), "ones.json");
+        CPPUNIT_ASSERT(ones.equal_power() && ones == plain);
+        // Unequal energies are a different mask.
+        const auto other = pilot_mask::parse(mask_text("[[0, 1], [2, 3]]", 4, 8, R"(, "power": [0.5, 1.5])"), "o.json");
+        CPPUNIT_ASSERT(!(other == plain));
+        // The mean may be off by rounding (relative 1e-6), not more.
+        pilot_mask(2, 2, { { 0, 0 }, { 1, 1 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } }, "tol",
+                   { 0.5 + 5e-7, 1.5 + 5e-7 });
+    }
+
+    void bad_power_is_refused()
+    {
+        auto with = [](const std::string& power) {
+            return mask_text("[[0, 1], [2, 3], [3, 7]]", 4, 8, R"(, "power": )" + power);
+        };
+        assert_error([&] { pilot_mask::parse(with("[1, 1]"), "short.json"); },
+                     "short.json: power: lists 2 energies for 3 pilots");
+        assert_error([&] { pilot_mask::parse(with("[1, 1, 1, 0]"), "long.json"); },
+                     "long.json: power: lists 4 energies for 3 pilots");
+        assert_error([&] { pilot_mask::parse(with("[2, -0.5, 1.5]"), "neg.json"); },
+                     "neg.json: power[1]: must not be negative");
+        assert_error([&] { pilot_mask::parse(with("[1.5, 1.5, 0]"), "zero.json"); },
+                     "zero.json: power[2]: is 0", "energy > 0");
+        assert_error([&] { pilot_mask::parse(with("[0, 0, 0]"), "allzero.json"); },
+                     "allzero.json: power: every pilot has zero energy");
+        assert_error([&] { pilot_mask::parse(with("[1, 1, 1.1]"), "mean.json"); },
+                     "mean.json: power: the mean is 1.033333", "must be 1");
+        assert_error([&] { pilot_mask::parse(with("[1, 1, 1.00001]"), "mean2.json"); }, "mean2.json: power: the mean");
+        assert_error([&] { pilot_mask::parse(with("[1, null, 1]"), "null.json"); }, "null.json: power[1]");
+        assert_error([&] { pilot_mask::parse(with("[1, \"a\", 1]"), "str.json"); }, "str.json: power[1]");
+        assert_error([&] { pilot_mask::parse(with("1"), "scalar.json"); }, "scalar.json: power: expected a list");
+        const double inf = std::numeric_limits<double>::infinity();
+        for (double bad : { inf, -inf, std::nan("") })
+            assert_error([&] { pilot_mask(2, 2, { { 0, 0 }, { 1, 1 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } },
+                                          "nonfinite", { bad, 1.0 }); },
+                         "nonfinite: power[0]: must be finite");
+        assert_error([&] { pilot_mask(2, 2, { { 0, 0 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } }, "len", { 0.5, 1.5 }); },
+                     "len: power: lists 2 energies for 1 pilots");
     }
 };
 

@@ -95,7 +95,8 @@ torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
     return hard + (soft - soft.detach());
 }
 
-semantic_encoder_module::semantic_encoder_module(int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s)
+semantic_encoder_module::semantic_encoder_module(
+    int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s, bool learn_power)
     : d_np(n_pilots), d_n(n_symbols), d_m(n_subcarriers), d_s(s), d_topk(s.kind == "gumbel_topk")
 {
     if (n_pilots < 1 || n_pilots > n_symbols * n_subcarriers)
@@ -104,6 +105,10 @@ semantic_encoder_module::semantic_encoder_module(int n_pilots, int n_symbols, in
     if (!encoder_settings::known_kind(s.kind))
         throw std::invalid_argument("semantic encoder: unknown kind \"" + s.kind +
                                     "\" (known: gumbel_topk, gumbel_heads)");
+    // Zero logits: equal power at the start. (Without learn_power nothing is registered:
+    // the equal-power encoder keeps exactly its parameters and random draws.)
+    if (learn_power)
+        d_power_logits = register_parameter("power_logits", torch::zeros({ n_symbols * n_subcarriers }));
     if (d_topk) {
         // Zero scores: the first masks are uniformly random over the grid.
         d_a = register_parameter("symbol_scores", torch::zeros({ n_symbols }));
@@ -171,6 +176,30 @@ std::vector<int64_t> semantic_encoder_module::final_indices()
         return std::vector<int64_t>(idx.data_ptr<int64_t>(), idx.data_ptr<int64_t>() + d_np);
     }
     return greedy_distinct_assignment(scores());
+}
+
+torch::Tensor semantic_encoder_module::pilot_power(const torch::Tensor& selection, double floor)
+{
+    if (!learns_power())
+        throw std::logic_error("semantic encoder: pilot_power without learned power");
+    const auto logits = torch::matmul(selection, d_power_logits); // N_p: the selected elements' logits
+    return floor + (1.0 - floor) * d_np * torch::softmax(logits, 0);
+}
+
+std::vector<double> semantic_encoder_module::final_power(const std::vector<int64_t>& idx, double floor)
+{
+    if (!learns_power())
+        return std::vector<double>(idx.size(), 1.0);
+    torch::NoGradGuard ng;
+    const auto w = d_power_logits.to(torch::kDouble).index_select(0, torch::tensor(idx, torch::kLong));
+    const auto p = (floor + (1.0 - floor) * double(idx.size()) * torch::softmax(w, 0)).contiguous();
+    std::vector<double> out(p.data_ptr<double>(), p.data_ptr<double>() + p.numel());
+    double sum = 0.0;
+    for (double v : out)
+        sum += v;
+    for (auto& v : out) // mean 1 exactly (to rounding), as the mask file requires
+        v *= double(out.size()) / sum;
+    return out;
 }
 
 int semantic_encoder_module::distinct_argmax()

@@ -27,6 +27,11 @@
  *   assignment (heads, most confident first, each take their best element no earlier
  *   head took): exactly N_p distinct positions whatever the scores.
  *
+ * Pilot energy (learn_power): one more learned logit per resource element, w (zero at the
+ * start: equal power). The selected pilots' energies are
+ *     p = f + (1 - f)·N_p·softmax(w over the selected elements),
+ * so mean(p) = 1 (the total pilot energy of equal power) and every p_k >= f, the floor.
+ *
  * τ is annealed per epoch down to a floor (it shapes the gradient only; the scores'
  * scale, set by their learning rate lr_scale, decides how random the hard masks are).
  *
@@ -76,7 +81,12 @@ SEMS_LEARNING_API torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
 class SEMS_LEARNING_API semantic_encoder_module : public torch::nn::Module
 {
 public:
-    semantic_encoder_module(int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s = {});
+    // learn_power: also learn the pilots' energies (power logits; see the file comment).
+    semantic_encoder_module(int n_pilots,
+                            int n_symbols,
+                            int n_subcarriers,
+                            encoder_settings s = {},
+                            bool learn_power = false);
 
     //! Scores: gumbel_heads N_p x (N*M), one row per head; gumbel_topk 1 x (N*M).
     torch::Tensor scores();
@@ -95,6 +105,13 @@ public:
     //! Distinct elements the current argmax picks (gumbel_heads; N_p for gumbel_topk).
     int distinct_argmax();
 
+    //! Whether the encoder learns the pilots' energies.
+    bool learns_power() const { return d_power_logits.defined(); }
+    //! The energies of a selection (N_p x (N*M) rows): f + (1-f)·N_p·softmax(selection·w), N_p values.
+    torch::Tensor pilot_power(const torch::Tensor& selection, double floor);
+    //! The energies of the pilots at flat indices `idx` (in that order), normalised to mean 1 exactly.
+    std::vector<double> final_power(const std::vector<int64_t>& idx, double floor);
+
     int n_pilots() const { return d_np; }
     const encoder_settings& settings() const { return d_s; }
     bool is_topk() const { return d_topk; }
@@ -105,6 +122,8 @@ private:
     bool d_topk;
     // gumbel_topk
     torch::Tensor d_a, d_b, d_free;
+    // learn_power: one logit per resource element
+    torch::Tensor d_power_logits;
     // gumbel_heads
     torch::Tensor d_embedding;
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr };

@@ -169,11 +169,14 @@ private:
         int64_t count; // frames scored over all ranks
         torch::Tensor logits, delay, obs;
     };
+    // noise_grid (N x M, optional): each element's noise scale, 1/sqrt(p_k) at pilot k
+    // (pilot_mask::noise_scale_of_power); undefined for equal power.
     scored evaluate(const nn::task_decoder& dec,
                     const std::vector<int64_t>& mask_idx,
                     const training::split& sp,
                     const torch::Tensor& noisy,
-                    int64_t limit = 0) const
+                    int64_t limit = 0,
+                    const torch::Tensor& noise_grid = {}) const
     {
         torch::NoGradGuard ng;
         dec->eval();
@@ -188,6 +191,8 @@ private:
         for (int64_t a = 0; a < total; a += d_s.batch) {
             const int64_t b = std::min<int64_t>(total, a + d_s.batch);
             auto y = noisy.slice(0, a, b);
+            if (noise_grid.defined())
+                y = scale_noise(y, sp.h.slice(0, a, b), noise_grid);
             // The inference path of bundle_decoder: gather the pilots, scatter, forward.
             auto o = nn::gather_pilots(y, mask_idx);
             auto out = dec->forward(nn::scatter_pilots(o, mask_idx, d_n, d_m), mask_grid(mask_idx));
@@ -220,6 +225,24 @@ private:
     {
         if (d_log && d_s.verbose && d_dist->rank() == 0)
             *d_log << line << std::endl;
+    }
+
+    // H + (Y - H)·scale: the noise of each element scaled (scale N x M, or B x N x M).
+    static torch::Tensor scale_noise(const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& scale)
+    {
+        return h + (y - h) * scale.unsqueeze(-3);
+    }
+
+    // The N x M noise scales of pilots at flat indices `idx` with energies `power`
+    // (1 elsewhere); undefined when every pilot has energy 1 (nothing to scale).
+    torch::Tensor noise_grid(const std::vector<int64_t>& idx, const std::vector<double>& power) const
+    {
+        if (std::all_of(power.begin(), power.end(), [](double p) { return p == 1.0; }))
+            return {};
+        auto g = torch::ones({ d_n * d_m });
+        for (size_t k = 0; k < idx.size(); ++k)
+            g[idx[k]] = static_cast<float>(pilot_mask::noise_scale_of_power(power[k]));
+        return g.view({ d_n, d_m });
     }
 
     // The 0/1 N x M mask of flat indices.
@@ -299,6 +322,7 @@ training_result trainer::run()
             std::dynamic_pointer_cast<nn::delay_decoder_module>(task_dec)->settings().tau_min_index);
 
     std::vector<int64_t> mask_idx;
+    std::vector<double> mask_power; // the pilots' energies, in the order of mask_idx
     json mask_origin;
     const int64_t n_train = d_data.train.size();
     const int64_t batch = d_s.batch / d_dist->world_size(); // this rank's part of the global batch
@@ -350,7 +374,9 @@ training_result trainer::run()
         nn::task_decoder dec1 =
             mse ? std::make_shared<nn::reconstruction_decoder_module>(d_n, d_m, d_s.n_pilots, d_s.reconstruction)
                 : task_dec;
-        nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder);
+        const bool learn_power = d_s.pilot_power == "learned";
+        const double floor = d_s.pilot_power_floor;
+        nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder, learn_power);
         d_dist->broadcast_module(*enc);
         if (mse)
             d_dist->broadcast_module(*dec1);
@@ -364,6 +390,7 @@ training_result trainer::run()
         double best = hib ? -1e300 : 1e300;
         int since_best = 0;
         std::vector<int64_t> best_mask;
+        std::vector<double> best_power;
         auto best_state = snapshot(dec1);
         mask_settle_rule settle(d_s.mask_settle_epochs);
         for (int e = 0; e < d_s.epochs; ++e) {
@@ -374,7 +401,15 @@ training_result trainer::run()
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
                     auto sel = enc->sample(tau, hard);
                     auto mask = nn::semantic_encoder_module::mask_from_selection(sel, d_n, d_m);
-                    auto out = dec1->forward(y * mask, mask);
+                    torch::Tensor in;
+                    if (learn_power) {
+                        // Pilot k observes H + noise/sqrt(p_k) (pilot_mask::noise_scale_of_power).
+                        const auto scale = torch::matmul(torch::rsqrt(enc->pilot_power(sel, floor)), sel);
+                        in = h * mask + (y - h) * scale.view({ d_n, d_m });
+                    } else {
+                        in = y * mask;
+                    }
+                    auto out = dec1->forward(in, mask);
                     auto task_l = loss(out, d_data.train, idx, h, ce_w);
                     if (d_s.encoder.collision_weight > 0.0)
                         task_l = task_l + d_s.encoder.collision_weight * enc->collision_penalty(tau);
@@ -383,7 +418,8 @@ training_result trainer::run()
                 opt, { dec1, enc.ptr() });
             const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
             mask_idx = enc->final_indices();
-            const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy);
+            const auto power = enc->final_power(mask_idx, floor);
+            const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy, 0, noise_grid(mask_idx, power));
             const int distinct = enc->distinct_argmax();
             std::ostringstream os;
             const auto used = mask_grid(mask_idx);
@@ -405,6 +441,7 @@ training_result trainer::run()
             if (better) {
                 best = v.metric;
                 best_mask = mask_idx;
+                best_power = power;
                 best_state = snapshot(dec1);
             }
             since_best = better ? 0 : since_best + 1;
@@ -426,9 +463,26 @@ training_result trainer::run()
         // what validation scores, so this is the best distinct mask seen.
         if (!best_mask.empty()) {
             mask_idx = best_mask;
+            mask_power = best_power;
             restore(dec1, best_state);
+        } else {
+            mask_power = enc->final_power(mask_idx, floor);
         }
-        std::sort(mask_idx.begin(), mask_idx.end()); // mask order: row-major (n, m)
+        {
+            // Mask order: row-major (n, m), each pilot keeping its energy.
+            std::vector<size_t> order(mask_idx.size());
+            for (size_t i = 0; i < order.size(); ++i)
+                order[i] = i;
+            std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return mask_idx[a] < mask_idx[b]; });
+            std::vector<int64_t> idx;
+            std::vector<double> pw;
+            for (size_t i : order) {
+                idx.push_back(mask_idx[i]);
+                pw.push_back(mask_power[i]);
+            }
+            mask_idx = std::move(idx);
+            mask_power = std::move(pw);
+        }
         mask_origin = { { "kind", "learned" },
                         { "objective", d_s.objective },
                         { "best_val", best },
@@ -437,14 +491,18 @@ training_result trainer::run()
                         { "encoder", d_s.encoder.to_json() },
                         { "mask_epochs_run", d_s.epochs - mask_epochs_left },
                         { "seed", d_s.seed } };
+        if (learn_power)
+            mask_origin["pilot_power"] = { { "kind", "learned" }, { "floor", floor } };
     } else {
         for (int i : given_mask->flat_indices())
             mask_idx.push_back(i);
+        mask_power = given_mask->power();
         mask_origin = given_mask->origin();
     }
 
     // ---- Phase 2: the task decoder on the fixed mask.
     const auto mask_t = mask_grid(mask_idx);
+    const auto noise_t = noise_grid(mask_idx, mask_power); // undefined for equal power
     const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs + mask_epochs_left;
     {
         torch::optim::Adam opt(task_dec->parameters(), torch::optim::AdamOptions(d_s.lr));
@@ -464,12 +522,13 @@ training_result trainer::run()
             const double ce_w = d_s.delay_ce_weight_final + (d_s.delay_ce_weight - d_s.delay_ce_weight_final) * c;
             const double l = train_epoch(
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
-                    auto out = task_dec->forward(y * mask_t, mask_t);
+                    const auto in = noise_t.defined() ? scale_noise(y, h, noise_t) : y; // σ/sqrt(p_k)
+                    auto out = task_dec->forward(in * mask_t, mask_t);
                     return loss(out, d_data.train, idx, h, ce_w);
                 },
                 opt, { task_dec });
             const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
-            const auto v = evaluate(task_dec, mask_idx, d_data.val, val_noisy);
+            const auto v = evaluate(task_dec, mask_idx, d_data.val, val_noisy, 0, noise_t);
             std::ostringstream os;
             os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [decoder] loss " << std::setprecision(4)
                << l << "  val " << (hib ? "acc " : "mae ") << v.metric << "  lr " << std::setprecision(5) << lr
@@ -503,7 +562,7 @@ training_result trainer::run()
             d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), test_gen);
         // eval_frames over all ranks (0 = every test frame); each rank scores its share.
         const int64_t limit = keep || d_s.eval_frames <= 0 ? 0 : std::max<int64_t>(1, d_dist->share(d_s.eval_frames));
-        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, limit);
+        const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, limit, noise_t);
         const int64_t n = r.obs.size(0); // this rank's frames
         json m = { { "snr_min_db", lo }, { "snr_max_db", hi }, { "frames", r.count } };
         if (d_s.task == task_kind::classify) {
@@ -550,7 +609,8 @@ training_result trainer::run()
     b.library = d_s.task == task_kind::classify ? sc.library_ptr() : nullptr; // bundle.json's class_library
     b.frame = d_s.frame;
     b.mask = given_mask ? *given_mask
-                        : pilot_mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), mask_origin, "learned mask");
+                        : pilot_mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), mask_origin, "learned mask",
+                                     d_s.pilot_power == "learned" ? mask_power : std::vector<double>{});
     b.decoder = task_dec->describe();
     b.training = d_s.to_json();
     b.training["scene"] = sc.to_json();
@@ -593,6 +653,13 @@ void training_settings::validate() const
 {
     if (objective != "task" && objective != "mse")
         fail("objective must be \"task\" or \"mse\", got \"" + objective + "\"");
+    if (pilot_power != "equal" && pilot_power != "learned")
+        fail("pilot_power must be \"equal\" or \"learned\", got \"" + pilot_power + "\"");
+    if (pilot_power == "learned" && (!mask_file.empty() || !mask_pattern.empty()))
+        fail("pilot_power \"learned\" needs a learned mask (no mask file or pattern); a mask file's own "
+             "\"power\" list is used as it is");
+    if (!(pilot_power_floor >= 0.0 && pilot_power_floor < 1.0))
+        fail("pilot_power_floor must be in [0, 1), got " + std::to_string(pilot_power_floor));
     frame.validate();
     if (n_pilots < 1 || n_pilots > frame.grid_size())
         fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
@@ -640,39 +707,43 @@ void training_settings::validate() const
 
 json training_settings::to_json() const
 {
-    return { { "objective", objective },
-             { "n_pilots", n_pilots },
-             { "mask_file", mask_file },
-             { "mask_pattern", mask_pattern },
-             { "scene_source", scene_source },
-             { "snr_min_db", snr_min_db },
-             { "snr_max_db", snr_max_db },
-             { "frames", frames },
-             { "split", "8:1:1" },
-             { "epochs", epochs },
-             { "decoder_epochs", decoder_epochs },
-             { "batch", batch },
-             { "world_size", distributed.world_size },
-             { "batch_per_rank", batch / distributed.world_size },
-             { "data_per_rank", distributed.world_size > 1
-                                    ? "each rank draws frames/world_size of the frames from its own seed (rank 0: seed)"
-                                    : "one process" },
-             { "lr", lr },
-             { "lr_schedule", "phase 1 constant; phase 2 cosine to lr*" + std::to_string(lr_final_scale) },
-             { "patience", patience },
-             { "mask_settle_epochs", mask_settle_epochs },
-             { "threads", threads },
-             { "seed", seed },
-             { "delay_spacing", delay_spacing },
-             { "delay_margin", delay_margin },
-             { "delay_ce_weight", delay_ce_weight },
-             { "delay_ce_weight_final", delay_ce_weight_final },
-             { "lr_final_scale", lr_final_scale },
-             { "eval_snr_db", eval_snr_db },
-             { "eval_frames", eval_frames },
-             { "encoder", encoder.to_json() },
-             { "reconstruction", reconstruction.to_json() },
-             { "command_line", command_line } };
+    json j = { { "objective", objective },
+               { "n_pilots", n_pilots },
+               { "mask_file", mask_file },
+               { "mask_pattern", mask_pattern },
+               { "pilot_power", pilot_power },
+               { "scene_source", scene_source },
+               { "snr_min_db", snr_min_db },
+               { "snr_max_db", snr_max_db },
+               { "frames", frames },
+               { "split", "8:1:1" },
+               { "epochs", epochs },
+               { "decoder_epochs", decoder_epochs },
+               { "batch", batch },
+               { "world_size", distributed.world_size },
+               { "batch_per_rank", batch / distributed.world_size },
+               { "data_per_rank", distributed.world_size > 1
+                                      ? "each rank draws frames/world_size of the frames from its own seed (rank 0: seed)"
+                                      : "one process" },
+               { "lr", lr },
+               { "lr_schedule", "phase 1 constant; phase 2 cosine to lr*" + std::to_string(lr_final_scale) },
+               { "patience", patience },
+               { "mask_settle_epochs", mask_settle_epochs },
+               { "threads", threads },
+               { "seed", seed },
+               { "delay_spacing", delay_spacing },
+               { "delay_margin", delay_margin },
+               { "delay_ce_weight", delay_ce_weight },
+               { "delay_ce_weight_final", delay_ce_weight_final },
+               { "lr_final_scale", lr_final_scale },
+               { "eval_snr_db", eval_snr_db },
+               { "eval_frames", eval_frames },
+               { "encoder", encoder.to_json() },
+               { "reconstruction", reconstruction.to_json() },
+               { "command_line", command_line } };
+    if (pilot_power == "learned")
+        j["pilot_power_floor"] = pilot_power_floor;
+    return j;
 }
 
 training_settings training_settings::from_bundle(const model_bundle& b)
@@ -706,6 +777,8 @@ training_settings training_settings::from_bundle(const model_bundle& b)
     s.objective = get("objective", s.objective, true);
     s.n_pilots = get("n_pilots", s.n_pilots, true);
     s.mask_pattern = get("mask_pattern", std::string(), false);
+    s.pilot_power = get("pilot_power", std::string("equal"), false); // absent: trained before the setting
+    s.pilot_power_floor = get("pilot_power_floor", s.pilot_power_floor, false);
     if (!get("mask_file", std::string(), false).empty())
         s.mask_file = b.directory + "/" + b.mask_name; // the given mask, as the bundle holds it
     s.snr_min_db = get("snr_min_db", s.snr_min_db, true);

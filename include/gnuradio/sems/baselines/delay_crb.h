@@ -29,6 +29,10 @@
  * ∂μ/∂ν = j2π n_k T μ_k, ∂μ/∂Re α_l = b_k a_k(τ_l), ∂μ/∂Im α_l = j b_k a_k(τ_l); the Fisher
  * information is (2/σ²) Re(JᴴJ) and the bound on the first path's delay is the (τ_1, τ_1)
  * element of its inverse. With one path it equals variance_index at gain_power = |α|².
+ *
+ * A mask whose pilots differ in energy (pilot_mask::power) observes pilot k with noise
+ * σ²/p_k: each pilot's term of the Fisher information is weighted by p_k (in S: weighted
+ * means and sums over the pilots; in the multipath bound: row k of J times sqrt(p_k)).
  */
 #ifndef INCLUDED_SEMS_BASELINES_DELAY_CRB_H
 #define INCLUDED_SEMS_BASELINES_DELAY_CRB_H

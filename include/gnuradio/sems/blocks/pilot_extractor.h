@@ -18,11 +18,13 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/s_p per frame out.
+ * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/(sqrt(p_k)·s_p) per frame out.
  *
- * \details The output is the pilot observations Y[n,m]/s_p at the mask positions, in mask
- * order (row-major, sorted by (n, m)). No power is divided out: with pilot power E_p
- * and a noiseless channel the output is sqrt(E_p)·H at the pilots.
+ * \details The output is the pilot observations Y[n,m]/(sqrt(p_k)·s_p) at the mask
+ * positions, in mask order (row-major, sorted by (n, m)), with p_k pilot k's relative
+ * energy from the mask file (1 without a `power` list): pilot k's noise is scaled by
+ * 1/sqrt(p_k). E_p is not divided out: with pilot power E_p and a noiseless channel the
+ * output is sqrt(E_p)·H at the pilots.
  *
  * Frames are aligned to keys::frame_tag tags when present and counted (N symbols
  * each) otherwise. A partial frame (a frame tag arrives before N symbols were

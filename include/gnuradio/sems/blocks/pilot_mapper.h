@@ -22,9 +22,12 @@ namespace sems {
  *
  * \details
  * \verbatim
-   X_s[n,m] = sqrt(E_p) · s_p           at the pilot positions P
+   X_s[n,m] = sqrt(E_p · p_k) · s_p     at pilot k of the mask P
             = sqrt(E_d) · data           elsewhere, data taken in row-major order
    \endverbatim
+ *
+ * p_k is pilot k's relative energy from the mask file's `power` list (mean 1; all 1 without
+ * it, and always 1 with pilot_positions).
  *
  * Input: data symbols (gr_complex stream). Output: gr_complex[M], one OFDM symbol in
  * the frequency domain, N per frame; a frame consumes N·M − N_p data symbols.

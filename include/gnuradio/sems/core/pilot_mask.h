@@ -4,8 +4,14 @@
  * \brief The binary N x M pilot mask P and its JSON file format (docs/design.md §2, §4).
  *
  * \details Pilots are kept in mask order: row-major, sorted by (n, m). Every constructor
- * validates (dimensions, range, duplicates, count) and throws std::invalid_argument
- * naming the source and the problem; nothing is clipped or de-duplicated silently.
+ * validates (dimensions, range, duplicates, count, pilot energies) and throws
+ * std::invalid_argument naming the source and the problem; nothing is clipped or
+ * de-duplicated silently.
+ *
+ * Pilot energy: pilot k carries sqrt(p_k)·s_p, with p_k > 0 and mean(p) = 1 (the total
+ * pilot energy of equal power). Its observation Y/(sqrt(p_k)·s_p) is H + noise of standard
+ * deviation σ/sqrt(p_k): noise_scale() is that rule, and every place that forms pilot
+ * observations uses it. Without a `power` list every p_k is 1 (equal power).
  */
 #ifndef INCLUDED_SEMS_CORE_PILOT_MASK_H
 #define INCLUDED_SEMS_CORE_PILOT_MASK_H
@@ -14,6 +20,7 @@
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -50,6 +57,8 @@ public:
      * \param pilot_symbol s_p, the symbol every pilot carries.
      * \param origin how the mask was made (saved in the file).
      * \param source names the origin in errors.
+     * \param power the pilots' relative energies p_k, power[i] for pilots[i] as given
+     *        (each > 0 and finite, mean 1 within power_mean_tolerance); empty: all 1.
      * \throws std::invalid_argument naming `source` and the problem.
      */
     pilot_mask(int n_symbols,
@@ -57,7 +66,11 @@ public:
                std::vector<pilot_position> pilots,
                gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
                nlohmann::json origin = { { "kind", "explicit" } },
-               const std::string& source = "pilot mask");
+               const std::string& source = "pilot mask",
+               std::vector<double> power = {});
+
+    /*! \brief How far the mean of the `power` list may be from 1 (relative). */
+    static constexpr double power_mean_tolerance = 1e-6;
 
     /*!
      * \brief Uniform lattice: rows and columns evenly spaced, as square as the grid allows.
@@ -141,6 +154,34 @@ public:
     const std::vector<pilot_position>& positions() const { return d_pilots; }
     /*! \brief s_p. \return the pilot symbol. */
     gr_complex pilot_symbol() const { return d_pilot_symbol; }
+    /*!
+     * \brief The pilots' relative energies p_k, in mask order (mean 1).
+     * \return one value per pilot; all 1 for equal power.
+     */
+    const std::vector<double>& power() const { return d_power; }
+    /*! \brief Whether every pilot has the same energy. \return true if every p_k is 1. */
+    bool equal_power() const { return d_equal_power; }
+    /*!
+     * \brief The transmitted symbol of pilot k.
+     * \param k the pilot, in mask order (0..N_p-1).
+     * \return sqrt(p_k)·s_p.
+     */
+    gr_complex transmitted_pilot(int k) const;
+    /*!
+     * \brief The observation noise of pilot k relative to an equal-power pilot.
+     * \details The observation Y/(sqrt(p_k)·s_p) = H + W/sqrt(p_k): its noise standard
+     * deviation is σ·noise_scale(k). Exactly 1 for an equal-power mask.
+     * \param k the pilot, in mask order (0..N_p-1).
+     * \return 1/sqrt(p_k).
+     */
+    double noise_scale(int k) const { return noise_scale_of_power(d_power[k]); }
+    /*!
+     * \brief The rule behind noise_scale(): noise standard deviation relative to an
+     *        equal-power pilot, for a pilot of relative energy p.
+     * \param p the relative energy (> 0).
+     * \return 1/sqrt(p) (exactly 1 for p = 1).
+     */
+    static double noise_scale_of_power(double p) { return p == 1.0 ? 1.0 : 1.0 / std::sqrt(p); }
     /*! \brief How the mask was made. \return the origin JSON. */
     const nlohmann::json& origin() const { return d_origin; }
 
@@ -154,7 +195,10 @@ public:
      * \return one list of subcarriers per symbol.
      */
     std::vector<std::vector<int>> carrier_lists() const;
-    /*! \brief Per-symbol pilot symbols (ofdm_carrier_allocator_cvc's pilot_symbols). \return one list per symbol. */
+    /*!
+     * \brief Per-symbol transmitted pilot symbols sqrt(p_k)·s_p (ofdm_carrier_allocator_cvc's pilot_symbols).
+     * \return one list per symbol.
+     */
     std::vector<std::vector<gr_complex>> pilot_symbol_lists() const;
 
     /*!
@@ -164,7 +208,7 @@ public:
      */
     void check_frame(const frame_settings& fs, const std::string& who) const;
 
-    /*! \brief Equality of grid, positions and pilot symbol. \param o the other mask. \return true if equal. */
+    /*! \brief Equality of grid, positions, pilot symbol and energies. \param o the other mask. \return true if equal. */
     bool operator==(const pilot_mask& o) const;
 
 private:
@@ -173,6 +217,8 @@ private:
     std::vector<pilot_position> d_pilots;
     gr_complex d_pilot_symbol;
     nlohmann::json d_origin;
+    std::vector<double> d_power;
+    bool d_equal_power = true;
 };
 
 } // namespace sems

@@ -53,6 +53,17 @@ struct SEMS_LEARNING_API training_settings {
     int n_pilots = 32;               ///< N_p
     std::string mask_file;          ///< empty: learn the mask; else train the decoder on it
     std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler|staggered; random seeded by seed)
+    /*!
+     * \brief The pilots' energies: "equal" (every pilot the same) or "learned".
+     * \details "learned" (a learned mask only): the semantic encoder also learns one power
+     * logit per resource element; the selected pilots' energies are
+     * p = f + (1 - f)·N_p·softmax(their logits), f = pilot_power_floor, so the total pilot
+     * energy stays that of equal power and no pilot falls below f. Pilot k's training and
+     * test noise is σ/sqrt(p_k); the bundle's mask carries the energies (mean 1). A mask
+     * file with its own `power` list is trained on with those energies whatever this says.
+     */
+    std::string pilot_power = "equal";
+    double pilot_power_floor = 0.1; ///< "learned": the smallest energy of a pilot, f in [0, 1)
     frame_settings frame;            ///< the frame
     std::optional<scene> scene_spec; ///< empty: random scene, all classes, single path
     std::string scene_source = "default random scene"; ///< names the scene in errors and bundle.json
