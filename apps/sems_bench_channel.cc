@@ -240,7 +240,8 @@ int main(int argc, char** argv)
             // A point-scatterer target's cost per frame against its scatterer count, same harness.
             std::printf("\npoint-scatterer target (one harmonic each), %s: cost per frame of %d symbols\n", snr_text,
                         o.n_symbols);
-            std::printf("%12s %14s %14s %12s\n", "scatterers", "us/frame", "us/frame mult.", "vs mult.");
+            std::printf("%12s %14s %14s %12s %16s %12s\n", "scatterers", "us/frame", "us/frame mult.", "vs mult.",
+                        "CPU-us/frame", "vs mult.");
             for (int count : { 1, 2, 4, 8, 16, 32, 64, 128, 256 }) {
                 const std::string sc = motion_scene_json(scatterers_json(count), 1.0);
                 rate r{};
@@ -250,9 +251,11 @@ int main(int argc, char** argv)
                                                     o.n_subcarriers, bandwidth);
                     });
                     r.wall = std::max(r.wall, x.wall);
+                    r.cpu = std::max(r.cpu, x.cpu);
                 }
-                std::printf("%12d %14.2f %14.2f %11.3fx\n", count, 1e6 * o.n_symbols / r.wall,
-                            1e6 * o.n_symbols / best[0].wall, r.wall / best[0].wall);
+                std::printf("%12d %14.2f %14.2f %11.3fx %16.2f %11.3fx\n", count, 1e6 * o.n_symbols / r.wall,
+                            1e6 * o.n_symbols / best[0].wall, r.wall / best[0].wall, 1e6 * o.n_symbols / r.cpu,
+                            r.cpu / best[0].cpu);
             }
         }
     } catch (const std::exception& e) {
