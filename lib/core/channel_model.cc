@@ -161,18 +161,19 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         else if (!detail::same_body(sc.models[b].body(), (*bodies)[b]))
             sc.models[b] = detail::body_model((*bodies)[b], fs);
         const detail::body_model& model = sc.models[b];
-        const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());
+        // The frame's scatterers, every symbol in one pass; the expansion's order from their own
+        // amplitudes and reaches (the same bound); per symbol the body's terms G_p δk_max^p.
+        sc.times.resize(size_t(d_n));
+        for (int n = 0; n < d_n; ++n)
+            sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
+        model.snapshots(sc.times.data(), d_n, sc.snap);
+        const auto plan = detail::plan_expansion(fs, sc.snap);
         sc.plans[b] = plan;
         sc.g_offset[b] = g_size;
         sc.dk_scale[b] = detail::band_scale(fs, plan);
         g_size += size_t(d_n) * plan.terms();
         sc.g.resize(g_size);
-        // Per symbol the body's terms G_p δk_max^p (the delay rows hold (δk/δk_max)^p ∈ [−1, 1]),
-        // every symbol of the frame in one pass.
-        sc.times.resize(size_t(d_n));
-        for (int n = 0; n < d_n; ++n)
-            sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
-        detail::body_terms(model, plan, fs, sc.times.data(), d_n, sc.snap, sc.g.data() + sc.g_offset[b]);
+        detail::snapshot_terms(sc.snap, plan, fs, sc.g.data() + sc.g_offset[b]);
     }
 
     // Rows: one per point path, then plan.terms() per scatterer-body path (its terms side by

@@ -115,30 +115,75 @@ void line_integrals(double z, std::complex<double> e, int order, std::complex<do
     }
 }
 
-expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
+namespace {
+
+// The smallest plan whose remainder bound Σ_i a_i (δk_max r_i)^{P+1}/(P+1)! is within the
+// tolerance, over scatterers reaching |r| ≤ r_i with amplitudes |a| ≤ a_i (reach[i] = {a_i, r_i}).
+expansion_plan plan_for(const frame_settings& fs, const std::vector<std::pair<double, double>>& reach)
 {
     expansion_plan plan;
     const int m = fs.n_subcarriers;
     const double dk_per_subcarrier = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    std::vector<double> term(reach.size());
     for (int s = 1; s <= m; ++s) {
         const int len = (m + s - 1) / s;
         // Within a sub-band of len subcarriers, |δk| ≤ (len − 1)/2 · dk.
-        const double x = 0.5 * (len - 1) * dk_per_subcarrier * extent_m;
-        double bound = amplitude_sum * x; // Σ|a| x^{P+1}/(P+1)! for P = 0
+        const double x = 0.5 * (len - 1) * dk_per_subcarrier;
+        double bound = 0.0; // Σ a_i (x r_i)^{P+1}/(P+1)! for P = 0
+        for (size_t i = 0; i < reach.size(); ++i) {
+            term[i] = reach[i].first * x * reach[i].second;
+            bound += term[i];
+        }
         int p = 0;
         while (bound > truncation_tolerance && p < max_order) {
             ++p;
-            bound *= x / double(p + 1);
+            bound = 0.0;
+            for (size_t i = 0; i < reach.size(); ++i) {
+                term[i] *= x * reach[i].second / double(p + 1);
+                bound += term[i];
+            }
         }
         if (bound <= truncation_tolerance) {
             plan.order = p;
-            plan.sub_bands = s;
             plan.band_len = len;
             plan.sub_bands = (m + len - 1) / len; // ceil(M/len) ≤ s bands of len
             return plan;
         }
     }
-    throw std::logic_error("plan_expansion: no plan for extent " + std::to_string(extent_m) + " m");
+    throw std::logic_error("plan_expansion: no plan for these scatterers");
+}
+
+} // namespace
+
+expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
+{
+    return plan_for(fs, { { amplitude_sum, extent_m } });
+}
+
+expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s)
+{
+    // Each scatterer's largest amplitude and reach over the snapshot's instants (a line: its
+    // farther end), so the bound is the model's own, at the scatterers this frame has.
+    const size_t count = size_t(s.count);
+    std::vector<std::pair<double, double>> reach;
+    for (size_t i = 0; i < s.point_r.size() / count; ++i) {
+        double a = 0.0, r = 0.0;
+        for (size_t n = 0; n < count; ++n) {
+            a = std::max(a, std::fabs(s.point_a[i * count + n]));
+            r = std::max(r, std::fabs(s.point_r[i * count + n]));
+        }
+        reach.emplace_back(a, r);
+    }
+    for (size_t i = 0; i < s.line_e.size() / count; ++i) {
+        double a = 0.0, r = 0.0;
+        for (size_t n = 0; n < count; ++n) {
+            const size_t k = i * count + n;
+            a = std::max(a, std::fabs(s.line_a[k]));
+            r = std::max({ r, std::fabs(s.line_r0[k]), std::fabs(s.line_r0[k] + s.line_e[k]) });
+        }
+        reach.emplace_back(a, r);
+    }
+    return plan_for(fs, reach);
 }
 
 body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(b)
@@ -351,6 +396,12 @@ void body_terms(const body_model& model,
                 std::complex<double>* out)
 {
     model.snapshots(t_s, count, snap);
+    snapshot_terms(snap, plan, fs, out);
+}
+
+void snapshot_terms(body_snapshot& snap, const expansion_plan& plan, const frame_settings& fs, std::complex<double>* out)
+{
+    const int count = snap.count;
     const int terms = plan.order + 1;
     const size_t stride = size_t(plan.terms());
     const double scale_step = band_scale(fs, plan);

@@ -127,6 +127,14 @@ inline void body_terms(const body_model& model,
     body_terms(model, plan, fs, &t_s, 1, snap, out);
 }
 
+/* The plan for the scatterers of a snapshot: the same bound with each scatterer's own largest
+ * amplitude a_s and reach r_s over the snapshot's instants, Σ_s a_s (δk_max r_s)^{P+1}/(P+1)!
+ * (a line's reach: its farther end). */
+expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s);
+
+/* body_terms of a snapshot already taken (its instants, its scatterers). */
+void snapshot_terms(body_snapshot& snap, const expansion_plan& plan, const frame_settings& fs, std::complex<double>* out);
+
 /* Whether two bodies move alike (same model, parameters, speed and heading): a body_model set
  * up for one serves the other. */
 inline bool same_body(const scatterer_body& a, const scatterer_body& b)
