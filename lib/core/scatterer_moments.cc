@@ -87,8 +87,10 @@ void line_integrals(double z, std::complex<double> e, int order, std::complex<do
             out[p] = (e - double(p) * out[p - 1]) * inv;
         return;
     }
-    // |z| < max(2, order) ≤ 14: E_p(z) = Σ_k c_k / (p+k+1), c_k = (−jz)^k / k!, the c_k shared by
-    // every p; terms until |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14).
+    // |z| < max(2, order) ≤ 14: E_P(z) = Σ_k c_k / (P+k+1), c_k = (−jz)^k / k!, terms until
+    // |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14); then downward,
+    // E_{p−1} = (e^{-jz} + jz E_p)/p, which scales the error by |z|/p: shrinking while p > |z|,
+    // and by at most |z|^|z|/⌊|z|⌋! ≤ e^{|z|} over the steps below, the series' own bound.
     std::complex<double> c[96];
     int n = 0;
     std::complex<double> term(1.0, 0.0);
@@ -105,14 +107,15 @@ void line_integrals(double z, std::complex<double> e, int order, std::complex<do
             inv[i] = 1.0 / double(i);
         return inv;
     }();
-    for (int p = 0; p <= order; ++p) {
-        double re = 0.0, im = 0.0;
-        for (int k = std::min(n, 95); k >= 0; --k) { // smallest first
-            re += c[k].real() * inverse[p + k + 1];
-            im += c[k].imag() * inverse[p + k + 1];
-        }
-        out[p] = { re, im };
+    double re = 0.0, im = 0.0;
+    for (int k = std::min(n, 95); k >= 0; --k) { // smallest first
+        re += c[k].real() * inverse[order + k + 1];
+        im += c[k].imag() * inverse[order + k + 1];
     }
+    out[order] = { re, im };
+    const std::complex<double> jz(0.0, z);
+    for (int p = order; p >= 1; --p)
+        out[p - 1] = (e + jz * out[p]) * inverse[p];
 }
 
 namespace {
