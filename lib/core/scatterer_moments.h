@@ -12,12 +12,13 @@
  *
  *     exp(-j κ_m r) = Σ_p δk_m^p · G_p,   G_p = exp(-j κ_ref r) (−j r)^p / p!
  *
- * so the target's return is Σ_p δk_m^p · G_p(t): P+1 slow-time series times P+1 fixed
- * subcarrier rows, the separable form the frequency-domain model already sums. The
- * series is cut where its remainder, at most Σ|a| (δk_max r_max)^{P+1}/(P+1)!, is below
- * truncation_tolerance (relative to a unit-power target: below single precision, so the
- * result is exact to float rounding); a band too wide for P ≤ max_order is split into
- * sub-bands with their own κ_ref.
+ * so the target's return is Σ_p δk_m^p · G_p(t): P+1 slow-time series, and per symbol one
+ * polynomial in δk_m over the subcarriers (the frequency-domain model evaluates it by Horner's
+ * rule, the time-domain one sums it as P+1 rows). The series is cut where its remainder, at
+ * most Σ_s |a_s| (δk_max r_s)^{P+1}/(P+1)! (each scatterer's largest amplitude and reach, or
+ * the body's bounds Σ|a| and r_max), is below truncation_tolerance (relative to a unit-power
+ * target: below single precision, so the result is exact to float rounding); a band too wide
+ * for P ≤ max_order is split into sub-bands with their own κ_ref.
  */
 #ifndef INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
 #define INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
