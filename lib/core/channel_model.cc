@@ -82,6 +82,13 @@ struct frame_channel::scratch {
     std::vector<double> dk_scale;                     // per body: δk_max of its sub-bands
     std::vector<detail::body_model> models;           // per body, kept while its parameters stay
     detail::body_snapshot snap;
+    std::vector<double> times;                        // the frame's symbol times
+    struct block {                                    // a scatterer body's path in the rows
+        int row;                                      // its first row: its delay phasor e, then u (twice)
+        detail::expansion_plan plan;
+    };
+    std::vector<block> blocks; // after the point paths' rows: evaluated by Horner's rule in δk
+    int point_rows = 0;        // rows 0 .. point_rows − 1: one per point path, summed as they are
 };
 
 
@@ -108,8 +115,10 @@ frame_channel::frame_channel(const frame_channel& o)
       d_slow(o.d_slow),
       d_delay(o.d_delay),
       d_delay_key(o.d_delay_key),
-      d_scratch(std::make_unique<scratch>()) // working memory only: nothing to copy
+      d_scratch(std::make_unique<scratch>()) // working memory, but for the rows' layout
 {
+    d_scratch->blocks = o.d_scratch->blocks;
+    d_scratch->point_rows = o.d_scratch->point_rows;
 }
 frame_channel& frame_channel::operator=(const frame_channel& o)
 {
@@ -152,21 +161,24 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         else if (!detail::same_body(sc.models[b].body(), (*bodies)[b]))
             sc.models[b] = detail::body_model((*bodies)[b], fs);
         const detail::body_model& model = sc.models[b];
-        const auto plan = detail::plan_expansion(fs, model.extent_m(), model.amplitude_sum());
+        // The frame's scatterers, every symbol in one pass; the expansion's order from their own
+        // amplitudes and reaches (the same bound); per symbol the body's terms G_p δk_max^p.
+        sc.times.resize(size_t(d_n));
+        for (int n = 0; n < d_n; ++n)
+            sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
+        model.snapshots(sc.times.data(), d_n, sc.snap);
+        const auto plan = detail::plan_expansion(fs, sc.snap);
         sc.plans[b] = plan;
         sc.g_offset[b] = g_size;
         sc.dk_scale[b] = detail::band_scale(fs, plan);
         g_size += size_t(d_n) * plan.terms();
         sc.g.resize(g_size);
-        // Per symbol the body's terms G_p δk_max^p (the delay rows hold (δk/δk_max)^p ∈ [−1, 1]).
-        for (int n = 0; n < d_n; ++n) {
-            const double t = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
-            detail::body_terms(model, plan, fs, t, sc.snap, sc.g.data() + sc.g_offset[b] + size_t(n) * plan.terms());
-        }
+        detail::snapshot_terms(sc.snap, plan, fs, sc.g.data() + sc.g_offset[b]);
     }
 
-    // Rows: one per point path, plan.terms() per scatterer-body path.
-    int rows = 0;
+    // Rows: one per point path, then plan.terms() per scatterer-body path (its terms side by
+    // side in d_slow; in d_delay its delay phasor and the subcarriers' (δk/δk_max)).
+    int rows = 0, body_rows = 0;
     for (const auto& p : paths) {
         if (p.body < 0) {
             ++rows;
@@ -175,17 +187,19 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         if (static_cast<size_t>(p.body) >= n_bodies)
             throw std::invalid_argument("frame_channel: a path refers to scatterer body " + std::to_string(p.body) +
                                         " but the frame has " + std::to_string(n_bodies));
-        rows += sc.plans[p.body].terms();
+        body_rows += sc.plans[p.body].terms();
     }
+    sc.point_rows = rows;
+    sc.blocks.clear();
     // resize() keeps the capacity: once grown to the scene's row count, no allocation.
-    d_l = rows;
+    d_l = rows + body_rows;
     d_slow.resize(size_t(d_l) * d_n);
     d_delay.resize(size_t(d_l) * d_m);
     // A row is recomputed only when its key (path delay, term) changed: a fixed scene's
     // delay rows are the same every frame (the same values, not an approximation of them).
     d_delay_key.resize(size_t(d_l) * 3, std::numeric_limits<double>::quiet_NaN());
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
-    int row = 0;
+    int row = 0, body_row = rows;
     for (const auto& p : paths) {
         const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
         // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
@@ -199,11 +213,11 @@ void frame_channel::update(const std::vector<channel_path>& paths,
             for (int n = 0; n < d_n; ++n, v *= doppler_step) {
                 const std::complex<double>* g = sc.g.data() + sc.g_offset[p.body] + size_t(n) * terms;
                 for (int k = 0; k < terms; ++k)
-                    d_slow[size_t(n) * d_l + row + k] = gr_complex(v * g[k]);
+                    d_slow[size_t(n) * d_l + body_row + k] = gr_complex(v * g[k]);
             }
-            for (int k = 0; k < terms; ++k)
-                fill_body_delay_row(row + k, p.delay_s, plan, k, sc.dk_scale[p.body], dk);
-            row += terms;
+            fill_body_rows(body_row, p.delay_s, plan, sc.dk_scale[p.body], dk);
+            sc.blocks.push_back({ body_row, plan });
+            body_row += terms;
             continue;
         }
         for (int n = 0; n < d_n; ++n, v *= doppler_step) {
@@ -217,55 +231,79 @@ void frame_channel::update(const std::vector<channel_path>& paths,
             }
             d_slow[size_t(n) * d_l + row] = gr_complex(slow);
         }
-        double* key = d_delay_key.data() + size_t(row) * 3;
-        if (key[0] == p.delay_s && key[1] == -1.0) {
-            ++row;
-            continue;
-        }
-        key[0] = p.delay_s;
-        key[1] = -1.0;
-        key[2] = 0.0;
-        std::complex<double> d(1.0, 0.0);
-        const std::complex<double> delay_step = delay_phasor(1.0, fs.delay_index(p.delay_s), d_m);
-        for (int m = 0; m < d_m; ++m, d *= delay_step)
-            d_delay[size_t(row) * d_m + m] = gr_complex(d);
+        fill_delay_row(row, p.delay_s);
         ++row;
     }
 }
 
-void frame_channel::fill_body_delay_row(
-    int row, double delay_s, const detail::expansion_plan& plan, int term, double dk_scale, double dk)
+void frame_channel::fill_delay_row(int row, double delay_s)
 {
-    // Term k = band·(P+1) + p: exp(-j2π m Δf τ)·(δk_m/δk_max)^p on the band's subcarriers, 0 elsewhere.
+    // exp(-j2π m Δf τ), m < M, by recurrence in double.
     double* key = d_delay_key.data() + size_t(row) * 3;
-    const double term_key = term + 1000.0 * plan.order + 1e6 * plan.band_len;
-    if (key[0] == delay_s && key[1] == term_key && key[2] == dk_scale)
+    if (key[0] == delay_s && key[1] == -1.0)
         return;
     key[0] = delay_s;
-    key[1] = term_key;
-    key[2] = dk_scale;
-    const int terms = plan.order + 1;
-    const int band = term / terms, p = term % terms;
-    const int m0 = band * plan.band_len;
-    const int len = std::min(plan.band_len, d_m - m0);
-    const double centre = m0 + 0.5 * (len - 1);
-    gr_complex* out = d_delay.data() + size_t(row) * d_m;
-    std::fill(out, out + d_m, gr_complex(0.0f, 0.0f));
-    std::complex<double> d = delay_phasor(static_cast<double>(m0), d_fs.delay_index(delay_s), d_m);
+    key[1] = -1.0;
+    key[2] = 0.0;
+    std::complex<double> d(1.0, 0.0);
     const std::complex<double> delay_step = delay_phasor(1.0, d_fs.delay_index(delay_s), d_m);
-    for (int m = m0; m < m0 + len; ++m, d *= delay_step)
-        out[m] = gr_complex(d * std::pow((m - centre) * dk / dk_scale, p));
+    for (int m = 0; m < d_m; ++m, d *= delay_step)
+        d_delay[size_t(row) * d_m + m] = gr_complex(d);
+}
+
+void frame_channel::fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk)
+{
+    // Row `row`: the path's delay phasor; row + 1 (when the plan has more than one term): each
+    // subcarrier's u = δk_m/δk_max ∈ [−1, 1] in its sub-band, twice (the Horner kernel's layout).
+    fill_delay_row(row, delay_s);
+    if (plan.terms() < 2)
+        return;
+    double* key = d_delay_key.data() + size_t(row + 1) * 3;
+    const double plan_key = 1000.0 * plan.order + 1e6 * plan.band_len;
+    if (key[0] == -2.0 && key[1] == plan_key && key[2] == dk_scale)
+        return;
+    key[0] = -2.0;
+    key[1] = plan_key;
+    key[2] = dk_scale;
+    auto* u2 = reinterpret_cast<float*>(d_delay.data() + size_t(row + 1) * d_m);
+    for (int band = 0; band < plan.sub_bands; ++band) {
+        const int m0 = band * plan.band_len;
+        const int len = std::min(plan.band_len, d_m - m0);
+        const double centre = m0 + 0.5 * (len - 1);
+        for (int m = m0; m < m0 + len; ++m)
+            u2[2 * m] = u2[2 * m + 1] = static_cast<float>((m - centre) * dk / dk_scale);
+    }
 }
 
 void frame_channel::row(int n, gr_complex* h) const
 {
-    detail::row_sum(h, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
+    const auto& sc = *d_scratch;
+    const gr_complex* slow = d_slow.data() + size_t(n) * d_l;
+    detail::row_sum(h, d_delay.data(), d_m, slow, sc.point_rows, d_m);
+    for (const auto& b : sc.blocks) {
+        // Σ_p δk_m^p G_p as a polynomial in u = δk_m/δk_max on each sub-band, times the delay.
+        const gr_complex* e = d_delay.data() + size_t(b.row) * d_m;
+        const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
+        const int terms = b.plan.order + 1;
+        for (int band = 0; band < b.plan.sub_bands; ++band) {
+            const int m0 = band * b.plan.band_len;
+            detail::add_horner(h, e, u2, slow + b.row + band * terms, b.plan.order, m0,
+                               std::min(m0 + b.plan.band_len, d_m));
+        }
+    }
 }
 
 void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
 {
-    // One pass: each subcarrier's H[n,m] summed over the paths in registers, times x.
-    detail::apply_row_sum(y, x, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
+    if (d_scratch->blocks.empty()) {
+        // One pass: each subcarrier's H[n,m] summed over the paths in registers, times x.
+        detail::apply_row_sum(y, x, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
+        return;
+    }
+    thread_local std::vector<gr_complex> h; // per thread: apply_row stays const and reentrant
+    h.resize(size_t(d_m));
+    row(n, h.data());
+    detail::multiply(y, x, h.data(), d_m);
 }
 
 void frame_channel::fill(gr_complex* grid) const

@@ -89,6 +89,31 @@ void row_sum_portable(float* y, const float* x, const float* d, int stride, cons
     }
 }
 
+// add_horner's portable loop from k: acc = c_P, acc = acc·u + c_p down to p = 0, h += e·acc.
+void add_horner_portable(float* h, const float* e, const float* u2, const gr_complex* c, int order, int k, int k1)
+{
+    for (; k < k1; ++k) {
+        const float u = order > 0 ? u2[2 * k] : 0.0f; // P = 0: no u to read
+        float ar = c[order].real(), ai = c[order].imag();
+        for (int p = order - 1; p >= 0; --p) {
+            ar = ar * u + c[p].real();
+            ai = ai * u + c[p].imag();
+        }
+        const float er = e[2 * k], ei = e[2 * k + 1];
+        h[2 * k] += er * ar - ei * ai;
+        h[2 * k + 1] += ei * ar + er * ai;
+    }
+}
+
+void multiply_portable(float* y, const float* x, const float* h, int k, int n)
+{
+    for (; k < n; ++k) {
+        const float xr = x[2 * k], xi = x[2 * k + 1], hr = h[2 * k], hi = h[2 * k + 1];
+        y[2 * k] = xr * hr - xi * hi;
+        y[2 * k + 1] = xi * hr + xr * hi;
+    }
+}
+
 #ifdef SEMS_KERNELS_AVX2
 // c·v for four complex v and a scalar c given as (cr, cr, ...) and (−ci, ci, ...):
 // (vr·cr + vi·(−ci), vi·cr + vr·ci), the portable loop's products and sums.
@@ -159,6 +184,58 @@ row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_comp
     }
     _mm256_zeroupper();
     row_sum_portable<TimesX>(y, x, d, stride, c, rows, k, n);
+}
+
+// V vectors of four subcarriers from k: V independent Horner chains, so the loop is bound by
+// throughput rather than by the latency of one chain's multiply-then-add.
+template <int V>
+__attribute__((target("avx2"), always_inline)) inline void
+horner_chunk(float* h, const float* e, const float* u2, const double* cd, int order, int k)
+{
+    __m256 acc[V];
+    const __m256 top = _mm256_castpd_ps(_mm256_broadcast_sd(cd + order));
+    for (int v = 0; v < V; ++v)
+        acc[v] = top;
+    for (int p = order - 1; p >= 0; --p) {
+        const __m256 c = _mm256_castpd_ps(_mm256_broadcast_sd(cd + p));
+        for (int v = 0; v < V; ++v)
+            acc[v] = _mm256_add_ps(_mm256_mul_ps(acc[v], _mm256_loadu_ps(u2 + 2 * (k + 4 * v))), c);
+    }
+    for (int v = 0; v < V; ++v) {
+        const int j = 2 * (k + 4 * v);
+        const __m256 t = product4(_mm256_loadu_ps(e + j), acc[v]);
+        _mm256_storeu_ps(h + j, _mm256_add_ps(_mm256_loadu_ps(h + j), t));
+    }
+}
+
+__attribute__((target("avx2"))) void
+add_horner_avx2(float* h, const float* e, const float* u2, const gr_complex* c, int order, int k0, int k1)
+{
+    const double* cd = reinterpret_cast<const double*>(c);
+    int k = k0;
+    if (order == 0) { // P = 0: h += e·c_0, no u to read
+        for (; k + 4 <= k1; k += 4) {
+            const int j = 2 * k;
+            const __m256 t = product4(_mm256_loadu_ps(e + j), _mm256_castpd_ps(_mm256_broadcast_sd(cd)));
+            _mm256_storeu_ps(h + j, _mm256_add_ps(_mm256_loadu_ps(h + j), t));
+        }
+    } else {
+        for (; k + 32 <= k1; k += 32)
+            horner_chunk<8>(h, e, u2, cd, order, k);
+        for (; k + 4 <= k1; k += 4)
+            horner_chunk<1>(h, e, u2, cd, order, k);
+    }
+    _mm256_zeroupper();
+    add_horner_portable(h, e, u2, c, order, k, k1);
+}
+
+__attribute__((target("avx2"))) void multiply_avx2(float* y, const float* x, const float* h, int n)
+{
+    int k = 0;
+    for (; k + 4 <= n; k += 4)
+        _mm256_storeu_ps(y + 2 * k, product4(_mm256_loadu_ps(x + 2 * k), _mm256_loadu_ps(h + 2 * k)));
+    _mm256_zeroupper();
+    multiply_portable(y, x, h, k, n);
 }
 #endif
 
@@ -262,6 +339,29 @@ void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c
     if (choice == kernel_choice::portable)
         return row_sum_portable<false>(hs, nullptr, ds, stride, c, n_rows, 0, n);
     row_sum_volk(h, nullptr, d, stride, c, n_rows, n);
+}
+
+void add_horner(gr_complex* h, const gr_complex* e, const float* u2, const gr_complex* c, int order, int k0, int k1)
+{
+    auto* hs = reinterpret_cast<float*>(h);
+    const auto* es = reinterpret_cast<const float*>(e);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return add_horner_avx2(hs, es, u2, c, order, k0, k1);
+#endif
+    add_horner_portable(hs, es, u2, c, order, k0, k1);
+}
+
+void multiply(gr_complex* y, const gr_complex* x, const gr_complex* h, int n)
+{
+    auto* ys = reinterpret_cast<float*>(y);
+    const auto* xs = reinterpret_cast<const float*>(x);
+    const auto* hs = reinterpret_cast<const float*>(h);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return multiply_avx2(ys, xs, hs, n);
+#endif
+    multiply_portable(ys, xs, hs, 0, n);
 }
 
 } // namespace detail

@@ -48,6 +48,16 @@ void apply_row_sum(gr_complex* y, const gr_complex* x, const gr_complex* d, int 
 /*! h[k] = Σ_l c[l] · d[l·stride + k]: apply_row_sum's row alone (the same bits). */
 void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c, int n_rows, int n);
 
+/*!
+ * h[k] += e[k] · Σ_{p ≤ order} u_k^p · c[p] for k0 ≤ k < k1, the polynomial by Horner's rule
+ * (u_k real, given twice: u2[2k] = u2[2k + 1] = u_k; not read when order = 0): one sub-band of a scatterer body's
+ * path in a row of the frequency-domain channel (e its delay phasor, c its terms at the symbol).
+ */
+void add_horner(gr_complex* h, const gr_complex* e, const float* u2, const gr_complex* c, int order, int k0, int k1);
+
+/*! y[k] = x[k] · h[k], k < n (y may alias x or h). */
+void multiply(gr_complex* y, const gr_complex* x, const gr_complex* h, int n);
+
 /*! Which versions run; for the tests (not thread-safe). */
 enum class kernel_choice {
     fastest,      ///< AVX2 when the CPU has it, else what a CPU without AVX2 runs (the default)

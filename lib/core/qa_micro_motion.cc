@@ -76,6 +76,7 @@ class qa_micro_motion : public CppUnit::TestFixture
     CPPUNIT_TEST(bad_micro_motion_is_refused);
     CPPUNIT_TEST(shipped_class_libraries);
     CPPUNIT_TEST(bad_class_libraries_are_refused);
+    CPPUNIT_TEST(walker_frame_equals_direct_sum);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -567,6 +568,53 @@ public:
                      "harmonics[0].rate_hz", "missing");
         assert_error(scene_with(R"({"model": "sinusoid", "rate_hz": 10, "amplitude_m": 0.1}, "micro_doppler": {"rate_hz": 1, "amplitude_m": 0.1})"),
                      "bad.json", "not both");
+    }
+
+    // A walker through the frame model (the expansion's order chosen per frame from the
+    // scatterers' own amplitudes and reaches) against the direct sum Σ_s a_s e^{-jκ_m r_s} of
+    // the same scatterers, on the paper's frame and on a 77 GHz, 1 GHz frame (sub-bands): per
+    // symbol equal up to the one phasor the target's Doppler and gain give, to float rounding.
+    void walker_frame_equals_direct_sum()
+    {
+        frame_settings wide;
+        wide.carrier_hz = 77e9;
+        wide.bandwidth_hz = 1e9;
+        wide.n_subcarriers = 256;
+        wide.n_symbols = 16;
+        wide.symbol_interval_s = 20e-6;
+        for (const frame_settings& fs : { frame_settings{}, wide }) {
+            const auto s = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 12, "speed_mps": 1.6,
+                "heading_rad": 0.4, "micro_motion": {"model": "walker", "height_m": 1.75, "phase_rad": 0.3}}]})");
+            channel_model cm(fs, s, 1);
+            const uint64_t frame = 37;
+            const auto r = cm.draw(frame);
+            std::vector<gr_complex> h(fs.grid_size());
+            cm.factors(r, frame * fs.n_symbols).fill(h.data());
+            const detail::body_model bm(r.bodies.at(0), fs);
+            detail::body_snapshot snap;
+            double worst = 0.0;
+            for (int n = 0; n < fs.n_symbols; ++n) {
+                bm.snapshot(double(frame * fs.n_symbols + n) * fs.symbol_interval_s, snap);
+                const gr_complex* got = h.data() + size_t(n) * fs.n_subcarriers;
+                std::vector<cd> want(fs.n_subcarriers);
+                cd num = 0.0; // the least-squares phasor c of got ≈ c·want
+                double den = 0.0;
+                for (int m = 0; m < fs.n_subcarriers; ++m) {
+                    const double kappa =
+                        4 * M_PI * (fs.carrier_hz + m * fs.subcarrier_spacing_hz()) / speed_of_light_mps;
+                    for (size_t i = 0; i < snap.point_r.size(); ++i)
+                        want[m] += snap.point_a[i] * std::exp(cd(0, -kappa * snap.point_r[i]));
+                    want[m] *= std::exp(cd(0, -2 * M_PI * m * fs.subcarrier_spacing_hz() * r.truth.delay_s));
+                    num += cd(got[m]) * std::conj(want[m]);
+                    den += std::norm(want[m]);
+                }
+                const cd c = num / den; // the symbol's Doppler phasor times the gain (1 here)
+                CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, std::abs(c), 1e-5);
+                for (int m = 0; m < fs.n_subcarriers; ++m)
+                    worst = std::max(worst, std::abs(cd(got[m]) - c * want[m]));
+            }
+            CPPUNIT_ASSERT_MESSAGE("worst error " + std::to_string(worst), worst < 2e-6);
+        }
     }
 };
 

@@ -8,6 +8,7 @@
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -131,6 +132,7 @@ class qa_walker_model : public CppUnit::TestFixture
     CPPUNIT_TEST(amplitudes_follow_the_ellipsoid_rcs);
     CPPUNIT_TEST(amplitudes_are_normalized_over_a_cycle);
     CPPUNIT_TEST(extremes_stay_finite_and_exact);
+    CPPUNIT_TEST(many_instants_equal_one_at_a_time);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -532,6 +534,27 @@ public:
         const auto late = at(w, 1e6), early = at(shifted, 0.0);
         for (int k = 0; k < n_segments; ++k)
             CPPUNIT_ASSERT_DOUBLES_EQUAL(early.r[k], late.r[k], 1e-7);
+    }
+
+    // The frame-at-a-time evaluation (the channel models' path) gives each instant's
+    // scatterers as the one-instant call does, across chunks (70 instants) and far times.
+    void many_instants_equal_one_at_a_time()
+    {
+        const walker_model w(params(1.7, 1.9, 0.4, 1.1, 0.2));
+        std::vector<double> t;
+        for (int n = 0; n < 70; ++n)
+            t.push_back(n < 35 ? 1e-3 * n : 1e6 + 0.0137 * n);
+        std::vector<double> r(n_segments * t.size()), a(n_segments * t.size());
+        w.scatterers(t.data(), static_cast<int>(t.size()), r.data(), a.data());
+        for (size_t n = 0; n < t.size(); ++n) {
+            const auto one = at(w, t[n]);
+            for (int k = 0; k < n_segments; ++k) {
+                CPPUNIT_ASSERT_DOUBLES_EQUAL(one.r[k], r[k * t.size() + n], 1e-12);
+                CPPUNIT_ASSERT_DOUBLES_EQUAL(one.a[k], a[k * t.size() + n], 1e-12 * one.a[k]);
+            }
+        }
+        const double bad = std::numeric_limits<double>::infinity();
+        assert_error([&] { w.scatterers(&bad, 1, r.data(), a.data()); }, "walker", "finite");
     }
 };
 

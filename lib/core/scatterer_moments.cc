@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: scatterer bodies as separable terms (see scatterer_moments.h for the equations). */
 #include "core/scatterer_moments.h"
+#include "core/vector_math.h"
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -72,21 +73,24 @@ std::pair<std::complex<double>, double> rotor_mean_moments(double x0, int blades
     return { mean / double(n), power / n };
 }
 
-void line_integrals(double z, int order, std::complex<double>* out)
+void line_integrals(double z, int order, std::complex<double>* out) { line_integrals(z, cis(-z), order, out); }
+
+void line_integrals(double z, std::complex<double> e, int order, std::complex<double>* out)
 {
     const double az = std::fabs(z);
     if (az >= std::max(2.0, double(order))) {
         // Upward: E_0 = (1 − e^{-jz})/(jz), E_p = (e^{-jz} − p E_{p−1})/(−jz). Each step scales
         // the previous error by p/|z| ≤ 1 here, so the recurrence is stable.
-        const std::complex<double> e = cis(-z);
         const std::complex<double> inv(0.0, 1.0 / z); // 1/(−jz)
         out[0] = (e - 1.0) * inv;
         for (int p = 1; p <= order; ++p)
             out[p] = (e - double(p) * out[p - 1]) * inv;
         return;
     }
-    // |z| < max(2, order) ≤ 14: E_p(z) = Σ_k c_k / (p+k+1), c_k = (−jz)^k / k!, the c_k shared by
-    // every p; terms until |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14).
+    // |z| < max(2, order) ≤ 14: E_P(z) = Σ_k c_k / (P+k+1), c_k = (−jz)^k / k!, terms until
+    // |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14); then downward,
+    // E_{p−1} = (e^{-jz} + jz E_p)/p, which scales the error by |z|/p: shrinking while p > |z|,
+    // and by at most |z|^|z|/⌊|z|⌋! ≤ e^{|z|} over the steps below, the series' own bound.
     std::complex<double> c[96];
     int n = 0;
     std::complex<double> term(1.0, 0.0);
@@ -97,38 +101,92 @@ void line_integrals(double z, int order, std::complex<double>* out)
             break;
         term *= mjz / double(n + 1);
     }
-    for (int p = 0; p <= order; ++p) {
-        std::complex<double> sum(0.0, 0.0);
-        for (int k = std::min(n, 95); k >= 0; --k) // smallest first
-            sum += c[k] / double(p + k + 1);
-        out[p] = sum;
+    static const auto inverse = [] { // 1/i: a product per term instead of a division
+        std::array<double, 96 + max_order + 1> inv{};
+        for (size_t i = 1; i < inv.size(); ++i)
+            inv[i] = 1.0 / double(i);
+        return inv;
+    }();
+    double re = 0.0, im = 0.0;
+    for (int k = std::min(n, 95); k >= 0; --k) { // smallest first
+        re += c[k].real() * inverse[order + k + 1];
+        im += c[k].imag() * inverse[order + k + 1];
     }
+    out[order] = { re, im };
+    const std::complex<double> jz(0.0, z);
+    for (int p = order; p >= 1; --p)
+        out[p - 1] = (e + jz * out[p]) * inverse[p];
 }
 
-expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
+namespace {
+
+// The smallest plan whose remainder bound Σ_i a_i (δk_max r_i)^{P+1}/(P+1)! is within the
+// tolerance, over scatterers reaching |r| ≤ r_i with amplitudes |a| ≤ a_i (reach[i] = {a_i, r_i}).
+expansion_plan plan_for(const frame_settings& fs, const std::vector<std::pair<double, double>>& reach)
 {
     expansion_plan plan;
     const int m = fs.n_subcarriers;
     const double dk_per_subcarrier = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    std::vector<double> term(reach.size());
     for (int s = 1; s <= m; ++s) {
         const int len = (m + s - 1) / s;
         // Within a sub-band of len subcarriers, |δk| ≤ (len − 1)/2 · dk.
-        const double x = 0.5 * (len - 1) * dk_per_subcarrier * extent_m;
-        double bound = amplitude_sum * x; // Σ|a| x^{P+1}/(P+1)! for P = 0
+        const double x = 0.5 * (len - 1) * dk_per_subcarrier;
+        double bound = 0.0; // Σ a_i (x r_i)^{P+1}/(P+1)! for P = 0
+        for (size_t i = 0; i < reach.size(); ++i) {
+            term[i] = reach[i].first * x * reach[i].second;
+            bound += term[i];
+        }
         int p = 0;
         while (bound > truncation_tolerance && p < max_order) {
             ++p;
-            bound *= x / double(p + 1);
+            bound = 0.0;
+            for (size_t i = 0; i < reach.size(); ++i) {
+                term[i] *= x * reach[i].second / double(p + 1);
+                bound += term[i];
+            }
         }
         if (bound <= truncation_tolerance) {
             plan.order = p;
-            plan.sub_bands = s;
             plan.band_len = len;
             plan.sub_bands = (m + len - 1) / len; // ceil(M/len) ≤ s bands of len
             return plan;
         }
     }
-    throw std::logic_error("plan_expansion: no plan for extent " + std::to_string(extent_m) + " m");
+    throw std::logic_error("plan_expansion: no plan for these scatterers");
+}
+
+} // namespace
+
+expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
+{
+    return plan_for(fs, { { amplitude_sum, extent_m } });
+}
+
+expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s)
+{
+    // Each scatterer's largest amplitude and reach over the snapshot's instants (a line: its
+    // farther end), so the bound is the model's own, at the scatterers this frame has.
+    const size_t count = size_t(s.count);
+    std::vector<std::pair<double, double>> reach;
+    for (size_t i = 0; i < s.point_r.size() / count; ++i) {
+        double a = 0.0, r = 0.0;
+        for (size_t n = 0; n < count; ++n) {
+            a = std::max(a, std::fabs(s.point_a[i * count + n]));
+            r = std::max(r, std::fabs(s.point_r[i * count + n]));
+        }
+        reach.emplace_back(a, r);
+    }
+    for (size_t i = 0; i < s.line_e.size() / count; ++i) {
+        double a = 0.0, r = 0.0;
+        for (size_t n = 0; n < count; ++n) {
+            const size_t k = i * count + n;
+            a = std::max(a, std::fabs(s.line_a[k]));
+            r = std::max({ r, std::fabs(s.line_r0[k]), std::fabs(s.line_r0[k] + s.line_e[k]) });
+        }
+        reach.emplace_back(a, r);
+    }
+    return plan_for(fs, reach);
 }
 
 body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(b)
@@ -148,6 +206,16 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
         d_body_a = std::sqrt(b);
         d_elem_a = (-std::sqrt(b) * m1 + std::sqrt(b * m1 * m1 + m2 * (1.0 - b))) / m2;
         d_amp_sum = d_body_a + n * d_elem_a;
+        for (int k = 0; k < r->rotors; ++k) {
+            const double f = r->rotation_hz.size() == 1 ? r->rotation_hz[0] : r->rotation_hz[k];
+            const double ph = r->phase_rad.size() == 1 ? r->phase_rad[0] : r->phase_rad[k];
+            auto same = std::find_if(d_rotor_groups.begin(), d_rotor_groups.end(),
+                                     [&](const rotor_group& g) { return g.rate_hz == f && g.phase_rad == ph; });
+            if (same == d_rotor_groups.end())
+                d_rotor_groups.push_back({ f, ph, 1 });
+            else
+                ++same->rotors;
+        }
     } else if (const auto* w = std::get_if<wheels_motion>(&b.motion)) {
         // Each rim point and each spoke has the same mean power; the wheels share 1 − body.
         const int points = w->wheels * w->rim_points, spokes = w->wheels * w->spokes;
@@ -198,18 +266,22 @@ void body_model::normalise_over_cycle(const frame_settings& fs, double period_s,
     // included — then every amplitude scaled to make it 1.
     const int n_f = 9;
     body_snapshot snap;
+    std::vector<double> times(n_t);
+    for (int i = 0; i < n_t; ++i)
+        times[i] = period_s * i / n_t;
+    snapshots(times.data(), n_t, snap);
+    const size_t points = snap.point_r.size() / n_t, lines = snap.line_e.size() / n_t;
     double power = 0.0;
     for (int i = 0; i < n_t; ++i) {
-        snapshot(period_s * i / n_t, snap);
         for (int f = 0; f < n_f; ++f) {
             const double m = (fs.n_subcarriers - 1) * double(f) / (n_f - 1);
             const double kappa = 4.0 * M_PI * (fs.carrier_hz + m * fs.subcarrier_spacing_hz()) / speed_of_light_mps;
             std::complex<double> sum(0.0, 0.0);
-            for (size_t k = 0; k < snap.point_r.size(); ++k)
-                sum += snap.point_a[k] * cis(-kappa * snap.point_r[k]);
-            for (size_t k = 0; k < snap.line_e.size(); ++k) {
-                const double x = 0.5 * kappa * snap.line_e[k];
-                sum += snap.line_a[k] * sinc(x) * cis(-x - kappa * snap.line_r0[k]);
+            for (size_t k = 0; k < points; ++k)
+                sum += snap.point_a[k * n_t + i] * cis(-kappa * snap.point_r[k * n_t + i]);
+            for (size_t k = 0; k < lines; ++k) {
+                const double x = 0.5 * kappa * snap.line_e[k * n_t + i];
+                sum += snap.line_a[k * n_t + i] * sinc(x) * cis(-x - kappa * snap.line_r0[k * n_t + i]);
             }
             power += std::norm(sum);
         }
@@ -219,55 +291,79 @@ void body_model::normalise_over_cycle(const frame_settings& fs, double period_s,
         d_scale = 1.0 / std::sqrt(power);
 }
 
-void body_model::snapshot(double t, body_snapshot& out) const
+namespace {
+
+// out[n] = value for n < count, appended.
+void append_constant(std::vector<double>& out, double value, int count) { out.insert(out.end(), size_t(count), value); }
+
+// s.sn[n] = sin(s.arg[n]), s.cs[n] = cos(s.arg[n]) for n < count.
+void sincos_args(body_snapshot& s, int count) { sincos_batch(s.arg.data(), s.sn.data(), s.cs.data(), size_t(count)); }
+
+} // namespace
+
+void body_model::snapshots(const double* t, int count, body_snapshot& out) const
 {
     out.clear();
+    out.count = count;
+    const size_t c = size_t(count);
+    for (auto* v : { &out.arg, &out.sn, &out.cs, &out.x, &out.y })
+        if (v->size() < c)
+            v->resize(c);
     if (const auto* r = std::get_if<rotor_motion>(&d_b.motion)) {
-        out.point_r.push_back(0.0);
-        out.point_a.push_back(d_body_a);
+        append_constant(out.point_r, 0.0, count);
+        append_constant(out.point_a, d_body_a, count);
+        // Rotors that turn alike sit on the same hub (the body's reference point): one set of
+        // blades with their summed amplitude, the same return.
         const double reach = r->blade_length_m * std::cos(r->elevation_rad);
-        for (int k = 0; k < r->rotors; ++k) {
-            const double f = r->rotation_hz.size() == 1 ? r->rotation_hz[0] : r->rotation_hz[k];
-            const double ph = r->phase_rad.size() == 1 ? r->phase_rad[0] : r->phase_rad[k];
-            const double turns = f * t;
-            const double angle = two_pi * (turns - std::floor(turns)) + ph;
+        for (const auto& g : d_rotor_groups)
             for (int b = 0; b < r->blades; ++b) {
-                out.line_r0.push_back(0.0);
-                out.line_e.push_back(reach * std::cos(angle + two_pi * b / r->blades));
-                out.line_a.push_back(d_elem_a);
+                turning_angles(t, g.rate_hz, g.phase_rad, two_pi * b / r->blades, out.arg.data(), c);
+                sincos_args(out, count);
+                append_constant(out.line_r0, 0.0, count);
+                for (int n = 0; n < count; ++n)
+                    out.line_e.push_back(reach * out.cs[n]);
+                append_constant(out.line_a, d_elem_a * g.rotors, count);
             }
-        }
     } else if (const auto* w = std::get_if<wheels_motion>(&d_b.motion)) {
-        out.point_r.push_back(0.0);
-        out.point_a.push_back(d_body_a);
+        append_constant(out.point_r, 0.0, count);
+        append_constant(out.point_a, d_body_a, count);
         const double c = std::cos(d_b.heading_rad);
         for (int k = 0; k < w->wheels; ++k) {
             const double hub = wheel_hub_displacement(*w, k, d_b.heading_rad);
-            const double angle = wheel_angle(*w, d_b.speed_mps, t, k);
             for (int i = 0; i < w->rim_points; ++i) {
-                out.point_r.push_back(hub - w->wheel_radius_m * c * std::sin(angle + two_pi * i / w->rim_points));
-                out.point_a.push_back(d_elem_a);
+                for (int n = 0; n < count; ++n)
+                    out.arg[n] = wheel_angle(*w, d_b.speed_mps, t[n], k) + two_pi * i / w->rim_points;
+                sincos_args(out, count);
+                for (int n = 0; n < count; ++n)
+                    out.point_r.push_back(hub - w->wheel_radius_m * c * out.sn[n]);
+                append_constant(out.point_a, d_elem_a, count);
             }
             for (int i = 0; i < w->spokes; ++i) {
-                out.line_r0.push_back(hub);
-                out.line_e.push_back(-w->wheel_radius_m * c * std::sin(angle + two_pi * i / w->spokes));
-                out.line_a.push_back(d_spoke_a);
+                for (int n = 0; n < count; ++n)
+                    out.arg[n] = wheel_angle(*w, d_b.speed_mps, t[n], k) + two_pi * i / w->spokes;
+                sincos_args(out, count);
+                append_constant(out.line_r0, hub, count);
+                for (int n = 0; n < count; ++n)
+                    out.line_e.push_back(-w->wheel_radius_m * c * out.sn[n]);
+                append_constant(out.line_a, d_spoke_a, count);
             }
         }
     } else if (const auto* s = std::get_if<scatterers_motion>(&d_b.motion)) {
+        out.point_r.assign(s->scatterers.size() * c, 0.0);
         for (size_t i = 0; i < s->scatterers.size(); ++i) {
-            double r = 0.0;
+            double* r = out.point_r.data() + i * c;
             for (const auto& h : s->scatterers[i].harmonics) {
-                const double turns = h.rate_hz * t;
-                r -= h.amplitude_m * std::sin(two_pi * (turns - std::floor(turns)) + h.phase_rad);
+                turning_angles(t, h.rate_hz, h.phase_rad, 0.0, out.arg.data(), c);
+                sincos_args(out, count);
+                for (int n = 0; n < count; ++n)
+                    r[n] -= h.amplitude_m * out.sn[n];
             }
-            out.point_r.push_back(r);
-            out.point_a.push_back(d_point_a[i]);
+            append_constant(out.point_a, d_point_a[i], count);
         }
     } else {
-        out.point_r.resize(walker::n_segments);
-        out.point_a.resize(walker::n_segments);
-        d_walker->scatterers(t, out.point_r.data(), out.point_a.data());
+        out.point_r.resize(size_t(walker::n_segments) * c);
+        out.point_a.resize(size_t(walker::n_segments) * c);
+        d_walker->scatterers(t, count, out.point_r.data(), out.point_a.data());
     }
     if (d_scale != 1.0) {
         for (auto& a : out.point_a)
@@ -297,74 +393,86 @@ double term_factor(const frame_settings& fs, const expansion_plan& plan, int ter
 void body_terms(const body_model& model,
                 const expansion_plan& plan,
                 const frame_settings& fs,
-                double t_s,
+                const double* t_s,
+                int count,
                 body_snapshot& snap,
                 std::complex<double>* out)
 {
-    model.snapshot(t_s, snap);
+    model.snapshots(t_s, count, snap);
+    snapshot_terms(snap, plan, fs, out);
+}
+
+void snapshot_terms(body_snapshot& snap, const expansion_plan& plan, const frame_settings& fs, std::complex<double>* out)
+{
+    const int count = snap.count;
     const int terms = plan.order + 1;
+    const size_t stride = size_t(plan.terms());
     const double scale_step = band_scale(fs, plan);
     for (int band = 0; band < plan.sub_bands; ++band) {
         const int m0 = band * plan.band_len;
         const int len = std::min(plan.band_len, fs.n_subcarriers - m0);
         const double f_ref = fs.carrier_hz + (m0 + 0.5 * (len - 1)) * fs.subcarrier_spacing_hz();
-        std::complex<double>* g = out + size_t(band) * terms;
-        moments(snap, 4.0 * M_PI * f_ref / speed_of_light_mps, plan.order, g);
+        moments(snap, 4.0 * M_PI * f_ref / speed_of_light_mps, plan.order);
         double scale = 1.0;
-        for (int p = 0; p < terms; ++p, scale *= scale_step)
-            g[p] *= scale;
+        for (int p = 0; p < terms; ++p, scale *= scale_step) {
+            const double* re = snap.re.data() + size_t(p) * count;
+            const double* im = snap.im.data() + size_t(p) * count;
+            std::complex<double>* g = out + size_t(band) * terms + p;
+            for (int n = 0; n < count; ++n)
+                g[n * stride] = { re[n] * scale, im[n] * scale };
+        }
     }
 }
 
-void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out)
+void moments(body_snapshot& s, double kappa_ref, int order)
 {
-    static const auto inverse = [] {
-        std::array<double, max_order + 2> inv{};
-        for (size_t i = 1; i < inv.size(); ++i)
-            inv[i] = 1.0 / double(i);
-        return inv;
-    }();
-    double re[max_order + 1] = {}, im[max_order + 1] = {};
-    for (size_t i = 0; i < s.point_r.size(); ++i) {
-        // a e^{-jκr} (−jr)^p / p!, by recurrence over p: (x + jy)(−jr)/(p+1) = (y r − j x r)/(p+1)
-        const double r = s.point_r[i], a = s.point_a[i];
-        double x = a * std::cos(kappa_ref * r), y = -a * std::sin(kappa_ref * r);
-        for (int p = 0; p <= order; ++p) {
-            re[p] += x;
-            im[p] += y;
-            const double f = r * inverse[p + 1];
-            const double nx = y * f;
-            y = -x * f;
-            x = nx;
-        }
+    const size_t count = size_t(s.count);
+    s.re.assign(size_t(order + 1) * count, 0.0);
+    s.im.assign(size_t(order + 1) * count, 0.0);
+    const size_t points = s.point_r.size() / count, lines = s.line_e.size() / count;
+    for (size_t i = 0; i < points; ++i) {
+        const double* r = s.point_r.data() + i * count;
+        for (size_t n = 0; n < count; ++n)
+            s.arg[n] = kappa_ref * r[n];
+        sincos_batch(s.arg.data(), s.sn.data(), s.cs.data(), count);
+        add_point_moments(r, s.point_a.data() + i * count, s.cs.data(), s.sn.data(), count, order, s.re.data(),
+                          s.im.data(), s.x.data(), s.y.data());
     }
-    for (int p = 0; p <= order; ++p)
-        out[p] = { re[p], im[p] };
     std::complex<double> e[max_order + 1], line[max_order + 1], shift[max_order + 1];
-    for (size_t i = 0; i < s.line_e.size(); ++i) {
-        // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e); from r0: e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
-        const double ext = s.line_e[i], r0 = s.line_r0[i];
-        line_integrals(kappa_ref * ext, order, e);
-        std::complex<double> c = s.line_a[i];
-        const std::complex<double> step(0.0, -ext);
-        for (int p = 0; p <= order; ++p) {
-            line[p] = c * e[p];
-            c *= step / double(p + 1);
+    for (size_t i = 0; i < lines; ++i) {
+        for (size_t n = 0; n < count; ++n)
+            s.arg[n] = kappa_ref * s.line_e[i * count + n];
+        sincos_batch(s.arg.data(), s.sn.data(), s.cs.data(), count);
+        for (size_t n = 0; n < count; ++n) {
+            // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e); from r0: e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
+            const size_t k = i * count + n;
+            const double ext = s.line_e[k], r0 = s.line_r0[k];
+            line_integrals(s.arg[n], { s.cs[n], -s.sn[n] }, order, e);
+            std::complex<double> c = s.line_a[k];
+            const std::complex<double> step(0.0, -ext);
+            for (int p = 0; p <= order; ++p) {
+                line[p] = c * e[p];
+                c *= step / double(p + 1);
+            }
+            if (r0 != 0.0) {
+                std::complex<double> sh = cis(-kappa_ref * r0);
+                const std::complex<double> shift_step(0.0, -r0);
+                for (int p = 0; p <= order; ++p) {
+                    shift[p] = sh;
+                    sh *= shift_step / double(p + 1);
+                }
+                for (int q = order; q >= 0; --q) { // line[q] = Σ_{p ≤ q} shift[p]·line[q − p], in place
+                    std::complex<double> sum(0.0, 0.0);
+                    for (int p = 0; p <= q; ++p)
+                        sum += shift[p] * line[q - p];
+                    line[q] = sum;
+                }
+            }
+            for (int p = 0; p <= order; ++p) {
+                s.re[size_t(p) * count + n] += line[p].real();
+                s.im[size_t(p) * count + n] += line[p].imag();
+            }
         }
-        if (r0 == 0.0) {
-            for (int p = 0; p <= order; ++p)
-                out[p] += line[p];
-            continue;
-        }
-        std::complex<double> sh = cis(-kappa_ref * r0);
-        const std::complex<double> shift_step(0.0, -r0);
-        for (int p = 0; p <= order; ++p) {
-            shift[p] = sh;
-            sh *= shift_step / double(p + 1);
-        }
-        for (int n = 0; n <= order; ++n)
-            for (int p = 0; p <= n; ++p)
-                out[n] += shift[p] * line[n - p];
     }
 }
 

@@ -12,12 +12,13 @@
  *
  *     exp(-j κ_m r) = Σ_p δk_m^p · G_p,   G_p = exp(-j κ_ref r) (−j r)^p / p!
  *
- * so the target's return is Σ_p δk_m^p · G_p(t): P+1 slow-time series times P+1 fixed
- * subcarrier rows, the separable form the frequency-domain model already sums. The
- * series is cut where its remainder, at most Σ|a| (δk_max r_max)^{P+1}/(P+1)!, is below
- * truncation_tolerance (relative to a unit-power target: below single precision, so the
- * result is exact to float rounding); a band too wide for P ≤ max_order is split into
- * sub-bands with their own κ_ref.
+ * so the target's return is Σ_p δk_m^p · G_p(t): P+1 slow-time series, and per symbol one
+ * polynomial in δk_m over the subcarriers (the frequency-domain model evaluates it by Horner's
+ * rule, the time-domain one sums it as P+1 rows). The series is cut where its remainder, at
+ * most Σ_s |a_s| (δk_max r_s)^{P+1}/(P+1)! (each scatterer's largest amplitude and reach, or
+ * the body's bounds Σ|a| and r_max), is below truncation_tolerance (relative to a unit-power
+ * target: below single precision, so the result is exact to float rounding); a band too wide
+ * for P ≤ max_order is split into sub-bands with their own κ_ref.
  */
 #ifndef INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
 #define INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
@@ -48,10 +49,15 @@ struct expansion_plan {
 /* The plan for a body whose scatterers reach |r| ≤ extent_m with Σ|a| ≤ amplitude_sum. */
 expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum);
 
-/* The scatterers of one body at one instant. */
+/* The scatterers of one body at `count` instants t_0 .. t_{count−1}: scatterer i at instant n
+ * is element i·count + n of each list (count = 1: one instant, one element per scatterer).
+ * The rest is working memory of body_terms. */
 struct body_snapshot {
+    int count = 1;
     std::vector<double> point_r, point_a; // points: displacement, amplitude
     std::vector<double> line_r0, line_e, line_a; // lines from r0 to r0 + e: start, extent, amplitude
+    std::vector<double> arg, sn, cs, x, y; // count values each: phases, their sines and cosines, scratch
+    std::vector<double> re, im;            // moments: (order + 1) x count
     void clear()
     {
         point_r.clear();
@@ -71,7 +77,8 @@ class body_model
 {
 public:
     explicit body_model(const scatterer_body& b, const frame_settings& fs);
-    void snapshot(double t_s, body_snapshot& out) const;
+    void snapshot(double t_s, body_snapshot& out) const { snapshots(&t_s, 1, out); }
+    void snapshots(const double* t_s, int count, body_snapshot& out) const;
     double extent_m() const { return d_extent; }
     double amplitude_sum() const { return d_amp_sum; }
     const scatterer_body& body() const { return d_b; }
@@ -85,6 +92,11 @@ private:
     double d_body_a = 0.0;  // the body's own point at r = 0
     double d_elem_a = 0.0;  // rotor blades / rim points: each one's amplitude
     double d_spoke_a = 0.0; // spokes
+    struct rotor_group {    // rotors turning alike (rate, phase) coincide: one set of blades
+        double rate_hz, phase_rad;
+        int rotors;
+    };
+    std::vector<rotor_group> d_rotor_groups;
     std::vector<double> d_point_a; // scatterers: each one's amplitude
 };
 
@@ -94,14 +106,35 @@ double band_scale(const frame_settings& fs, const expansion_plan& plan);
 /* Term k = band·(P+1) + p of a plan on subcarrier m: (δk_m/δk_max)^p inside the band, 0 outside. */
 double term_factor(const frame_settings& fs, const expansion_plan& plan, int term, int m);
 
-/* Every term of a body at time t_s: out[band·(P+1) + p] = G_p(t_s)·δk_max^p at the band's
- * reference wavenumber (plan.terms() values; snap is scratch). */
+/* Every term of a body at `count` instants t_s[0..count−1]:
+ * out[n·plan.terms() + band·(P+1) + p] = G_p(t_s[n])·δk_max^p at the band's reference
+ * wavenumber (snap is scratch). */
 void body_terms(const body_model& model,
                 const expansion_plan& plan,
                 const frame_settings& fs,
-                double t_s,
+                const double* t_s,
+                int count,
                 body_snapshot& snap,
                 std::complex<double>* out);
+
+/* The same at one instant: out[band·(P+1) + p] (plan.terms() values). */
+inline void body_terms(const body_model& model,
+                       const expansion_plan& plan,
+                       const frame_settings& fs,
+                       double t_s,
+                       body_snapshot& snap,
+                       std::complex<double>* out)
+{
+    body_terms(model, plan, fs, &t_s, 1, snap, out);
+}
+
+/* The plan for the scatterers of a snapshot: the same bound with each scatterer's own largest
+ * amplitude a_s and reach r_s over the snapshot's instants, Σ_s a_s (δk_max r_s)^{P+1}/(P+1)!
+ * (a line's reach: its farther end). */
+expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s);
+
+/* body_terms of a snapshot already taken (its instants, its scatterers). */
+void snapshot_terms(body_snapshot& snap, const expansion_plan& plan, const frame_settings& fs, std::complex<double>* out);
 
 /* Whether two bodies move alike (same model, parameters, speed and heading): a body_model set
  * up for one serves the other. */
@@ -110,11 +143,15 @@ inline bool same_body(const scatterer_body& a, const scatterer_body& b)
     return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
 }
 
-/* G_p for p = 0..P of one snapshot at reference wavenumber kappa_ref: out[p]. */
-void moments(const body_snapshot& s, double kappa_ref, int order, std::complex<double>* out);
+/* G_p for p = 0..P of a snapshot's instants at reference wavenumber kappa_ref, in the
+ * snapshot's s.re, s.im: G_p(t_n) = s.re[p·count + n] + j s.im[p·count + n]. */
+void moments(body_snapshot& s, double kappa_ref, int order);
 
 /* E_p(z) = ∫_0^1 s^p exp(-j z s) ds for p = 0..order (a line's moments): out[p]. */
 void line_integrals(double z, int order, std::complex<double>* out);
+
+/* The same given e = exp(-j z). */
+void line_integrals(double z, std::complex<double> e, int order, std::complex<double>* out);
 
 /* One rotor of `blades` unit-amplitude blades, x0 = κ(L/2)cos β: the mean over its angle of its
  * return B and of |B|² (the rotor model's power normalisation). */

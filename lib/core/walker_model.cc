@@ -7,6 +7,7 @@
  * strike; the left side runs half a cycle later. docs/reference/walker.md lists them.
  */
 #include <gnuradio/sems/core/walker_model.h>
+#include "core/vector_math.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -89,8 +90,6 @@ inline vec3 mid(const vec3& a, const vec3& b)
     return { 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]) };
 }
 inline double dot(const vec3& a, const vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-// A limb of length l at angle q from straight down, swung forward (q > 0: towards +x).
-inline vec3 limb(double l, double q) { return { l * std::sin(q), 0.0, -l * std::cos(q) }; }
 
 } // namespace
 
@@ -352,20 +351,52 @@ gait_trajectories walker_model::trajectories(double u) const
     return t;
 }
 
+void walker_model::joint_angles(const gait_state& g, double* a)
+{
+    // The angles whose sines and cosines place the segments (pose_from reads them in this order).
+    a[0] = g.rot_tor;
+    a[1] = g.rot_lr;
+    a[2] = g.thorax;
+    a[3] = g.rot_fb;
+    for (int side = 0; side < 2; ++side) {
+        const double q_thigh = g.hip[side];
+        const double q_shank = q_thigh - g.knee[side];
+        a[4 + side] = q_thigh;
+        a[6 + side] = q_shank;
+        a[8 + side] = q_shank + g.ankle[side];                 // the foot
+        a[10 + side] = g.shoulder[side];                        // the upper arm
+        a[12 + side] = g.shoulder[side] + g.elbow[side];        // the lower arm
+    }
+}
+
 void walker_model::cycle_pose(double u, body_pose& pose) const
+{
+    const gait_state g = state(u);
+    double a[n_joint_angles], sn[n_joint_angles], cs[n_joint_angles];
+    joint_angles(g, a);
+    for (int j = 0; j < n_joint_angles; ++j) {
+        sn[j] = std::sin(a[j]);
+        cs[j] = std::cos(a[j]);
+    }
+    pose_from(g, sn, cs, 1, pose);
+}
+
+void walker_model::pose_from(const gait_state& g, const double* sn, const double* cs, int stride, body_pose& pose) const
 {
     namespace pr = proportion;
     const double h = d_height;
-    const gait_state g = state(u);
     const vec3& trans = g.trans;
-    const double rot_tor = g.rot_tor, rot_lr = g.rot_lr, rot_fb = g.rot_fb, thorax = g.thorax;
+    auto sin_of = [&](int j) { return sn[j * stride]; };
+    auto cos_of = [&](int j) { return cs[j * stride]; };
+    // A limb of length 1 at joint angle j from straight down, swung forward (towards +x).
+    auto limb_of = [&](int j) { return vec3{ sin_of(j), 0.0, -cos_of(j) }; };
 
     // Lower body: P = Rz(−torsion)·Rx(list); upper body: U = Rz(−thorax)·Ry(−forward/backward).
-    const double ct = std::cos(rot_tor), st = std::sin(rot_tor);
-    const double cl = std::cos(rot_lr), sl = std::sin(rot_lr);
+    const double ct = cos_of(0), st = sin_of(0);
+    const double cl = cos_of(1), sl = sin_of(1);
     const mat3 P = { { { ct, st * cl, -st * sl }, { -st, ct * cl, -ct * sl }, { 0.0, sl, cl } } };
-    const double ch = std::cos(thorax), sh = std::sin(thorax);
-    const double cf = std::cos(rot_fb), sf = std::sin(rot_fb);
+    const double ch = cos_of(2), sh = sin_of(2);
+    const double cf = cos_of(3), sf = sin_of(3);
     const mat3 U = { { { ch * cf, sh, -ch * sf }, { -sh * cf, ch, sh * sf }, { sf, 0.0, cf } } };
 
     auto& cen = pose.centre;
@@ -378,14 +409,11 @@ void walker_model::cycle_pose(double u, body_pose& pose) const
     const double foot_len = std::hypot(lf, la);
     for (int side = 0; side < 2; ++side) { // 0 left, 1 right
         const double sy = side == 0 ? 1.0 : -1.0;
-        const double q_thigh = g.hip[side];
-        const double q_shank = q_thigh - g.knee[side];
-        const double q_foot = q_shank + g.ankle[side];
         const vec3 hip = { 0.0, sy * pr::hip_half_width * h, 0.0 };
-        const vec3 thigh = limb(1.0, q_thigh), shank = limb(1.0, q_shank);
+        const vec3 thigh = limb_of(4 + side), shank = limb_of(6 + side);
         const vec3 knee = { hip[0] + lu * thigh[0], hip[1], lu * thigh[2] };
         const vec3 ankle = { knee[0] + ll * shank[0], hip[1], knee[2] + ll * shank[2] };
-        const double cq = std::cos(q_foot), sq = std::sin(q_foot);
+        const double cq = cos_of(8 + side), sq = sin_of(8 + side);
         const vec3 foot = { (lf * cq + la * sq) / foot_len, 0.0, (lf * sq - la * cq) / foot_len };
         const vec3 toe = { ankle[0] + foot_len * foot[0], hip[1], ankle[2] + foot_len * foot[2] };
         const vec3 hip_r = mul(P, hip), knee_r = mul(P, knee), ankle_r = mul(P, ankle),
@@ -404,10 +432,8 @@ void walker_model::cycle_pose(double u, body_pose& pose) const
     const double lt = pr::torso * h, lua = pr::upper_arm * h, lla = pr::lower_arm * h;
     for (int side = 0; side < 2; ++side) {
         const double sy = side == 0 ? 1.0 : -1.0;
-        const double q_upper = g.shoulder[side];
-        const double q_lower = q_upper + g.elbow[side];
         const vec3 shoulder = { 0.0, sy * pr::shoulder_half_width * h, lt };
-        const vec3 upper = limb(1.0, q_upper), lower = limb(1.0, q_lower);
+        const vec3 upper = limb_of(10 + side), lower = limb_of(12 + side);
         const vec3 elbow = { lua * upper[0], shoulder[1], lt + lua * upper[2] };
         const vec3 hand = { elbow[0] + lla * lower[0], shoulder[1], elbow[2] + lla * lower[2] };
         const vec3 shoulder_r = mul(U, shoulder), elbow_r = mul(U, elbow), hand_r = mul(U, hand);
@@ -441,6 +467,39 @@ void walker_model::pose(double t_s, body_pose& pose) const
     if (!std::isfinite(t_s))
         throw std::invalid_argument("walker: time t_s must be finite, got " + num(t_s));
     cycle_pose(frac(t_s * d_inv_cycle + d_phase_cycles), pose);
+}
+
+void walker_model::scatterers(const double* t_s, int count, double* r_m, double* amplitude) const
+{
+    // A chunk of instants at a time: their gait states, then the sines and cosines of all their
+    // joint angles in one vectorised pass, then the poses.
+    constexpr int chunk = 32;
+    gait_state g[chunk];
+    double a[n_joint_angles * chunk], sn[n_joint_angles * chunk], cs[n_joint_angles * chunk];
+    double j_a[n_joint_angles];
+    body_pose bp;
+    double r[n_segments], amp[n_segments];
+    for (int n0 = 0; n0 < count; n0 += chunk) {
+        const int len = std::min(chunk, count - n0);
+        for (int i = 0; i < len; ++i) {
+            const double t = t_s[n0 + i];
+            if (!std::isfinite(t))
+                throw std::invalid_argument("walker: time t_s must be finite, got " + num(t));
+            g[i] = state(frac(t * d_inv_cycle + d_phase_cycles));
+            joint_angles(g[i], j_a);
+            for (int j = 0; j < n_joint_angles; ++j)
+                a[j * len + i] = j_a[j];
+        }
+        detail::sincos_batch(a, sn, cs, size_t(n_joint_angles) * len);
+        for (int i = 0; i < len; ++i) {
+            pose_from(g[i], sn + i, cs + i, len, bp);
+            scatter(bp, r, amp);
+            for (int s = 0; s < n_segments; ++s) {
+                r_m[size_t(s) * count + n0 + i] = r[s];
+                amplitude[size_t(s) * count + n0 + i] = amp[s] * d_scale;
+            }
+        }
+    }
 }
 
 void walker_model::scatterers(double t_s, double* r_m, double* amplitude) const

@@ -145,12 +145,13 @@ public:
 
 private:
     void update(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
-    void fill_body_delay_row(int row, double delay_s, const detail::expansion_plan& plan, int term, double dk_scale, double dk);
+    void fill_delay_row(int row, double delay_s);
+    void fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk);
     struct scratch; // scatterer bodies' plans and moments (lib/core/channel_model.cc)
     frame_settings d_fs;
     int d_n, d_m, d_l;
     std::vector<gr_complex> d_slow;  // N x L (a symbol's terms side by side), gain included
-    std::vector<gr_complex> d_delay; // L x M
+    std::vector<gr_complex> d_delay; // L x M (a scatterer body's path: its delay phasor and δk/δk_max)
     std::vector<double> d_delay_key; // per row: the delay (and term) its delay row was computed for
     std::unique_ptr<scratch> d_scratch;
 };
