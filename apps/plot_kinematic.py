@@ -5,7 +5,8 @@
     plot_kinematic.py RESULTS [--out DIR] [--tables FILE]
 
 Reads RESULTS/exp7_kinematic.csv (with bound_exp7_kinematic.csv beside it when present: the
-Monte-Carlo Bayes classifier), exp7_confusion.csv and exp7_pilot_budget.csv; writes
+Monte-Carlo Bayes classifier), exp7_confusion.csv, exp7_pilot_budget.csv and
+exp7_pilot_power.csv (SemS with learned pilot energies); writes
 exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
 and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
 exp7_pilot_budget.png (accuracy against N_p), and with --tables the markdown tables.
@@ -22,6 +23,9 @@ import plot_results as pr  # noqa: E402  (one set of styles, statistics and tabl
 
 plt = pr.plt
 np = pr.np
+
+
+ENERGIES = "SemS (learned energies)"
 
 
 def save(fig, out, name):
@@ -148,6 +152,14 @@ def tables(rows, conf, budget):
             out += ["#### %g dB" % snr, "", pr.pivot(rs, "method", "accuracy"), ""]
         out += ["### Experiment 7: the learned mask against the best hand pattern by pilot budget", ""]
         out += budget_claim(budget)
+        energies = [r for r in budget if r["method"] == ENERGIES]
+        if energies:
+            out += ["### Experiment 7: learned pilot energies against equal energies (the same learner)", ""]
+            for n in sorted({int(pr.fnum(r["n_pilots"])) for r in energies}):
+                claim = pr.learned_vs_hand([r for r in budget if int(pr.fnum(r["n_pilots"])) == n], "kinematic",
+                                           learned=ENERGIES, rivals={"SemS"})
+                if claim:
+                    out += ["#### N_p = %d" % n, "", claim, ""]
     return "\n".join(out)
 
 
@@ -162,8 +174,10 @@ def main(argv):
         print("plot_kinematic: no exp7_kinematic.csv in %s" % a.results, file=sys.stderr)
         return 1
     conf = pr.read_csv(os.path.join(a.results, "exp7_confusion.csv")) or []
-    budget = pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []
+    power = pr.read_csv(os.path.join(a.results, "exp7_pilot_power.csv")) or []
+    budget = (pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []) + power
     budget = budget_rows(rows, budget) if budget else []
+    rows += [r for r in power if int(pr.fnum(r["n_pilots"])) == 32]  # beside every method at 32 pilots
     out = a.out or a.results
     os.makedirs(out, exist_ok=True)
     made = [accuracy_figure(rows, out)]

@@ -492,9 +492,10 @@ def pivot(rows, row_key, value, fmt="%.3f"):
     return "\n".join(lines)
 
 
-def learned_vs_hand(rows, scenario):
+def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
     """Markdown: the learned mask (SemS) against the best hand pattern with the same decoder,
-    per SNR: means over training seeds and whether SemS >= best - 2 standard errors.
+    per SNR: means over training seeds and whether SemS >= best - 2 standard errors. With
+    `learned` and `rivals` (method names), another method against the best of those.
 
     The standard error of a method's mean is the seeds' standard deviation over sqrt(seeds),
     floored by the binomial error of that mean on the method's own test frames
@@ -502,8 +503,9 @@ def learned_vs_hand(rows, scenario):
     frames, do not count); the difference's error adds the two in quadrature (the test frames
     are the same, so this is conservative)."""
     rs = [r for r in rows if r["scenario"] == scenario]
-    hands = sorted({r["method"] for r in rs if r["method"].startswith("SemS decoder (")})
-    if not hands or not any(r["method"] == "SemS" for r in rs):
+    hands = sorted({r["method"] for r in rs if r["method"].startswith("SemS decoder (")} if rivals is None
+                   else {r["method"] for r in rs if r["method"] in rivals})
+    if not hands or not any(r["method"] == learned for r in rs):
         return None
 
     def stats(method, snr):
@@ -517,17 +519,21 @@ def learned_vs_hand(rows, scenario):
         se = max(sd / math.sqrt(n), math.sqrt(max(m * (1 - m), 1e-12) / (frames * n)))
         return m, se, n
 
-    lines = ["| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | SemS ≥ best − 2 SE |",
-             "|---|---|---|---|---|"]
+    head = ("| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | SemS ≥ best − 2 SE |"
+            if rivals is None else
+            "| SNR (dB) | %s | best of %s | difference ± 2 SE | ≥ best − 2 SE |" % (learned, ", ".join(sorted(rivals))))
+    lines = [head, "|---|---|---|---|---|"]
     for snr in sorted({fnum(r["snr_db"]) for r in rs}):
-        sems = stats("SemS", snr)
+        sems = stats(learned, snr)
         measured = [(h,) + stats(h, snr) for h in hands if stats(h, snr)]
         if sems is None or not measured:  # a point only other rows have (e.g. a bound's)
             continue
         best = max(measured, key=lambda t: t[1])
         diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
         lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s |" % (
-            snr, sems[0], best[1], best[0][len("SemS decoder ("):-len(" pilots)")], diff, two_se,
+            snr, sems[0], best[1],
+            best[0][len("SemS decoder ("):-len(" pilots)")] if best[0].startswith("SemS decoder (") else best[0],
+            diff, two_se,
             "yes" if diff >= -two_se else "**no**"))
     return "\n".join(lines)
 

@@ -49,7 +49,8 @@ struct config {
     std::string class_library = "paper"; // experiments 1-3: the recognition scenes' class library (name or file)
     std::string exp7_class_library = "kinematic"; // experiment 7: targets of moving scatterers (name or file)
     std::vector<int> exp7_np_sweep{ 8 };          // experiment 7's pilot budgets besides its 32
-    std::set<std::string> exp7_parts{ "main", "budget" }; // one per process lets two cores share a run
+    std::vector<int> exp7_power_np{ 32 };        // experiment 7: N_p of SemS with learned pilot energies
+    std::set<std::string> exp7_parts{ "main", "budget", "power" }; // one per process lets cores share a run
     double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };

@@ -293,6 +293,29 @@ test_set scenario_test_set(const config& c, const std::string& scen, const scene
     return make_test_set(c.fs, sc, c.test_frames, test_seed);
 }
 
+// Experiment 7's pilot energies: SemS whose mask learner also shares the total pilot energy
+// among its pilots, at each N_p of c.exp7_power_np, against the equal-power rows of the main
+// part and the budget sweep (the same test frames, seeds and budget).
+void run_kinematic_power(const config& c, std::ostream& log)
+{
+    const scene sc = recognition_scene("kinematic", c);
+    const uint64_t test_seed = c.seed + 101;
+    const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (pilot energies)");
+    csv_file csv(c.out_dir + "/exp7_pilot_power.csv", header);
+    const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, nullptr };
+    scorer sc_run(c, run, log);
+    const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
+    for (int np : c.exp7_power_np)
+        for (uint64_t seed : training_seeds(c)) {
+            dl_method m = learned_methods(c, "kinematic", sc, full_mask, np, seed).front(); // SemS
+            m.method = "SemS (learned energies)";
+            m.model_name += "_power";
+            m.mask_label = "learned (task, energies)";
+            m.settings.pilot_power = "learned";
+            sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
+        }
+}
+
 // Experiment 7's pilot budget sweep: SemS with learned pilots against the best hand patterns
 // (Doppler and staggered) at every N_p of c.exp7_np_sweep, on experiment 7's test frames.
 void run_kinematic_budget(const config& c, std::ostream& log)
@@ -385,6 +408,8 @@ void run_recognition(const config& c, std::ostream& log)
     }
     if (c.experiments.count(7) && c.exp7_parts.count("budget") && !c.only_shipped)
         run_kinematic_budget(c, log);
+    if (c.experiments.count(7) && c.exp7_parts.count("power") && !c.only_shipped)
+        run_kinematic_power(c, log);
 }
 
 } // namespace sems_eval

@@ -32,6 +32,7 @@ CSVS = {
                            "train_seed", "us_per_frame"],
     "exp7_confusion.csv": ["method", "snr_db", "train_seed", "true_class", "predicted_class", "count"],
     "exp7_pilot_budget.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
+    "exp7_pilot_power.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
 }
 PLOT7 = os.path.join(SOURCE, "apps", "plot_kinematic.py")
 KINEMATIC = ["adult", "bicyclist", "car", "child", "hexacopter", "quadcopter"]
@@ -198,6 +199,20 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertEqual({r["n_pilots"] for r in budget}, {"8"})
         self.assert_per_seed(budget, ["SemS", "SemS decoder (doppler pilots)", "SemS decoder (staggered pilots)"],
                              TRAIN_SEEDS)
+        power = rows(os.path.join(out, "exp7_pilot_power.csv"))
+        self.assertEqual({(r["method"], r["n_pilots"]) for r in power}, {("SemS (learned energies)", "32")})
+        self.assert_per_seed(power, ["SemS (learned energies)"], TRAIN_SEEDS)
+        self.assertEqual({(r["seed"], r["n_frames"]) for r in power}, {(e7[0]["seed"], "24")})  # the same frames
+        learned = 0
+        for name in os.listdir(os.path.join(out, "bundles")):  # masks of learned energies (mean 1)
+            if name.startswith("cls_kinematic_sems_power"):
+                learned += 1
+                with open(os.path.join(out, "bundles", name, "mask.json")) as f:
+                    mask = json.load(f)
+                self.assertEqual(mask["origin"]["pilot_power"]["kind"], "learned")
+                energies = mask.get("power", [1.0])  # absent: they stayed equal (tiny training)
+                self.assertAlmostEqual(sum(energies) / len(energies), 1.0, places=5)
+        self.assertEqual(learned, 2)  # one per training seed
         png = os.path.join(out, "png7")
         tables = os.path.join(out, "kinematic_tables.md")
         r = subprocess.run(["/usr/bin/python3", PLOT7, out, "--out", png, "--tables", tables],
@@ -211,6 +226,7 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertIn("#### N_p = 8", md)
         self.assertIn("#### N_p = 32", md)
         self.assertIn("| SemS decoder (staggered pilots) |", md)
+        self.assertIn("learned pilot energies against equal energies", md)
 
     def assert_per_seed(self, rs, methods, seeds, key=("method",)):
         """rs hold every one of methods (the first key field), and each key has, at every SNR
