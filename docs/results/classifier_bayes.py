@@ -264,14 +264,15 @@ def macro_f1(pred, truth, n_cls):
 
 def write_csv(path, scenario, rows, extra_cols=()):
     """Rows in the columns of sems_eval's exp1_recognition.csv (and extra_cols after them); the
-    file's rows of other scenarios are kept, so one file holds both scenes (apps/plot_results.py
-    draws a bound_<csv> beside its experiment)."""
+    file's rows of other scenarios or other masks are kept, so one file holds both scenes and
+    several runs' masks (apps/plot_results.py draws a bound_<csv> beside its experiment)."""
     cols = ["experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "accuracy", "macro_f1", "n_frames",
             "seed", "train_seed", "us_per_frame", "train_seconds", "model"] + list(extra_cols)
     kept = []
     if os.path.exists(path):
         with open(path, newline="") as f:
-            kept = [r for r in csv.DictReader(f) if r["scenario"] != scenario]
+            ours = {r["mask"] for r in rows}
+            kept = [r for r in csv.DictReader(f) if r["scenario"] != scenario or r["mask"] not in ours]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols)
         w.writeheader()
