@@ -37,6 +37,18 @@ more prior draws the mean needs: read the all / half columns. --bundle scores a 
 bundle on the same noisy frames (on its own mask). Every mask and bundle sees the same
 channels, and the same noise on the resource elements they share. --csv writes the Bayes rows
 in sems_eval's experiment-1 columns; apps/plot_results.py draws them as `bound_<csv>`.
+
+--scene FILE replaces the paper's scene by a scene file of one random target with one path and
+a Rayleigh gain whose class library makes targets bodies of scatterers (the kinematic library:
+models/scenes/kinematic_any.json). A body's g_theta is not unit-modulus, so the likelihood keeps
+the determinant term (body_loglik); g_theta is the noiseless frame of the same scene with a unit
+gain ("fading": "none"), and the prior is streamed in chunks (bayes_scene), so memory does not
+grow with --prior. Its --csv rows add the accuracy with half the draws and the converged flag:
+
+    PYTHONPATH=build/python_pkg /usr/bin/python3 docs/results/classifier_bayes.py \
+        --scene models/scenes/kinematic_any.json --mask doppler --label doppler \
+        --snr=-10,-5,0,5,10,15,20,25,30 --frames 3000 --prior 120000 \
+        --csv docs/results/bound_kinematic.csv
 """
 import argparse
 import csv

@@ -53,5 +53,5 @@ rm -f "$kcsv"
 bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
   --prior 120000 --csv "$kcsv" > "$logs/kinematic_doppler.log"
 bayes --scene models/scenes/kinematic_any.json --mask doppler:128 --label doppler_128 --snr=$snrs --frames 3000 \
-  --prior 120000 --csv "$kcsv" > "$logs/kinematic_doppler_128.log"
+  --prior 20000 --csv "$kcsv" > "$logs/kinematic_doppler_128.log"
 echo "classifier_bayes_runs: logs in $logs, bound rows in $csv and $kcsv"
