@@ -8,7 +8,7 @@
 # 30 dB in the any scene, and the bound in the kinematic class library's scene (targets as
 # bodies of scatterers; writes bound_kinematic.csv). Needs the networks of scripts/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
-# of one core, and about 35 min for the kinematic scene's runs.
+# of one core, and about 75 min for the kinematic scene's runs (on a busy machine).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
