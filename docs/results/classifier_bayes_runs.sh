@@ -5,9 +5,10 @@
 # networks (both scenes; writes bound_exp1_recognition.csv, which plot_results.py draws in the
 # experiment-1 figure), the bound on other masks, the 30 000-frame re-check of the closest
 # mask, the noiseless nearest-draw classifier, and where the spectral decoder's errors sit at
-# 30 dB in the any scene. Needs the networks of scripts/eval_full.sh
+# 30 dB in the any scene, and the bound in the kinematic class library's scene (targets as
+# bodies of scatterers; writes bound_kinematic.csv). Needs the networks of scripts/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
-# of one core.
+# of one core, and about 75 min for the kinematic scene's runs (on a busy machine).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -46,4 +47,11 @@ done
 # where the spectral decoder loses to the bound at high SNR in the any scene
 /usr/bin/python3 docs/results/classifier_errors_by_fade.py --bundle "$nets/cls_any_sems_s2026" --snr 30 --frames 10000 \
   --heading any > "$logs/errors_any_30dB.log"
-echo "classifier_bayes_runs: logs in $logs, bound rows in $csv"
+# the kinematic library's scene (any heading): the Doppler pattern with 32 and with 128 pilots
+kcsv=docs/results/bound_kinematic.csv
+rm -f "$kcsv"
+bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
+  --prior 120000 --csv "$kcsv" > "$logs/kinematic_doppler.log"
+bayes --scene models/scenes/kinematic_any.json --mask doppler:128 --label doppler_128 --snr=$snrs --frames 3000 \
+  --prior 20000 --csv "$kcsv" > "$logs/kinematic_doppler_128.log"
+echo "classifier_bayes_runs: logs in $logs, bound rows in $csv and $kcsv"
