@@ -4,8 +4,9 @@
 
     plot_kinematic.py RESULTS [--out DIR] [--tables FILE]
 
-Reads RESULTS/exp7_kinematic.csv (with bound_exp7_kinematic.csv beside it when present: the
-Monte-Carlo Bayes classifier), exp7_confusion.csv, exp7_pilot_budget.csv and
+Reads RESULTS/exp7_kinematic.csv (with the 32-pilot Doppler pattern's rows of
+bound_kinematic.csv beside it when present: the Monte-Carlo Bayes classifier of
+docs/results/classifier_bayes.py --scene), exp7_confusion.csv, exp7_pilot_budget.csv and
 exp7_pilot_power.csv (SemS with learned pilot energies); writes
 exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
 and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
@@ -26,6 +27,14 @@ np = pr.np
 
 
 ENERGIES = "SemS (learned energies)"
+
+
+def bound_rows(results):
+    """The Bayes classifier's rows for the 32-pilot Doppler pattern (classifier_bayes.py
+    --scene writes them for any mask and scene name), as rows of experiment 7's scene."""
+    rows = pr.read_csv(os.path.join(results, "bound_kinematic.csv")) or []
+    return [dict(r, experiment="7", scenario="kinematic") for r in rows
+            if r["mask"] == "doppler" and int(pr.fnum(r["n_pilots"])) == 32]
 
 
 def save(fig, out, name):
@@ -178,6 +187,7 @@ def main(argv):
     budget = (pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []) + power
     budget = budget_rows(rows, budget) if budget else []
     rows += [r for r in power if int(pr.fnum(r["n_pilots"])) == 32]  # beside every method at 32 pilots
+    rows += bound_rows(a.results)
     out = a.out or a.results
     os.makedirs(out, exist_ok=True)
     made = [accuracy_figure(rows, out)]

@@ -519,10 +519,11 @@ def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
         se = max(sd / math.sqrt(n), math.sqrt(max(m * (1 - m), 1e-12) / (frames * n)))
         return m, se, n
 
-    head = ("| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | SemS ≥ best − 2 SE |"
+    head = ("| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | ahead by > 2 SE | SemS ≥ best − 2 SE |"
             if rivals is None else
-            "| SNR (dB) | %s | best of %s | difference ± 2 SE | ≥ best − 2 SE |" % (learned, ", ".join(sorted(rivals))))
-    lines = [head, "|---|---|---|---|---|"]
+            "| SNR (dB) | %s | best of %s | difference ± 2 SE | ahead by > 2 SE | ≥ best − 2 SE |" % (
+                learned, ", ".join(sorted(rivals))))
+    lines = [head, "|---|---|---|---|---|---|"]
     for snr in sorted({fnum(r["snr_db"]) for r in rs}):
         sems = stats(learned, snr)
         measured = [(h,) + stats(h, snr) for h in hands if stats(h, snr)]
@@ -530,10 +531,10 @@ def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
             continue
         best = max(measured, key=lambda t: t[1])
         diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
-        lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s |" % (
+        lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s | %s |" % (
             snr, sems[0], best[1],
             best[0][len("SemS decoder ("):-len(" pilots)")] if best[0].startswith("SemS decoder (") else best[0],
-            diff, two_se,
+            diff, two_se, "**yes**" if diff > two_se else "no",
             "yes" if diff >= -two_se else "**no**"))
     return "\n".join(lines)
 

@@ -9,6 +9,7 @@
 #include <gnuradio/sems/baselines/feature_svm.h>
 #include <gnuradio/sems/core/target_class.h>
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <memory>
 
@@ -293,51 +294,53 @@ test_set scenario_test_set(const config& c, const std::string& scen, const scene
     return make_test_set(c.fs, sc, c.test_frames, test_seed);
 }
 
-// Experiment 7's pilot energies: SemS whose mask learner also shares the total pilot energy
-// among its pilots, at each N_p of c.exp7_power_np, against the equal-power rows of the main
-// part and the budget sweep (the same test frames, seeds and budget).
-void run_kinematic_power(const config& c, std::ostream& log)
+// One part of experiment 7 beside the main one: experiment 7's scene and test frames, its own
+// CSV, and the methods `pick` keeps of each (N_p, training seed), trained and scored; N_p outermost, in the order given (the largest budgets first answer the question a
+// sweep asks soonest), then seeds, so a stopped run has every method of its budgets.
+void run_kinematic_part(const config& c, std::ostream& log, const std::string& what, const std::string& csv_name,
+                        const std::vector<int>& budgets,
+                        const std::function<std::vector<dl_method>(std::vector<dl_method>)>& pick)
 {
     const scene sc = recognition_scene("kinematic", c);
     const uint64_t test_seed = c.seed + 101;
-    const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (pilot energies)");
-    csv_file csv(c.out_dir + "/exp7_pilot_power.csv", header);
+    const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (" + what + ")");
+    csv_file csv(c.out_dir + "/" + csv_name, header);
     const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, nullptr };
     scorer sc_run(c, run, log);
     const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
-    for (int np : c.exp7_power_np)
-        for (uint64_t seed : training_seeds(c)) {
-            dl_method m = learned_methods(c, "kinematic", sc, full_mask, np, seed).front(); // SemS
-            m.method = "SemS (learned energies)";
-            m.model_name += "_power";
-            m.mask_label = "learned (task, energies)";
-            m.settings.pilot_power = "learned";
-            sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
-        }
+    for (int np : budgets)
+        for (uint64_t seed : training_seeds(c))
+            for (const auto& m : pick(learned_methods(c, "kinematic", sc, full_mask, np, seed)))
+                sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
 }
 
 // Experiment 7's pilot budget sweep: SemS with learned pilots against the best hand patterns
-// (Doppler and staggered) at every N_p of c.exp7_np_sweep, on experiment 7's test frames.
+// (Doppler and staggered) at every N_p of c.exp7_np_sweep.
 void run_kinematic_budget(const config& c, std::ostream& log)
 {
-    const scene sc = recognition_scene("kinematic", c);
-    const uint64_t test_seed = c.seed + 101;
-    const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (pilot budget)");
-    csv_file csv(c.out_dir + "/exp7_pilot_budget.csv", header);
-    const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, nullptr };
-    scorer sc_run(c, run, log);
-    const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
-    // N_p outermost, in the order given (the largest budgets first answer the question the
-    // sweep asks soonest), then seeds, so a stopped run has every method of its budgets.
-    for (int np : c.exp7_np_sweep)
-        for (uint64_t seed : training_seeds(c))
-            for (const auto& m : learned_methods(c, "kinematic", sc, full_mask, np, seed)) {
-                const bool wanted = m.kind == method_kind::sems ||
-                                    (m.kind == method_kind::pattern &&
-                                     (m.mask_label == "doppler" || m.mask_label == "staggered"));
-                if (wanted)
-                    sc_run.evaluate(m, train_or_load(c, seeded_name(m.model_name, seed), m.settings, log), seed);
-            }
+    run_kinematic_part(c, log, "pilot budget", "exp7_pilot_budget.csv", c.exp7_np_sweep, [](std::vector<dl_method> all) {
+        std::vector<dl_method> out;
+        for (auto& m : all)
+            if (m.kind == method_kind::sems ||
+                (m.kind == method_kind::pattern && (m.mask_label == "doppler" || m.mask_label == "staggered")))
+                out.push_back(std::move(m));
+        return out;
+    });
+}
+
+// Experiment 7's pilot energies: SemS whose mask learner also shares the total pilot energy
+// among its pilots, at each N_p of c.exp7_power_np, against the equal-energy rows of the main
+// part and the budget sweep (the same test frames, seeds and budget).
+void run_kinematic_power(const config& c, std::ostream& log)
+{
+    run_kinematic_part(c, log, "pilot energies", "exp7_pilot_power.csv", c.exp7_power_np, [](std::vector<dl_method> all) {
+        dl_method m = all.front(); // SemS
+        m.method = "SemS (learned energies)";
+        m.model_name += "_power";
+        m.mask_label = "learned (task, energies)";
+        m.settings.pilot_power = "learned";
+        return std::vector<dl_method>{ m };
+    });
 }
 
 } // namespace

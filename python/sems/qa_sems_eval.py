@@ -271,10 +271,13 @@ class qa_sems_eval(gr_unittest.TestCase):
         for extra in ([], [row("Bayes classifier (bound)", 0.95, "none", frames=30000)]):
             line = plot_results.learned_vs_hand(rs + extra, "any").splitlines()[-1]
             self.assertIn("-0.005 ± %.3f" % two_se, line, line)  # well within: 0.0089 > 0.005
-            self.assertTrue(line.endswith("| yes |"), line)
+            self.assertTrue(line.endswith("| no | yes |"), line)  # a tie: not ahead, not behind
         rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.88), ("SemS decoder (doppler pilots)", 0.9))]
         line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
-        self.assertTrue(line.endswith("| **no** |"), line)  # 0.02 is beyond 2 SE
+        self.assertTrue(line.endswith("| no | **no** |"), line)  # 0.02 is beyond 2 SE
+        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.92), ("SemS decoder (doppler pilots)", 0.9))]
+        line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
+        self.assertTrue(line.endswith("| **yes** | yes |"), line)  # ahead: 0.02 > 2 SE
 
     def test_004_cache_reuses_only_networks_trained_with_the_same_settings(self):
         """A re-run reuses every cached network whose settings match, and retrains one whose
