@@ -228,7 +228,7 @@ void run_recognition(const config& c, std::ostream& log)
             if (scen == "clutter")
                 svms.insert(svms.end(), { { "uniform", true }, { "doppler", true } });
             for (const auto& [pattern, mti] : svms) {
-                const auto mask = pilot_mask::from_pattern(pattern, c.fs.n_symbols, c.fs.n_subcarriers, np);
+                const auto mask = pilot_mask::from_pattern(pattern, c.fs, np);
                 const doppler_features fx(c.fs, mask);
                 auto prepare = [&, mti = mti](std::vector<gr_complex> o, int count) {
                     return mti ? remove_static(std::move(o), count, mask) : o;
