@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "frame_options.h"
+
 namespace po = boost::program_options;
 using namespace gr::sems;
 
@@ -38,9 +40,9 @@ struct options {
     double seconds = 1.0;
     int repeat = 3;
     double snr_db = 20.0;
-    int n_symbols = frame_settings{}.n_symbols;
-    int n_subcarriers = frame_settings{}.n_subcarriers;
     bool scatterer_table = false;
+    int n_symbols = 0;     // from the frame flags
+    int n_subcarriers = 0; // from the frame flags
 };
 
 // One car with `paths` paths (excess ranges 0, 7, 14, ... m, 1 dB weaker each);
@@ -147,13 +149,17 @@ int main(int argc, char** argv)
         "seconds", po::value<double>(&o.seconds)->default_value(o.seconds), "wall time per measurement (s)")(
         "repeat", po::value<int>(&o.repeat)->default_value(o.repeat), "runs per row, best reported")(
         "snr", po::value<double>(&o.snr_db)->default_value(o.snr_db), "SNR in dB for the channel runs (inf = noiseless)")(
-        "symbols", po::value<int>(&o.n_symbols)->default_value(o.n_symbols), "N, symbols per frame")(
-        "subcarriers", po::value<int>(&o.n_subcarriers)->default_value(o.n_subcarriers), "M, vector size")(
         "scatterers", po::bool_switch(&o.scatterer_table), "also: cost per frame of a point-scatterer target, 1 to 256 scatterers");
+    apps::frame_options frame_flags;
+    frame_flags.add_to(desc);
+    frame_file frame;
     try {
         po::variables_map vm;
         po::store(po::parse_command_line(argc, argv, desc), vm);
         po::notify(vm);
+        frame = frame_flags.resolve(vm);
+        o.n_symbols = frame.frame.n_symbols;
+        o.n_subcarriers = frame.frame.n_subcarriers;
         if (vm.count("help")) {
             std::cout << desc << "\n";
             return 0;
@@ -164,8 +170,6 @@ int main(int argc, char** argv)
             throw std::invalid_argument("--snr must be a number or inf");
         if (o.repeat < 1)
             throw std::invalid_argument("--repeat must be >= 1");
-        if (o.n_symbols < 1 || o.n_subcarriers < 1)
-            throw std::invalid_argument("--symbols and --subcarriers must be >= 1");
     } catch (const std::exception& e) {
         std::cerr << "sems_bench_channel: " << e.what() << "\n";
         return 2;
@@ -178,19 +182,18 @@ int main(int argc, char** argv)
     for (auto& x : data)
         x = gr_complex(g(gen), g(gen));
 
-    // Frame settings: the defaults, with the bandwidth scaled to keep Δf if M changes.
-    const frame_settings d;
-    const double bandwidth = d.subcarrier_spacing_hz() * o.n_subcarriers;
+    const frame_settings& fs = frame.frame;
+    std::cout << apps::describe(frame) << "\n";
     auto channel = [&](int paths, bool md, double snr) {
         return [=, &o]() -> gr::basic_block_sptr {
             return target_channel::make(scene_json(paths, md), {}, 1, 1, true, "approaching", 0, 0.0, snr, 1, o.n_symbols,
-                                        o.n_subcarriers, bandwidth);
+                                        o.n_subcarriers, fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s);
         };
     };
     auto motion_channel = [&](const std::string& motion, double velocity, double snr) {
         return [=, &o]() -> gr::basic_block_sptr {
             return target_channel::make(motion_scene_json(motion, velocity), {}, 1, 1, true, "approaching", 0, 0.0, snr, 1,
-                                        o.n_symbols, o.n_subcarriers, bandwidth);
+                                        o.n_symbols, o.n_subcarriers, fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s);
         };
     };
     struct row {
@@ -255,7 +258,7 @@ int main(int argc, char** argv)
                     const std::string sc = motion_scene_json(scatterers_json(counts[c]), 1.0);
                     const rate x = symbols_per_second(o, data, [&]() -> gr::basic_block_sptr {
                         return target_channel::make(sc, {}, 1, 1, true, "approaching", 0, 0.0, o.snr_db, 1, o.n_symbols,
-                                                    o.n_subcarriers, bandwidth);
+                                                    o.n_subcarriers, fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s);
                     });
                     table[c].wall = std::max(table[c].wall, x.wall);
                     table[c].cpu = std::max(table[c].cpu, x.cpu);

@@ -25,6 +25,7 @@
  * frames stay the same), and cached under <out>/bundles/<name>_s<seed> (reused when the
  * settings match). Every CSV row carries its test seed and its training seed (or none).
  */
+#include "frame_options.h"
 #include "sems_eval/eval.h"
 #include <boost/program_options.hpp>
 #include <filesystem>
@@ -129,6 +130,7 @@ int main(int argc, char** argv)
     std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
+    apps::frame_options frame_flags;
     // clang-format off
     opts.add_options()
         ("help,h", "this help")
@@ -168,6 +170,7 @@ int main(int argc, char** argv)
         ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)")
         ("delay-scenarios", po::value(&delay_scenarios)->default_value(delay_scenarios), "experiment 4: comma-separated subset of single,multipath (to split a run over processes)");
     // clang-format on
+    frame_flags.add_to(opts);
     try {
         po::variables_map vm;
         po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -177,6 +180,10 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         apply_size(c);
+        const frame_file frame = frame_flags.resolve(vm);
+        c.fs = frame.frame;
+        if (vm["class-library"].defaulted() && !frame.classes.empty())
+            c.class_library = frame.classes;
         c.exp1_any_heading = !vm.count("no-any-heading");
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
@@ -226,17 +233,22 @@ int main(int argc, char** argv)
         if (c.epochs < 1 || c.classifier_epochs < 1 || c.decoder_epochs < 0 || c.threads < 1)
             throw std::invalid_argument("--epochs >= 1, --classifier-epochs >= 1, --decoder-epochs >= 0, --threads >= 1");
         for (int np : c.np_sweep)
-            if (np < 1 || np > c.fs.grid_size())
-                throw std::invalid_argument("--np-sweep: " + std::to_string(np) + " is outside [1, N*M]");
+            if (np < 1 || np > c.fs.usable_elements())
+                throw std::invalid_argument("--np-sweep: " + std::to_string(np) +
+                                            " is outside [1, N*(M - guards) = " +
+                                            std::to_string(c.fs.usable_elements()) + "]");
         for (int np : c.exp7_np_sweep)
-            if (np < 1 || np > c.fs.grid_size())
-                throw std::invalid_argument("--exp7-np-sweep: " + std::to_string(np) + " is outside [1, N*M]");
+            if (np < 1 || np > c.fs.usable_elements())
+                throw std::invalid_argument("--exp7-np-sweep: " + std::to_string(np) +
+                                            " is outside [1, N*(M - guards) = " +
+                                            std::to_string(c.fs.usable_elements()) + "]");
         std::ostringstream cmd;
         for (int i = 0; i < argc; ++i)
             cmd << (i ? " " : "") << argv[i];
         c.command_line = cmd.str();
         std::filesystem::create_directories(c.out_dir);
 
+        std::cout << apps::describe(frame) << std::endl;
         std::cout << "[" << now_utc() << "] sems_eval --size " << c.size << ": " << c.test_frames
                   << " test frames per point, " << c.train_frames << " training frames, " << c.epochs << "+"
                   << c.decoder_epochs << " epochs (classifiers " << c.classifier_epochs << "+" << c.decoder_epochs << "), batch " << c.batch << ", test seed base " << c.seed << ", "

@@ -7,10 +7,12 @@
  *   sems_train --task classify --pilot-power learned --out powered   (learned placement and energies)
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
+ *   sems_train --task classify --frame sdr_2g4_20mhz --out sdr_classifier   (another radio's frame)
  *
  * See include/gnuradio/sems/learning/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
  */
+#include "frame_options.h"
 #include <gnuradio/sems/core/scene.h>
 #include <gnuradio/sems/core/target_class.h>
 #include <gnuradio/sems/learning/trainer.h>
@@ -57,6 +59,7 @@ int main(int argc, char** argv)
     bool no_md = false;
 
     po::options_description opts("sems_train: learn pilots and a task decoder, write a model bundle");
+    apps::frame_options frame_flags;
     // clang-format off
     opts.add_options()
         ("help,h", "this help")
@@ -75,7 +78,8 @@ int main(int argc, char** argv)
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "
          "library, every class of it)")
         ("class-library", po::value(&class_library_name)->default_value("paper"),
-         "random scene: the class library, by name (paper, kinematic) or file (format sems.classes)")
+         "random scene: the class library, by name (paper, kinematic) or file (format sems.classes); default: the "
+         "library the frame names (the paper's for the paper frame)")
         ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
         ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
         ("no-micro-doppler", po::bool_switch(&no_md), "random scene: no micro-Doppler")
@@ -139,6 +143,7 @@ int main(int argc, char** argv)
         ("gloo-interface", po::value<std::string>(), "network interface for Gloo's connections (default: GLOO_SOCKET_IFNAME)")
         ("dist-timeout", po::value<double>(), "seconds a rank waits for the others (rendezvous, each collective) before failing");
     // clang-format on
+    frame_flags.add_to(opts);
 
     try {
         po::variables_map vm;
@@ -149,6 +154,7 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         s.verbose = !vm.count("quiet");
+        frame_file frame; // the frame trained on, printed before training
         if (!from.empty()) {
             // The bundle's own settings; only sizes, output and where it runs may change.
             static const std::set<std::string> allowed = { "from", "out", "frames", "epochs", "decoder-epochs",
@@ -179,6 +185,8 @@ int main(int argc, char** argv)
             r.out_dir = s.out_dir;
             r.verbose = s.verbose;
             s = r;
+            frame.name = "of bundle " + from;
+            frame.frame = s.frame;
         }
         s.distributed = distributed_settings::from_environment();
         if (vm.count("world-size"))
@@ -204,6 +212,10 @@ int main(int argc, char** argv)
         if (from.empty()) { // the settings from the flags
             if (task.empty())
                 throw std::invalid_argument("--task is required (classify | delay), or --from a bundle");
+            frame = frame_flags.resolve(vm);
+            s.frame = frame.frame;
+            if (vm["class-library"].defaulted() && !frame.classes.empty())
+                class_library_name = frame.classes;
             s.task = task_from_name(task);
             if (vm.count("width")) {
                 s.classifier.width = vm["width"].as<int>();
@@ -280,6 +292,8 @@ int main(int argc, char** argv)
             std::cout << j.dump(2) << std::endl;
             return 0;
         }
+        if (s.distributed.rank == 0)
+            std::cout << apps::describe(frame) << std::endl;
         const auto res = train(s, &std::cout);
         if (s.distributed.rank == 0)
             std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;

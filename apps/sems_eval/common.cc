@@ -202,9 +202,9 @@ std::vector<cost_row>& cost_rows()
 
 pilot_mask full_grid_mask(const frame_settings& fs)
 {
-    std::vector<pilot_position> all;
+    std::vector<pilot_position> all; // every resource element off the guard subcarriers
     for (int n = 0; n < fs.n_symbols; ++n)
-        for (int m = 0; m < fs.n_subcarriers; ++m)
+        for (int m : fs.usable_subcarriers())
             all.push_back({ n, m });
     return pilot_mask(fs.n_symbols, fs.n_subcarriers, all, { 1.0f, 0.0f }, { { "kind", "full_grid" } }, "full grid");
 }

@@ -219,8 +219,8 @@ void run_delay(const config& c, std::ostream& log)
             continue;
         // Classical estimators, model order = the scene's paths per target.
         const auto win = classic_window(c);
-        const auto random = pilot_mask::random(c.fs.n_symbols, c.fs.n_subcarriers, np, 1);
-        const auto uniform = pilot_mask::uniform(c.fs.n_symbols, c.fs.n_subcarriers, np);
+        const auto random = pilot_mask::from_pattern("random", c.fs, np, 1);
+        const auto uniform = pilot_mask::from_pattern("uniform", c.fs, np);
         const auto rp = random_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np, 1);
         const auto op = nested_subcarrier_mask(c.fs.n_symbols, c.fs.n_subcarriers, np);
         const auto one_symbol = one_symbol_mask(c.fs, np, 1);

@@ -246,7 +246,7 @@ public:
         if (d_run.scenario == "clutter")
             svms.insert(svms.end(), { { "uniform", true }, { "doppler", true } });
         for (const auto& [pattern, mti] : svms) {
-            const auto mask = pilot_mask::from_pattern(pattern, d_c.fs.n_symbols, d_c.fs.n_subcarriers, np);
+            const auto mask = pilot_mask::from_pattern(pattern, d_c.fs, np);
             const doppler_features fx(d_c.fs, mask);
             auto prepare = [&, mti = mti](std::vector<gr_complex> o, int n) {
                 return mti ? remove_static(std::move(o), n, mask) : o;

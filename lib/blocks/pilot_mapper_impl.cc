@@ -4,6 +4,7 @@
 #include "blocks/pilot_mapper_impl.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/tags.h>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -18,13 +19,29 @@ pilot_mapper::sptr pilot_mapper::make(const std::string& mask_file,
                                       int n_subcarriers,
                                       gr_complex pilot_symbol,
                                       double pilot_power,
-                                      double data_power)
+                                      double data_power,
+                                      const std::vector<int>& guard_subcarriers)
 {
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
-    return gnuradio::make_block_sptr<pilot_mapper_impl>(mask, pilot_power, data_power);
+    frame_settings fs;
+    fs.n_symbols = n_symbols;
+    fs.n_subcarriers = n_subcarriers;
+    fs.cp_len = 0;
+    fs.guard_subcarriers = guard_subcarriers;
+    std::sort(fs.guard_subcarriers.begin(), fs.guard_subcarriers.end());
+    try {
+        fs.validate(); // in range, each once, not every subcarrier
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": guard_subcarriers: " + e.what());
+    }
+    mask.check_frame(fs, who); // names a pilot on a guard
+    return gnuradio::make_block_sptr<pilot_mapper_impl>(mask, pilot_power, data_power, fs.guard_subcarriers);
 }
 
-pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power, double data_power)
+pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask,
+                                     double pilot_power,
+                                     double data_power,
+                                     const std::vector<int>& guard_subcarriers)
     : gr::block(who,
                 // Optional input: a pilot-only mask (N_p = N·M) needs no data (check_topology).
                 gr::io_signature::make(0, 1, sizeof(gr_complex)),
@@ -35,6 +52,7 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
       d_pilot_cols(d_n),
       d_data_cols(d_n),
       d_data_before_row(d_n + 1, 0),
+      d_guard_cols(guard_subcarriers),
       d_pilot_values(mask.size()),
       d_pilots_before_row(d_n + 1, 0),
       d_frame_key(pmt::intern(keys::frame_tag))
@@ -47,9 +65,13 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask, double pilot_power,
     d_data_amp = static_cast<float>(std::sqrt(data_power));
 
     const auto dense = d_mask.dense();
+    std::vector<char> guard(static_cast<size_t>(d_m), 0);
+    for (int m : d_guard_cols)
+        guard[static_cast<size_t>(m)] = 1;
     for (int n = 0; n < d_n; ++n) {
         for (int m = 0; m < d_m; ++m)
-            (dense[size_t(n) * d_m + m] ? d_pilot_cols : d_data_cols)[n].push_back(m);
+            if (!guard[static_cast<size_t>(m)])
+                (dense[size_t(n) * d_m + m] ? d_pilot_cols : d_data_cols)[n].push_back(m);
         d_data_before_row[n + 1] = d_data_before_row[n] + static_cast<long>(d_data_cols[n].size());
         d_pilots_before_row[n + 1] = d_pilots_before_row[n] + static_cast<int>(d_pilot_cols[n].size());
     }
@@ -133,6 +155,8 @@ int pilot_mapper_impl::general_work(int noutput_items,
         }
 
         gr_complex* row = out + static_cast<size_t>(produced) * d_m;
+        for (int m : d_guard_cols)
+            row[m] = gr_complex(0.0f, 0.0f);
         const auto& pilot_cols = d_pilot_cols[d_row];
         const gr_complex* values = d_pilot_values.data() + d_pilots_before_row[d_row];
         for (size_t j = 0; j < pilot_cols.size(); ++j)

@@ -13,7 +13,10 @@ namespace sems {
 class pilot_mapper_impl : public pilot_mapper
 {
 public:
-    pilot_mapper_impl(const pilot_mask& mask, double pilot_power, double data_power);
+    pilot_mapper_impl(const pilot_mask& mask,
+                      double pilot_power,
+                      double data_power,
+                      const std::vector<int>& guard_subcarriers);
 
     void set_pilot_power(double energy) override;
     double pilot_power() const override;
@@ -41,6 +44,7 @@ private:
     // Per row n: which subcarriers carry pilots and which carry data (ascending).
     std::vector<std::vector<int>> d_pilot_cols, d_data_cols;
     std::vector<long> d_data_before_row; // data symbols in rows [0, n), n = 0..N
+    std::vector<int> d_guard_cols;       // zero in every symbol
     int d_data_per_frame;
 
     // Requested energies (setters and getters run on other threads than work) and the

@@ -11,6 +11,7 @@
 #include "core/checks.h"
 #include "core/json_object.h"
 #include "core/micro_motion_params.h"
+#include "core/named_files.h"
 #include "core/walker_scatterers.h"
 #include <gnuradio/sems/core/class_library.h>
 #include <gnuradio/sems/core/limits.h>
@@ -36,12 +37,6 @@ using json_read::object_reader;
 namespace {
 
 constexpr double two_pi = 2.0 * M_PI;
-
-bool file_exists(const std::string& p)
-{
-    std::ifstream f(p);
-    return f.good();
-}
 
 std::pair<double, double> read_interval(object_reader& r, const char* key)
 {
@@ -119,28 +114,11 @@ std::shared_ptr<const class_library> class_library::find(const std::string& name
 {
     if (name_or_path.empty() || name_or_path == "paper")
         return paper();
-    if (file_exists(name_or_path))
-        return load(name_or_path);
-    std::vector<std::string> dirs;
-    if (const char* env = std::getenv("SEMS_CLASSES_PATH")) {
-        std::stringstream ss(env);
-        std::string d;
-        while (std::getline(ss, d, ':'))
-            if (!d.empty())
-                dirs.push_back(d);
-    }
-    if (const char* src = std::getenv("SEMS_SOURCE_DIR"))
-        dirs.push_back(std::string(src) + "/models/classes");
-    for (const char* d : { SEMS_SOURCE_CLASSES_DIR, SEMS_INSTALLED_CLASSES_DIR })
-        if (*d)
-            dirs.push_back(d);
-    std::string searched = name_or_path;
-    for (const auto& d : dirs) {
-        const std::string p = d + "/" + name_or_path + ".json";
-        if (file_exists(p))
-            return load(p);
-        searched += ", " + p;
-    }
+    std::string searched;
+    const std::string path = detail::find_named_file(name_or_path, "SEMS_CLASSES_PATH", "classes",
+                                                     { SEMS_SOURCE_CLASSES_DIR, SEMS_INSTALLED_CLASSES_DIR }, searched);
+    if (!path.empty())
+        return load(path);
     throw std::invalid_argument("class library \"" + name_or_path + "\": not built in (paper) and no such file (searched " +
                                 searched + "; SEMS_CLASSES_PATH adds folders)");
 }

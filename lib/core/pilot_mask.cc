@@ -233,6 +233,30 @@ pilot_mask pilot_mask::from_pattern(
                                 "\" (known: uniform, random, doppler, staggered)");
 }
 
+pilot_mask pilot_mask::from_pattern(const std::string& pattern, const frame_settings& fs, int count, uint64_t seed)
+{
+    if (fs.guard_subcarriers.empty())
+        return from_pattern(pattern, fs.n_symbols, fs.n_subcarriers, count, seed);
+    fs.validate();
+    const auto usable = fs.usable_subcarriers();
+    const int u = static_cast<int>(usable.size());
+    if (count < 1 || count > fs.usable_elements())
+        throw std::invalid_argument(pattern + " pilot mask: N_p = " + std::to_string(count) +
+                                    " pilots do not fit the N*(M - guards) = " + std::to_string(fs.n_symbols) + "*" +
+                                    std::to_string(u) + " = " + std::to_string(fs.usable_elements()) +
+                                    " usable resource elements of the frame");
+    // The pattern on the grid of usable subcarriers, its columns mapped back to the frame's.
+    const auto packed = from_pattern(pattern, fs.n_symbols, u, count, seed);
+    std::vector<pilot_position> pilots;
+    pilots.reserve(packed.positions().size());
+    for (const auto& p : packed.positions())
+        pilots.push_back({ p.n, usable[static_cast<size_t>(p.m)] });
+    auto origin = packed.origin();
+    origin["guard_subcarriers"] = static_cast<int>(fs.guard_subcarriers.size());
+    return pilot_mask(fs.n_symbols, fs.n_subcarriers, std::move(pilots), packed.pilot_symbol(), origin,
+                      pattern + " pilot mask");
+}
+
 pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& source)
 {
     using namespace json_read;
@@ -372,7 +396,18 @@ void pilot_mask::check_frame(const frame_settings& fs, const std::string& who) c
     if (fs.n_symbols != d_n_symbols || fs.n_subcarriers != d_n_subcarriers)
         throw std::invalid_argument(who + ": the pilot mask is " + std::to_string(d_n_symbols) + " x " +
                                     std::to_string(d_n_subcarriers) + " but the frame is " +
-                                    std::to_string(fs.n_symbols) + " x " + std::to_string(fs.n_subcarriers));
+                                    std::to_string(fs.n_symbols) + " x " + std::to_string(fs.n_subcarriers) +
+                                    (fs.n_symbols != d_n_symbols
+                                         ? " (n_symbols: the mask has " + std::to_string(d_n_symbols) +
+                                               ", the frame has " + std::to_string(fs.n_symbols) + ")"
+                                         : " (n_subcarriers: the mask has " + std::to_string(d_n_subcarriers) +
+                                               ", the frame has " + std::to_string(fs.n_subcarriers) + ")"));
+    for (size_t i = 0; i < d_pilots.size(); ++i)
+        if (fs.is_guard(d_pilots[i].m))
+            throw std::invalid_argument(who + ": pilot " + std::to_string(i) + " at [" +
+                                        std::to_string(d_pilots[i].n) + ", " + std::to_string(d_pilots[i].m) +
+                                        "] is on guard subcarrier " + std::to_string(d_pilots[i].m) +
+                                        " of the frame");
 }
 
 bool pilot_mask::operator==(const pilot_mask& o) const

@@ -151,10 +151,11 @@ classifier_sink::sptr classifier_sink::make(const std::string& bundle_dir,
                                             int threads,
                                             int metrics_period,
                                             int n_symbols,
-                                            int n_subcarriers)
+                                            int n_subcarriers,
+                                            const std::string& frame)
 {
     return gnuradio::make_block_sptr<classifier_sink_impl>(
-        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers);
+        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame);
 }
 
 classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
@@ -163,12 +164,13 @@ classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
                                            int threads,
                                            int metrics_period,
                                            int n_symbols,
-                                           int n_subcarriers)
+                                           int n_subcarriers,
+                                           const std::string& frame)
     : gr::sync_block(block_name,
                      detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
-                 n_symbols, n_subcarriers)
+                 n_symbols, n_subcarriers, frame)
 {
 }
 

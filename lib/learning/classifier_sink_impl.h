@@ -54,7 +54,8 @@ public:
                          int threads,
                          int metrics_period,
                          int n_symbols,
-                         int n_subcarriers);
+                         int n_subcarriers,
+                         const std::string& frame);
 
     double accuracy() const override;
     std::vector<std::vector<uint64_t>> confusion() const override;

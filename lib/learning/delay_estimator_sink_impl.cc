@@ -83,10 +83,11 @@ delay_estimator_sink::sptr delay_estimator_sink::make(const std::string& bundle_
                                                       int threads,
                                                       int metrics_period,
                                                       int n_symbols,
-                                                      int n_subcarriers)
+                                                      int n_subcarriers,
+                                                      const std::string& frame)
 {
     return gnuradio::make_block_sptr<delay_estimator_sink_impl>(
-        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers);
+        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame);
 }
 
 delay_estimator_sink_impl::delay_estimator_sink_impl(const std::string& bundle_dir,
@@ -95,12 +96,13 @@ delay_estimator_sink_impl::delay_estimator_sink_impl(const std::string& bundle_d
                                                      int threads,
                                                      int metrics_period,
                                                      int n_symbols,
-                                                     int n_subcarriers)
+                                                     int n_subcarriers,
+                                                     const std::string& frame)
     : gr::sync_block(block_name,
                      detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::delay, bundle_dir, n_pilots, batch_size, threads, metrics_period,
-                 n_symbols, n_subcarriers)
+                 n_symbols, n_subcarriers, frame)
 {
 }
 

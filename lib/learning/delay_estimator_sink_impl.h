@@ -41,7 +41,8 @@ public:
                               int threads,
                               int metrics_period,
                               int n_symbols,
-                              int n_subcarriers);
+                              int n_subcarriers,
+                              const std::string& frame);
 
     double mae_index() const override;
     double mae_m() const override;

@@ -307,9 +307,7 @@ void model_bundle::check_compatible(const frame_settings& fs,
     if (n_pilots != mask.size())
         throw std::invalid_argument(what + " expects N_p = " + std::to_string(mask.size()) +
                                     " pilots per frame, the stream carries " + std::to_string(n_pilots));
-    if (fs != frame)
-        throw std::invalid_argument(what + " was trained for frame " + frame.to_json().dump() +
-                                    ", the stream uses " + fs.to_json().dump());
+    frame.require_same(fs, what, "the bundle's frame", "the stream's frame");
 }
 
 } // namespace sems

@@ -36,6 +36,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(encoder_forward_one_hot_at_floor);
     CPPUNIT_TEST(topk_distinct_and_finite_at_extremes);
     CPPUNIT_TEST(topk_encoder_mask_is_exactly_np_distinct);
+    CPPUNIT_TEST(encoder_never_selects_a_guard);
     CPPUNIT_TEST(mti_removes_static_path_exactly);
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
     CPPUNIT_TEST(spectral_decoder_inference_paths_match);
@@ -109,6 +110,46 @@ public:
             CPPUNIT_ASSERT_EQUAL(size_t(32), u.size());
             CPPUNIT_ASSERT(*u.begin() >= 0 && *u.rbegin() < 32 * 64);
         }
+    }
+
+    void encoder_never_selects_a_guard()
+    {
+        // Guards at DC-like and edge columns; N_p = every usable element is the hardest case.
+        const int n = 4, m = 8;
+        const std::vector<int> guards = { 0, 3, 7 };
+        const int usable = n * (m - 3);
+        for (const char* kind : { "gumbel_topk", "gumbel_heads" })
+            for (int np : { 5, usable }) {
+                torch::manual_seed(11);
+                encoder_settings es;
+                es.kind = kind;
+                es.free_scores = true;
+                semantic_encoder enc(np, n, m, es, false, guards);
+                for (double temp : { 1e-3, 1.0 })
+                    for (bool hard : { true, false }) {
+                        const auto sel = enc->sample(temp, hard);
+                        CPPUNIT_ASSERT(all_finite(sel));
+                        const auto grid = sel.sum(0).view({ n, m });
+                        for (int g : guards)
+                            CPPUNIT_ASSERT_EQUAL(0.0f, grid.select(1, g).abs().sum().item<float>());
+                        // The gradient reaches the scores and stays finite.
+                        if (hard) {
+                            for (auto& p : enc->parameters())
+                                p.mutable_grad() = torch::Tensor();
+                            (sel * torch::randn_like(sel)).sum().backward();
+                            for (auto& p : enc->parameters())
+                                if (p.grad().defined())
+                                    CPPUNIT_ASSERT(all_finite(p.grad()));
+                        }
+                    }
+                const auto f = enc->final_indices();
+                CPPUNIT_ASSERT_EQUAL(size_t(np), std::set<int64_t>(f.begin(), f.end()).size());
+                for (auto i : f)
+                    CPPUNIT_ASSERT(std::find(guards.begin(), guards.end(), int(i % m)) == guards.end());
+            }
+        encoder_settings es;
+        CPPUNIT_ASSERT_THROW(semantic_encoder(usable + 1, n, m, es, false, guards), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(semantic_encoder(4, n, m, es, false, std::vector<int>{ 8 }), std::invalid_argument);
     }
 
     void encoder_forward_one_hot_at_floor()

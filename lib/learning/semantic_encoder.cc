@@ -96,9 +96,26 @@ torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
 }
 
 semantic_encoder_module::semantic_encoder_module(
-    int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s, bool learn_power)
+    int n_pilots, int n_symbols, int n_subcarriers, encoder_settings s, bool learn_power,
+    const std::vector<int>& guard_subcarriers)
     : d_np(n_pilots), d_n(n_symbols), d_m(n_subcarriers), d_s(s), d_topk(s.kind == "gumbel_topk")
 {
+    if (!guard_subcarriers.empty()) {
+        auto bias = torch::zeros({ n_symbols, n_subcarriers });
+        for (int m : guard_subcarriers) {
+            if (m < 0 || m >= n_subcarriers)
+                throw std::invalid_argument("semantic encoder: guard subcarrier " + std::to_string(m) +
+                                            " is outside [0, " + std::to_string(n_subcarriers - 1) + "]");
+            bias.select(1, m).fill_(-std::numeric_limits<float>::infinity());
+        }
+        const long long usable = static_cast<long long>(n_symbols) *
+                                 (n_subcarriers - static_cast<long long>(torch::isinf(bias[0]).sum().item<int64_t>()));
+        if (n_pilots > usable)
+            throw std::invalid_argument("semantic encoder: " + std::to_string(n_pilots) +
+                                        " pilots do not fit the " + std::to_string(usable) +
+                                        " resource elements off the guard subcarriers");
+        d_guard_bias = bias.view({ 1, n_symbols * n_subcarriers });
+    }
     if (n_pilots < 1 || n_pilots > n_symbols * n_subcarriers)
         throw std::invalid_argument("semantic encoder: n_pilots must be in [1, N*M], got " +
                                     std::to_string(n_pilots));
@@ -131,17 +148,18 @@ torch::Tensor semantic_encoder_module::scores()
         auto z = d_a.unsqueeze(1) + d_b.unsqueeze(0);
         if (d_free.defined())
             z = z + d_free;
-        return z.view({ 1, d_n * d_m });
+        z = z.view({ 1, d_n * d_m });
+        return d_guard_bias.defined() ? z + d_guard_bias : z;
     }
     auto z = d_fc2->forward(torch::relu(d_fc1->forward(d_embedding)));
     if (d_s.shared)
         z = z.slice(0, 0, d_np) + z.slice(0, d_np, d_np + 1);
-    if (!d_s.factorized)
-        return z;
-    // Z_r[n,m] = a_r[n] + b_r[m]
-    auto a = z.slice(1, 0, d_n).unsqueeze(2);
-    auto b = z.slice(1, d_n, d_n + d_m).unsqueeze(1);
-    return (a + b).view({ d_np, d_n * d_m });
+    if (d_s.factorized) { // Z_r[n,m] = a_r[n] + b_r[m]
+        auto a = z.slice(1, 0, d_n).unsqueeze(2);
+        auto b = z.slice(1, d_n, d_n + d_m).unsqueeze(1);
+        z = (a + b).view({ d_np, d_n * d_m });
+    }
+    return d_guard_bias.defined() ? z + d_guard_bias : z;
 }
 
 torch::Tensor semantic_encoder_module::sample(double temperature, bool hard)

@@ -35,6 +35,9 @@
  * τ is annealed per epoch down to a floor (it shapes the gradient only; the scores'
  * scale, set by their learning rate lr_scale, decides how random the hard masks are).
  *
+ * Guard subcarriers (frame_settings::guard_subcarriers) get a score of -inf in both kinds:
+ * no Gumbel draw, relaxed row or final mask selects them.
+ *
  * Numerics: the uniform draw is clamped to [1e-6, 1 - 1e-6] before g = -log(-log u), so
  * g is finite; every softmax is exp(log_softmax(.)), which subtracts the maximum, and
  * taken elements are masked with -inf while at least one element stays free, so scores
@@ -82,11 +85,14 @@ class SEMS_LEARNING_API semantic_encoder_module : public torch::nn::Module
 {
 public:
     // learn_power: also learn the pilots' energies (power logits; see the file comment).
+    // guard_subcarriers: columns no pilot may take (the frame's guards); their scores are
+    // -inf, so no draw, relaxation or final mask ever selects them.
     semantic_encoder_module(int n_pilots,
                             int n_symbols,
                             int n_subcarriers,
                             encoder_settings s = {},
-                            bool learn_power = false);
+                            bool learn_power = false,
+                            const std::vector<int>& guard_subcarriers = {});
 
     //! Scores: gumbel_heads N_p x (N*M), one row per head; gumbel_topk 1 x (N*M).
     torch::Tensor scores();
@@ -127,6 +133,8 @@ private:
     // gumbel_heads
     torch::Tensor d_embedding;
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr };
+    // 1 x (N*M): 0, or -inf on guard subcarriers (undefined without guards).
+    torch::Tensor d_guard_bias;
 };
 TORCH_MODULE_IMPL(semantic_encoder, semantic_encoder_module);
 

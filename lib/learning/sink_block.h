@@ -75,8 +75,9 @@ protected:
                int threads,
                int metrics_period,
                int n_symbols,
-               int n_subcarriers)
-        : d_task(load_decoder(name, bundle_dir, kind, n_pilots, n_symbols, n_subcarriers, threads)),
+               int n_subcarriers,
+               const std::string& frame)
+        : d_task(load_decoder(name, bundle_dir, kind, n_pilots, n_symbols, n_subcarriers, frame, threads)),
           d_core(n_pilots, batch_size, metrics_period, d_task, [this](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
               this->message_port_pub(port, msg);
           })

@@ -20,14 +20,23 @@ std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
                                              int n_pilots,
                                              int n_symbols,
                                              int n_subcarriers,
+                                             const std::string& frame,
                                              int threads)
 {
     if (dir.empty())
         throw std::invalid_argument(block + ": bundle: no model bundle directory given");
     frame_settings fs;
-    fs.n_symbols = n_symbols;
-    fs.n_subcarriers = n_subcarriers;
     try {
+        if (!frame.empty()) {
+            fs = frame_file::find(frame).frame;
+        }
+        frame_settings given = fs;
+        given.n_symbols = n_symbols;
+        given.n_subcarriers = n_subcarriers;
+        if (frame.empty())
+            fs = given;
+        else // the block's N and M against its frame's
+            fs.require_same(given, block, "frame '" + frame + "'", "the block's n_symbols/n_subcarriers");
         fs.validate();
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(block + ": frame settings: " + e.what());

@@ -44,13 +44,15 @@ namespace detail {
 
 // Loads the bundle in `dir` and refuses it (std::invalid_argument naming `block`, the
 // bundle directory and the problem) unless it is a bundle for `task` on this stream:
-// N_p pilots on an N x M frame. Returns the decoder, ready to run.
+// N_p pilots on an N x M frame, the frame named by `frame` (a preset or frame file; empty:
+// the paper's frame with N x M), compared field by field. Returns the decoder, ready to run.
 std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
                                              const std::string& dir,
                                              task_kind task,
                                              int n_pilots,
                                              int n_symbols,
                                              int n_subcarriers,
+                                             const std::string& frame,
                                              int threads);
 
 // Checks the integer parameters shared by both sinks (std::invalid_argument naming

@@ -281,7 +281,7 @@ training_result trainer::run()
     if (!d_s.mask_file.empty() && !d_s.mask_pattern.empty())
         fail("give either a mask file or a mask pattern, not both");
     if (!d_s.mask_pattern.empty())
-        given_mask = pilot_mask::from_pattern(d_s.mask_pattern, d_n, d_m, d_s.n_pilots, d_s.seed);
+        given_mask = pilot_mask::from_pattern(d_s.mask_pattern, d_s.frame, d_s.n_pilots, d_s.seed);
     if (!d_s.mask_file.empty()) {
         given_mask = pilot_mask::load(d_s.mask_file);
         given_mask->check_frame(d_s.frame, "training settings: mask " + d_s.mask_file);
@@ -376,7 +376,8 @@ training_result trainer::run()
                 : task_dec;
         const bool learn_power = d_s.pilot_power == "learned";
         const double floor = d_s.pilot_power_floor;
-        nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder, learn_power);
+        nn::semantic_encoder enc(d_s.n_pilots, d_n, d_m, d_s.encoder, learn_power,
+                                 d_s.frame.guard_subcarriers);
         d_dist->broadcast_module(*enc);
         if (mse)
             d_dist->broadcast_module(*dec1);
@@ -664,6 +665,10 @@ void training_settings::validate() const
     if (n_pilots < 1 || n_pilots > frame.grid_size())
         fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
              std::to_string(n_pilots));
+    if (n_pilots > frame.usable_elements())
+        fail("pilots: " + std::to_string(n_pilots) + " pilots do not fit the N*(M - guards) = " +
+             std::to_string(frame.usable_elements()) + " resource elements off the frame's " +
+             std::to_string(frame.guard_subcarriers.size()) + " guard subcarriers");
     if (std::isnan(snr_min_db) || std::isnan(snr_max_db) || snr_min_db > snr_max_db)
         fail("need snr_min_db <= snr_max_db (not NaN)");
     if (frames < 10)

@@ -65,11 +65,14 @@ def cxx_defaults():
     extractor = sems.pilot_extractor(pilot_positions=[0])
     pilot_frame = {"n_symbols": fs.n_symbols, "n_subcarriers": fs.n_subcarriers}
     mapper_d = dict(pilot_frame, pilot_symbol=mapper.mask().pilot_symbol(),
-                    pilot_power=mapper.pilot_power(), data_power=mapper.data_power())
+                    pilot_power=mapper.pilot_power(), data_power=mapper.data_power(),
+                    guard_subcarriers=bound_default(sems.pilot_mapper, "guard_subcarriers"))
     assert (mapper.mask().n_symbols(), mapper.mask().n_subcarriers()) == (fs.n_symbols, fs.n_subcarriers)
     extractor_d = dict(pilot_frame, pilot_symbol=extractor.mask().pilot_symbol())
     sink = dict(pilot_frame, batch_size=sems.sink_defaults.batch_size, threads=sems.sink_defaults.threads,
-                metrics_period=sems.sink_defaults.metrics_period)
+                metrics_period=sems.sink_defaults.metrics_period,
+                frame=bound_default(sems.classifier_sink, "frame"))
+    assert bound_default(sems.delay_estimator_sink, "frame") == sink["frame"]
     ofdm = {"n_subcarriers": fs.n_subcarriers, "cp_len": fs.cp_len}
     # target_channel_td: the same scene options as target_channel, plus its frame's cp_len.
     td = sems.target_channel_td()

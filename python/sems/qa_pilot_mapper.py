@@ -172,5 +172,38 @@ class qa_pilot_mapper(gr_unittest.TestCase):
         refuses("pilot_symbol", pilot_symbol=0)
 
 
+    def test_010_guard_subcarriers_carry_nothing(self):
+        guards = [5, 2]  # any order
+        frames = 3
+        per_frame = N * (M - 2) - len(POS)
+        data = data_symbols(frames * per_frame)
+        b = mapper(guard_subcarriers=guards)
+        self.assertEqual(b.data_per_frame(), per_frame)
+        x, _ = run(b, data)
+        self.assertEqual(x.shape, (frames * N, M))
+        self.assertTrue(np.all(x[:, guards] == 0))
+        # Pilots where the mask puts them; data row-major over the other non-guard cells.
+        pilots = np.zeros(N * M, dtype=bool)
+        pilots[POS] = True
+        used = ~pilots & ~np.isin(np.arange(N * M) % M, guards)
+        grid = x.reshape(frames, N * M)
+        for f in range(frames):
+            np.testing.assert_allclose(grid[f, pilots], math.sqrt(EP) * np.complex64(SP), rtol=1e-6)
+            np.testing.assert_allclose(grid[f, used], math.sqrt(ED) * data[f * per_frame:(f + 1) * per_frame],
+                                       rtol=1e-6)
+        # No guards: the frame is as before (every cell carries a pilot or data).
+        self.assertEqual(mapper().data_per_frame(), N * M - len(POS))
+
+    def test_011_bad_guards_refused(self):
+        def refuses(text, **kw):
+            with self.assertRaises(ValueError) as cm:
+                mapper(**kw)
+            self.assertIn(text, str(cm.exception))
+
+        refuses("pilot 4 at [3, 7] is on guard subcarrier 7", guard_subcarriers=[7])
+        refuses("subcarrier 8 is outside", guard_subcarriers=[8])
+        refuses("subcarrier 2 is listed twice", guard_subcarriers=[2, 2])
+
+
 if __name__ == "__main__":
     gr_unittest.run(qa_pilot_mapper)

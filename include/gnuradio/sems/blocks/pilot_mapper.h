@@ -30,7 +30,8 @@ namespace sems {
  * it, and always 1 with pilot_positions).
  *
  * Input: data symbols (gr_complex stream). Output: gr_complex[M], one OFDM symbol in
- * the frequency domain, N per frame; a frame consumes N·M − N_p data symbols.
+ * the frequency domain, N per frame; a frame consumes N·(M − G) − N_p data symbols, G the
+ * number of guard subcarriers, which carry zero (no pilot may sit on one).
  * Tag keys::frame_tag (uint64 frame index, counting from 0) on the first symbol of
  * every frame. Tags on data symbols move to the output symbol that carries them.
  *
@@ -58,6 +59,8 @@ public:
      * \param pilot_symbol     s_p (non-zero); must match the mask file's when a file is given
      * \param pilot_power      E_p
      * \param data_power       E_d
+     * \param guard_subcarriers the frame's guard subcarriers (frame_settings::guard_subcarriers):
+     *                         zero in every symbol; a pilot on one is refused
      * \return the block.
      * \throws std::invalid_argument naming the parameter and the problem.
      */
@@ -67,7 +70,8 @@ public:
                      int n_subcarriers = frame_settings{}.n_subcarriers,
                      gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
                      double pilot_power = 1.0,
-                     double data_power = 1.0);
+                     double data_power = 1.0,
+                     const std::vector<int>& guard_subcarriers = {});
 
     /*!
      * \brief Sets E_p from the next frame.

@@ -8,8 +8,10 @@
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 /*! \brief GNU Radio's namespace. */
 namespace gr {
@@ -18,6 +20,8 @@ namespace sems {
 
 /*! \brief The speed of light c in m/s; docs/design.md §1 uses c = 3e8 m/s exactly. */
 constexpr double speed_of_light_mps = 3e8;
+
+struct frame_difference;
 
 /*!
  * \brief The OFDM frame: N symbols of M subcarriers over bandwidth B at carrier f_c.
@@ -31,6 +35,22 @@ struct SEMS_API frame_settings {
     double carrier_hz = 3e9;        ///< f_c in Hz
     double symbol_interval_s = 1e-3; ///< T, the symbol interval in s
     int cp_len = 16;                ///< cyclic prefix length in samples (time-domain path only)
+    /*!
+     * \brief Guard subcarriers: the columns m that carry neither pilots nor data (DC, band
+     *        edges), ascending and distinct. Empty (the default): every subcarrier is used.
+     */
+    std::vector<int> guard_subcarriers;
+
+    /*!
+     * \brief Whether a subcarrier is a guard.
+     * \param m the subcarrier (column of the grid).
+     * \return true if m is listed in guard_subcarriers.
+     */
+    bool is_guard(int m) const;
+    /*! \brief The subcarriers that may carry pilots and data. \return the non-guard columns, ascending. */
+    std::vector<int> usable_subcarriers() const;
+    /*! \brief N·(M − guards). \return the resource elements a pilot may occupy. */
+    long long usable_elements() const;
 
     /*! \brief Δf = B/M in Hz. \return the subcarrier spacing. */
     double subcarrier_spacing_hz() const { return bandwidth_hz / n_subcarriers; }
@@ -105,10 +125,75 @@ struct SEMS_API frame_settings {
      */
     static frame_settings from_json(const nlohmann::json& j, const std::string& source);
 
+    /*!
+     * \brief The first field in which two frames differ (N, M, B, f_c, T, CP, guards, in that order).
+     * \param o the other settings.
+     * \return the field's name and both values as text; empty when the frames are equal.
+     */
+    std::optional<frame_difference> first_difference(const frame_settings& o) const;
+    /*!
+     * \brief Refuses another frame that differs in any field.
+     * \param other the frame to compare with.
+     * \param who names the caller in the error.
+     * \param mine what this frame is (e.g. "the bundle's frame").
+     * \param theirs what `other` is (e.g. "the stream's frame").
+     * \throws std::invalid_argument "<who>: frame field <f> differs: <mine> has <a>, <theirs> has <b>".
+     */
+    void require_same(const frame_settings& other,
+                      const std::string& who,
+                      const std::string& mine,
+                      const std::string& theirs) const;
+
     /*! \brief Field-wise equality. \param o the other settings. \return true if every field is equal. */
     bool operator==(const frame_settings& o) const;
     /*! \brief Negated operator==(). \param o the other settings. \return true if any field differs. */
     bool operator!=(const frame_settings& o) const { return !(*this == o); }
+};
+
+/*! \brief Where two frames differ: frame_settings::first_difference(). */
+struct SEMS_API frame_difference {
+    std::string field;  ///< the JSON key of the field (n_symbols, ..., guard_subcarriers)
+    std::string first;  ///< the value in the frame first_difference() was called on
+    std::string second; ///< the value in the other frame
+};
+
+/*!
+ * \brief A frame file (`"format": "sems.frame"`, docs/reference/frame_files.md): a named
+ *        frame with its description and the class library that fits it.
+ */
+struct SEMS_API frame_file {
+    static constexpr const char* format_name = "sems.frame"; ///< the file's `format`
+    static constexpr int format_version = 1;                 ///< the file's `version`
+
+    std::string name;        ///< the frame's name (a preset's is its file name)
+    std::string description; ///< free text for people
+    std::string classes;     ///< the class library made for this frame (name or file); "" = none named
+    frame_settings frame;    ///< the frame itself
+
+    /*!
+     * \brief A frame by name or path: `paper` (built in, the defaults), an existing file, or
+     *        `<name>.json` in $SEMS_FRAMES_PATH, the source tree's models/frames, the
+     *        installed share/gr-sems/models/frames.
+     * \param name_or_path the name or file.
+     * \return the frame file.
+     * \throws std::invalid_argument listing every place searched.
+     */
+    static frame_file find(const std::string& name_or_path);
+    /*!
+     * \brief Reads a frame file.
+     * \param path the file. \return the frame file.
+     * \throws std::invalid_argument naming the file and the field.
+     */
+    static frame_file load(const std::string& path);
+    /*!
+     * \brief Reads a frame file's JSON.
+     * \param j the JSON object. \param source names the origin in errors.
+     * \return the frame file.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
+    static frame_file from_json(const nlohmann::json& j, const std::string& source);
+    /*! \brief The file's JSON. \return the JSON object. */
+    nlohmann::json to_json() const;
 };
 
 } // namespace sems

@@ -117,6 +117,20 @@ public:
                                    uint64_t seed = 0);
 
     /*!
+     * \brief Builds a mask by pattern name on a frame's usable subcarriers: the pattern is
+     *        laid over the N x (M − guards) grid of the non-guard subcarriers, so no pilot
+     *        lands on a guard. Without guards it is from_pattern(pattern, N, M, count, seed).
+     * \param pattern "uniform", "random" or "doppler".
+     * \param fs the frame (N, M and its guard subcarriers).
+     * \param count N_p, 1..N·(M − guards).
+     * \param seed the seed of "random" (ignored by the others).
+     * \return the mask.
+     * \throws std::invalid_argument on an unknown pattern, or a count the usable elements cannot hold.
+     */
+    static pilot_mask
+    from_pattern(const std::string& pattern, const frame_settings& fs, int count, uint64_t seed = 0);
+
+    /*!
      * \brief Reads a mask file (docs/reference/file_formats.md).
      * \param path the file.
      * \return the mask.
@@ -202,9 +216,10 @@ public:
     std::vector<std::vector<gr_complex>> pilot_symbol_lists() const;
 
     /*!
-     * \brief Checks that the mask fits a frame.
+     * \brief Checks that the mask fits a frame: the same N x M, and no pilot on a guard subcarrier.
      * \param fs the frame. \param who names the caller in errors.
-     * \throws std::invalid_argument naming `who` when the mask does not fit the frame.
+     * \throws std::invalid_argument naming `who` when the mask does not fit the frame (the
+     *         pilot and the guard subcarrier it sits on).
      */
     void check_frame(const frame_settings& fs, const std::string& who) const;
 

@@ -47,6 +47,10 @@ public:
      * \param metrics_period send metrics every K frames (0: only at the end of the stream)
      * \param n_symbols      N of the stream's frames; must match the bundle
      * \param n_subcarriers  M of the stream's frames; must match the bundle
+     * \param frame          the stream's frame: a preset's name (e.g. `sdr_2g4_20mhz`) or a frame
+     *                       file (`"format": "sems.frame"`); its N and M must equal n_symbols and
+     *                       n_subcarriers. Empty: the paper's frame with n_symbols x n_subcarriers.
+     *                       The bundle's frame must equal it in every field (N, M, B, f_c, T, CP, guards).
      * \return the block.
      * \throws std::invalid_argument naming the bundle and the mismatch.
      */
@@ -56,7 +60,8 @@ public:
                      int threads = sink_defaults::threads,
                      int metrics_period = sink_defaults::metrics_period,
                      int n_symbols = frame_settings().n_symbols,
-                     int n_subcarriers = frame_settings().n_subcarriers);
+                     int n_subcarriers = frame_settings().n_subcarriers,
+                     const std::string& frame = "");
 
     /*! \brief Frames handled: answered or skipped. \return the count. */
     virtual uint64_t frames() const = 0;

@@ -76,8 +76,9 @@ void bind_frame_settings(py::module& m)
 {
     py::class_<frame_settings>(m, "frame_settings", D(frame_settings))
         .def(py::init([](int n_symbols, int n_subcarriers, double bandwidth_hz, double carrier_hz,
-                         double symbol_interval_s, int cp_len) {
-                 frame_settings fs{ n_symbols, n_subcarriers, bandwidth_hz, carrier_hz, symbol_interval_s, cp_len };
+                         double symbol_interval_s, int cp_len, const std::vector<int>& guard_subcarriers) {
+                 frame_settings fs{ n_symbols,  n_subcarriers,     bandwidth_hz, carrier_hz,
+                                    symbol_interval_s, cp_len, guard_subcarriers };
                  fs.validate();
                  return fs;
              }),
@@ -86,13 +87,15 @@ void bind_frame_settings(py::module& m)
              py::arg("bandwidth_hz") = frame_settings{}.bandwidth_hz,
              py::arg("carrier_hz") = frame_settings{}.carrier_hz,
              py::arg("symbol_interval_s") = frame_settings{}.symbol_interval_s,
-             py::arg("cp_len") = frame_settings{}.cp_len)
+             py::arg("cp_len") = frame_settings{}.cp_len,
+             py::arg("guard_subcarriers") = std::vector<int>{})
         .def_readwrite("n_symbols", &frame_settings::n_symbols)
         .def_readwrite("n_subcarriers", &frame_settings::n_subcarriers)
         .def_readwrite("bandwidth_hz", &frame_settings::bandwidth_hz)
         .def_readwrite("carrier_hz", &frame_settings::carrier_hz)
         .def_readwrite("symbol_interval_s", &frame_settings::symbol_interval_s)
         .def_readwrite("cp_len", &frame_settings::cp_len)
+        .def_readwrite("guard_subcarriers", &frame_settings::guard_subcarriers)
         .def("subcarrier_spacing_hz", &frame_settings::subcarrier_spacing_hz)
         .def("wavelength_m", &frame_settings::wavelength_m)
         .def("grid_size", &frame_settings::grid_size)
@@ -108,7 +111,37 @@ void bind_frame_settings(py::module& m)
         .def("doppler_from_velocity", &frame_settings::doppler_from_velocity)
         .def("validate", &frame_settings::validate)
         .def("to_json_string", [](const frame_settings& fs) { return fs.to_json().dump(); })
+        .def("is_guard", &frame_settings::is_guard, py::arg("m"))
+        .def("usable_subcarriers", &frame_settings::usable_subcarriers)
+        .def("usable_elements", &frame_settings::usable_elements)
+        .def(
+            "first_difference",
+            [](const frame_settings& a, const frame_settings& b) -> py::object {
+                const auto d = a.first_difference(b);
+                if (!d)
+                    return py::none();
+                return py::make_tuple(d->field, d->first, d->second);
+            },
+            py::arg("other"),
+            "The first field in which two frames differ, as (field, this value, other value); None when equal.")
         .def("__eq__", &frame_settings::operator==);
+
+    py::class_<frame_file>(m, "frame_file", D(frame_file))
+        .def_readwrite("name", &frame_file::name)
+        .def_readwrite("description", &frame_file::description)
+        .def_readwrite("classes", &frame_file::classes)
+        .def_readwrite("frame", &frame_file::frame)
+        .def_static("find", &frame_file::find, py::arg("name_or_path"), D(frame_file, find))
+        .def_static("load", &frame_file::load, py::arg("path"), D(frame_file, load))
+        .def_static(
+            "from_json_string",
+            [](const std::string& text, const std::string& source) {
+                return frame_file::from_json(nlohmann::json::parse(text), source);
+            },
+            py::arg("text"),
+            py::arg("source") = "frame file text",
+            "Reads a frame file from its JSON text (`source` names it in errors).")
+        .def("to_json_string", [](const frame_file& f) { return f.to_json().dump(); });
 }
 
 void bind_pilot_mask(py::module& m)
@@ -127,8 +160,15 @@ void bind_pilot_mask(py::module& m)
         .def_static("random", &pilot_mask::random, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"),
                     py::arg("seed"))
         .def_static("doppler", &pilot_mask::doppler, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"))
-        .def_static("from_pattern", &pilot_mask::from_pattern, py::arg("pattern"), py::arg("n_symbols"),
-                    py::arg("n_subcarriers"), py::arg("count"), py::arg("seed") = 0)
+        .def_static("from_pattern",
+                    py::overload_cast<const std::string&, int, int, int, uint64_t>(&pilot_mask::from_pattern),
+                    py::arg("pattern"), py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"),
+                    py::arg("seed") = 0)
+        .def_static("from_pattern",
+                    py::overload_cast<const std::string&, const frame_settings&, int, uint64_t>(
+                        &pilot_mask::from_pattern),
+                    py::arg("pattern"), py::arg("frame"), py::arg("count"), py::arg("seed") = 0)
+        .def("check_frame", &pilot_mask::check_frame, py::arg("frame"), py::arg("who") = "pilot mask")
         .def_static("load", &pilot_mask::load, py::arg("path"))
         .def_static("parse", &pilot_mask::parse, py::arg("json_text"), py::arg("source") = "pilot mask text")
         .def("save", &pilot_mask::save, py::arg("path"))

@@ -24,6 +24,7 @@ void bind_pilot_mapper(py::module& m)
              py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f),
              py::arg("pilot_power") = 1.0,
              py::arg("data_power") = 1.0,
+             py::arg("guard_subcarriers") = std::vector<int>{},
              D(pilot_mapper, make))
         .def("set_pilot_power", &pilot_mapper::set_pilot_power, D(pilot_mapper, set_pilot_power), py::arg("energy"))
         .def("pilot_power", &pilot_mapper::pilot_power, D(pilot_mapper, pilot_power))

@@ -29,6 +29,7 @@ bind_sink(py::module& m, const char* name, const char* doc, const char* make_doc
              py::arg("metrics_period") = sink_defaults::metrics_period,
              py::arg("n_symbols") = frame.n_symbols,
              py::arg("n_subcarriers") = frame.n_subcarriers,
+             py::arg("frame") = std::string(),
              make_doc)
         // Both sink headers document these getters with the same text.
         .def("frames", &Sink::frames, D(classifier_sink, frames))
