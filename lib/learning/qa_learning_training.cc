@@ -94,6 +94,7 @@ class qa_learning_training : public CppUnit::TestFixture
     CPPUNIT_TEST(same_seed_same_mask_and_metrics);
     CPPUNIT_TEST(bad_bundles_are_refused);
     CPPUNIT_TEST(bad_settings_are_refused);
+    CPPUNIT_TEST(learned_pilot_power);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -296,6 +297,58 @@ public:
         s = tiny("");
         s.classifier.doppler_bins = 8;
         assert_error([&] { train(s, nullptr); }, "doppler_bins");
+        s = tiny("");
+        s.pilot_power = "shouting";
+        assert_error([&] { train(s, nullptr); }, "pilot_power", "shouting");
+        s = tiny("");
+        s.pilot_power = "learned";
+        s.mask_pattern = "uniform";
+        assert_error([&] { train(s, nullptr); }, "pilot_power \"learned\" needs a learned mask");
+        s = tiny("");
+        s.pilot_power = "learned";
+        s.pilot_power_floor = 1.0;
+        assert_error([&] { train(s, nullptr); }, "pilot_power_floor must be in [0, 1)");
+    }
+
+    // A tiny run that learns the pilots' energies: they share the total of equal power
+    // (mean 1), differ, respect the floor, and the bundle records and repeats the setting.
+    void learned_pilot_power()
+    {
+        const auto dir = temp_dir("power");
+        auto s = tiny(dir);
+        s.frames = 600;
+        s.epochs = 2;
+        s.decoder_epochs = 1;
+        s.pilot_power = "learned";
+        s.pilot_power_floor = 0.2;
+        const auto r = train(s, nullptr);
+        const auto& mk = r.bundle.mask;
+        CPPUNIT_ASSERT_EQUAL(16, mk.size());
+        CPPUNIT_ASSERT(!mk.equal_power());
+        double sum = 0.0, lo = 1e300, hi = -1e300;
+        for (double p : mk.power()) {
+            sum += p;
+            lo = std::min(lo, p);
+            hi = std::max(hi, p);
+        }
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, sum / mk.size(), 1e-12);
+        CPPUNIT_ASSERT_MESSAGE("energies from " + std::to_string(lo) + " to " + std::to_string(hi), hi - lo > 1e-3);
+        CPPUNIT_ASSERT_MESSAGE("smallest energy " + std::to_string(lo), lo >= 0.2 - 1e-9);
+        // mask.json carries the energies; bundle.json the setting; --from repeats it.
+        const auto loaded = model_bundle::load(dir);
+        CPPUNIT_ASSERT(loaded.mask == mk);
+        CPPUNIT_ASSERT_EQUAL(std::string("learned"), loaded.training.at("pilot_power").get<std::string>());
+        const auto again = training_settings::from_bundle(loaded);
+        CPPUNIT_ASSERT_EQUAL(std::string("learned"), again.pilot_power);
+        CPPUNIT_ASSERT_EQUAL(0.2, again.pilot_power_floor);
+        // Equal power is recorded too, and a record without the key (older bundles) reads as equal.
+        const auto& plain = shared_run().result.bundle;
+        CPPUNIT_ASSERT(plain.mask.equal_power());
+        CPPUNIT_ASSERT_EQUAL(std::string("equal"), plain.training.at("pilot_power").get<std::string>());
+        auto old = model_bundle::load(shared_run().dir);
+        old.training.erase("pilot_power");
+        CPPUNIT_ASSERT_EQUAL(std::string("equal"), training_settings::from_bundle(old).pilot_power);
+        fs::remove_all(dir);
     }
 };
 

@@ -431,11 +431,16 @@ training_result trainer::run()
                << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  symbols " << n_sym
                << " subcarriers " << n_sub << "  " << std::setprecision(1) << since(te) << " s  " << std::setprecision(0)
                << fps << " frames/s";
+            const auto [p_lo, p_hi] = std::minmax_element(power.begin(), power.end());
+            if (learn_power)
+                os << std::setprecision(2) << "  power " << *p_lo << ".." << *p_hi;
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
                                   { "temperature", tau }, { "distinct", distinct }, { "symbols", n_sym },
                                   { "subcarriers", n_sub }, { "hard", hard }, { "seconds", since(te) },
                                   { "train_frames_per_s", fps } });
+            if (learn_power)
+                d_history.back()["pilot_power_range"] = { *p_lo, *p_hi };
             const bool at_floor = tau <= d_s.encoder.temperature_floor * (1 + 1e-9);
             tau = std::max(d_s.encoder.temperature_floor, tau * d_s.encoder.temperature_decay);
             const bool better = hib ? v.metric > best : v.metric < best;

@@ -21,12 +21,12 @@ QPSK = [(1 + 1j) / 2 ** 0.5, (-1 + 1j) / 2 ** 0.5, (-1 - 1j) / 2 ** 0.5, (1 - 1j
 
 class qa_frame_sync(gr_unittest.TestCase):
 
-    def transmit(self, frames, cp, seed):
+    def transmit(self, frames, cp, seed, mask=MASK):
         """frames of mapper -> ofdm_tx samples (data QPSK), as a numpy array"""
         n, m = 32, 64
         src = digital.chunks_to_symbols_bc(QPSK, 1)
         bits = analog.random_uniform_source_b(0, 4, seed)
-        mapper = sems.pilot_mapper(mask_file=MASK)
+        mapper = sems.pilot_mapper(mask_file=mask)
         head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
         sink = blocks.vector_sink_c()
         tb = gr.top_block()
@@ -34,9 +34,9 @@ class qa_frame_sync(gr_unittest.TestCase):
         tb.run()
         return np.array(sink.data(), dtype=np.complex64)
 
-    def sync(self, x, cp, search_frames=4):
+    def sync(self, x, cp, search_frames=4, mask=MASK):
         src = blocks.vector_source_c(x.tolist())
-        fs = sems.frame_sync(mask_file=MASK, cp_len=cp, search_frames=search_frames)
+        fs = sems.frame_sync(mask_file=mask, cp_len=cp, search_frames=search_frames)
         sink = blocks.vector_sink_c()
         msgs = blocks.message_debug()
         tb = gr.top_block()
@@ -72,6 +72,31 @@ class qa_frame_sync(gr_unittest.TestCase):
                 self.assertEqual(pmt.to_long(pmt.dict_ref(msgs.get_message(0), pmt.intern("offset"), pmt.PMT_NIL)),
                                  offset)
                 self.assertGreater(fs.metric(), 25.0)
+
+    def test_001b_pilot_energies_in_the_template(self):
+        # A mask whose pilots differ in energy: frame_sync's template carries sqrt(p_k)·s_p as
+        # the mapper sends it, so it finds the offset exactly and correlates better than a
+        # template of equal energies would.
+        cp = 48
+        mask = sems.pilot_mask.load(MASK)
+        power = [0.2 if k % 2 else 1.8 for k in range(mask.size())]
+        if mask.size() % 2:
+            power[-1] = 1.0
+        rng = np.random.default_rng(7)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "power.json")
+            sems.pilot_mask(mask.n_symbols(), mask.n_subcarriers(), mask.positions(), mask.pilot_symbol(),
+                            power).save(path)
+            tx = self.transmit(6, cp, seed=3, mask=path)
+            offset = 1234
+            rx = np.concatenate([np.zeros(offset, np.complex64), tx])
+            rx = rx + (rng.standard_normal(rx.size) + 1j * rng.standard_normal(rx.size)) * math.sqrt(0.1 / 2)
+            rx = rx.astype(np.complex64)
+            matched, _, _, _ = self.sync(rx, cp, mask=path)
+            equal, _, _, _ = self.sync(rx, cp)
+        self.assertTrue(matched.locked())
+        self.assertEqual(matched.offset(), offset)
+        self.assertGreater(matched.metric(), equal.metric())
 
     def test_002_noise_alone_no_tag_and_a_count(self):
         cp = 48

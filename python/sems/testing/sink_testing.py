@@ -91,7 +91,12 @@ def channel_frames(mask, count, seed, snr_db, classes=None):
     h, truths = cm.generate(count, 0)
     pos = np.array(mask.positions())  # (n, m) pairs in mask order
     obs = np.ascontiguousarray(h[:, pos[:, 0], pos[:, 1]]).astype(np.complex64)
-    cm.add_noise(obs, snr_db)
+    if mask.equal_power():
+        cm.add_noise(obs, snr_db)
+    else:  # pilot k's noise is scaled by mask.noise_scale(k) = 1/sqrt(p_k)
+        noise = np.zeros_like(obs)
+        cm.add_noise(noise, snr_db)
+        obs += noise * np.array([mask.noise_scale(k) for k in range(mask.size())], dtype=np.float32)
     for t in truths:
         t[sems.keys.snr_db] = float(snr_db)
     return obs, truths

@@ -148,14 +148,15 @@ void bind_pilot_mask(py::module& m)
 {
     py::class_<pilot_mask>(m, "pilot_mask", D(pilot_mask))
         .def(py::init([](int n_symbols, int n_subcarriers, const std::vector<std::pair<int, int>>& pilots,
-                         gr_complex pilot_symbol) {
+                         gr_complex pilot_symbol, std::vector<double> power) {
                  std::vector<pilot_position> pos;
                  for (const auto& p : pilots)
                      pos.push_back({ p.first, p.second });
-                 return pilot_mask(n_symbols, n_subcarriers, pos, pilot_symbol);
+                 return pilot_mask(n_symbols, n_subcarriers, pos, pilot_symbol, { { "kind", "explicit" } },
+                                   "pilot mask", std::move(power));
              }),
              py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("pilots"),
-             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f))
+             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f), py::arg("power") = std::vector<double>{})
         .def_static("uniform", &pilot_mask::uniform, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"))
         .def_static("random", &pilot_mask::random, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"),
                     py::arg("seed"))
@@ -178,6 +179,10 @@ void bind_pilot_mask(py::module& m)
         .def("size", &pilot_mask::size)
         .def("__len__", &pilot_mask::size)
         .def("pilot_symbol", &pilot_mask::pilot_symbol)
+        .def("power", &pilot_mask::power)
+        .def("equal_power", &pilot_mask::equal_power)
+        .def("transmitted_pilot", &pilot_mask::transmitted_pilot, py::arg("k"))
+        .def("noise_scale", &pilot_mask::noise_scale, py::arg("k"))
         .def("positions",
              [](const pilot_mask& mk) {
                  std::vector<std::pair<int, int>> out;
