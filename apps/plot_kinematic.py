@@ -46,10 +46,20 @@ def save(fig, out, name):
 
 
 def accuracy_figure(rows, out):
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), squeeze=False)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5.6), squeeze=False)
     pr.plot_accuracy(rows, "kinematic", axes[0], "Moving scatterers, any heading")
+    # Twelve methods and the bound: the legend goes under the panels, not over the lines.
+    legend = axes[0][0].get_legend()
+    handles, labels = legend.legend_handles if hasattr(legend, "legend_handles") else legend.legendHandles, \
+        [t.get_text() for t in legend.get_texts()]
+    legend.remove()
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     pr.footer(fig, rows)
-    return save(fig, out, "exp7_kinematic.png")
+    fig.tight_layout(rect=(0, 0.17, 1, 1))
+    path = os.path.join(out, "exp7_kinematic.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def best_hand(rows, snr):
@@ -85,7 +95,7 @@ def confusion_figure(conf, rows, out):
         ax.set_xlabel("predicted")
         ax.set_ylabel("true")
         seeds = len({r["train_seed"] for r in conf if r["method"] == m})
-        ax.set_title("%s at %g dB (rows: share of each true class; %d seed%s summed)" % (
+        ax.set_title("%s at %g dB\n(rows: share of each true class; %d seed%s summed)" % (
             "SemS (learned pilots)" if m == "SemS" else m, snr, seeds, "" if seeds == 1 else "s"), fontsize=9)
     return save(fig, out, "exp7_confusion.png")
 

@@ -15,7 +15,7 @@
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. The results (exp7_*.csv, exp7_*.png and
 # kinematic_tables.md) go to RESULTS (default docs/results), the run's record to
-# RESULTS/eval_kinematic.log. The programs are $SEMS_EVAL (default build/apps/sems_eval) and
+# RESULTS/eval_kinematic.log and the parts' logs to RESULTS/eval_kinematic_<part>.log. The programs are $SEMS_EVAL (default build/apps/sems_eval) and
 # /usr/bin/python3. --size test runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_kinematic.sh
@@ -33,5 +33,6 @@ for p in "${pids[@]}"; do wait "$p" || status=1; done
 [ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
 cp "$out/main/exp7_kinematic.csv" "$out/main/exp7_confusion.csv" "$out/budget/exp7_pilot_budget.csv" \
    "$out/power/exp7_pilot_power.csv" "$results/"
+for p in main budget power; do cp "$out/$p.log" "$results/eval_kinematic_$p.log"; done
 /usr/bin/python3 "$root/apps/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
 stamp "done in $(( $(date +%s) - start )) s"
