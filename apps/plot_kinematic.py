@@ -37,8 +37,8 @@ def bound_rows(results):
             if r["mask"] == "doppler" and int(pr.fnum(r["n_pilots"])) == 32]
 
 
-def save(fig, out, name):
-    fig.tight_layout()
+def save(fig, out, name, rect=None):
+    fig.tight_layout(rect=rect)
     path = os.path.join(out, name)
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -55,11 +55,7 @@ def accuracy_figure(rows, out):
     legend.remove()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     pr.footer(fig, rows)
-    fig.tight_layout(rect=(0, 0.17, 1, 1))
-    path = os.path.join(out, "exp7_kinematic.png")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, out, "exp7_kinematic.png", rect=(0, 0.17, 1, 1))
 
 
 def best_hand(rows, snr):
