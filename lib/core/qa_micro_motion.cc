@@ -205,10 +205,9 @@ public:
             CPPUNIT_ASSERT(std::abs(a[row * fs.n_subcarriers] - b[row * fs.n_subcarriers]) < 1e-5);
     }
 
-    // The separable expansion (scatterer_moments.h) against the direct sum Σ_s a_s e^{-jκ_m r_s}
-    // on a 77 GHz, 1 GHz frame where a 0.6 m displacement spans 4 range cells: sub-bands and
-    // high orders are in use, the error stays at float rounding.
-    void expansion_equals_direct_sum_on_wide_band()
+    // A 77 GHz, 1 GHz frame of 16 x 256: a body spans several range cells, so the expansion
+    // needs sub-bands and high orders.
+    static frame_settings wide_band_frame()
     {
         frame_settings fs;
         fs.carrier_hz = 77e9;
@@ -216,6 +215,15 @@ public:
         fs.n_subcarriers = 256;
         fs.n_symbols = 16;
         fs.symbol_interval_s = 20e-6;
+        return fs;
+    }
+
+    // The separable expansion (scatterer_moments.h) against the direct sum Σ_s a_s e^{-jκ_m r_s}
+    // on a 77 GHz, 1 GHz frame where a 0.6 m displacement spans 4 range cells: sub-bands and
+    // high orders are in use, the error stays at float rounding.
+    void expansion_equals_direct_sum_on_wide_band()
+    {
+        const frame_settings fs = wide_band_frame();
         const auto s = scene::parse(head + R"("targets": [{"class": "car", "range_m": 10, "velocity_mps": 0,
             "micro_motion": {"model": "scatterers", "scatterers": [
                 {"power": 1, "harmonics": [{"amplitude_m": 0.6, "rate_hz": 900, "phase_rad": 0.2}]},
@@ -576,12 +584,7 @@ public:
     // symbol equal up to the one phasor the target's Doppler and gain give, to float rounding.
     void walker_frame_equals_direct_sum()
     {
-        frame_settings wide;
-        wide.carrier_hz = 77e9;
-        wide.bandwidth_hz = 1e9;
-        wide.n_subcarriers = 256;
-        wide.n_symbols = 16;
-        wide.symbol_interval_s = 20e-6;
+        const frame_settings wide = wide_band_frame();
         for (const frame_settings& fs : { frame_settings{}, wide }) {
             const auto s = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 12, "speed_mps": 1.6,
                 "heading_rad": 0.4, "micro_motion": {"model": "walker", "height_m": 1.75, "phase_rad": 0.3}}]})");
