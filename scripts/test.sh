@@ -14,4 +14,7 @@ export SEMS_BUILD_DIR="${SEMS_BUILD_DIR:-$default_build}"
 "$root/scripts/install_deps.sh"
 # Everything, also on a tree scripts/demo.sh configured without tests and apps.
 SEMS_BUILD_TESTS=ON SEMS_BUILD_APPS=ON "$root/scripts/build.sh"
+if [[ "$SEMS_SANITIZE" == *address* ]]; then
+  /usr/bin/python3 "$root/scripts/check_sanitizer_env.py" "$SEMS_BUILD_DIR"
+fi
 ctest --test-dir "$SEMS_BUILD_DIR" --output-on-failure -j"$(nproc)" "$@"
