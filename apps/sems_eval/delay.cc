@@ -20,6 +20,7 @@
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <gnuradio/sems/learning/network_settings.h>
+#include <stdexcept>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -80,13 +81,18 @@ training_settings delay_training(const config& c, const std::string& scen, int p
 }
 
 // 32 (np) random subcarriers on the middle symbol: the classical side's one-symbol pattern
-// (pilots on one symbol see no Doppler rotation between them).
+// (pilots on one symbol see no Doppler rotation between them). Drawn among the frame's
+// usable subcarriers, so a frame with guards gets none on a guard.
 pilot_mask one_symbol_mask(const frame_settings& fs, int np, uint64_t seed)
 {
-    const auto r = pilot_mask::random(1, fs.n_subcarriers, np, seed); // np distinct subcarriers
+    const auto usable = fs.usable_subcarriers();
+    if (np > static_cast<int>(usable.size()))
+        throw std::invalid_argument("sems_eval: " + std::to_string(np) + " pilots on one symbol, but the frame has " +
+                                    std::to_string(usable.size()) + " usable subcarriers");
+    const auto r = pilot_mask::random(1, static_cast<int>(usable.size()), np, seed); // np distinct columns
     std::vector<pilot_position> pos;
     for (const auto& p : r.positions())
-        pos.push_back({ fs.n_symbols / 2, p.m });
+        pos.push_back({ fs.n_symbols / 2, usable[p.m] });
     return pilot_mask(fs.n_symbols, fs.n_subcarriers, pos, gr_complex(1.0f, 0.0f),
                       { { "kind", "random subcarriers, one symbol" }, { "seed", seed } });
 }
