@@ -48,13 +48,20 @@ if [ "$mode" = grc ]; then
   exit 0
 fi
 
-# The bundles by name come from the prefix, and the modules from the prefix.
+# The bundles, class libraries and frames by name come from the prefix (a library and a frame
+# that exist only there, under names the source tree does not have), and the modules too.
+sed 's/"name": "kinematic"/"name": "installed_only"/' "$prefix/share/gr-sems/models/classes/kinematic.json" \
+  > "$prefix/share/gr-sems/models/classes/installed_only.json"
+sed 's/"name": "sdr_2g4_20mhz"/"name": "installed_only"/' "$prefix/share/gr-sems/models/frames/sdr_2g4_20mhz.json" \
+  > "$prefix/share/gr-sems/models/frames/installed_only.json"
 LD_PRELOAD="$run_preload" "$python" - "$prefix" <<'PY'
 import os, sys
 from gnuradio import sems
 prefix = os.path.realpath(sys.argv[1])
 found = os.path.realpath(sems.model_bundle.find("classifier"))
 assert found.startswith(prefix), f"classifier resolved to {found}, not under {prefix}"
+assert sems.class_library.find("installed_only").name() == "installed_only"
+assert sems.frame_file.find("installed_only").name == "installed_only"
 assert os.path.realpath(sems.__file__).startswith(prefix), sems.__file__
 maps = open("/proc/self/maps").read().split("\n")
 libs = {line.split()[-1] for line in maps if "libgnuradio-sems" in line}

@@ -9,9 +9,12 @@
 #include <gnuradio/sems/core/scene.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
+#include <unistd.h>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <complex>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -76,6 +79,7 @@ class qa_micro_motion : public CppUnit::TestFixture
     CPPUNIT_TEST(bad_micro_motion_is_refused);
     CPPUNIT_TEST(shipped_class_libraries);
     CPPUNIT_TEST(bad_class_libraries_are_refused);
+    CPPUNIT_TEST(scene_reads_its_library_beside_it);
     CPPUNIT_TEST(walker_frame_equals_direct_sum);
     CPPUNIT_TEST_SUITE_END();
 
@@ -532,6 +536,27 @@ public:
         r.classes = { static_cast<target_class>(1) };
         assert_error([&] { channel_model(frame_settings{}, scene::random(r, std::nullopt, fading_kind::rayleigh, fast), 1); },
                      "class far", "unambiguous range");
+    }
+
+    // A scene file naming its library by a relative path reads it from the scene's folder,
+    // whatever the working directory; a missing file is named as given (no ".json" added).
+    void scene_reads_its_library_beside_it()
+    {
+        char tmpl[] = "/tmp/sems_qa_sceneXXXXXX";
+        CPPUNIT_ASSERT(::mkdtemp(tmpl) != nullptr);
+        const std::string dir = tmpl;
+        std::ofstream(dir + "/street.json") << R"({"format": "sems.classes", "version": 1, "name": "street",
+            "classes": [{"name": "slow_walker", "range_m": [5, 50], "speed_mps": [0.5, 1.5]},
+                        {"name": "fast_car", "range_m": [5, 150], "speed_mps": [10, 20]}]})";
+        std::ofstream(dir + "/scene.json") << R"({"format": "sems.scene", "version": 1, "classes": "street.json",
+            "random": {"classes": ["fast_car"]}})";
+        const auto sc = scene::load(dir + "/scene.json");
+        CPPUNIT_ASSERT_EQUAL(std::string("street"), sc.library().name());
+        std::ofstream(dir + "/lost.json") << R"({"format": "sems.scene", "version": 1, "classes": "nothere.json"})";
+        assert_error([&] { scene::load(dir + "/lost.json"); }, "\"nothere.json\": not built in", "searched nothere.json;");
+        for (const char* f : { "street.json", "scene.json", "lost.json" })
+            std::remove((dir + "/" + f).c_str());
+        ::rmdir(dir.c_str());
     }
 
     void bad_micro_motion_is_refused()

@@ -18,6 +18,7 @@
 #include "core/walker_scatterers.h"
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/core/scene.h>
+#include <fstream>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -512,7 +513,24 @@ scene scene::from_json(const json& j, const std::string& source)
     return s;
 }
 
-scene scene::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
+scene scene::load(const std::string& path)
+{
+    json j = json_read::parse_file(path);
+    // A relative library path in a scene file ("classes": "my_classes.json") is read from the
+    // scene file's folder when the file is there, so a scene and its library travel together
+    // and work from any working directory.
+    if (j.is_object() && j.contains("classes") && j["classes"].is_string()) {
+        const std::string lib = j["classes"].get<std::string>();
+        const auto slash = path.rfind('/');
+        if (!lib.empty() && lib.front() != '/' && slash != std::string::npos &&
+            (lib.find('/') != std::string::npos || lib.size() > 5 && lib.compare(lib.size() - 5, 5, ".json") == 0)) {
+            const std::string beside = path.substr(0, slash + 1) + lib;
+            if (std::ifstream(beside).good())
+                j["classes"] = beside;
+        }
+    }
+    return from_json(j, path);
+}
 
 scene scene::parse(const std::string& json_text, const std::string& source)
 {

@@ -4,6 +4,7 @@
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
+#include <filesystem>
 #include <algorithm>
 #include <dlfcn.h>
 #include <climits>
@@ -124,9 +125,10 @@ nlohmann::json model_bundle::to_json() const
 
 void model_bundle::save(const std::string& dir) const
 {
-    ::mkdir(dir.c_str(), 0755);
+    std::error_code ec; // parent folders too, like mkdir -p
+    std::filesystem::create_directories(dir, ec);
     if (!is_directory(dir))
-        throw std::invalid_argument(dir + ": cannot create the bundle directory");
+        throw std::invalid_argument(dir + ": cannot create the bundle directory" + (ec ? " (" + ec.message() + ")" : ""));
     mask.save(join(dir, mask_name));
     json_read::write_file(join(dir, bundle_file), to_json());
 }
