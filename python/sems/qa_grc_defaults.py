@@ -111,6 +111,8 @@ def cxx_defaults():
         "sems_metrics_printer": {},
         "sems_target_channel_td": channel_td,
         "sems_frame_sync": sync,
+        "sems_cfo_corrector": {name: bound_default(sems.cfo_corrector, name)
+                               for name in ("n_subcarriers", "cp_len", "symbols", "forgetting", "snr_db")},
         "sems_leakage_canceller": {name: bound_default(sems.leakage_canceller, name)
                                    for name in ("taps", "window", "forgetting", "widely_linear", "dc")},
         "sems_range_doppler_map": rd_map,
