@@ -21,12 +21,13 @@ frame_sync::sptr frame_sync::make(const std::string& mask_file,
                                   double pilot_power,
                                   int cp_len,
                                   int search_frames,
-                                  double threshold)
+                                  double threshold,
+                                  bool noncoherent)
 {
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     try {
         return gnuradio::make_block_sptr<frame_sync_impl>(
-            frame_search(mask, cp_len, pilot_power, search_frames, threshold), mask.n_symbols(),
+            frame_search(mask, cp_len, pilot_power, search_frames, threshold, noncoherent), mask.n_symbols(),
             mask.n_subcarriers(), cp_len);
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(who) + ": " + e.what());

@@ -12,8 +12,55 @@
 namespace gr {
 namespace sems {
 
-frame_search::frame_search(const pilot_mask& mask, int cp_len, double pilot_power, int frames, double threshold)
-    : d_len(0), d_frames(frames), d_threshold(threshold), d_template_energy(0.0)
+// The window's correlation with the template at every lag: c = IFFT(FFT(x)·conj(FFT(t))) over
+// W = (F + 1)·L points. Lags θ < F·L need x up to θ + L − 1 < W: no circular wrap.
+struct frame_search::correlator {
+    gr::fft::fft_complex_fwd fwd;
+    gr::fft::fft_complex_rev rev;
+    std::vector<gr_complex> template_spectrum; // conj(FFT(t)) / W
+    std::vector<gr_complex> corr;              // c at lags 0 .. W − 1
+    std::vector<double> energy;                // prefix sums of |x|²
+    explicit correlator(int w) : fwd(w), rev(w), template_spectrum(size_t(w)), corr(size_t(w)), energy(size_t(w) + 1) {}
+};
+
+double frame_search::false_lock_probability(double threshold, int frames, int frame_len, bool noncoherent)
+{
+    if (!checks::positive(threshold))
+        throw std::invalid_argument("frame_search: threshold must be a finite number > 0, got " +
+                                    std::to_string(threshold));
+    if (frames < 1)
+        throw std::invalid_argument("frame_search: frames must be >= 1, got " + std::to_string(frames));
+    if (frame_len < 1)
+        throw std::invalid_argument("frame_search: frame_len must be >= 1, got " + std::to_string(frame_len));
+    double tail = 1.0; // Σ_{k<F} T^k/k! (non-coherent), 1 (coherent)
+    if (noncoherent) {
+        double term = 1.0;
+        for (int k = 1; k < frames; ++k) {
+            term *= threshold / k;
+            tail += term;
+        }
+    }
+    return std::min(1.0, double(frame_len) * std::exp(-threshold) * tail);
+}
+
+double frame_search::threshold_for(double p, int frames, int frame_len, bool noncoherent)
+{
+    if (!(p > 0.0 && p < 1.0))
+        throw std::invalid_argument("frame_search: the false-lock probability p must be in (0, 1), got " +
+                                    std::to_string(p));
+    double lo = 1e-9, hi = 1.0;
+    while (false_lock_probability(hi, frames, frame_len, noncoherent) > p)
+        hi *= 2.0;
+    for (int i = 0; i < 100; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (false_lock_probability(mid, frames, frame_len, noncoherent) > p ? lo : hi) = mid;
+    }
+    return hi;
+}
+
+frame_search::frame_search(
+    const pilot_mask& mask, int cp_len, double pilot_power, int frames, double threshold, bool noncoherent)
+    : d_len(0), d_frames(frames), d_threshold(threshold), d_template_energy(0.0), d_noncoherent(noncoherent)
 {
     const int n = mask.n_symbols(), m = mask.n_subcarriers();
     if (cp_len < 0 || cp_len > m)
@@ -71,46 +118,64 @@ frame_search::frame_search(const pilot_mask& mask, int cp_len, double pilot_powe
             std::to_string(d_sidelobe) + " of its peak at another lag (max " + std::to_string(max_sidelobe) +
             "); pilots on few subcarriers (e.g. one) form a periodic tone. Use a mask whose pilots "
             "spread over many subcarriers, or a preamble");
+
+    const int w = window_len();
+    d_corr = std::make_shared<correlator>(w);
+    std::fill(d_corr->fwd.get_inbuf(), d_corr->fwd.get_inbuf() + w, gr_complex(0.0f, 0.0f));
+    std::copy(d_template.begin(), d_template.end(), d_corr->fwd.get_inbuf());
+    d_corr->fwd.execute();
+    for (int i = 0; i < w; ++i)
+        d_corr->template_spectrum[size_t(i)] = std::conj(d_corr->fwd.get_outbuf()[i]) / float(w);
 }
 
 frame_search_result frame_search::search(const gr_complex* x) const
 {
-    const size_t w = size_t(window_len());
-    std::vector<double> energy(w + 1, 0.0); // prefix sums of |x|²
-    for (size_t i = 0; i < w; ++i)
-        energy[i + 1] = energy[i] + std::norm(x[i]);
+    correlator& k = *d_corr;
+    const int w = window_len();
+    std::vector<double>& energy = k.energy;
+    energy[0] = 0.0;
+    for (int i = 0; i < w; ++i)
+        energy[size_t(i) + 1] = energy[size_t(i)] + std::norm(x[i]);
+    std::copy(x, x + w, k.fwd.get_inbuf());
+    k.fwd.execute();
+    volk_32fc_x2_multiply_32fc(k.rev.get_inbuf(), k.fwd.get_outbuf(), k.template_spectrum.data(), w);
+    k.rev.execute();
+    std::copy(k.rev.get_outbuf(), k.rev.get_outbuf() + w, k.corr.begin());
+
+    // z_f(θ) = L·|c_f|²/(Σ|t|²·E_f): one frame's own metric (Exp(1) on noise)
+    auto frame_metric = [&](size_t start) {
+        const double ex = energy[start + d_len] - energy[start];
+        return ex > 0.0 ? std::norm(std::complex<double>(k.corr[start])) * d_len / (d_template_energy * ex) : 0.0;
+    };
     frame_search_result best;
-    double best_rho = -1.0;
+    best.metric = -1.0;
     for (int lag = 0; lag < d_len; ++lag) {
-        gr_complex c(0.0f, 0.0f);
-        double ex = 0.0;
-        for (int f = 0; f < d_frames; ++f) {
-            const size_t start = size_t(lag) + size_t(f) * d_len;
-            gr_complex part;
-            volk_32fc_x2_conjugate_dot_prod_32fc(&part, x + start, d_template.data(), d_len);
-            c += part;
-            ex += energy[start + d_len] - energy[start];
+        double m = 0.0;
+        if (d_noncoherent) {
+            for (int f = 0; f < d_frames; ++f)
+                m += frame_metric(size_t(lag) + size_t(f) * d_len);
+        } else {
+            std::complex<double> c(0.0, 0.0);
+            double ex = 0.0;
+            for (int f = 0; f < d_frames; ++f) {
+                const size_t start = size_t(lag) + size_t(f) * d_len;
+                c += std::complex<double>(k.corr[start]);
+                ex += energy[start + d_len] - energy[start];
+            }
+            m = ex > 0.0 ? std::norm(c) * d_len / (d_template_energy * ex) : 0.0;
         }
-        const double rho = ex > 0.0 ? std::norm(std::complex<double>(c)) / (d_frames * d_template_energy * ex) : 0.0;
-        if (rho > best_rho) {
-            best_rho = rho;
+        if (m > best.metric) {
+            best.metric = m;
             best.lag = lag;
         }
     }
-    best.metric = best_rho * d_frames * d_len;
     best.found = best.metric > d_threshold;
     if (!best.found)
         return best;
     // The best lag fixes the frame phase; the stream may start within the window (silence
-    // or noise before it): the first frame is the first whose own metric L·ρ_f passes
-    // threshold / F.
+    // or noise before it): the first frame is the first whose own metric passes threshold / F.
     for (int f = 0; f < d_frames; ++f) {
-        const size_t start = size_t(best.lag) + size_t(f) * d_len;
-        gr_complex c;
-        volk_32fc_x2_conjugate_dot_prod_32fc(&c, x + start, d_template.data(), d_len);
-        const double ex = energy[start + d_len] - energy[start];
-        const double m = ex > 0.0 ? std::norm(std::complex<double>(c)) * d_len / (d_template_energy * ex) : 0.0;
-        if (m > d_threshold / d_frames) {
+        if (frame_metric(size_t(best.lag) + size_t(f) * d_len) > d_threshold / d_frames) {
             best.lag += f * d_len;
             break;
         }

@@ -2,7 +2,8 @@
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
-keys; blocks pilot_mapper, target_channel, target_channel_td, pilot_extractor, range_doppler_map; hier blocks
+keys; blocks pilot_mapper, target_channel, target_channel_td, frame_sync, leakage_canceller, cfo_corrector,
+pilot_extractor, range_doppler_map; hier blocks
 ofdm_tx / ofdm_rx.
 
 Learning (LibTorch, loaded on first use of one of these names): classifier_sink,

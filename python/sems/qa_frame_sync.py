@@ -98,6 +98,37 @@ class qa_frame_sync(gr_unittest.TestCase):
         self.assertEqual(matched.offset(), offset)
         self.assertGreater(matched.metric(), equal.metric())
 
+    def test_001c_zero_db_with_and_without_leakage(self):
+        # 0 dB per resource element, a random start in noise. The echo (delay 23 samples, its
+        # phase new every frame: a moving target) alone is timed at its own delay by the
+        # non-coherent search (threshold 30.2: 1e-6 false locks per frame, frame_search.h);
+        # with the transmitter's leakage 40 dB over it (delay 0), the coherent search times
+        # the frame itself.
+        cp, delay = 16, 23
+        L = 32 * (64 + cp)
+        rng = np.random.default_rng(11)
+        for trial in range(3):
+            tx = self.transmit(7, cp, seed=trial + 20)
+            offset = int(rng.integers(0, 2 * L))
+            echo = np.zeros(offset + delay + tx.size, np.complex64)
+            for f in range(7):
+                echo[offset + delay + f * L:offset + delay + (f + 1) * L] = tx[f * L:(f + 1) * L] * np.exp(
+                    2j * np.pi * rng.uniform())
+            noise = (rng.standard_normal(echo.size) + 1j * rng.standard_normal(echo.size)) / math.sqrt(2)
+            leakage = np.zeros_like(echo)
+            leakage[offset:offset + tx.size] = 100 * tx
+            for name, rx, kw, expect in (("echo alone", echo + noise, dict(noncoherent=True, threshold=30.2),
+                                          offset + delay),
+                                         ("leakage", echo + noise + leakage, {}, offset)):
+                with self.subTest(trial=trial, case=name):
+                    src = blocks.vector_source_c(rx.astype(np.complex64).tolist())
+                    fs = sems.frame_sync(mask_file=MASK, cp_len=cp, **kw)
+                    tb = gr.top_block()
+                    tb.connect(src, fs, blocks.null_sink(gr.sizeof_gr_complex))
+                    tb.run()
+                    self.assertTrue(fs.locked())
+                    self.assertEqual(fs.offset() % L, expect % L)
+
     def test_002_noise_alone_no_tag_and_a_count(self):
         cp = 48
         L = 32 * (64 + cp)

@@ -90,7 +90,7 @@ def cxx_defaults():
     })
     # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
     sync = {name: bound_default(sems.frame_sync, name)
-            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold", "cp_len")}
+            for name in ("pilot_symbol", "pilot_power", "search_frames", "threshold", "cp_len", "noncoherent")}
     sync.update(pilot_frame)
     # range_doppler_map: no getters for its settings; the bindings' defaults (make()'s).
     rd_map = {name: bound_default(sems.range_doppler_map, name)
@@ -111,6 +111,10 @@ def cxx_defaults():
         "sems_metrics_printer": {},
         "sems_target_channel_td": channel_td,
         "sems_frame_sync": sync,
+        "sems_cfo_corrector": {name: bound_default(sems.cfo_corrector, name)
+                               for name in ("n_subcarriers", "cp_len", "symbols", "forgetting", "snr_db")},
+        "sems_leakage_canceller": {name: bound_default(sems.leakage_canceller, name)
+                                   for name in ("taps", "window", "forgetting", "widely_linear", "dc")},
         "sems_range_doppler_map": rd_map,
         "sems_tag_file_sink": tag_files["tag_file_sink"],
         "sems_tag_file_replay": tag_files["tag_file_replay"],

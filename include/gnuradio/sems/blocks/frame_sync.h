@@ -11,6 +11,16 @@
  * {offset, metric, failures} on the message port "sync". Once locked it stays locked (an
  * offset calibrated once, as on a loopback); frame_search.h states what the search assumes.
  *
+ * On a monostatic radio the transmitter's leakage (delay 0, static, far above the echoes)
+ * is what it locks to: the frame start itself, the right timing for ranging (cancel the
+ * leakage after this block, sems::leakage_canceller). Without leakage it times from the
+ * pilots of the strongest echo (`noncoherent` combining, as the echo's phase turns from
+ * frame to frame): the offset then absorbs that echo's delay, and every range is relative
+ * to it unless the offset is calibrated once on the direct path
+ * (examples/sems_offset_calibration.grc). False locks per frame of noise:
+ * frame_search::false_lock_probability() (3.6e-8 coherent at the defaults; measured by
+ * apps/sems_sync_false_lock, docs/reference/sdr_receiver.md).
+ *
  * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
  * output offset = input offset − offset(); tags on the dropped samples are dropped with them,
  * and incoming keys::frame_tag tags are dropped (the frames are numbered here). Incoming
@@ -50,7 +60,10 @@ public:
      * \param pilot_power    E_p, as in the pilot mapper
      * \param cp_len         cyclic prefix (samples)
      * \param search_frames  F, frames correlated per search (>= 1)
-     * \param threshold      detection threshold on F·L·ρ (frame_search.h)
+     * \param threshold      detection threshold on the metric (frame_search.h)
+     * \param noncoherent    combine the F frames in power (an echo whose phase changes
+     *                       from frame to frame); then raise the threshold, see
+     *                       frame_search::threshold_for()
      * \return the block.
      * \throws std::invalid_argument naming the parameter.
      */
@@ -62,7 +75,8 @@ public:
                      double pilot_power = 1.0,
                      int cp_len = frame_settings{}.cp_len,
                      int search_frames = 4,
-                     double threshold = 25.0);
+                     double threshold = 25.0,
+                     bool noncoherent = false);
 
     virtual bool locked() const = 0;          //!< \return whether the frame start was found
     virtual int64_t offset() const = 0;      //!< \return samples dropped before the first frame; -1 until found

@@ -26,6 +26,7 @@ void bind_frame_sync(py::module& m)
              py::arg("cp_len") = defaults.cp_len,
              py::arg("search_frames") = 4,
              py::arg("threshold") = 25.0,
+             py::arg("noncoherent") = false,
              D(frame_sync, make))
         .def("locked", &frame_sync::locked, D(frame_sync, locked))
         .def("offset", &frame_sync::offset, D(frame_sync, offset))

@@ -12,6 +12,8 @@ void bind_pilot_mapper(py::module& m);
 void bind_target_channel(py::module& m);
 void bind_target_channel_td(py::module& m);
 void bind_frame_sync(py::module& m);
+void bind_leakage_canceller(py::module& m);
+void bind_cfo_corrector(py::module& m);
 void bind_pilot_extractor(py::module& m);
 void bind_range_doppler_map(py::module& m);
 
@@ -26,6 +28,8 @@ PYBIND11_MODULE(core_python, m)
     bind_target_channel(m);
     bind_target_channel_td(m);
     bind_frame_sync(m);
+    bind_leakage_canceller(m);
+    bind_cfo_corrector(m);
     bind_pilot_extractor(m);
     bind_range_doppler_map(m);
 }

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: leakage canceller (see leakage_canceller.h). */
+#include <gnuradio/sems/core/leakage_canceller.h>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace gr {
+namespace sems {
+
+void leakage_canceller_settings::validate() const
+{
+    if (taps < 1 || taps > 64)
+        throw std::invalid_argument("leakage_canceller: taps must be in [1, 64], got " + std::to_string(taps));
+    if (window < 2 * regressors())
+        throw std::invalid_argument("leakage_canceller: window must be >= 2 x the " +
+                                    std::to_string(regressors()) + " regressors (" +
+                                    std::to_string(2 * regressors()) + " samples), got " + std::to_string(window));
+    if (!(forgetting >= 0.0 && forgetting < 1.0))
+        throw std::invalid_argument("leakage_canceller: forgetting must be in [0, 1), got " +
+                                    std::to_string(forgetting));
+}
+
+leakage_fit::leakage_fit(const leakage_canceller_settings& settings) : d_set(settings)
+{
+    d_set.validate();
+    reset();
+}
+
+void leakage_fit::reset()
+{
+    const size_t k = size_t(d_set.regressors()), l = size_t(d_set.taps);
+    d_r.assign(k * k, 0.0);
+    d_p.assign(k, 0.0);
+    d_hist.assign(l - 1 + size_t(d_set.window), gr_complex(0.0f, 0.0f));
+    d_h.assign(l, gr_complex(0.0f, 0.0f));
+    d_g.assign(l, gr_complex(0.0f, 0.0f));
+    d_c = gr_complex(0.0f, 0.0f);
+    d_windows = 0;
+}
+
+// φ = [tx[n] .. tx[n−L+1], conj(tx[n]) .. conj(tx[n−L+1]), 1] (parts as configured)
+void leakage_fit::regressors(size_t n, std::complex<double>* phi) const
+{
+    const size_t l = size_t(d_set.taps);
+    const gr_complex* t = d_hist.data() + n + l - 1; // tx[n]
+    size_t i = 0;
+    for (size_t d = 0; d < l; ++d)
+        phi[i++] = std::complex<double>(*(t - d));
+    if (d_set.widely_linear)
+        for (size_t d = 0; d < l; ++d)
+            phi[i++] = std::conj(std::complex<double>(*(t - d)));
+    if (d_set.dc)
+        phi[i++] = 1.0;
+}
+
+void leakage_fit::process(const gr_complex* rx, const gr_complex* tx, gr_complex* out)
+{
+    const size_t w = size_t(d_set.window), l = size_t(d_set.taps), k = size_t(d_set.regressors());
+    std::copy(tx, tx + w, d_hist.begin() + std::ptrdiff_t(l - 1));
+
+    // Normal equations of this window, added to the forgotten ones (upper triangle).
+    const double lambda = d_set.forgetting;
+    for (auto& v : d_r)
+        v *= lambda;
+    for (auto& v : d_p)
+        v *= lambda;
+    std::vector<std::complex<double>> phi(k);
+    for (size_t n = 0; n < w; ++n) {
+        regressors(n, phi.data());
+        const std::complex<double> y(rx[n]);
+        for (size_t i = 0; i < k; ++i) {
+            const std::complex<double> ci = std::conj(phi[i]);
+            d_p[i] += ci * y;
+            std::complex<double>* row = d_r.data() + i * k;
+            for (size_t j = i; j < k; ++j)
+                row[j] += ci * phi[j];
+        }
+    }
+
+    // Solve R·w = p (Hermitian, positive semi-definite). A tiny diagonal load keeps a
+    // degenerate window (silence, a real-valued tx making conj(tx) = tx) solvable: there
+    // the split between taps is arbitrary but the fit is the same.
+    Eigen::MatrixXcd r(k, k);
+    Eigen::VectorXcd p(k);
+    double trace = 0.0;
+    for (size_t i = 0; i < k; ++i) {
+        p(Eigen::Index(i)) = d_p[i];
+        trace += d_r[i * k + i].real();
+        for (size_t j = i; j < k; ++j) {
+            r(Eigen::Index(i), Eigen::Index(j)) = d_r[i * k + j];
+            r(Eigen::Index(j), Eigen::Index(i)) = std::conj(d_r[i * k + j]);
+        }
+    }
+    Eigen::VectorXcd coef = Eigen::VectorXcd::Zero(Eigen::Index(k));
+    if (trace > 0.0) {
+        r.diagonal().array() += 1e-12 * trace / double(k);
+        coef = r.ldlt().solve(p);
+    }
+    size_t i = 0;
+    for (size_t d = 0; d < l; ++d)
+        d_h[d] = gr_complex(coef(Eigen::Index(i++)));
+    for (size_t d = 0; d < l; ++d)
+        d_g[d] = d_set.widely_linear ? gr_complex(coef(Eigen::Index(i++))) : gr_complex(0.0f, 0.0f);
+    d_c = d_set.dc ? gr_complex(coef(Eigen::Index(i))) : gr_complex(0.0f, 0.0f);
+
+    // Subtract the fit from the window.
+    for (size_t n = 0; n < w; ++n) {
+        regressors(n, phi.data());
+        std::complex<double> fit(0.0, 0.0);
+        for (size_t j = 0; j < k; ++j)
+            fit += coef(Eigen::Index(j)) * phi[j];
+        out[n] = rx[n] - gr_complex(fit);
+    }
+    // Keep the last L − 1 transmitted samples for the next window.
+    std::copy(d_hist.end() - std::ptrdiff_t(l - 1), d_hist.end(), d_hist.begin());
+    ++d_windows;
+}
+
+} // namespace sems
+} // namespace gr
