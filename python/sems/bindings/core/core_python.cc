@@ -14,6 +14,7 @@ void bind_target_channel_td(py::module& m);
 void bind_frame_sync(py::module& m);
 void bind_pilot_extractor(py::module& m);
 void bind_range_doppler_map(py::module& m);
+void bind_front_end(py::module& m);
 
 PYBIND11_MODULE(core_python, m)
 {
@@ -28,4 +29,5 @@ PYBIND11_MODULE(core_python, m)
     bind_frame_sync(m);
     bind_pilot_extractor(m);
     bind_range_doppler_map(m);
+    bind_front_end(m);
 }
