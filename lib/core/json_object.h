@@ -194,6 +194,18 @@ private:
     std::set<std::string> d_used;
 };
 
+// The top level of a project file: checks {"format": format, "version": version} and knows
+// those keys and "description" (free text for people).
+inline object_reader file_object(const nlohmann::json& j, const char* format, int version, const std::string& source)
+{
+    check_format(j, format, version, source);
+    object_reader top(j, source);
+    top.allow("format");
+    top.allow("version");
+    top.allow("description");
+    return top;
+}
+
 } // namespace json_read
 } // namespace sems
 } // namespace gr

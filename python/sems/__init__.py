@@ -2,9 +2,9 @@
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
-keys; blocks pilot_mapper, target_channel, target_channel_td, frame_sync, leakage_canceller, cfo_corrector,
-pilot_extractor, range_doppler_map; hier blocks
-ofdm_tx / ofdm_rx.
+keys, front_end_settings; blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
+leakage_canceller, cfo_corrector, pilot_extractor, range_doppler_map, phase_noise_source; hier
+blocks ofdm_tx / ofdm_rx / radio_front_end.
 
 Learning (LibTorch, loaded on first use of one of these names): classifier_sink,
 delay_estimator_sink, model_bundle, bundle_decoder, training_settings, train, ...
@@ -20,6 +20,7 @@ from .core_python import *  # noqa: F401,F403
 
 from .ofdm_tx import ofdm_tx  # noqa: F401
 from .ofdm_rx import ofdm_rx  # noqa: F401
+from .radio_front_end import radio_front_end, radio_settings  # noqa: F401
 
 # The names of the lazily loaded extensions (qa_lazy_import checks these lists against
 # the modules, so a name bound in C++ and missing here fails a test).

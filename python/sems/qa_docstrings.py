@@ -42,9 +42,12 @@ class qa_docstrings(gr_unittest.TestCase):
         self.check(sems.target_channel, "blocks/target_channel.h", "class SEMS_API target_channel")
         self.check(sems.pilot_mapper, "blocks/pilot_mapper.h", "class SEMS_API pilot_mapper")
         self.check(sems.pilot_extractor, "blocks/pilot_extractor.h", "class SEMS_API pilot_extractor")
+        self.check(sems.phase_noise_source, "blocks/phase_noise_source.h", "class SEMS_API phase_noise_source")
 
     def test_core(self):
         self.check(sems.frame_settings, "core/frame_settings.h", "struct SEMS_API frame_settings")
+        self.check(sems.front_end_settings, "core/front_end.h", "struct SEMS_API front_end_settings")
+        self.check(sems.phase_noise_process, "core/phase_noise.h", "class SEMS_API phase_noise_process")
         self.check(sems.channel_model, "core/channel_model.h", "class SEMS_API channel_model")
         self.check(sems.scene, "core/scene.h", "class SEMS_API scene")
         self.check(sems.class_library, "core/class_library.h", "class SEMS_API class_library")

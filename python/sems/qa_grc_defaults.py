@@ -100,7 +100,18 @@ def cxx_defaults():
     tag_files = {cls.__name__: {name: inspect.signature(cls.__init__).parameters[name].default
                                 for name in ("item", "vlen")}
                  for cls in (tag_file_sink, tag_file_replay)}
+    pn_source = {name: bound_default(sems.phase_noise_source, name)
+                 for name in ("sample_rate_hz", "dbc_hz", "offset_hz", "seed")}
+    # radio_front_end: a Python hier block, its constructor's defaults.
+    fe_params = inspect.signature(sems.radio_front_end.__init__).parameters
+    front_end = {name: fe_params[name].default
+                 for name in ("radio", "tx_power", "class_library", "classes", "n_targets", "snr_db", "seed",
+                              "n_symbols", "n_subcarriers", "bandwidth_hz", "carrier_hz", "symbol_interval_s",
+                              "cp_len")}
+    front_end["classes"] = list(front_end["classes"])
     return {
+        "sems_phase_noise_source": pn_source,
+        "sems_radio_front_end": front_end,
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
         "sems_pilot_extractor": extractor_d,
@@ -159,6 +170,9 @@ GRC_ONLY = {
     ("sems_range_doppler_map", "n_pilots"): "GRC-side vector length; C++ takes it from the mask",
     ("sems_tag_file_sink", "path"): "required in Python",
     ("sems_tag_file_replay", "path"): "required in Python",
+    ("sems_radio_front_end", "settings"): "GRC-side dict of front_end_settings fields (Python **settings)",
+    ("sems_radio_front_end", "scene_kind"): "GRC chooser between random / file scene",
+    ("sems_radio_front_end", "scene_file"): "the chosen scene's path",
 }
 
 def load_blocks():
@@ -197,8 +211,8 @@ class qa_grc_defaults(gr_unittest.TestCase):
                 self.assertIn(p["id"], self.cxx[block],
                               f"{block}.{p['id']}: default {p.get('default')!r} is neither compared with a "
                               f"C++ default nor listed as GRC-only")
-                # An enum's default is an option name, a string's its text, not an expression.
-                grc = str(p["default"]) if p.get("dtype") in ("enum", "string") else grc_value(p["default"])
+                # An enum's default is an option name, a string's (or a path's) its text, not an expression.
+                grc = str(p["default"]) if p.get("dtype") in ("enum", "string", "file_open") else grc_value(p["default"])
                 cxx = self.cxx[block][p["id"]]
                 self.assertTrue(same(grc, cxx), f"{block}.{p['id']}: GRC default {grc!r} != C++ default {cxx!r}")
                 checked += 1

@@ -1,0 +1,205 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""gr-sems: the time-domain target channel inside an SDR front end (docs/guides/radio_front_end.md)."""
+import cmath
+import math
+
+from gnuradio import analog, blocks, channels, filter, gr
+
+from .core_python import frame_settings as _frame_settings
+from .core_python import front_end_settings, oscillator_from_name, oscillator_kind
+from .core_python import phase_noise_source, target_channel_td
+
+_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame_settings.h)
+_IDEAL = front_end_settings()  # the defaults' one place (include/gnuradio/sems/core/front_end.h)
+_SETTINGS = tuple(k for k in dir(_IDEAL) if not k.startswith("_") and not callable(getattr(_IDEAL, k)))
+# Seeds of the oscillators, apart from the channel's own draws of the same seed.
+_TX_OSC, _RX_OSC = 0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9
+_MMSE_CENTRE = 3  # filter.mmse_resampler_cc: output 0 is input 3 (qa_radio_front_end checks it)
+
+
+def radio_settings(radio="", **overrides):
+    """The front end's settings: a radio file path, radio JSON text or "" (the ideal radio),
+    then any field of front_end_settings given by keyword (leakage_db=40, adc_enob=12,
+    oscillator="separate", ...). Validated: ValueError names the parameter and its value."""
+    if not radio:
+        s = front_end_settings()
+    elif radio.lstrip().startswith("{"):
+        s = front_end_settings.parse(radio)
+    else:
+        s = front_end_settings.load(radio)
+    for key, value in overrides.items():
+        if key not in _SETTINGS:
+            raise TypeError(f"radio_front_end: unknown setting {key!r} (known: {', '.join(sorted(_SETTINGS))})")
+        if key == "oscillator" and isinstance(value, str):
+            value = oscillator_from_name(value)
+        setattr(s, key, value)
+    s.validate()
+    return s
+
+
+class radio_front_end(gr.hier_block2):
+    """Complex samples in (what ofdm_tx emits), complex samples out (what the converter
+    delivers): target_channel_td inside an SDR front end.
+
+        x -> [x TX oscillator] -> target_channel_td (echo + noise) -+-> [x conj RX oscillator]
+                              \\-> leakage FIR --------------------/
+          -> [CFO rotator] -> RX IQ imbalance (channels.iqbal_gen) -> + DC -> [SFO resampler] -> converter
+
+    The oscillators are sems.phase_noise_source streams: one (shared, monostatic) multiplies
+    the transmitted samples and, conjugated, the received ones, so the echo at delay tau sees
+    phi(t - tau) - phi(t); two with independent seeds when separate (bistatic). The leakage
+    path (front_end_settings.leakage_response, causal, first tap at delay 0) is added to the
+    echo; the echo itself goes through nothing but the channel, so the chain stays sample-
+    aligned 1:1. The converter scales so that each rail's full scale is adc_full_scale_rms
+    times its expected rms, clips at full scale (analog.rail_ff), quantizes to adc_enob bits
+    (channels.quantizer, rounding to steps of 2^(1 - ENOB) full scale) and scales back: the
+    output is in the channel's units. A sample clock offset (separate oscillators) resamples
+    with filter.mmse_resampler_cc (8-tap MMSE interpolator, aligned so that output k is the
+    input at k / (1 + sfo)): the stream then drifts against the frames by sfo samples per
+    sample, as a real receiver's does, and the interpolator is accurate for signals well inside
+    the band (its error grows towards the band edges). The expected rms is that of
+    tx_power * (1 + leakage) + noise after the IQ imbalance, plus the DC.
+
+    With the ideal settings (every impairment off) the block is target_channel_td alone.
+
+    radio: radio file path, radio JSON text or "" (ideal; then keyword settings apply);
+    **settings: fields of front_end_settings overriding the file's; tx_power: mean power of
+    the transmitted samples (1 for unit-power resource elements on every subcarrier, (M - G)/M
+    with G guard subcarriers);
+    the other arguments are target_channel_td's.
+    """
+
+    def __init__(self, radio="", scene="", classes=(), n_targets=1, paths_per_target=1,
+                 micro_doppler=True, clutter_paths=0, clutter_csr_db=0.0,
+                 snr_db=float("inf"), seed=0,
+                 n_symbols=_FRAME.n_symbols, n_subcarriers=_FRAME.n_subcarriers,
+                 bandwidth_hz=_FRAME.bandwidth_hz, carrier_hz=_FRAME.carrier_hz,
+                 symbol_interval_s=_FRAME.symbol_interval_s, cp_len=_FRAME.cp_len,
+                 class_library="paper", tx_power=1.0, **settings):
+        gr.hier_block2.__init__(
+            self, "sems_radio_front_end",
+            gr.io_signature(1, 1, gr.sizeof_gr_complex),
+            gr.io_signature(1, 1, gr.sizeof_gr_complex))
+        self.settings = radio_settings(radio, **settings)
+        s = self.settings
+        if not (math.isfinite(tx_power) and tx_power > 0):
+            raise ValueError(f"radio_front_end: tx_power must be positive and finite, got {tx_power}")
+        self.tx_power = tx_power
+        self.channel = target_channel_td(scene, list(classes), n_targets, paths_per_target, micro_doppler,
+                                         clutter_paths, clutter_csr_db, snr_db, seed, n_symbols,
+                                         n_subcarriers, bandwidth_hz, carrier_hz, symbol_interval_s,
+                                         cp_len, class_library)
+        fs = bandwidth_hz
+        mask = (1 << 64) - 1
+        #: The seeds of the TX and RX oscillators (phase_noise_process regenerates their phases).
+        self.oscillator_seeds = ((seed + _TX_OSC) & mask, (seed + _RX_OSC) & mask)
+
+        # Transmitter: up-conversion by the TX oscillator.
+        tx = (self, 0)
+        self.tx_osc = self.rx_osc = None
+        if s.phase_noise_dbc_hz is not None:
+            self.tx_osc = phase_noise_source(fs, s.phase_noise_dbc_hz, s.phase_noise_offset_hz,
+                                             self.oscillator_seeds[0])
+            self.tx_mix = blocks.multiply_cc()
+            self.connect(tx, (self.tx_mix, 0))
+            self.connect(self.tx_osc, (self.tx_mix, 1))
+            tx = (self.tx_mix, 0)
+            self.rx_osc = self.tx_osc
+            if s.oscillator == oscillator_kind.separate:
+                self.rx_osc = phase_noise_source(fs, s.phase_noise_dbc_hz, s.phase_noise_offset_hz,
+                                                 self.oscillator_seeds[1])
+        self.connect(tx, self.channel)
+        rx = (self.channel, 0)
+
+        # Leakage: the transmitted samples through a short causal path, added to the echo.
+        taps = s.leakage_response()
+        if taps:
+            self.leakage = filter.fir_filter_ccc(1, taps)
+            self.leakage.set_tag_propagation_policy(gr.TPP_DONT)  # the echo path carries the tags
+            self.add_leakage = blocks.add_cc()
+            self.connect(tx, self.leakage, (self.add_leakage, 1))
+            self.connect(rx, (self.add_leakage, 0))
+            rx = (self.add_leakage, 0)
+
+        # Receiver: down-conversion by the RX oscillator, CFO.
+        if self.rx_osc is not None:
+            self.rx_mix = blocks.multiply_conjugate_cc()
+            self.connect(rx, (self.rx_mix, 0))
+            self.connect(self.rx_osc, (self.rx_mix, 1))
+            rx = (self.rx_mix, 0)
+        if s.cfo_hz != 0.0:
+            self.cfo = blocks.rotator_cc(2.0 * math.pi * s.cfo_hz / fs)
+            self.connect(rx, self.cfo)
+            rx = (self.cfo, 0)
+
+        # IQ imbalance: GNU Radio's receiver model, I' = g (I cos p + Q sin p), Q' = Q.
+        if s.iq_gain_db != 0.0 or s.iq_phase_deg != 0.0:
+            self.iq = channels.iqbal_gen(s.iq_gain_db, s.iq_phase_deg, 1)
+            # Inside, Q reaches the output both directly and through the adder: keep one copy of each tag.
+            self.iq.adder.set_tag_propagation_policy(gr.TPP_DONT)
+            self.connect(rx, self.iq)
+            rx = (self.iq, 0)
+
+        self.dc = None
+        if s.dc_offset_db is not None:
+            self.dc = blocks.add_const_cc(0j)
+            self.connect(rx, self.dc)
+            rx = (self.dc, 0)
+
+        # Sample clock offset: the converter samples at fs (1 + sfo), output k at input time k / (1 + sfo).
+        # filter.mmse_resampler_cc's output k is the input at 3 + k * ratio (its 8-tap interpolator's
+        # centre): 3 samples of silence ahead of the stream make it k * ratio, so nothing is shifted.
+        if s.sfo_ppm != 0.0:
+            self.sfo_align = blocks.delay(gr.sizeof_gr_complex, _MMSE_CENTRE)
+            self.sfo = filter.mmse_resampler_cc(0.0, 1.0 / (1.0 + 1e-6 * s.sfo_ppm))
+            self.connect(rx, self.sfo_align, self.sfo)
+            rx = (self.sfo, 0)
+
+        self.to_scale = None
+        if s.adc_enob is not None:
+            self.to_scale = blocks.multiply_const_cc(1.0)  # full scale -> 1 (set_snr_db sets both gains)
+            self.to_rails = blocks.complex_to_float(1)
+            self.clip_i, self.clip_q = analog.rail_ff(-1.0, 1.0), analog.rail_ff(-1.0, 1.0)
+            self.clip_q.set_tag_propagation_policy(gr.TPP_DONT)  # the I rail carries the tags
+            self.quant_i, self.quant_q = channels.quantizer(s.adc_enob), channels.quantizer(s.adc_enob)
+            self.from_rails = blocks.float_to_complex(1)
+            self.from_scale = blocks.multiply_const_cc(1.0)
+            self.connect(rx, self.to_scale, self.to_rails)
+            self.connect((self.to_rails, 0), self.clip_i, self.quant_i, (self.from_rails, 0))
+            self.connect((self.to_rails, 1), self.clip_q, self.quant_q, (self.from_rails, 1))
+            self.connect(self.from_rails, self.from_scale)
+            rx = (self.from_scale, 0)
+        self.connect(rx, (self, 0))
+        self._set_levels(snr_db)
+
+    def expected_rms(self, snr_db=None):
+        """The rms the converter expects (complex, DC included) at an SNR (default: the channel's)."""
+        snr_db = self.channel.snr_db() if snr_db is None else snr_db
+        s = self.settings
+        noise = 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
+        leak = 10.0 ** (s.leakage_db / 10.0) if s.leakage_db is not None else 0.0
+        power = (abs(s.iq_mu()) ** 2 + abs(s.iq_nu()) ** 2) * (self.tx_power * (1.0 + leak) + noise)
+        dc = 10.0 ** (s.dc_offset_db / 20.0) * math.sqrt(power) if s.dc_offset_db is not None else 0.0
+        return math.sqrt(power + dc * dc), dc
+
+    def full_scale(self):
+        """Each rail's full scale in the channel's units: adc_full_scale_rms * rms / sqrt(2)."""
+        return self.settings.adc_full_scale_rms * self.expected_rms()[0] / math.sqrt(2.0)
+
+    def _set_levels(self, snr_db):
+        rms, dc = self.expected_rms(snr_db)
+        if self.dc is not None:
+            self.dc.set_k(cmath.rect(dc, math.pi / 4))
+        if self.to_scale is not None:
+            a = self.settings.adc_full_scale_rms * rms / math.sqrt(2.0)
+            self.to_scale.set_k(1.0 / a)
+            self.from_scale.set_k(a)
+
+    def set_snr_db(self, snr_db):
+        """Sets the channel's SNR (from its next frame) and the DC and converter levels (at once)."""
+        self.channel.set_snr_db(snr_db)
+        self._set_levels(snr_db)
+
+    def snr_db(self):
+        """The channel's SNR per resource element in dB."""
+        return self.channel.snr_db()
