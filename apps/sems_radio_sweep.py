@@ -70,8 +70,11 @@ def guard_list(spec):
     return out
 
 
-def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, sync=False, cancel=False, cp=48):
-    """Streams `frames` frames; returns (metric, scored, sync offset, sync failures)."""
+def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, sync=False, cancel=False, cp=48,
+              skip=0, forgetting=0.9):
+    """Streams `frames` frames; returns (metric, scored, sync offset, sync failures).
+    offset: samples of the radio's latency before the first frame; sync: frame_sync finds
+    it; skip: samples dropped instead (a latency calibrated beforehand)."""
     import numpy as np
     from gnuradio import blocks, gr, sems
     d, b = bundle
@@ -101,6 +104,10 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
         late = blocks.delay(gr.sizeof_gr_complex, offset)  # the radio's unknown latency
         tb.connect(rx, late)
         rx = late
+    if skip:
+        drop = blocks.skiphead(gr.sizeof_gr_complex, skip)
+        tb.connect(rx, drop)
+        rx = drop
     fsync = None
     if sync:
         fsync = sems.frame_sync(mask_file=mask_file, n_symbols=n, n_subcarriers=m, cp_len=cp)
@@ -108,14 +115,14 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
         rx = fsync
     if cancel:
         frame_len = n * (m + cp)
-        canc = sems.leakage_canceller(window=frame_len)
+        canc = sems.leakage_canceller(window=frame_len, forgetting=forgetting)
         ref = blocks.copy(gr.sizeof_gr_complex)  # the transmitted samples, held while frame_sync searches
         ref.set_min_output_buffer(8 * frame_len)
         tb.connect(rx, (canc, 0))
         tb.connect(tx, ref, (canc, 1))
         rx = canc
     ofdm_rx = sems.ofdm_rx(n_subcarriers=m, cp_len=cp)
-    ext = sems.pilot_extractor(mask_file=mask_file, n_pilots=n_pilots, n_symbols=n, n_subcarriers=m)
+    ext = sems.pilot_extractor(mask_file=mask_file, n_symbols=n, n_subcarriers=m)
     if b["task"] == "classify":
         sink = sems.classifier_sink(d, n_pilots, 32, 1, 0, n, m)
     else:
@@ -144,19 +151,30 @@ def measure(args):
         log(f"  {sweep} {value} @ {snr:g} dB, {task} [{receiver}]: {metric:.4f} ({scored} frames, "
             f"{time.time() - t0:.1f} s)")
 
-    total = len(snrs) * 2 * (2 + len(offsets) + sum(len(v) for _, _, _, v in sweeps))
+    total = len(snrs) * 2 * (3 + len(offsets) + sum(len(v) for _, _, _, v in sweeps))
     log(f"sems_radio_sweep: {total} points of {args.frames} frames")
     for snr in snrs:
         for task in ("classify", "delay"):
             point("ideal", "", snr, task, "known start")
             for sweep, _, key, values in sweeps:
                 for v in values:
-                    point(sweep, v, snr, task, "known start, canceller", settings={key: v}, cancel=True)
+                    extra = {"oscillator": "separate"} if key == "cfo_hz" else {}  # a CFO needs two oscillators
+                    point(sweep, v, snr, task, "known start, canceller", settings={key: v, **extra}, cancel=True)
             for off in offsets:
-                point("combined", off, snr, task, "frame_sync, canceller", radio=args.radio, offset=off, sync=True,
-                      cancel=True)
-            point("combined_no_canceller", offsets[-1], snr, task, "frame_sync", radio=args.radio,
-                  offset=offsets[-1], sync=True)
+                # The radio's latency (off samples before the first frame) is found by
+                # frame_sync on the delay mask's pilots through the same radio, as
+                # sems_sdr_loopback does once per radio, then dropped before the canceller (the
+                # classifier's one-subcarrier pilots cannot time a frame themselves).
+                found = run_chain(bundles["delay"], snr, 8, args.seed, radio=args.radio, offset=off, sync=True)[2]
+                point("combined", off, snr, task, "frame_sync start, canceller", radio=args.radio, offset=off,
+                      skip=found, cancel=True)
+                rows[-1]["sync_offset"] = found  # what frame_sync found (the true latency is `value`)
+            point("combined_no_canceller", 0, snr, task, "known start", radio=args.radio)
+            # The same radio with a converter of more headroom: full scale at 8x the rms.
+            point("combined_full_scale_8x", offsets[-1], snr, task, "frame_sync start, canceller", radio=args.radio,
+                  settings={"adc_full_scale_rms": 8.0}, offset=offsets[-1],
+                  skip=run_chain(bundles["delay"], snr, 8, args.seed, radio=args.radio, offset=offsets[-1],
+                                 settings={"adc_full_scale_rms": 8.0}, sync=True)[2], cancel=True)
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
