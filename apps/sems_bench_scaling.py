@@ -19,8 +19,8 @@ shared machine the wall clock measures the neighbours too); the CSV keeps both.
 
 Usage:
     sems_bench_scaling.py --bin build/apps --out DIR [--quick]
-    sems_bench_scaling.py --table DIR/scaling.csv > docs/results/scaling_tables.md
-    sems_bench_scaling.py --plot DIR/scaling.csv docs/results/scaling.png
+    sems_bench_scaling.py --table DIR/scaling.csv > scaling_tables.md
+    sems_bench_scaling.py --plot DIR/scaling.csv scaling.png
 """
 import argparse
 import csv
@@ -145,25 +145,33 @@ def measure(args):
     os.makedirs(work, exist_ok=True)
     rows = []
     seconds, repeat = (0.05, 1) if args.quick else (args.seconds, args.repeat)
+    parts = args.parts.split(",")
     log(f"emulator: {len(sizes['emulator'])} frame sizes")
-    for n, m in sizes["emulator"]:
+    for n, m in sizes["emulator"] if "emulator" in parts else []:
         rows += emulator_rows(tool("sems_bench_channel"), n, m, seconds, repeat)
+    path = os.path.join(args.out, "scaling.csv")
+    save(path, rows)
     log(f"training: {len(sizes['training'])} frame sizes")
-    for n, m, np_, frames in sizes["training"]:
+    for n, m, np_, frames in sizes["training"] if "training" in parts else []:
         rows += training_rows(tool("sems_train"), work, n, m, np_, frames)
+    save(path, rows)
     log(f"decoders and sinks: {len(sizes['sinks'])} sizes")
     batches = [1, 4] if args.quick else [1, 32, 256]
-    for n, m, np_ in sizes["sinks"]:
+    for n, m, np_ in sizes["sinks"] if "sinks" in parts else []:
         steady = (n, m) == (32, 64) and not args.quick
         frames = args.steady_frames if steady else (64 if args.quick else max(2048, args.steady_frames // 10))
         rows += sink_rows(tool("sems_train"), tool("sems_bench_sinks"), work, n, m, np_, batches, frames)
-    path = os.path.join(args.out, "scaling.csv")
+        save(path, rows)
+    log(f"sems_bench_scaling: {len(rows)} rows in {path}")
+    return path
+
+
+def save(path, rows):
+    """Writes the rows measured so far (a long run keeps what it has measured)."""
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
         w.writerows(rows)
-    log(f"sems_bench_scaling: {len(rows)} rows in {path}")
-    return path
 
 
 def read(path):
@@ -276,6 +284,8 @@ def main():
     p.add_argument("--bin", help="directory of sems_bench_channel, sems_train, sems_bench_sinks")
     p.add_argument("--out", help="directory for scaling.csv and the small bundles")
     p.add_argument("--quick", action="store_true", help="tiny sizes (checks the tool runs; the figures mean nothing)")
+    p.add_argument("--parts", default="emulator,training,sinks",
+                   help="comma-separated parts to measure (default: all three)")
     p.add_argument("--seconds", type=float, default=1.0, help="emulator: seconds per row and run")
     p.add_argument("--repeat", type=int, default=3, help="emulator: runs per row (the best is kept)")
     p.add_argument("--steady-frames", type=int, default=100000,
@@ -295,6 +305,8 @@ def main():
                 p.error(f"--bin {args.bin}: no executable {t} there")
         if args.seconds <= 0 or not math.isfinite(args.seconds):
             p.error("--seconds must be a finite number > 0")
+        if not args.parts or any(x not in ("emulator", "training", "sinks") for x in args.parts.split(",")):
+            p.error(f"--parts {args.parts}: give a comma-separated list of emulator, training, sinks")
         if args.repeat < 1 or args.steady_frames < 1:
             p.error("--repeat and --steady-frames must be >= 1")
         measure(args)
