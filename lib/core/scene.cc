@@ -523,7 +523,7 @@ scene scene::load(const std::string& path)
         const std::string lib = j["classes"].get<std::string>();
         const auto slash = path.rfind('/');
         if (!lib.empty() && lib.front() != '/' && slash != std::string::npos &&
-            (lib.find('/') != std::string::npos || lib.size() > 5 && lib.compare(lib.size() - 5, 5, ".json") == 0)) {
+            (lib.find('/') != std::string::npos || (lib.size() > 5 && lib.compare(lib.size() - 5, 5, ".json") == 0))) {
             const std::string beside = path.substr(0, slash + 1) + lib;
             if (std::ifstream(beside).good())
                 j["classes"] = beside;
