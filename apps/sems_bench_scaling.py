@@ -251,8 +251,9 @@ def plot(path, png):
         ax[0].plot(*zip(*anchor), "k--", label="multiply_const_vcc (anchor)")
     ax[0].set(xscale="log", yscale="log", xlabel="subcarriers M (N = 32)", ylabel="ns per resource element (CPU)",
               title="Emulator")
-    ax[0].legend(fontsize=8)
-    tr = [r for r in rows if r["part"] == "training"]
+    if emu:
+        ax[0].legend(fontsize=8)
+    tr = sorted((r for r in rows if r["part"] == "training"), key=lambda r: int(r["n_symbols"]) * int(r["n_subcarriers"]))
     if tr:
         nm = [int(r["n_symbols"]) * int(r["n_subcarriers"]) for r in tr]
         fps = [num(r["wall"]) for r in tr]
@@ -272,8 +273,12 @@ def plot(path, png):
                          if r["name"].startswith(task) and int(r["batch"]) == batch and r["n_subcarriers"] in ("64", "1024"))
             if pts:
                 ax[2].plot(*zip(*pts), marker + "-", label=f"{task} sink, batch {batch}")
-    ax[2].set(xscale="log", yscale="log", xlabel="pilots N_p", ylabel="frames/s (CPU)", title="Sinks")
-    ax[2].legend(fontsize=7)
+    if si:
+        ax[2].set(xscale="log", yscale="log", xlabel="pilots N_p", ylabel="frames/s (CPU)", title="Sinks")
+        ax[2].legend(fontsize=7)
+    else:
+        ax[2].set_axis_off()
+        ax[2].text(0.5, 0.5, "sinks: not measured in this run (--parts)", ha="center", va="center")
     fig.tight_layout()
     fig.savefig(png, dpi=110)
 
