@@ -56,18 +56,7 @@ def log(msg):
 
 def bundle_info(name):
     from gnuradio import sems
-    d = sems.model_bundle.find(name)
-    with open(os.path.join(d, "bundle.json")) as f:
-        b = json.load(f)
-    return d, b
-
-
-def guard_list(spec):
-    """A frame file's guard_subcarriers (indices and [first, last] runs) as a list of indices."""
-    out = []
-    for g in spec:
-        out += list(range(g[0], g[1] + 1)) if isinstance(g, list) else [g]
-    return out
+    return sems.model_bundle.load(sems.model_bundle.find(name))
 
 
 def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, sync=False, cancel=False, cp=48,
@@ -77,26 +66,26 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
     it; skip: samples dropped instead (a latency calibrated beforehand)."""
     import numpy as np
     from gnuradio import blocks, gr, sems
-    d, b = bundle
-    fr = b["frame"]
-    n, m = fr["n_symbols"], fr["n_subcarriers"]
-    guards = guard_list(fr.get("guard_subcarriers", []))
-    mask_file = os.path.join(d, "mask.json")
-    with open(mask_file) as f:
-        n_pilots = len(json.load(f)["pilots"])
+    b = bundle
+    fr = b.frame
+    n, m = fr.n_symbols, fr.n_subcarriers
+    guards = list(fr.guard_subcarriers)
+    mask_file = os.path.join(b.directory, b.mask_name)
+    n_pilots = b.n_pilots
+    classify = b.task == sems.task_kind.classify
     rng = np.random.default_rng(seed)
     n_data = (frames + 1) * (n * (m - len(guards)) - n_pilots)
     qpsk = ((rng.integers(0, 2, n_data) * 2 - 1) + 1j * (rng.integers(0, 2, n_data) * 2 - 1)) / math.sqrt(2)
     tb = gr.top_block()
     src = blocks.vector_source_c(qpsk.astype(np.complex64).tolist())
-    mapper = sems.pilot_mapper(mask_file=mask_file, n_symbols=n, n_subcarriers=m, guard_subcarriers=list(guards))
+    mapper = sems.pilot_mapper(mask_file=mask_file, n_symbols=n, n_subcarriers=m, guard_subcarriers=guards)
     head = blocks.head(gr.sizeof_gr_complex * m, (frames + 1) * n)
     tx = sems.ofdm_tx(n_subcarriers=m, cp_len=cp)
-    scene = json.dumps(b["training"]["scene"])
-    lib = b.get("class_library", {}).get("name", "paper") if b["task"] == "classify" else "paper"
+    scene = json.dumps(json.loads(b.training_json)["scene"])
+    lib = b.library.name() if b.library else "paper"
     fe = sems.radio_front_end(radio=radio, scene=scene, snr_db=snr_db, seed=seed, n_symbols=n, n_subcarriers=m,
-                              bandwidth_hz=fr["bandwidth_hz"], carrier_hz=fr["carrier_hz"],
-                              symbol_interval_s=fr["symbol_interval_s"], cp_len=cp, class_library=lib,
+                              bandwidth_hz=fr.bandwidth_hz, carrier_hz=fr.carrier_hz,
+                              symbol_interval_s=fr.symbol_interval_s, cp_len=cp, class_library=lib,
                               tx_power=(m - len(guards)) / m, **(settings or {}))
     tb.connect(src, mapper, head, tx, fe)
     rx = fe
@@ -123,13 +112,13 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
         rx = canc
     ofdm_rx = sems.ofdm_rx(n_subcarriers=m, cp_len=cp)
     ext = sems.pilot_extractor(mask_file=mask_file, n_symbols=n, n_subcarriers=m)
-    if b["task"] == "classify":
-        sink = sems.classifier_sink(d, n_pilots, 32, 1, 0, n, m)
+    if classify:
+        sink = sems.classifier_sink(b.directory, n_pilots, 32, 1, 0, n, m)
     else:
-        sink = sems.delay_estimator_sink(d, n_pilots, 32, 1, 0, n, m)
+        sink = sems.delay_estimator_sink(b.directory, n_pilots, 32, 1, 0, n, m)
     tb.connect(rx, ofdm_rx, ext, sink)
     tb.run()
-    metric = sink.accuracy() if b["task"] == "classify" else sink.mae_index()
+    metric = sink.accuracy() if classify else sink.mae_index()
     return (metric, sink.frames_scored(), fsync.offset() if fsync else "", fsync.failures() if fsync else "")
 
 
@@ -145,7 +134,7 @@ def measure(args):
     def point(sweep, value, snr, task, receiver, **kw):
         t0 = time.time()
         metric, scored, off, fails = run_chain(bundles[task], snr, args.frames, args.seed, **kw)
-        rows.append(dict(sweep=sweep, value=value, snr_db=snr, task=task, bundle=os.path.basename(bundles[task][0]),
+        rows.append(dict(sweep=sweep, value=value, snr_db=snr, task=task, bundle=os.path.basename(bundles[task].directory),
                          receiver=receiver, frames=args.frames, scored=scored, metric=metric, sync_offset=off,
                          sync_failures=fails, seconds=round(time.time() - t0, 1)))
         log(f"  {sweep} {value} @ {snr:g} dB, {task} [{receiver}]: {metric:.4f} ({scored} frames, "

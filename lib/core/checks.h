@@ -13,11 +13,21 @@
 #include <complex>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <string>
 
 namespace gr {
 namespace sems {
 namespace checks {
+
+// A value as the messages print it ("%g": 0.1, -100000, 1e-07, inf, nan).
+inline std::string text(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
 
 // Neither NaN nor ±Inf.
 inline bool finite(double v) { return std::isfinite(v); }

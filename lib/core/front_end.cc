@@ -17,12 +17,7 @@ constexpr double pi = 3.14159265358979323846;
 constexpr const char* format_name = "sems.radio";
 constexpr int format_version = 1;
 
-std::string text(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
+using checks::text;
 
 [[noreturn]] void refuse(const std::string& name, const std::string& rule, double v)
 {

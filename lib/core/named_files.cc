@@ -31,19 +31,25 @@ bool ends_with(const std::string& s, const std::string& tail)
     return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-// The folder of the shared library this code runs in (empty if unknown).
+} // namespace
+
+bool names_a_path(const std::string& name) { return name.find('/') != std::string::npos || ends_with(name, ".json"); }
+
+std::string real_path(const std::string& path)
+{
+    char buf[PATH_MAX];
+    return ::realpath(path.c_str(), buf) ? std::string(buf) : path;
+}
+
 std::string library_folder()
 {
     Dl_info info;
     if (::dladdr(reinterpret_cast<void*>(&library_folder), &info) == 0 || !info.dli_fname)
         return {};
-    char buf[PATH_MAX];
-    const std::string lib = ::realpath(info.dli_fname, buf) ? std::string(buf) : std::string(info.dli_fname);
+    const std::string lib = real_path(info.dli_fname);
     const auto slash = lib.rfind('/');
     return slash == std::string::npos ? std::string() : lib.substr(0, slash);
 }
-
-} // namespace
 
 std::string find_named_file(const std::string& name_or_path,
                             const char* env_var,
@@ -54,7 +60,7 @@ std::string find_named_file(const std::string& name_or_path,
     if (file_exists(name_or_path))
         return name_or_path;
     searched = name_or_path;
-    if (name_or_path.find('/') != std::string::npos || ends_with(name_or_path, ".json"))
+    if (names_a_path(name_or_path))
         return {}; // a path, and it does not exist
     std::vector<std::string> dirs;
     auto add = [&dirs](const std::string& d) {

@@ -14,6 +14,16 @@ namespace gr {
 namespace sems {
 namespace detail {
 
+// Whether a name is a path rather than a name to look up: it has a '/' or ends in ".json".
+bool names_a_path(const std::string& name);
+
+// The canonical form of a path (symbolic links resolved), or the path itself if it does not exist.
+std::string real_path(const std::string& path);
+
+// The folder of the gr-sems shared library this code runs in (empty if unknown): the build
+// tree's lib/ or the installed library folder, where the data folders are found relative to it.
+std::string library_folder();
+
 /*
  * The file `name_or_path` names, or "" with `searched` listing every place looked at.
  * A name with a '/' or ending in ".json" is a path and is only looked up as given.

@@ -13,13 +13,7 @@ namespace sems {
 
 namespace {
 constexpr double pi = 3.14159265358979323846;
-
-std::string text(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
+using checks::text;
 } // namespace
 
 double phase_diffusion_from_dbc(double dbc_hz, double offset_hz)

@@ -15,6 +15,7 @@
 #include "core/checks.h"
 #include "core/json_object.h"
 #include "core/micro_motion_params.h"
+#include "core/named_files.h"
 #include "core/walker_scatterers.h"
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/core/scene.h>
@@ -523,7 +524,7 @@ scene scene::load(const std::string& path)
         const std::string lib = j["classes"].get<std::string>();
         const auto slash = path.rfind('/');
         if (!lib.empty() && lib.front() != '/' && slash != std::string::npos &&
-            (lib.find('/') != std::string::npos || (lib.size() > 5 && lib.compare(lib.size() - 5, 5, ".json") == 0))) {
+            detail::names_a_path(lib)) {
             const std::string beside = path.substr(0, slash + 1) + lib;
             if (std::ifstream(beside).good())
                 j["classes"] = beside;

@@ -7,11 +7,11 @@
  * strike; the left side runs half a cycle later. docs/reference/walker.md lists them.
  */
 #include <gnuradio/sems/core/walker_model.h>
+#include "core/checks.h"
 #include "core/vector_math.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -28,20 +28,14 @@ constexpr double radius_reference_height_m = 1.8;
 // Knots of a trajectory closer than this (in cycles) are one knot.
 constexpr double knot_merge = 1e-9;
 
-std::string num(double v)
-{
-    std::ostringstream o;
-    o.precision(6);
-    o << v;
-    return o.str();
-}
+using checks::text;
 
 void check_height(double height_m)
 {
     if (!(std::isfinite(height_m) && height_m >= min_height_m && height_m <= max_height_m))
-        throw std::invalid_argument("walker: height_m must lie in [" + num(min_height_m) + ", " +
-                                    num(max_height_m) + "] m (a human's height), got " +
-                                    num(height_m));
+        throw std::invalid_argument("walker: height_m must lie in [" + text(min_height_m) + ", " +
+                                    text(max_height_m) + "] m (a human's height), got " +
+                                    text(height_m));
 }
 
 // RV = v/H_t, refusing speeds outside [0, 3·H_t] with the speed, the height and the range.
@@ -52,11 +46,11 @@ double checked_relative_velocity(double height_m, double speed_mps)
     if (!(std::isfinite(speed_mps) && speed_mps >= 0.0 &&
           speed_mps <= max_relative_velocity * ht))
         throw std::invalid_argument(
-            "walker: speed_mps " + num(speed_mps) + " m/s at height_m " + num(height_m) +
+            "walker: speed_mps " + text(speed_mps) + " m/s at height_m " + text(height_m) +
             " m is outside the Boulic-Thalmann walking model's valid range: the relative "
-            "velocity RV = v/H_t (H_t = " + num(proportion::hip_joint_height) + " x height = " +
-            num(ht) + " m) is " + num(speed_mps / ht) + ", the model holds for 0 <= RV <= " +
-            num(max_relative_velocity) + ", i.e. 0 to " + num(max_relative_velocity * ht) +
+            "velocity RV = v/H_t (H_t = " + text(proportion::hip_joint_height) + " x height = " +
+            text(ht) + " m) is " + text(speed_mps / ht) + ", the model holds for 0 <= RV <= " +
+            text(max_relative_velocity) + ", i.e. 0 to " + text(max_relative_velocity * ht) +
             " m/s at this height");
     return std::min(speed_mps / ht, max_relative_velocity);
 }
@@ -193,12 +187,12 @@ walker_model::walker_model(const walker_params& p) : d_params(p)
 {
     d_rv = checked_relative_velocity(p.height_m, p.speed_mps);
     if (!std::isfinite(p.heading_rad))
-        throw std::invalid_argument("walker: heading_rad must be finite, got " + num(p.heading_rad));
+        throw std::invalid_argument("walker: heading_rad must be finite, got " + text(p.heading_rad));
     if (!std::isfinite(p.phase_rad))
-        throw std::invalid_argument("walker: phase_rad must be finite, got " + num(p.phase_rad));
+        throw std::invalid_argument("walker: phase_rad must be finite, got " + text(p.phase_rad));
     if (!(std::isfinite(p.elevation_rad) && std::fabs(p.elevation_rad) <= M_PI_2))
         throw std::invalid_argument("walker: elevation_rad must lie in [-pi/2, pi/2], got " +
-                                    num(p.elevation_rad));
+                                    text(p.elevation_rad));
     d_height = p.height_m;
     const double rv = d_rv;
 
@@ -333,7 +327,7 @@ walker_model::gait_state walker_model::state(double u) const
 gait_trajectories walker_model::trajectories(double u) const
 {
     if (!(std::isfinite(u) && u >= 0.0 && u < 1.0))
-        throw std::invalid_argument("walker: cycle time u must lie in [0, 1), got " + num(u));
+        throw std::invalid_argument("walker: cycle time u must lie in [0, 1), got " + text(u));
     const gait_state g = state(u);
     gait_trajectories t;
     t.forward_m = g.trans[0];
@@ -465,7 +459,7 @@ void walker_model::scatter(const body_pose& pose, double* r_m, double* amplitude
 void walker_model::pose(double t_s, body_pose& pose) const
 {
     if (!std::isfinite(t_s))
-        throw std::invalid_argument("walker: time t_s must be finite, got " + num(t_s));
+        throw std::invalid_argument("walker: time t_s must be finite, got " + text(t_s));
     cycle_pose(frac(t_s * d_inv_cycle + d_phase_cycles), pose);
 }
 
@@ -484,7 +478,7 @@ void walker_model::scatterers(const double* t_s, int count, double* r_m, double*
         for (int i = 0; i < len; ++i) {
             const double t = t_s[n0 + i];
             if (!std::isfinite(t))
-                throw std::invalid_argument("walker: time t_s must be finite, got " + num(t));
+                throw std::invalid_argument("walker: time t_s must be finite, got " + text(t));
             g[i] = state(frac(t * d_inv_cycle + d_phase_cycles));
             joint_angles(g[i], j_a);
             for (int j = 0; j < n_joint_angles; ++j)

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: model bundle directory (bundle.json + the mask and weights files it names; weights via bundle_decoder). */
 #include "core/json_object.h"
+#include "core/named_files.h"
 #include <gnuradio/sems/core/limits.h>
 #include <gnuradio/sems/learning/network_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <filesystem>
 #include <algorithm>
-#include <dlfcn.h>
 #include <climits>
 #include <cstdlib>
 #include <sys/stat.h>
@@ -17,6 +17,9 @@ namespace gr {
 namespace sems {
 
 namespace {
+using detail::library_folder;
+using detail::real_path;
+
 std::string join(const std::string& dir, const std::string& file)
 {
     if (dir.empty())
@@ -34,23 +37,6 @@ bool is_file(const std::string& path)
 {
     struct stat st;
     return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-std::string real_path(const std::string& path)
-{
-    char buf[PATH_MAX];
-    return ::realpath(path.c_str(), buf) ? std::string(buf) : path;
-}
-
-// The folder of the shared library this code runs in (empty if unknown).
-std::string library_folder()
-{
-    Dl_info info;
-    if (::dladdr(reinterpret_cast<void*>(&library_folder), &info) == 0 || !info.dli_fname)
-        return {};
-    const std::string lib = real_path(info.dli_fname);
-    const auto slash = lib.rfind('/');
-    return slash == std::string::npos ? std::string() : lib.substr(0, slash);
 }
 
 bool under(const std::string& path, const std::string& folder)
