@@ -5,9 +5,14 @@ DC is cancelled by >= 60 dB, an echo delayed past the taps passes within 0.1 dB,
 stay on their samples, bad parameters are refused by name; and in the receiver chain
 (mapper -> ofdm_tx -> target_channel_td at 20 dB, the transmitted samples leaking in 40 dB
 over the echo with their IQ image and DC -> leakage_canceller -> ofdm_rx) the echo's
-per-resource-element channel comes out as without leakage."""
+per-resource-element channel comes out as without leakage. With frame_sync in one flowgraph
+(ofdm_tx -> radio_front_end -> unknown latency -> frame_sync -> canceller, ofdm_tx -> the
+canceller's tx; and the other order) the flowgraph ends within a timeout, every frame comes out
+with its frame and truth tags on its first sample and the leakage is cancelled; a received
+stream that never starts stops the block with an error once the held samples pass the limit."""
 import json
 import os
+import threading
 
 import numpy as np
 import pmt
@@ -134,6 +139,125 @@ class qa_leakage_canceller(gr_unittest.TestCase):
         self.assertGreater(10 * np.log10(before), 39.0)
         # below the channel's own noise (20 dB under the echo) by 10 dB
         self.assertLess(10 * np.log10(err), -30.0, f"error {10 * np.log10(err):.1f} dB")
+
+    def _monostatic_chain(self, order, latency, frames=12):
+        """mapper -> ofdm_tx -> radio_front_end (examples/radios/sdr_monostatic.json, 20 dB) ->
+        the radio's latency -> frame_sync and leakage_canceller in `order`, the canceller fed
+        with the transmitted samples -> vector sink. Runs it with a timeout; returns the parts."""
+        n, m, cp = 32, 64, 16
+        src = os.environ.get("SEMS_SOURCE_DIR", ".")
+        mask = os.path.join(src, "models", "delay_single", "mask.json")
+        radio = os.path.join(src, "examples", "radios", "sdr_monostatic.json")
+        scene = json.dumps({"format": "sems.scene", "version": 1, "fading": "none", "targets": [
+            {"class": "car", "range_m": 60.0, "velocity_mps": 10.0, "power": 1,
+             "paths": [{"excess_range_m": 0.0, "power": 1}]}]})
+        L = n * (m + cp)
+        head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
+        ofdm = sems.ofdm_tx(m, cp)
+        fe = sems.radio_front_end(radio, scene=scene, snr_db=20.0, seed=4, cp_len=cp)
+        late = blocks.delay(gr.sizeof_gr_complex, latency)  # the radio's TX-to-RX latency, unknown
+        fsync = sems.frame_sync(mask_file=mask, n_symbols=n, n_subcarriers=m, cp_len=cp)
+        lc = sems.leakage_canceller(taps=4, window=L)
+        rx_sink, out_sink = blocks.vector_sink_c(), blocks.vector_sink_c()
+        tb = gr.top_block()
+        tb.connect(analog.random_uniform_source_b(0, 4, 5), digital.chunks_to_symbols_bc(QPSK, 1),
+                   sems.pilot_mapper(mask_file=mask), head, ofdm, fe, late)
+        if order == "sync first":
+            tb.connect(late, fsync, (lc, 0))
+            tb.connect(ofdm, (lc, 1))
+            tb.connect(fsync, rx_sink)
+            tb.connect(lc, out_sink)
+        else:  # the transmitted samples delayed by the latency, cancelled before the search
+            tb.connect(late, (lc, 0))
+            tb.connect(ofdm, blocks.delay(gr.sizeof_gr_complex, latency), (lc, 1))
+            tb.connect(lc, fsync, out_sink)
+            tb.connect(late, rx_sink)
+        tb.start()
+        waiter = threading.Thread(target=tb.wait, daemon=True)
+        waiter.start()
+        waiter.join(timeout=120.0)
+        if waiter.is_alive():
+            tb.stop()
+            self.fail(f"{order}: the flowgraph frame_sync + leakage_canceller did not finish within 120 s "
+                      f"(frame_sync read {fsync.nitems_read(0)} samples, locked {fsync.locked()}, "
+                      f"the canceller holds {lc.held()} transmitted samples)")
+        return fsync, lc, rx_sink, out_sink, L
+
+    def test_005_frame_sync_then_canceller_in_one_flowgraph(self):
+        # frame_sync outputs nothing until it has searched (F + 1) frames past the latency; the
+        # canceller holds the transmitted samples meanwhile, so the transmitter never waits.
+        frames = 12
+        key_frame, key_truth = pmt.intern(sems.keys.frame_tag), pmt.intern(sems.keys.truth_tag)
+        for latency in (777, 5000):
+            with self.subTest(latency=latency):
+                fsync, lc, rx_sink, out_sink, L = self._monostatic_chain("sync first", latency, frames)
+                self.assertEqual(lc.stream_error(), "")
+                self.assertTrue(fsync.locked())
+                self.assertEqual(fsync.offset(), latency)  # on the leakage, delay 0
+                # every frame comes out (the latency's zeros come first, then the whole stream):
+                # none held back, none lost
+                whole = frames
+                y = np.array(out_sink.data(), dtype=np.complex64)
+                self.assertEqual(y.size, whole * L)
+                self.assertEqual(lc.windows(), whole)
+                # frame_sync's frame tags and the radio's truth tags on every frame's first
+                # sample, frame k's truth on frame k: received frame k met transmitted frame k
+                tags = out_sink.tags()
+                got = sorted((t.offset, pmt.to_uint64(t.value)) for t in tags if pmt.eqv(t.key, key_frame))
+                self.assertEqual(got, [(k * L, k) for k in range(whole)])
+                truth = sorted((t.offset, pmt.to_uint64(pmt.dict_ref(t.value, pmt.intern(sems.keys.frame),
+                                                                      pmt.PMT_NIL)))
+                               for t in tags if pmt.eqv(t.key, key_truth))
+                self.assertEqual(truth, [(k * L, k) for k in range(whole)])
+                # the leakage (40 dB over the echo) is cancelled by more than 30 dB after 4
+                # frames; what is left over the echo is mostly the converter's clipping of the
+                # leakage (full scale 4x the rms), which no linear fit removes
+                rx = np.array(rx_sink.data(), dtype=np.complex64)
+                before = 10 * np.log10(np.mean(np.abs(rx[4 * L:]) ** 2))
+                after = 10 * np.log10(np.mean(np.abs(y[4 * L:]) ** 2))
+                self.assertGreater(before, 39.0)
+                self.assertLess(after, before - 30.0)
+
+    def test_006_canceller_then_frame_sync_in_one_flowgraph(self):
+        # the other order: the transmitted samples delayed by the (here known) latency, the
+        # canceller first; frame_sync then times the frames on what is left of the leakage
+        # (delay 0) or on the echo (the car at 60 m: 12 samples behind at 30 MHz)
+        frames, latency = 12, 5000
+        fsync, lc, _, out_sink, L = self._monostatic_chain("canceller first", latency, frames)
+        self.assertEqual(lc.stream_error(), "")
+        self.assertTrue(fsync.locked())
+        self.assertIn(fsync.offset(), (latency, latency + 12))
+        self.assertEqual(lc.windows(), (frames * L + latency) // L)  # the latency's zeros, then the stream
+        got = sorted((t.offset, pmt.to_uint64(t.value)) for t in out_sink.tags()
+                     if pmt.eqv(t.key, pmt.intern(sems.keys.frame_tag)))
+        self.assertGreater(len(got), 0)
+        self.assertEqual(got, [(k * L, k) for k in range(len(got))])
+
+    def test_007_received_stream_never_starting_is_an_error(self):
+        # frame_sync on noise finds no frame and outputs nothing; the transmitted
+        # samples pile up to the block's limit, then it stops the stream naming both counts
+        # (with a received stream that ends instead, the block ends with it)
+        W = 2560
+        limit = sems.leakage_canceller.max_lead(W)
+        self.assertEqual(limit, max(64 * W, 1 << 20))
+        mask = os.path.join(os.environ.get("SEMS_SOURCE_DIR", "."), "models", "delay_single", "mask.json")
+        lc = sems.leakage_canceller(window=W)
+        fsync = sems.frame_sync(mask_file=mask)
+        tb = gr.top_block()
+        # noise far longer than the transmission (a live radio that hears nothing it knows):
+        # the transmitted samples have all arrived long before it ends
+        tb.connect(analog.noise_source_c(analog.GR_GAUSSIAN, 1.0, 3), blocks.head(gr.sizeof_gr_complex, 8 * limit),
+                   fsync, (lc, 0))
+        tb.connect(blocks.null_source(gr.sizeof_gr_complex), blocks.head(gr.sizeof_gr_complex, limit + 4 * W),
+                   (lc, 1))
+        sink = blocks.vector_sink_c()
+        tb.connect(lc, sink)
+        tb.run()
+        self.assertFalse(fsync.locked())
+        self.assertEqual(len(sink.data()), 0)
+        self.assertGreater(lc.held(), limit)
+        self.assertRegex(lc.stream_error(), r"run \d+ samples ahead of the received ones \(input 0\), more than the "
+                         + str(limit))
 
 
 if __name__ == "__main__":

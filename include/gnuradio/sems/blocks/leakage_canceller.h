@@ -7,10 +7,11 @@
 #ifndef INCLUDED_SEMS_BLOCKS_LEAKAGE_CANCELLER_H
 #define INCLUDED_SEMS_BLOCKS_LEAKAGE_CANCELLER_H
 
-#include <gnuradio/sync_block.h>
+#include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/leakage_canceller.h>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace gr {
@@ -29,11 +30,32 @@ namespace sems {
  * samples); the tags of input 0 go out on the same samples, those of input 1 are dropped.
  * It removes whatever is static and within the first L samples of delay over the averaging
  * window: an echo there is removed with the leakage; an echo L samples or more behind passes.
+ *
+ * Received sample k is paired with transmitted sample k, whenever each arrives: the
+ * transmitted samples that come before their received ones are held in the block (it always
+ * takes them), so a frame_sync upstream of input 0, which outputs nothing until it has found
+ * the first frame, never stalls the transmitter feeding input 1 (in one flowgraph:
+ * ofdm_tx → radio → frame_sync → input 0, ofdm_tx → input 1). At most max_lead() samples are
+ * held; beyond that the received stream has stalled or never started (frame_sync finds no
+ * frame) and the block stops with an error naming both counts (stream_error()). The stream
+ * ends when either input has ended and no whole window of pairs is left.
  */
-class SEMS_API leakage_canceller : virtual public gr::sync_block
+class SEMS_API leakage_canceller : virtual public gr::block
 {
 public:
     typedef std::shared_ptr<leakage_canceller> sptr; ///< shared pointer to the block
+
+    /*!
+     * \brief The most transmitted samples held ahead of the received ones: 64 windows, and
+     *        at least 2^20 samples.
+     * \param window W, samples per fit
+     * \return the limit in samples.
+     */
+    static uint64_t max_lead(int window)
+    {
+        const uint64_t windows = 64 * static_cast<uint64_t>(window > 0 ? window : 0);
+        return windows > (uint64_t(1) << 20) ? windows : (uint64_t(1) << 20);
+    }
 
     /*!
      * \brief Makes a leakage canceller.
@@ -59,6 +81,14 @@ public:
     virtual gr_complex dc() const = 0;
     //! \brief Windows processed. \return the count.
     virtual uint64_t windows() const = 0;
+    //! \brief Transmitted samples held, waiting for their received ones. \return the count.
+    virtual uint64_t held() const = 0;
+    /*!
+     * \brief Why the block stopped the stream.
+     * \return "" while it runs; the message after the transmitted samples ran more than
+     *         max_lead() ahead of the received ones.
+     */
+    virtual std::string stream_error() const = 0;
 };
 
 } // namespace sems
