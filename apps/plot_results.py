@@ -171,6 +171,10 @@ def _style(method, mask=""):
         return dict(linestyle=":", marker="^")
     if method.startswith("MSE"):
         return dict(linestyle="-.", marker="v")
+    if method.startswith("Bayes classifier from"):
+        # A Monte-Carlo classifier of a given prior size (classifier_bayes.py --as-decoder): a
+        # decoder that knows as many draws as a network's training set (one colour per size).
+        return dict(linestyle="-.", marker="P", markersize=5)
     if method.startswith("Bayes"):
         # The classification bound: black like the CRB; dotted with small dots where its
         # Monte-Carlo estimate has not converged (a reachable accuracy below the bound).

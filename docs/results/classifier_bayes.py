@@ -62,6 +62,14 @@ import numpy as np
 BINS = [(0, 0.01), (0.01, 0.03), (0.03, 0.1), (0.1, np.inf)]
 METHOD = "Bayes classifier (bound)"
 METHOD_UNCONVERGED = "Bayes classifier, not converged (reachable, below the bound)"
+# --as-decoder: the Monte-Carlo classifier of a given prior size, a decoder and never the bound
+METHOD_DRAWS = "Bayes classifier from %s prior draws (a decoder)"
+
+
+def method_family(method):
+    """Rows of the bound (converged or not) and rows of a decoder of a given prior size replace
+    only rows of their own kind (and size) in a --csv file."""
+    return method if method.startswith("Bayes classifier from") else "bound"
 
 
 def pattern_mask(sems, name, fs, n_p):
@@ -283,8 +291,9 @@ def write_csv(path, scenario, rows, extra_cols=()):
     kept = []
     if os.path.exists(path):
         with open(path, newline="") as f:
-            ours = {r["mask"] for r in rows}
-            kept = [r for r in csv.DictReader(f) if r["scenario"] != scenario or r["mask"] not in ours]
+            ours = {(r["mask"], method_family(r["method"])) for r in rows}
+            kept = [r for r in csv.DictReader(f)
+                    if r["scenario"] != scenario or (r["mask"], method_family(r["method"])) not in ours]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols)
         w.writeheader()
@@ -309,6 +318,10 @@ def main():
     ap.add_argument("--prior", type=int, default=40000, help="prior draws (noiseless frames) per class, about")
     ap.add_argument("--pilots", type=int, default=32, help="N_p of the named patterns")
     ap.add_argument("--seed", type=int, default=20261125, help="test frames' channel seed; the prior's is seed + 1")
+    ap.add_argument("--as-decoder", action="store_true",
+                    help="name the --csv rows as the decoder this prior size makes ('%s'), never as the bound: "
+                    "e.g. --prior 5000 on a scene of six classes is the Bayes classifier that knows only as many "
+                    "draws as a network trained on 30 000 frames" % (METHOD_DRAWS % "N"))
     ap.add_argument("--save-mask", help="write the first --mask to this mask file and stop (for sems_train --mask)")
     ap.add_argument("--csv", help="write the Bayes rows to this CSV (sems_eval's experiment-1 columns; the "
                     "scenario is 'default' for the approaching heading, 'any' for any)")
@@ -407,7 +420,8 @@ def main():
                 extra.append(by_fade(full, t_cls, t_gain))
                 right.append(full == t_cls)
                 rows.append(dict(experiment=1, scenario=scenario, mask=labels[i],
-                                 method=METHOD if converged else METHOD_UNCONVERGED,
+                                 method=(METHOD_DRAWS % "{:,}".format(n_prior).replace(",", " ")
+                                         if args.as_decoder else METHOD if converged else METHOD_UNCONVERGED),
                                  n_pilots=masks[i].size(), snr_db="%g" % snr, accuracy="%.6f" % acc,
                                  macro_f1="%.6f" % f1, n_frames=args.frames, seed=args.seed, train_seed="none",
                                  us_per_frame="%.1f" % us, train_seconds=0,

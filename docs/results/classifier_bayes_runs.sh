@@ -6,7 +6,8 @@
 # experiment-1 figure), the bound on other masks, the 30 000-frame re-check of the closest
 # mask, the noiseless nearest-draw classifier, and where the spectral decoder's errors sit at
 # 30 dB in the any scene, and the bound in the kinematic class library's scene (targets as
-# bodies of scatterers; writes bound_kinematic.csv). Needs the networks of scripts/eval_full.sh
+# bodies of scatterers; writes bound_kinematic.csv, with the classifiers of 30 000 and 300 000
+# draws beside it). Needs the networks of scripts/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
 # of one core, and about 75 min for the kinematic scene's runs (on a busy machine).
 set -euo pipefail
@@ -54,4 +55,11 @@ bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --
   --prior 120000 --csv "$kcsv" > "$logs/kinematic_doppler.log"
 bayes --scene models/scenes/kinematic_any.json --mask doppler:128 --label doppler_128 --snr=$snrs --frames 3000 \
   --prior 20000 --csv "$kcsv" > "$logs/kinematic_doppler_128.log"
+# the same classifier as a decoder that knows only 30 000 draws (5 000 per class: as many as a
+# network's training set in experiment 7) and 300 000: how much of the gap to the bound is the
+# number of draws (rows "Bayes classifier from N prior draws (a decoder)")
+for per_class in 5000 50000; do
+  bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
+    --prior $per_class --as-decoder --csv "$kcsv" > "$logs/kinematic_doppler_draws_$((6 * per_class)).log"
+done
 echo "classifier_bayes_runs: logs in $logs, bound rows in $csv and $kcsv"

@@ -127,6 +127,25 @@ class qa_classifier_bayes(gr_unittest.TestCase):
                 self.assertIn(path, str(ctx.exception))
                 self.assertIn(words, str(ctx.exception))
 
+    def test_csv_keeps_the_bound_beside_decoders_of_a_prior_size(self):
+        # A --csv file holds the bound and the decoders of given prior sizes (--as-decoder) for
+        # one mask: a run replaces only the rows of its own kind, and size.
+        def rows(method, acc):
+            return [dict(experiment=1, scenario="kinematic_any", method=method, mask="doppler", n_pilots=32,
+                         snr_db="0", accuracy=acc, macro_f1=acc, n_frames=3000, seed=1, train_seed="none",
+                         us_per_frame="1", train_seconds=0, model="m")]
+        small, large = cb.METHOD_DRAWS % "30 000", cb.METHOD_DRAWS % "300 000"
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "bound.csv")
+            cb.write_csv(path, "kinematic_any", rows(cb.METHOD, "0.47"))
+            cb.write_csv(path, "kinematic_any", rows(small, "0.45"))
+            cb.write_csv(path, "kinematic_any", rows(large, "0.46"))
+            cb.write_csv(path, "kinematic_any", rows(small, "0.44"))  # the same size again: replaced
+            cb.write_csv(path, "kinematic_any", rows(cb.METHOD_UNCONVERGED, "0.48"))  # the bound again
+            with open(path) as f:
+                got = sorted((r["method"], r["accuracy"]) for r in cb.csv.DictReader(f))
+        self.assertEqual(got, sorted([(small, "0.44"), (large, "0.46"), (cb.METHOD_UNCONVERGED, "0.48")]))
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_classifier_bayes)
