@@ -41,6 +41,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
     CPPUNIT_TEST(spectral_decoder_inference_paths_match);
     CPPUNIT_TEST(spectral_range_gate_closed_forms);
+    CPPUNIT_TEST(spectral_range_gate_by_fft_on_large_frames);
     CPPUNIT_TEST(tone_fit_closed_forms);
     CPPUNIT_TEST(tone_fit_counts_subcarriers_with_enough_pilots);
     CPPUNIT_TEST(soft_argmax_stable_inside_grid);
@@ -464,6 +465,57 @@ public:
         // profile as the fixed mask, whose empty subcarriers the decoder skips.
         auto learning = two.clone().requires_grad_(true);
         CPPUNIT_ASSERT(torch::allclose(g.profile(frame(two), learning), pg, 1e-5, 1e-5));
+    }
+
+    // From 128 subcarriers the range gate is an inverse FFT (with the subcarriers folded
+    // modulo L when L < M). Its profile against the gate's formula evaluated directly in
+    // double precision, R[k,l] = Σ_m F[k,m] exp(+j2π m l / L) on a random frame, with L = 2·M
+    // and with L = 100 < M; on a compact grid of a few subcarriers; and its gradient.
+    void spectral_range_gate_by_fft_on_large_frames()
+    {
+        const int n = 8, m = 320, k = 16;
+        torch::manual_seed(3);
+        for (const int range_bins : { -1, 100 }) {
+            classifier_settings cs;
+            cs.doppler_bins = k;
+            cs.range_bins = range_bins;
+            cs.mti = "none";
+            cs.chirp_bins = 0;
+            spectral_classifier_decoder_module dec(n, m, n * m, cs);
+            const int l = dec.settings().range_bins;
+            auto expected = [&](const torch::Tensor& grid, const torch::Tensor& mask) {
+                const auto y = torch::complex(grid.select(1, 0), grid.select(1, 1)).to(torch::kComplexDouble) *
+                               mask.to(torch::kDouble); // B x N x M
+                const auto kn = torch::remainder(torch::arange(k, torch::kLong).unsqueeze(1) *
+                                                 torch::arange(n, torch::kLong).unsqueeze(0), k).to(torch::kDouble);
+                const auto dft = torch::polar(torch::ones_like(kn), -2 * M_PI * kn / k); // K x N
+                const auto ml = torch::remainder(torch::arange(m, torch::kLong).unsqueeze(1) *
+                                                 torch::arange(l, torch::kLong).unsqueeze(0), l).to(torch::kDouble);
+                const auto gate = torch::polar(torch::ones_like(ml), 2 * M_PI * ml / l); // M x L
+                const auto r = torch::matmul(torch::matmul(dft, y), gate); // B x K x L
+                const auto p = r.abs().square();
+                const auto best = p.sum(1).argmax(1);
+                auto sk = p.gather(2, best.view({ -1, 1, 1 }).expand({ p.size(0), k, 1 })).squeeze(2);
+                return torch::log(sk / sk.mean(1, true) + 1e-3).unsqueeze(1).to(torch::kFloat);
+            };
+            const auto mask = (torch::rand({ n, m }) < 0.5).to(torch::kFloat);
+            const auto grid = torch::randn({ 3, 2, n, m }) * mask;
+            const auto what = "range_bins " + std::to_string(range_bins);
+            CPPUNIT_ASSERT_MESSAGE(what, torch::allclose(dec.profile(grid, mask), expected(grid, mask), 1e-4, 1e-4));
+            // Pilots on three subcarriers only: the decoder transforms those columns, and
+            // the FFT puts them back on their subcarriers.
+            auto few = torch::zeros({ n, m });
+            for (int c : { 5, 170, 311 })
+                few.select(1, c).fill_(1.0f);
+            const auto sparse = torch::randn({ 3, 2, n, m }) * few;
+            CPPUNIT_ASSERT_MESSAGE(what, torch::allclose(dec.profile(sparse, few), expected(sparse, few), 1e-4, 1e-4));
+            // While a mask is learned the gradient flows through the FFT to every element.
+            auto learning = mask.clone().requires_grad_(true);
+            auto g = grid.clone().requires_grad_(true);
+            dec.profile(g * learning, learning).sum().backward();
+            CPPUNIT_ASSERT_MESSAGE(what, g.grad().defined() && torch::isfinite(g.grad()).all().item<bool>() &&
+                                             g.grad().abs().sum().item<double>() > 0);
+        }
     }
 
     // The tone/chirp fit against closed forms (noiseless): a pure tone anywhere between the

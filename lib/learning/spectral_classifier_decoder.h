@@ -18,7 +18,8 @@
  *        l* = argmax_l Σ_k |R[k,l]|²,   S[k] = |R[k,l*]|²  (the target's delay bin;
  *      on subcarriers that share no symbol the energy is the same in every bin, by
  *      Parseval, and the first maximum as rounded decides: the gate is meant for masks
- *      whose subcarriers overlap in slow time, and exact on one subcarrier)
+ *      whose subcarriers overlap in slow time, and exact on one subcarrier); R is a
+ *      product with the M x L phasors below 128 subcarriers, an inverse FFT from there on
  *   -> x[k] = log(S[k] / mean_k S + 1e-3)
  *   -> BatchNorm -> two circular 1-D convolutions over the K bins (width channels,
  *      kernel, leaky ReLU of slope conv_slope) -> MLP (hidden) -> features -> C logits.
@@ -111,7 +112,7 @@ private:
     classifier_settings d_s;
     torch::Tensor d_cos, d_sin; // K x N DFT matrix (fixed, not a parameter)
     torch::Tensor d_dft;        // [[cos, sin], [-sin, cos]], 2K x 2N: the real form of the complex DFT
-    torch::Tensor d_rcos, d_rsin; // M x L range-gate DFT (range_bins > 0)
+    torch::Tensor d_rcos, d_rsin; // M x L range-gate DFT (range_bins > 0, M < 128; larger frames: an FFT)
     torch::Tensor d_compact_cols; // set_compact_columns()
     torch::Tensor d_chirp_phase;  // tone fit: π α_j (n - (N-1)/2)², J x N
     torch::Tensor d_symbol_index; // tone fit: n = 0..N-1, 1 x 1 x N
