@@ -152,7 +152,7 @@ def measure(args):
             for off in offsets:
                 # The radio's latency (off samples before the first frame) is found by
                 # frame_sync on the delay mask's pilots through the same radio, as
-                # sems_sdr_loopback does once per radio, then dropped before the canceller (the
+                # sems_sdr_calibrate does once per radio, then dropped before the canceller (the
                 # classifier's one-subcarrier pilots cannot time a frame themselves).
                 found = run_chain(bundles["delay"], snr, 8, args.seed, radio=args.radio, offset=off, sync=True)[2]
                 point("combined", off, snr, task, "frame_sync start, canceller", radio=args.radio, offset=off,

@@ -245,44 +245,61 @@ public:
 
     void micro_doppler_phase_per_sample()
     {
-        // One path at delay 0 on a constant input: out[k] is the path's phasor itself, to be
-        // compared per sample with exp(j2π ν t) exp(jβ sin(ω t + φ)) in double (t reduced
-        // modulo a cycle as the model states). Chunks of 38 samples (the defaults' drone-like
-        // path) and of 6 with a last chunk of 2 (a fast rotor: 13 chunks per symbol), at a
-        // symbol index past 10^9. Bound: the secant's 1e-7 rad plus the float rotator's
-        // rounding over a chunk.
+        // One path D whole samples late on a constant input: out[k] is the path's phasor
+        // itself, to be compared per sample with exp(j2π ν t) exp(jβ sin(ω t + φ)) in double
+        // (t reduced modulo a cycle as the model states). Chunks of 38 samples (the defaults'
+        // drone-like path) and of 6 with a last chunk of 2 (a fast rotor: 13 chunks per
+        // symbol), at a symbol index past 10^9. Sample i of symbol k is at t = k·T + i/B, but
+        // for i < D it ends the echo of symbol k − 1 and keeps that symbol's slow time,
+        // t = (k − 1)·T + (S + i)/B (D inside the prefix, 5, and past it, 23; with k·T + i/B
+        // there it would be wrong by 2πν(T − S/B), over 1.5 rad here). Bound: the secant's
+        // 1e-7 rad plus the float rotator's rounding over a chunk.
         frame_settings fs;
         const int n = fs.n_symbols, s = fs.n_subcarriers + fs.cp_len;
         const double beta_per_m = 4.0 * M_PI / fs.wavelength_m(), tt = fs.symbol_interval_s, b = fs.bandwidth_hz;
         struct md_case {
             double doppler, rate, amplitude, phase;
+            int delay;
         };
-        for (const md_case c : { md_case{ 240.0, 100.0, 0.01, 0.3 }, md_case{ -310.0, 400.0, 0.02, 2.0 } }) {
+        for (const md_case c : { md_case{ 240.0, 100.0, 0.01, 0.3, 0 },
+                                 md_case{ -310.0, 400.0, 0.02, 2.0, 0 },
+                                 md_case{ 240.0, 100.0, 0.01, 0.3, 23 },
+                                 md_case{ -310.0, 400.0, 0.02, 2.0, 5 },
+                                 md_case{ 240.0, 0.0, 0.0, 0.0, 5 },
+                                 md_case{ -310.0, 0.0, 0.0, 0.0, 23 } }) {
             channel_path p;
+            p.delay_s = c.delay / b;
             p.doppler_hz = c.doppler;
             p.md_rate_hz = c.rate;
             p.md_amplitude_m = c.amplitude;
             p.md_phase_rad = c.phase;
             p.gain = { 0.8, -0.6 };
+            const int d = static_cast<int>(std::floor(p.delay_s * b)); // D as the model rounds it
             td_channel td(fs);
             const uint64_t first = uint64_t(40000000) * n; // slow time past 10^9 symbols
             td.set_paths({ p }, first);
             std::vector<gr_complex> x(s, gr_complex(1.0f, 0.0f)), y(s);
-            double worst = 0.0;
+            double worst = 0.0, worst_tail = 0.0;
             for (int k = 0; k < n; ++k) {
                 td.apply_symbol(k, x.data(), y.data());
-                const double sd = static_cast<double>(first + k);
-                for (int i = 1; i < s; ++i) { // sample 0 of the first symbol reads the silence before
+                // symbol 0 reads the silence before up to sample D (sample 0 at D = 0)
+                for (int i = (k == 0 ? std::max(d, 1) : 0); i < s; ++i) {
+                    const bool tail = i < d;
+                    const double sd = static_cast<double>(first + k) - (tail ? 1.0 : 0.0);
+                    const double in = (i + (tail ? s : 0)) / b; // s after symbol sd's start
                     const double dop = c.doppler * tt * sd, md = c.rate * tt * sd;
-                    const double arg = 2 * M_PI * ((dop - std::floor(dop)) + c.doppler * i / b) +
+                    const double arg = 2 * M_PI * ((dop - std::floor(dop)) + c.doppler * in) +
                                        beta_per_m * c.amplitude *
-                                           std::sin(2 * M_PI * ((md - std::floor(md)) + c.rate * i / b) + c.phase);
-                    const std::complex<double> want = p.gain * std::polar(1.0, arg);
-                    worst = std::max(worst, std::abs(std::complex<double>(y[i]) - want));
+                                           std::sin(2 * M_PI * ((md - std::floor(md)) + c.rate * in) + c.phase);
+                    const double err = std::abs(std::complex<double>(y[i]) - p.gain * std::polar(1.0, arg));
+                    worst = std::max(worst, err);
+                    if (tail)
+                        worst_tail = std::max(worst_tail, err);
                 }
             }
             CPPUNIT_ASSERT_LESS(2e-6, worst);
             CPPUNIT_ASSERT(worst > 0.0);
+            CPPUNIT_ASSERT(d == 0 || worst_tail > 0.0); // the tail samples were compared
         }
     }
 

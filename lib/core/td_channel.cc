@@ -110,12 +110,12 @@ struct td_channel::impl {
         bool has_md = false;
         int anchor = 0;       // samples between exact phase anchors
         std::complex<double> md_step{ 1.0, 0.0 };      // exp(j ω anchor/B): the micro-Doppler's turn per chunk
-        std::complex<double> md_step_last{ 1.0, 0.0 }; // the same over a symbol's last chunk
         channel_path p;
         std::vector<gr_complex> shift_phasor; // α·exp(-j2π m δ/M)/M
         std::vector<gr_complex> buf;          // α·[previous symbol | current symbol], shifted by δ
         std::vector<gr_complex> doppler;      // exp(j2π ν k/B), k = 0..S-1 (Doppler without micro-Doppler)
         std::vector<gr_complex> symbol_phase; // exp(j2π ν (first_symbol + n) T), n = 0..N-1
+        gr_complex tail_phase{ 1.0f, 0.0f };  // exp(−j2π ν (T − S/B)): the previous symbol's echo
         gr_complex w0_prev{ 0.0f, 0.0f };     // the previous symbol's tone sum at -δ
         bool filled = false;                  // tables and buf hold p's (set_paths)
         int body = -1;   // a term of a scatterer body's path: the body
@@ -298,25 +298,48 @@ struct td_channel::impl {
         std::memmove(pa.buf.data() + s - pa.shift, pa.buf.data() + 2 * s - pa.shift, sizeof(gr_complex) * pa.shift);
     }
 
-    // out[k] += src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)),  t_k = sym·T + k/B (a
-    // path with micro-Doppler). The phase is exact (double) at the symbol's start and at
-    // each chunk start (there by recurrence in double: rounding ~1e-15 rad) and linear
-    // within a chunk (detail::accumulate_rotator); the chunk is short enough that the
-    // curvature left out, |θ''|·chunk²/8 (secant), stays below md_phase_tolerance_rad. Two
-    // sines and cosines per symbol: exp(j(ω t + φ)) advances by a per-frame step per
-    // chunk, and the phase over a chunk (well below 0.01 rad) turns by its Taylor series.
-    void accumulate_micro_doppler(const path& pa, uint64_t sym, const gr_complex* src, gr_complex* out) const
+    // out[k] += src[k] · exp(j2π ν t_k) over symbol n (a path with Doppler alone). The echo
+    // of one transmitted symbol keeps one slow time: its first D samples (D = the path's
+    // whole-sample delay) end the previous symbol's echo and keep that symbol's phase,
+    // t_k = (sym − 1)·T + (S + k)/B, i.e. this symbol's times shifted by T − S/B.
+    void accumulate_doppler(const path& pa, int n, const gr_complex* src, gr_complex* out) const
+    {
+        const int d = std::min(pa.shift, s);
+        const gr_complex now = pa.symbol_phase[n];
+        if (d > 0)
+            detail::accumulate_rotated(out, src, pa.doppler.data(), now * pa.tail_phase, d);
+        detail::accumulate_rotated(out + d, src + d, pa.doppler.data() + d, now, s - d);
+    }
+
+    // out[k] += src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)) for k_from ≤ k < k_to,
+    // t_k = sym·T + (k + k_time)/B (a path with micro-Doppler; k_time = S with sym − 1 for the
+    // samples that end the previous symbol's echo). The phase is exact (double) at the
+    // segment's start and at each chunk start (there by recurrence in double: rounding
+    // ~1e-15 rad) and linear within a chunk (detail::accumulate_rotator); the chunk is short
+    // enough that the curvature left out, |θ''|·chunk²/8 (secant), stays below
+    // md_phase_tolerance_rad. Two sines and cosines per segment: exp(j(ω t + φ)) advances by a
+    // per-frame step per chunk, and the phase over a chunk (well below 0.01 rad) turns by its
+    // Taylor series.
+    void accumulate_micro_doppler(const path& pa,
+                                  double sym,
+                                  int k_from,
+                                  int k_to,
+                                  int k_time,
+                                  const gr_complex* src,
+                                  gr_complex* out) const
     {
         const auto& p = pa.p;
-        const double sd = static_cast<double>(sym);
         const double beta = md_scale * p.md_amplitude_m;
         const double doppler_rad_per_sample = two_pi * p.doppler_hz / b;
-        std::complex<double> z = cis(two_pi * frac(p.md_rate_hz * t * sd) + p.md_phase_rad); // exp(j(ω t_k0 + φ))
+        const double k_start = static_cast<double>(k_from + k_time) / b; // s after the symbol's start
+        std::complex<double> z = cis(two_pi * (frac(p.md_rate_hz * t * sym) + frac(p.md_rate_hz * k_start)) +
+                                     p.md_phase_rad); // exp(j(ω t_k0 + φ))
         double th0 = beta * z.imag();
-        std::complex<double> phase = cis(two_pi * frac(p.doppler_hz * t * sd) + th0); // at k0
-        for (int k0 = 0; k0 < s; k0 += pa.anchor) {
-            const int len = std::min(pa.anchor, s - k0);
-            z = mul(z, len == pa.anchor ? pa.md_step : pa.md_step_last);
+        std::complex<double> phase =
+            cis(two_pi * (frac(p.doppler_hz * t * sym) + frac(p.doppler_hz * k_start)) + th0); // at k0
+        for (int k0 = k_from; k0 < k_to; k0 += pa.anchor) {
+            const int len = std::min(pa.anchor, k_to - k0);
+            z = mul(z, len == pa.anchor ? pa.md_step : cis_cycles(p.md_rate_hz * len / b));
             const double th1 = beta * z.imag();
             const double turn = doppler_rad_per_sample * len + (th1 - th0); // the phase change over the chunk
             detail::accumulate_rotator(out + k0, src + k0, len, phase, cis_small(turn / len));
@@ -447,8 +470,6 @@ void td_channel::set_paths(const std::vector<channel_path>& paths,
                 const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
                 pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
                 pa.md_step = cis_cycles(p.md_rate_hz * pa.anchor / I.b);
-                const int last = I.s % pa.anchor == 0 ? pa.anchor : I.s % pa.anchor;
-                pa.md_step_last = cis_cycles(p.md_rate_hz * last / I.b);
             }
             // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15);
             // a body path's Doppler is applied once, after its terms: its first row holds the tables.
@@ -462,6 +483,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths,
                              I.n,
                              doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, I.t),
                              p.doppler_hz * I.t);
+                pa.tail_phase = gr_complex(cis_cycles(-p.doppler_hz * (I.t - I.s / I.b)));
             } else {
                 pa.doppler.clear(); // not this row's: filled again if it becomes a path's first
             }
@@ -506,7 +528,7 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
                 continue;
             const auto& first = I.paths[l - pa.term]; // the path's first row holds its Doppler tables
             if (first.moving)
-                detail::accumulate_rotated(out, I.acc.data(), first.doppler.data(), first.symbol_phase[n], s);
+                I.accumulate_doppler(first, n, I.acc.data(), out);
             else
                 volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
                                     reinterpret_cast<const float*>(out),
@@ -514,10 +536,15 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
                                     2 * s);
             continue;
         }
-        if (pa.has_md)
-            I.accumulate_micro_doppler(pa, sym, src, out);
-        else if (pa.moving)
-            detail::accumulate_rotated(out, src, pa.doppler.data(), pa.symbol_phase[n], s);
+        if (pa.has_md) {
+            // The first D samples end the previous symbol's echo: its slow time, continued.
+            const int d = std::min(pa.shift, s);
+            const double sd = static_cast<double>(sym);
+            if (d > 0)
+                I.accumulate_micro_doppler(pa, sd - 1.0, 0, d, s, src, out);
+            I.accumulate_micro_doppler(pa, sd, d, s, 0, src, out);
+        } else if (pa.moving)
+            I.accumulate_doppler(pa, n, src, out);
         else // a static path
             volk_32f_x2_add_32f(reinterpret_cast<float*>(out),
                                 reinterpret_cast<const float*>(out),

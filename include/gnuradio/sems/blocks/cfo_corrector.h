@@ -26,7 +26,10 @@ namespace sems {
  * removed by a phase that advances 2π·ε/M per sample, continuous across windows, so a
  * sensing receiver sees no phase jump. Offsets are unambiguous in (−½, ½) subcarrier
  * spacings. A monostatic radio shares its oscillator and has no offset: this is for a
- * bistatic link. Tags pass on their samples.
+ * bistatic link. On an echo-only link the estimate is the offset plus the echoes'
+ * power-weighted Doppler (indistinguishable within a symbol; at most 1/(2T)), of whose turn
+ * per symbol the correction removes S/(B·T) (docs/reference/sdr_receiver.md). Tags pass on
+ * their samples.
  */
 class SEMS_API cfo_corrector : virtual public gr::sync_block
 {

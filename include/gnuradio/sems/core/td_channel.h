@@ -15,6 +15,13 @@
  *     y[p] = Σ_l α_l · exp(j2π ν_l t) · exp(j (4π/λ) A_l sin(ω_l t + φ_l)) · x_c(p/B − τ_l)
  *
  * evaluated at the RECEIVE time t = s·T + k/B, with the paths of the frame that holds p.
+ * One transmitted symbol's echo keeps one slow time: a path delayed by D whole samples puts
+ * the last D samples of symbol s − 1's echo at the start of symbol s, and there its Doppler
+ * and micro-Doppler phases continue symbol s − 1's, t = (s − 1)·T + (S + k)/B. (Taken at
+ * s·T + k/B instead, those samples, which a receiver's FFT window never holds for D ≤ CP,
+ * would turn by 2πν(T − S/B) against the prefix they repeat, and a cyclic-prefix estimator
+ * such as cp_sync would read ν·T subcarrier spacings of frequency offset.) A scatterer body's
+ * expansion terms G_p(t) are still interpolated at s·T + k/B there.
  *
  * x_c is the transmitted waveform between samples: within each symbol the sum of its M
  * tones at frequencies m·Δf (m = 0..M-1, the frequencies of the frequency-domain
