@@ -5,6 +5,7 @@
  *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
  *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
  *   sems_train --task classify --pilot-power learned --out powered   (learned placement and energies)
+ *   sems_train --task delay --mask m.json --pilot-phases newman --out d   (pilots with Newman phases)
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
  *   sems_train --task classify --frame sdr_2g4_20mhz --out sdr_classifier   (another radio's frame)
@@ -73,6 +74,7 @@ int main(int argc, char** argv)
         ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler|staggered): train the decoder only")
         ("pilot-power", po::value(&s.pilot_power)->default_value(s.pilot_power), "pilot energies: equal (every pilot the same) | learned (the mask learner also shares the total pilot energy among the pilots; learned masks only)")
         ("pilot-power-floor", po::value(&s.pilot_power_floor)->default_value(s.pilot_power_floor), "--pilot-power learned: the smallest energy of a pilot, relative to equal power, in [0, 1)")
+        ("pilot-phases", po::value(&s.pilot_phases), "pilot phases in the bundle's mask: newman (low crest factor: the pilots of one symbol do not peak together in time, so a radio's converter does not clip them) | zero (none); default: as the mask has them (a --mask file's own phases, none otherwise). The decoder sees Y/s_k, so training is the same")
         ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
         ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "

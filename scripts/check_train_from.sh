@@ -22,10 +22,12 @@ same "$work/classify" "$work/classify_again" decoder.pt
 same "$work/classify" "$work/classify_again" mask.json
 
 "$train" --task delay --mask-pattern random --frames 200 --epochs 1 --batch 64 --threads 1 --seed 3 \
-  --width 4 --depth 3 --delay-spacing 0.5 --snr 20 --eval-snr 20 --quiet --out "$work/delay" > /dev/null
+  --width 4 --depth 3 --delay-spacing 0.5 --snr 20 --eval-snr 20 --pilot-phases newman --quiet \
+  --out "$work/delay" > /dev/null
 "$train" --from "$work/delay" --out "$work/delay_again" --quiet > /dev/null
 same "$work/delay" "$work/delay_again" decoder.pt
 same "$work/delay" "$work/delay_again" mask.json
+grep -q '"phases": "newman"' "$work/delay_again/mask.json" || fail "--pilot-phases newman is not in $work/delay_again/mask.json"
 
 # A size override is taken, the rest is the bundle's; other settings are refused.
 "$train" --from "$work/classify" --frames 200 --out "$work/smaller" --quiet > /dev/null

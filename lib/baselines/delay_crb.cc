@@ -15,7 +15,9 @@ namespace sems {
 double delay_crb::spread(const pilot_mask& mask, bool doppler_known)
 {
     // Pilot k's Fisher information is weighted by its energy p_k (noise σ²/p_k); for
-    // equal power every weight is 1 and the sums are the unweighted ones.
+    // equal power every weight is 1 and the sums are the unweighted ones. Its phase φ_k
+    // does not enter: the observation Y/(sqrt(p_k)·s_p·exp(jφ_k)) has circular noise of the
+    // same law whatever φ_k (pilot_mask::transmitted_pilot).
     const auto& pos = mask.positions();
     const auto& w = mask.power();
     double k = 0.0, mm = 0.0, nn = 0.0;

@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -80,6 +81,19 @@ void check_power(const std::vector<double>& power, size_t n_pilots, const std::s
                             std::to_string(pilot_mask::power_mean_tolerance));
 }
 
+// The phases as given: one per pilot, each finite.
+void check_phases(const std::vector<double>& phases, size_t n_pilots, const std::string& source)
+{
+    if (phases.size() != n_pilots)
+        json_read::fail(source, "phases",
+                        "lists " + std::to_string(phases.size()) + " phases for " + std::to_string(n_pilots) +
+                            " pilots (one per pilot in radians, in the order of the pilot list)");
+    for (size_t i = 0; i < phases.size(); ++i)
+        if (!std::isfinite(phases[i]))
+            json_read::fail(source, "phases[" + std::to_string(i) + "]",
+                            "must be a finite number of radians, got " + std::to_string(phases[i]));
+}
+
 } // namespace
 
 pilot_mask::pilot_mask(int n_symbols,
@@ -88,29 +102,46 @@ pilot_mask::pilot_mask(int n_symbols,
                        gr_complex pilot_symbol,
                        nlohmann::json origin,
                        const std::string& source,
-                       std::vector<double> power)
+                       std::vector<double> power,
+                       std::vector<double> phases,
+                       const std::string& phase_sequence)
     : d_n_symbols(n_symbols),
       d_n_subcarriers(n_subcarriers),
       d_pilots(std::move(pilots)),
       d_pilot_symbol(pilot_symbol),
-      d_origin(std::move(origin))
+      d_origin(std::move(origin)),
+      d_phase_sequence(phase_sequence)
 {
     check_dims(n_symbols, n_subcarriers, source);
     if (d_pilots.empty())
         json_read::fail(source, "pilots", "a mask needs at least one pilot");
-    if (power.empty()) {
-        d_power.assign(d_pilots.size(), 1.0);
-    } else {
+    if (!power.empty())
         check_power(power, d_pilots.size(), source);
-        // Sorted into mask order together with the positions.
-        std::vector<size_t> order(d_pilots.size());
-        std::iota(order.begin(), order.end(), size_t(0));
-        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d_pilots[a] < d_pilots[b]; });
-        d_power.resize(power.size());
-        for (size_t i = 0; i < order.size(); ++i)
-            d_power[i] = power[order[i]];
-        d_equal_power = std::all_of(d_power.begin(), d_power.end(), [](double p) { return p == 1.0; });
+    if (!phases.empty() && !phase_sequence.empty())
+        json_read::fail(source, "phases", "give a list of phases or a sequence name, not both");
+    if (!phases.empty())
+        check_phases(phases, d_pilots.size(), source);
+    if (!phase_sequence.empty()) {
+        const auto known = phase_sequence_names();
+        if (std::find(known.begin(), known.end(), phase_sequence) == known.end())
+            json_read::fail(source, "phases",
+                            "unknown phase sequence \"" + phase_sequence +
+                                "\" (known: newman; or a list of one phase in radians per pilot)");
     }
+    // Energies and phases, given in the order of the pilot list, sorted into mask order
+    // together with the positions.
+    std::vector<size_t> order(d_pilots.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d_pilots[a] < d_pilots[b]; });
+    d_power.assign(d_pilots.size(), 1.0);
+    d_phases.assign(d_pilots.size(), 0.0);
+    for (size_t i = 0; i < order.size(); ++i) {
+        if (!power.empty())
+            d_power[i] = power[order[i]];
+        if (!phases.empty())
+            d_phases[i] = phases[order[i]];
+    }
+    d_equal_power = std::all_of(d_power.begin(), d_power.end(), [](double p) { return p == 1.0; });
     for (const auto& p : d_pilots)
         if (p.n < 0 || p.n >= n_symbols || p.m < 0 || p.m >= n_subcarriers)
             json_read::fail(source, "pilots",
@@ -127,6 +158,57 @@ pilot_mask::pilot_mask(int n_symbols,
         json_read::fail(source, "pilot_symbol", "must be finite and non-zero (observations are divided by it)");
     if (!d_origin.is_object())
         json_read::fail(source, "origin", "expected a JSON object");
+    if (phase_sequence == "newman") // each symbol's pilots, in subcarrier order (mask order is row-major)
+        for (size_t first = 0; first < d_pilots.size();) {
+            size_t last = first;
+            while (last < d_pilots.size() && d_pilots[last].n == d_pilots[first].n)
+                ++last;
+            const auto row = newman_phases(static_cast<int>(last - first));
+            std::copy(row.begin(), row.end(), d_phases.begin() + static_cast<std::ptrdiff_t>(first));
+            first = last;
+        }
+    d_zero_phases = std::all_of(d_phases.begin(), d_phases.end(), [](double f) { return f == 0.0; });
+    // The transmitted values, once: sqrt(p_k)·s_p, rotated by exp(jφ_k) only where φ_k ≠ 0,
+    // so a mask without phases sends the same bits as before phases existed.
+    d_values.resize(d_pilots.size());
+    for (size_t k = 0; k < d_pilots.size(); ++k) {
+        const double p = d_power[k];
+        const gr_complex v = p == 1.0 ? d_pilot_symbol : d_pilot_symbol * static_cast<float>(std::sqrt(p));
+        d_values[k] = d_phases[k] == 0.0
+                          ? v
+                          : gr_complex(std::complex<double>(v) * std::polar(1.0, d_phases[k]));
+    }
+}
+
+std::vector<std::string> pilot_mask::phase_sequence_names() { return { "newman" }; }
+
+std::vector<double> pilot_mask::newman_phases(int count)
+{
+    if (count < 1)
+        throw std::invalid_argument("newman_phases: count must be >= 1, got " + std::to_string(count));
+    std::vector<double> out(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) // π·i²/K, i² exact in double for every K the grid allows
+        out[static_cast<size_t>(i)] = M_PI * (double(i) * double(i)) / double(count);
+    return out;
+}
+
+pilot_mask pilot_mask::with_phases(const std::string& sequence, const std::string& source) const
+{
+    if (sequence == "zero")
+        return pilot_mask(d_n_symbols, d_n_subcarriers, d_pilots, d_pilot_symbol, d_origin, source, d_power);
+    if (sequence.empty())
+        json_read::fail(source, "phases", "no sequence named (known: newman, zero)");
+    return pilot_mask(d_n_symbols, d_n_subcarriers, d_pilots, d_pilot_symbol, d_origin, source, d_power, {},
+                      sequence);
+}
+
+pilot_mask pilot_mask::with_phases(std::vector<double> phases, const std::string& source) const
+{
+    if (phases.empty()) // an empty list would read as "no phases": say what is missing instead
+        json_read::fail(source, "phases",
+                        "lists 0 phases for " + std::to_string(size()) + " pilots (one per pilot in radians)");
+    return pilot_mask(d_n_symbols, d_n_subcarriers, d_pilots, d_pilot_symbol, d_origin, source, d_power,
+                      std::move(phases));
 }
 
 pilot_mask pilot_mask::uniform(int n_symbols, int n_subcarriers, int count)
@@ -316,11 +398,27 @@ pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& sou
         for (size_t i = 0; i < pw->size(); ++i)
             power.push_back(finite_number((*pw)[i], "power[" + std::to_string(i) + "]", source));
     }
+    // phases: optional, a sequence name or one phase in radians per pilot of the list (absent: all 0).
+    std::vector<double> phases;
+    std::string phase_sequence;
+    if (const auto* ph = r.find("phases")) {
+        if (ph->is_string() && !ph->get<std::string>().empty()) { // the name is checked with the positions
+            phase_sequence = ph->get<std::string>();
+        } else if (ph->is_array() && !ph->empty()) { // the length is checked with the positions
+            for (size_t i = 0; i < ph->size(); ++i)
+                phases.push_back(finite_number((*ph)[i], "phases[" + std::to_string(i) + "]", source));
+        } else {
+            fail(source, "phases",
+                 "expected a sequence name (\"newman\") or a list of one phase in radians per pilot, got " +
+                     object_reader::short_dump(*ph));
+        }
+    }
     // origin: free-form provenance (how the mask was made), kept as written.
     const auto* o = r.find("origin");
     nlohmann::json origin = o ? *o : nlohmann::json{ { "kind", "explicit" } };
     r.finish();
-    return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source, std::move(power));
+    return pilot_mask(n_sym, n_sub, std::move(pilots), symbol, origin, source, std::move(power), std::move(phases),
+                      phase_sequence);
 }
 
 pilot_mask pilot_mask::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
@@ -345,14 +443,14 @@ nlohmann::json pilot_mask::to_json() const
                          { "origin", d_origin } };
     if (!d_equal_power) // equal-power files stay as they were
         j["power"] = d_power;
+    if (!d_phase_sequence.empty()) // files without phases stay as they were too
+        j["phases"] = d_phase_sequence;
+    else if (!d_zero_phases)
+        j["phases"] = d_phases;
     return j;
 }
 
-gr_complex pilot_mask::transmitted_pilot(int k) const
-{
-    const double p = d_power.at(k);
-    return p == 1.0 ? d_pilot_symbol : d_pilot_symbol * static_cast<float>(std::sqrt(p));
-}
+gr_complex pilot_mask::transmitted_pilot(int k) const { return d_values.at(static_cast<size_t>(k)); }
 
 std::string pilot_mask::to_json_string() const { return to_json().dump(); }
 
@@ -413,7 +511,7 @@ void pilot_mask::check_frame(const frame_settings& fs, const std::string& who) c
 bool pilot_mask::operator==(const pilot_mask& o) const
 {
     return d_n_symbols == o.d_n_symbols && d_n_subcarriers == o.d_n_subcarriers && d_pilots == o.d_pilots &&
-           d_pilot_symbol == o.d_pilot_symbol && d_power == o.d_power;
+           d_pilot_symbol == o.d_pilot_symbol && d_power == o.d_power && d_phases == o.d_phases;
 }
 
 } // namespace sems

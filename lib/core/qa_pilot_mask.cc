@@ -5,6 +5,7 @@
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <limits>
 #include <numeric>
@@ -17,6 +18,55 @@ using gr::sems::qa::assert_error;
 
 namespace {
 // Asserts that `f` throws std::invalid_argument whose message contains `needle`.
+
+// Crest factor (peak over rms of the magnitude) of symbol n's pilots in the time domain,
+// x(t) = Σ_k v_k exp(j2π m_k t/M) at t = i/oversample, i = 0..M·oversample−1: oversample 1 is
+// what an M-point IFFT gives, more looks between its samples.
+double crest_factor(const pilot_mask& mk, int n, int oversample)
+{
+    const int m = mk.n_subcarriers(), len = m * oversample;
+    double peak = 0.0, energy = 0.0;
+    for (int i = 0; i < len; ++i) {
+        std::complex<double> x = 0.0;
+        for (int k = 0; k < mk.size(); ++k)
+            if (mk.positions()[k].n == n)
+                x += std::complex<double>(mk.transmitted_pilot(k)) *
+                     std::polar(1.0, 2.0 * M_PI * mk.positions()[k].m * double(i) / double(len));
+        peak = std::max(peak, std::abs(x));
+        energy += std::norm(x);
+    }
+    return peak / std::sqrt(energy / len);
+}
+
+// pilot_mask::random(1, M, K, seed)'s subcarriers on symbol `row` of an N x M frame: how
+// models/delay_single/mask.json was made (K = 32, M = 64, seed 1, symbol 16).
+pilot_mask one_symbol(int n, int m, int k, uint64_t seed, int row)
+{
+    const auto drawn = pilot_mask::random(1, m, k, seed);
+    std::vector<pilot_position> pos;
+    for (const auto& p : drawn.positions())
+        pos.push_back({ row, p.m });
+    return pilot_mask(n, m, pos);
+}
+
+// The mask written to `path` and read back (the file removed).
+pilot_mask through_file(const pilot_mask& mk, const std::string& path)
+{
+    mk.save(path);
+    auto back = pilot_mask::load(path);
+    std::remove(path.c_str());
+    return back;
+}
+
+// The allocator's per-symbol lists (what the time-domain transmitter and the templates use)
+// hold transmitted_pilot(k) in mask order: for the round-trip masks, pilots 0 and 1 on
+// symbol 0 and pilot 3 on symbol 2.
+void check_lists(const pilot_mask& mk)
+{
+    const auto lists = mk.pilot_symbol_lists();
+    CPPUNIT_ASSERT(lists[0][0] == mk.transmitted_pilot(0) && lists[0][1] == mk.transmitted_pilot(1));
+    CPPUNIT_ASSERT(lists[2][0] == mk.transmitted_pilot(3));
+}
 
 std::string mask_text(const std::string& pilots, int n = 4, int m = 8, const std::string& extra = "")
 {
@@ -39,6 +89,9 @@ class qa_pilot_mask : public CppUnit::TestFixture
     CPPUNIT_TEST(bad_masks_are_refused);
     CPPUNIT_TEST(power_round_trip);
     CPPUNIT_TEST(bad_power_is_refused);
+    CPPUNIT_TEST(phases_round_trip);
+    CPPUNIT_TEST(newman_crest_factor);
+    CPPUNIT_TEST(bad_phases_are_refused);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -178,15 +231,8 @@ public:
             CPPUNIT_ASSERT_DOUBLES_EQUAL(0.0, x.real(), 1e-7);
             CPPUNIT_ASSERT_DOUBLES_EQUAL(std::sqrt(p), x.imag(), 1e-6);
         }
-        // The allocator's lists carry the energies, per symbol in mask order.
-        const auto lists = mk.pilot_symbol_lists();
-        CPPUNIT_ASSERT(lists[0][0] == mk.transmitted_pilot(0) && lists[0][1] == mk.transmitted_pilot(1));
-        CPPUNIT_ASSERT(lists[2][0] == mk.transmitted_pilot(3));
-
-        const std::string path = "qa_pilot_mask_power.json";
-        mk.save(path);
-        const auto back = pilot_mask::load(path);
-        std::remove(path.c_str());
+        check_lists(mk); // the allocator's lists carry the energies
+        const auto back = through_file(mk, "qa_pilot_mask_power.json");
         CPPUNIT_ASSERT(back == mk);
         CPPUNIT_ASSERT(back.power() == in_order);
         CPPUNIT_ASSERT(mk.to_json().contains("power"));
@@ -240,6 +286,132 @@ public:
                          "nonfinite: power[0]: must be finite");
         assert_error([&] { pilot_mask(2, 2, { { 0, 0 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } }, "len", { 0.5, 1.5 }); },
                      "len: power: lists 2 energies for 1 pilots");
+    }
+
+    void phases_round_trip()
+    {
+        // Positions out of mask order: each phase follows its pilot into mask order, with its energy.
+        const std::vector<double> power{ 0.5, 2.0, 1.25, 0.25 }, phases{ 0.5, -1.0, 3.0, 2.25 };
+        const gr_complex sp(0.6f, -0.8f);
+        pilot_mask mk(4, 8, { { 2, 3 }, { 0, 5 }, { 1, 1 }, { 0, 2 } }, sp, { { "kind", "explicit" } }, "phased",
+                      power, phases);
+        CPPUNIT_ASSERT(!mk.zero_phases() && mk.phase_sequence().empty());
+        const std::vector<double> p_order{ 0.25, 2.0, 1.25, 0.5 }, phi_order{ 2.25, -1.0, 3.0, 0.5 };
+        CPPUNIT_ASSERT(mk.power() == p_order && mk.phases() == phi_order);
+        for (int k = 0; k < mk.size(); ++k) { // sqrt(p_k)·s_p·exp(jφ_k)
+            const std::complex<double> want =
+                std::sqrt(p_order[k]) * std::complex<double>(sp) * std::polar(1.0, phi_order[k]);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(want.real(), mk.transmitted_pilot(k).real(), 1e-6);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(want.imag(), mk.transmitted_pilot(k).imag(), 1e-6);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0 / std::sqrt(p_order[k]), mk.noise_scale(k), 1e-15);
+        }
+        check_lists(mk); // and the phases
+        const auto back = through_file(mk, "qa_pilot_mask_phases.json");
+        CPPUNIT_ASSERT(back == mk && back.phases() == phi_order);
+        for (int k = 0; k < mk.size(); ++k)
+            CPPUNIT_ASSERT(back.transmitted_pilot(k) == mk.transmitted_pilot(k));
+        // A file's phases[i] belongs to pilots[i] as listed.
+        const auto listed =
+            pilot_mask::parse(mask_text("[[3, 0], [0, 0]]", 4, 8, R"(, "phases": [1.5, -0.5])"), "l.json");
+        CPPUNIT_ASSERT((listed.phases() == std::vector<double>{ -0.5, 1.5 }));
+
+        // A named sequence is written by name and read back to the same phases.
+        const auto newman = pilot_mask::parse(
+            mask_text("[[1, 6], [0, 2], [1, 0], [0, 7], [1, 3], [0, 4]]", 4, 8, R"(, "phases": "newman")"), "n.json");
+        CPPUNIT_ASSERT_EQUAL(std::string("newman"), newman.phase_sequence());
+        CPPUNIT_ASSERT_EQUAL(std::string("newman"), newman.to_json().at("phases").get<std::string>());
+        // Per symbol, in subcarrier order: π·i²/K with K = 3 on symbols 0 and 1.
+        const std::vector<double> row{ 0.0, M_PI / 3.0, 4.0 * M_PI / 3.0 };
+        CPPUNIT_ASSERT(pilot_mask::newman_phases(3) == row);
+        for (int k = 0; k < 6; ++k)
+            CPPUNIT_ASSERT_EQUAL(row[k % 3], newman.phases()[k]);
+        CPPUNIT_ASSERT(pilot_mask::parse(newman.to_json_string(), "again") == newman);
+        const auto plain = pilot_mask::parse(mask_text("[[1, 6], [0, 2], [1, 0], [0, 7], [1, 3], [0, 4]]"), "p.json");
+        CPPUNIT_ASSERT(plain.with_phases("newman") == newman);
+        CPPUNIT_ASSERT(newman.with_phases(newman.phases()) == newman); // the same phases as a list
+        CPPUNIT_ASSERT(newman.with_phases(newman.phases()).to_json().at("phases").is_array());
+
+        // Without `phases`: all 0, written as before, the transmitted values bit for bit s_p.
+        CPPUNIT_ASSERT(plain.zero_phases() && plain.phase_sequence().empty());
+        CPPUNIT_ASSERT(!plain.to_json().contains("phases"));
+        for (int k = 0; k < plain.size(); ++k)
+            CPPUNIT_ASSERT(plain.transmitted_pilot(k) == plain.pilot_symbol());
+        CPPUNIT_ASSERT(!(plain == newman));
+        CPPUNIT_ASSERT(newman.with_phases("zero") == plain);
+        CPPUNIT_ASSERT(!newman.with_phases("zero").to_json().contains("phases"));
+        // An explicit list of zeros is no phases, written without the key.
+        const auto zeros = pilot_mask::parse(mask_text("[[0, 1], [2, 3]]", 4, 8, R"(, "phases": [0, 0])"), "z.json");
+        CPPUNIT_ASSERT(zeros.zero_phases() && zeros == pilot_mask::parse(mask_text("[[0, 1], [2, 3]]"), "p2.json"));
+        CPPUNIT_ASSERT(!zeros.to_json().contains("phases"));
+        // Energies without phases: the same bits as sqrt(p)·s_p before phases existed.
+        const pilot_mask powered(4, 8, { { 0, 1 }, { 2, 3 } }, sp, { { "kind", "explicit" } }, "pw", { 0.5, 1.5 });
+        CPPUNIT_ASSERT(powered.transmitted_pilot(0) == sp * static_cast<float>(std::sqrt(0.5)));
+        CPPUNIT_ASSERT(powered.transmitted_pilot(1) == sp * static_cast<float>(std::sqrt(1.5)));
+    }
+
+    void newman_crest_factor()
+    {
+        // K pilots of equal phase on one symbol add up at t = 0: peak K, rms sqrt(K) (Parseval),
+        // so the crest factor is sqrt(K) exactly, between the samples too.
+        const auto shipped = one_symbol(32, 64, 32, 1, 16);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(std::sqrt(32.0), crest_factor(shipped, 16, 1), 1e-9);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(std::sqrt(32.0), crest_factor(shipped, 16, 8), 1e-9);
+        // Newman phases on all M = 64 subcarriers (even M): a Zadoff–Chu sequence of root 1,
+        // whose M-point transform has constant modulus: crest factor 1 at the samples.
+        std::vector<pilot_position> all;
+        for (int m = 0; m < 64; ++m)
+            all.push_back({ 0, m });
+        const auto full = pilot_mask(1, 64, all).with_phases("newman");
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, crest_factor(full, 0, 1), 1e-6); // the pilots are floats
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, crest_factor(pilot_mask(1, 64, all), 0, 1) / 8.0, 1e-9); // sqrt(64) without
+        // On the shipped delay mask's 32 random subcarriers (pilot_mask.h states these values):
+        // 2.23 at the 64 samples, 2.46 between them, against 5.66.
+        const auto phased = shipped.with_phases("newman");
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(2.23, crest_factor(phased, 16, 1), 0.005);
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(2.46, crest_factor(phased, 16, 8), 0.01);
+        // The energies are untouched: the symbol's rms is the same with and without phases.
+        double e0 = 0.0, e1 = 0.0;
+        for (int k = 0; k < shipped.size(); ++k) {
+            e0 += std::norm(shipped.transmitted_pilot(k));
+            e1 += std::norm(phased.transmitted_pilot(k));
+        }
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(e0, e1, 1e-5);
+    }
+
+    void bad_phases_are_refused()
+    {
+        // Each file's "phases" value for three pilots, and the words its error must contain.
+        const std::vector<std::pair<std::string, std::string>> files{
+            { "[1, 1]", "phases: lists 2 phases for 3 pilots" },
+            { "[1, 1, 1, 0]", "phases: lists 4 phases for 3 pilots" },
+            { "[1, null, 1]", "phases[1]: expected a number" },
+            { "[1, \"a\", 1]", "phases[1]: expected a number" },
+            { "[]", "phases: expected a sequence name" },
+            { "\"\"", "phases: expected a sequence name" },
+            { "1.5", "phases: expected a sequence name" },
+            { "\"schroeder\"", "phases: unknown phase sequence \"schroeder\" (known: newman" },
+        };
+        for (size_t i = 0; i < files.size(); ++i) {
+            const std::string name = "bad" + std::to_string(i) + ".json";
+            const std::string text =
+                mask_text("[[0, 1], [2, 3], [3, 7]]", 4, 8, R"(, "phases": )" + files[i].first);
+            assert_error([&] { pilot_mask::parse(text, name); }, name + ": " + files[i].second);
+        }
+        const double inf = std::numeric_limits<double>::infinity();
+        for (double bad : { inf, -inf, std::nan("") })
+            assert_error([&] { pilot_mask(2, 2, { { 0, 0 }, { 1, 1 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } },
+                                          "nonfinite", {}, { 0.0, bad }); },
+                         "nonfinite: phases[1]: must be a finite number");
+        assert_error([&] { pilot_mask(2, 2, { { 0, 0 } }, { 1.0f, 0.0f }, { { "kind", "explicit" } }, "both", {},
+                                      { 0.5 }, "newman"); },
+                     "both: phases: give a list of phases or a sequence name, not both");
+        const auto mk = pilot_mask::uniform(4, 8, 3);
+        assert_error([&] { mk.with_phases(std::vector<double>{ 0.1, 0.2 }, "caller"); },
+                     "caller: phases: lists 2 phases for 3 pilots");
+        assert_error([&] { mk.with_phases(std::vector<double>{}, "caller"); }, "caller: phases: lists 0 phases");
+        assert_error([&] { mk.with_phases(std::string("chirp"), "caller"); }, "caller: phases: unknown phase sequence");
+        assert_error([&] { mk.with_phases(std::string(), "caller"); }, "caller: phases: no sequence named");
+        assert_error([] { pilot_mask::newman_phases(0); }, "newman_phases: count must be >= 1");
     }
 };
 

@@ -95,6 +95,7 @@ class qa_learning_training : public CppUnit::TestFixture
     CPPUNIT_TEST(bad_bundles_are_refused);
     CPPUNIT_TEST(bad_settings_are_refused);
     CPPUNIT_TEST(learned_pilot_power);
+    CPPUNIT_TEST(pilot_phases_in_the_bundle);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -308,6 +309,9 @@ public:
         s.pilot_power = "learned";
         s.pilot_power_floor = 1.0;
         assert_error([&] { train(s, nullptr); }, "pilot_power_floor must be in [0, 1)");
+        s = tiny("");
+        s.pilot_phases = "chirp";
+        assert_error([&] { train(s, nullptr); }, "pilot_phases must be \"zero\" or \"newman\"", "chirp");
     }
 
     // A tiny run that learns the pilots' energies: they share the total of equal power
@@ -348,6 +352,32 @@ public:
         auto old = model_bundle::load(shared_run().dir);
         old.training.erase("pilot_power");
         CPPUNIT_ASSERT_EQUAL(std::string("equal"), training_settings::from_bundle(old).pilot_power);
+        fs::remove_all(dir);
+    }
+
+    // The shared run again with Newman phases: the decoder sees Y/s_k, so the training, the
+    // pilots and the test metrics are those of the run without phases; only the bundle's
+    // mask gains the phases, and bundle.json records the setting for --from.
+    void pilot_phases_in_the_bundle()
+    {
+        const auto& t = shared_run();
+        const auto dir = temp_dir("phases");
+        auto s = tiny(dir);
+        s.pilot_phases = "newman";
+        const auto r = train(s, nullptr);
+        const auto& mk = r.bundle.mask;
+        CPPUNIT_ASSERT_EQUAL(std::string("newman"), mk.phase_sequence());
+        CPPUNIT_ASSERT(!mk.zero_phases());
+        CPPUNIT_ASSERT(mk.with_phases("zero") == t.result.bundle.mask);
+        CPPUNIT_ASSERT(mk == t.result.bundle.mask.with_phases("newman"));
+        CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), r.bundle.metrics.at("test").dump());
+        const auto loaded = model_bundle::load(dir);
+        CPPUNIT_ASSERT(loaded.mask == mk);
+        CPPUNIT_ASSERT_EQUAL(std::string("newman"), loaded.training.at("pilot_phases").get<std::string>());
+        CPPUNIT_ASSERT_EQUAL(std::string("newman"), training_settings::from_bundle(loaded).pilot_phases);
+        // Without the setting the record has no key, and reads back as "as the mask has them".
+        CPPUNIT_ASSERT(!t.result.bundle.training.contains("pilot_phases"));
+        CPPUNIT_ASSERT(training_settings::from_bundle(model_bundle::load(t.dir)).pilot_phases.empty());
         fs::remove_all(dir);
     }
 };

@@ -617,6 +617,8 @@ training_result trainer::run()
     b.mask = given_mask ? *given_mask
                         : pilot_mask(d_n, d_m, pos, gr_complex(1.0f, 0.0f), mask_origin, "learned mask",
                                      d_s.pilot_power == "learned" ? mask_power : std::vector<double>{});
+    if (!d_s.pilot_phases.empty()) // what is sent, not what the decoder sees: training is the same
+        b.mask = b.mask.with_phases(d_s.pilot_phases, "training settings: pilot_phases");
     b.decoder = task_dec->describe();
     b.training = d_s.to_json();
     b.training["scene"] = sc.to_json();
@@ -666,6 +668,9 @@ void training_settings::validate() const
              "\"power\" list is used as it is");
     if (!(pilot_power_floor >= 0.0 && pilot_power_floor < 1.0))
         fail("pilot_power_floor must be in [0, 1), got " + std::to_string(pilot_power_floor));
+    if (!pilot_phases.empty() && pilot_phases != "zero" && pilot_phases != "newman")
+        fail("pilot_phases must be \"zero\" or \"newman\" (or empty: as the mask has them), got \"" + pilot_phases +
+             "\"");
     frame.validate();
     if (n_pilots < 1 || n_pilots > frame.grid_size())
         fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
@@ -753,6 +758,8 @@ json training_settings::to_json() const
                { "command_line", command_line } };
     if (pilot_power == "learned")
         j["pilot_power_floor"] = pilot_power_floor;
+    if (!pilot_phases.empty())
+        j["pilot_phases"] = pilot_phases;
     return j;
 }
 
@@ -789,6 +796,7 @@ training_settings training_settings::from_bundle(const model_bundle& b)
     s.mask_pattern = get("mask_pattern", std::string(), false);
     s.pilot_power = get("pilot_power", std::string("equal"), false); // absent: trained before the setting
     s.pilot_power_floor = get("pilot_power_floor", s.pilot_power_floor, false);
+    s.pilot_phases = get("pilot_phases", std::string(), false); // absent: as the mask has them
     if (!get("mask_file", std::string(), false).empty())
         s.mask_file = b.directory + "/" + b.mask_name; // the given mask, as the bundle holds it
     s.snr_min_db = get("snr_min_db", s.snr_min_db, true);

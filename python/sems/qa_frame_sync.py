@@ -15,18 +15,18 @@ from gnuradio.sems.tag_file import tag_file_replay, tag_file_sink
 
 MODELS = os.path.join(os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..")),
                       "models")
-MASK = os.path.join(MODELS, "delay_single", "mask.json")  # pilots over 31 subcarriers
+MASK = os.path.join(MODELS, "delay_single", "mask.json")  # pilots over 31 subcarriers, Newman phases
 QPSK = [(1 + 1j) / 2 ** 0.5, (-1 + 1j) / 2 ** 0.5, (-1 - 1j) / 2 ** 0.5, (1 - 1j) / 2 ** 0.5]
 
 
 class qa_frame_sync(gr_unittest.TestCase):
 
-    def transmit(self, frames, cp, seed, mask=MASK):
+    def transmit(self, frames, cp, seed, mask=MASK, data_power=1.0):
         """frames of mapper -> ofdm_tx samples (data QPSK), as a numpy array"""
         n, m = 32, 64
         src = digital.chunks_to_symbols_bc(QPSK, 1)
         bits = analog.random_uniform_source_b(0, 4, seed)
-        mapper = sems.pilot_mapper(mask_file=mask)
+        mapper = sems.pilot_mapper(mask_file=mask, data_power=data_power)
         head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
         sink = blocks.vector_sink_c()
         tb = gr.top_block()
@@ -86,7 +86,7 @@ class qa_frame_sync(gr_unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "power.json")
             sems.pilot_mask(mask.n_symbols(), mask.n_subcarriers(), mask.positions(), mask.pilot_symbol(),
-                            power).save(path)
+                            power, mask.phases()).save(path)
             tx = self.transmit(6, cp, seed=3, mask=path)
             offset = 1234
             rx = np.concatenate([np.zeros(offset, np.complex64), tx])
@@ -97,6 +97,36 @@ class qa_frame_sync(gr_unittest.TestCase):
         self.assertTrue(matched.locked())
         self.assertEqual(matched.offset(), offset)
         self.assertGreater(matched.metric(), equal.metric())
+
+    def test_001d_pilot_phases_in_the_template(self):
+        # The shipped delay mask gives its 32 pilots on symbol 16 Newman phases. Through the
+        # mapper and ofdm_tx (data off) that symbol peaks at 2.23 times its rms instead of
+        # sqrt(32) = 5.66 (pilot_mask.h), and frame_sync, whose template carries the phases as
+        # the mapper sends them, finds the offset exactly at 10 dB; the same mask without the
+        # phases is a template that no longer matches the signal.
+        cp = 48
+        n, m = 32, 64
+        mask = sems.pilot_mask.load(MASK)
+        self.assertEqual(mask.phase_sequence(), "newman")
+        rng = np.random.default_rng(5)
+        with tempfile.TemporaryDirectory() as d:
+            plain = os.path.join(d, "plain.json")
+            mask.with_phases("zero").save(plain)
+            for path, crest in ((MASK, 2.23), (plain, math.sqrt(32))):
+                x = self.transmit(1, cp, seed=2, mask=path, data_power=0.0)
+                sym = x.reshape(n, m + cp)[16, cp:]  # the pilot symbol, without its prefix
+                self.assertAlmostEqual(np.abs(sym).max() / np.sqrt(np.mean(np.abs(sym) ** 2)), crest, delta=0.005)
+            tx = self.transmit(6, cp, seed=4)
+            offset = 2345
+            rx = np.concatenate([np.zeros(offset, np.complex64), tx])
+            rx = rx + (rng.standard_normal(rx.size) + 1j * rng.standard_normal(rx.size)) * math.sqrt(0.1 / 2)
+            rx = rx.astype(np.complex64)
+            matched, _, _, _ = self.sync(rx, cp)
+            mismatched, _, _, _ = self.sync(rx, cp, mask=plain)
+        self.assertTrue(matched.locked())
+        self.assertEqual(matched.offset(), offset)
+        self.assertGreater(matched.metric(), 25.0)
+        self.assertLess(mismatched.metric(), matched.metric() / 2)
 
     def test_001c_zero_db_with_and_without_leakage(self):
         # 0 dB per resource element, a random start in noise. The echo (delay 23 samples, its

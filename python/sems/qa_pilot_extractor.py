@@ -310,6 +310,16 @@ class qa_pilot_extractor(gr_unittest.TestCase):
             refuses("not both", mask_file=path)
             refuses("mask.json", pilot_positions=[], mask_file=os.path.join(d, "missing", "mask.json"))
 
+    def sent(self, path):
+        """What the mapper of mask file `path` sends at its pilots in one frame, in mask order."""
+        tb = gr.top_block()
+        mapper = sems.pilot_mapper(mask_file=path, n_symbols=N, n_subcarriers=M, pilot_symbol=SP,
+                                   pilot_power=EP, data_power=ED)
+        sink = blocks.vector_sink_c(M)
+        tb.connect(blocks.vector_source_c(random_data(N * M - len(POS)).tolist()), mapper, sink)
+        tb.run()
+        return np.array(sink.data()).reshape(-1)[sorted(POS)]
+
     def power_mask(self, d):
         """A mask file over POS whose pilots differ in energy (mean 1); returns (path, energies in mask order)."""
         power = [0.25, 2.0, 0.5, 1.25, 1.0]  # for POS as listed
@@ -328,15 +338,7 @@ class qa_pilot_extractor(gr_unittest.TestCase):
             self.check_frames(obs, tags, 0, frames)
             # What the mapper sends: sqrt(E_p·p_k)·s_p at each pilot.
             mask = sems.pilot_mask.load(path)
-            tb = gr.top_block()
-            mapper = sems.pilot_mapper(mask_file=path, n_symbols=N, n_subcarriers=M, pilot_symbol=SP,
-                                       pilot_power=EP, data_power=ED)
-            sink = blocks.vector_sink_c(M)
-            tb.connect(blocks.vector_source_c(random_data(N * M - len(POS)).tolist()), mapper, sink)
-            tb.run()
-            grid = np.array(sink.data()).reshape(-1)
-            sent = grid[sorted(POS)]
-            np.testing.assert_allclose(sent, np.sqrt(EP * np.array(mask.power())) * SP, rtol=1e-6)
+            np.testing.assert_allclose(self.sent(path), np.sqrt(EP * np.array(mask.power())) * SP, rtol=1e-6)
 
     def test_014_pilot_noise_scales_with_energy(self):
         # Pilot k's observation noise has variance σ²/p_k (σ² = 1 at 0 dB, |s_p| = 1, E_p = 1):
@@ -353,6 +355,47 @@ class qa_pilot_extractor(gr_unittest.TestCase):
         # The ratio of two pilots' variances is the inverse ratio of their energies (0.25 against 2: 8).
         k_lo, k_hi = int(np.argmin(power)), int(np.argmax(power))
         self.assertAlmostEqual(var[k_lo] / var[k_hi], power[k_hi] / power[k_lo], delta=0.05 * 8)
+
+    def test_015_pilot_phases_noiseless_exact(self):
+        # Pilot k is sent as sqrt(E_p·p_k)·s_p·exp(jφ_k) and divided by sqrt(p_k)·s_p·exp(jφ_k)
+        # (pilot_mask.transmitted_pilot): the extractor returns sqrt(E_p)·H exactly, for an
+        # explicit list with energies and for Newman phases; an extractor that ignored the
+        # phases would return H·exp(jφ_k).
+        frames = 5
+        phases = [0.7, -2.0, 3.1, 1.3, -0.4]  # for POS as listed
+        with tempfile.TemporaryDirectory() as d:
+            listed = os.path.join(d, "phases.json")
+            power = [0.25, 2.0, 0.5, 1.25, 1.0]
+            sems.pilot_mask(N, M, [(p // M, p % M) for p in POS], SP, power, phases).save(listed)
+            newman = os.path.join(d, "newman.json")
+            sems.pilot_mask(N, M, [(p // M, p % M) for p in POS], SP).with_phases("newman").save(newman)
+            for path in (listed, newman):
+                with self.subTest(mask=os.path.basename(path)):
+                    mask = sems.pilot_mask.load(path)
+                    self.assertFalse(mask.zero_phases())
+                    obs, tags, _, _ = self.chain(frames, mask_file=path)
+                    self.check_frames(obs, tags, 0, frames)
+                    # What the mapper sends: sqrt(E_p·p_k)·s_p·exp(jφ_k) at each pilot.
+                    want = np.sqrt(EP * np.array(mask.power())) * SP * np.exp(1j * np.array(mask.phases()))
+                    np.testing.assert_allclose(self.sent(path), want, rtol=1e-6)
+            # The phases in mask order: those of POS as listed, sorted with their pilots.
+            np.testing.assert_allclose(sems.pilot_mask.load(listed).phases(), np.array(phases)[np.argsort(POS)])
+            # The mapper with the phases, an extractor without them: H·exp(jφ_k), not H.
+            h, _ = expected_h(frames)
+            tb = gr.top_block()
+            n_data = frames * (N * M - len(POS))
+            mapper = sems.pilot_mapper(mask_file=newman, n_symbols=N, n_subcarriers=M, pilot_symbol=SP,
+                                       pilot_power=EP, data_power=ED)
+            channel = sems.target_channel(snr_db=float("inf"), seed=SEED, n_symbols=N, n_subcarriers=M,
+                                          bandwidth_hz=B)
+            blind = sems.pilot_extractor(pilot_positions=POS, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+            sink = blocks.vector_sink_c(len(POS))
+            tb.connect(blocks.vector_source_c(random_data(n_data).tolist()), mapper, channel, blind, sink)
+            tb.run()
+            obs = np.array(sink.data()).reshape(frames, -1)
+            rot = np.exp(1j * np.array(sems.pilot_mask.load(newman).phases()))
+            np.testing.assert_allclose(obs, np.sqrt(EP) * h.reshape(frames, -1)[:, sorted(POS)] * rot,
+                                       rtol=1e-5, atol=1e-6)
 
 
 if __name__ == "__main__":

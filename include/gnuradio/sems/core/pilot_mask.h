@@ -12,6 +12,14 @@
  * pilot energy of equal power). Its observation Y/(sqrt(p_k)·s_p) is H + noise of standard
  * deviation σ/sqrt(p_k): noise_scale() is that rule, and every place that forms pilot
  * observations uses it. Without a `power` list every p_k is 1 (equal power).
+ *
+ * Pilot phases: pilot k may also carry a phase φ_k, so that it sends sqrt(p_k)·s_p·exp(jφ_k)
+ * (transmitted_pilot(), the one accessor every transmitter, extractor and template uses).
+ * Equal phases add up coherently in the time domain: K pilots on one OFDM symbol peak at
+ * sqrt(K) times their rms, which a converter with full scale at a few times the rms clips.
+ * The observation Y/(sqrt(p_k)·s_p·exp(jφ_k)) is H plus circular noise of the same law, so
+ * the phases change nothing a decoder sees. Without phases every φ_k is 0 and the
+ * transmitted values are bit for bit those of a mask without the key.
  */
 #ifndef INCLUDED_SEMS_CORE_PILOT_MASK_H
 #define INCLUDED_SEMS_CORE_PILOT_MASK_H
@@ -59,6 +67,10 @@ public:
      * \param source names the origin in errors.
      * \param power the pilots' relative energies p_k, power[i] for pilots[i] as given
      *        (each > 0 and finite, mean 1 within power_mean_tolerance); empty: all 1.
+     * \param phases the pilots' phases φ_k in radians, phases[i] for pilots[i] as given (each
+     *        finite); empty: all 0, or the named `phase_sequence`.
+     * \param phase_sequence a named phase sequence (phase_sequence_names(), e.g. "newman"),
+     *        computed from the sorted positions; empty: `phases` as given. Not both.
      * \throws std::invalid_argument naming `source` and the problem.
      */
     pilot_mask(int n_symbols,
@@ -67,7 +79,9 @@ public:
                gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
                nlohmann::json origin = { { "kind", "explicit" } },
                const std::string& source = "pilot mask",
-               std::vector<double> power = {});
+               std::vector<double> power = {},
+               std::vector<double> phases = {},
+               const std::string& phase_sequence = "");
 
     /*! \brief How far the mean of the `power` list may be from 1 (relative). */
     static constexpr double power_mean_tolerance = 1e-6;
@@ -176,9 +190,55 @@ public:
     /*! \brief Whether every pilot has the same energy. \return true if every p_k is 1. */
     bool equal_power() const { return d_equal_power; }
     /*!
-     * \brief The transmitted symbol of pilot k.
+     * \brief The pilots' phases φ_k in radians, in mask order.
+     * \return one value per pilot; all 0 for a mask without phases.
+     */
+    const std::vector<double>& phases() const { return d_phases; }
+    /*! \brief Whether every pilot's phase is 0. \return true if every φ_k is 0. */
+    bool zero_phases() const { return d_zero_phases; }
+    /*!
+     * \brief The named sequence the phases come from.
+     * \return "newman" for Newman phases, empty for an explicit list or no phases.
+     */
+    const std::string& phase_sequence() const { return d_phase_sequence; }
+    /*!
+     * \brief The same mask with a named phase sequence.
+     * \param sequence "newman" (newman_phases() on each symbol's pilots) or "zero" (no phases).
+     * \param source names the caller in errors.
+     * \return the mask with those phases (positions, energies and origin unchanged).
+     * \throws std::invalid_argument naming `source` on an unknown sequence.
+     */
+    pilot_mask with_phases(const std::string& sequence, const std::string& source = "pilot phases") const;
+    /*!
+     * \brief The same mask with explicit phases.
+     * \param phases φ_k in radians, in mask order (one per pilot, each finite).
+     * \param source names the caller in errors.
+     * \return the mask with those phases.
+     * \throws std::invalid_argument naming `source` on a wrong length or a non-finite phase.
+     */
+    pilot_mask with_phases(std::vector<double> phases, const std::string& source = "pilot phases") const;
+    /*! \brief The named phase sequences. \return their names ("newman"). */
+    static std::vector<std::string> phase_sequence_names();
+    /*!
+     * \brief Newman's phases for K tones: φ_i = π·i²/K, i = 0..K−1.
+     * \details The quadratic (chirp) phase spreads the K tones' energy over the symbol
+     * instead of adding them up at one instant. On K adjacent subcarriers its crest factor
+     * (peak over rms of the time-domain symbol) is about 1.35, and exactly 1 at the sample
+     * instants when K = M is even (the sequence is then a Zadoff–Chu sequence of root 1, whose
+     * DFT has constant modulus), against sqrt(K) for equal phases. The mask applies it to each
+     * symbol's pilots in subcarrier order; on the 32 random subcarriers of the shipped
+     * one-symbol delay mask the crest factor is 2.23 at the 64 samples (2.46 between them)
+     * against sqrt(32) = 5.66. Chosen over a Zadoff–Chu sequence of another root because it
+     * is defined for every K (odd or even) and has no parameter to pick.
+     * \param count K ≥ 1.
+     * \return the K phases in radians.
+     */
+    static std::vector<double> newman_phases(int count);
+    /*!
+     * \brief The transmitted symbol of pilot k: the one value every transmitter sends and
+     *        every receiver divides by.
      * \param k the pilot, in mask order (0..N_p-1).
-     * \return sqrt(p_k)·s_p.
+     * \return sqrt(p_k)·s_p·exp(jφ_k) (exactly sqrt(p_k)·s_p when φ_k = 0).
      */
     gr_complex transmitted_pilot(int k) const;
     /*!
@@ -210,7 +270,8 @@ public:
      */
     std::vector<std::vector<int>> carrier_lists() const;
     /*!
-     * \brief Per-symbol transmitted pilot symbols sqrt(p_k)·s_p (ofdm_carrier_allocator_cvc's pilot_symbols).
+     * \brief Per-symbol transmitted pilot symbols sqrt(p_k)·s_p·exp(jφ_k) (transmitted_pilot();
+     *        ofdm_carrier_allocator_cvc's pilot_symbols).
      * \return one list per symbol.
      */
     std::vector<std::vector<gr_complex>> pilot_symbol_lists() const;
@@ -223,7 +284,7 @@ public:
      */
     void check_frame(const frame_settings& fs, const std::string& who) const;
 
-    /*! \brief Equality of grid, positions, pilot symbol and energies. \param o the other mask. \return true if equal. */
+    /*! \brief Equality of grid, positions, pilot symbol, energies and phases. \param o the other mask. \return true if equal. */
     bool operator==(const pilot_mask& o) const;
 
 private:
@@ -234,6 +295,10 @@ private:
     nlohmann::json d_origin;
     std::vector<double> d_power;
     bool d_equal_power = true;
+    std::vector<double> d_phases;     // φ_k, mask order
+    std::vector<gr_complex> d_values; // transmitted_pilot(k), mask order
+    bool d_zero_phases = true;
+    std::string d_phase_sequence;     // "newman", or empty (explicit list or none)
 };
 
 } // namespace sems

@@ -64,6 +64,16 @@ struct SEMS_LEARNING_API training_settings {
      */
     std::string pilot_power = "equal";
     double pilot_power_floor = 0.1; ///< "learned": the smallest energy of a pilot, f in [0, 1)
+    /*!
+     * \brief The pilots' phases in the bundle's mask: empty (as the mask has them: a mask
+     *        file's own phases, none for a learned or pattern mask), "zero" (none) or "newman"
+     *        (pilot_mask::newman_phases() on each symbol's pilots).
+     * \details A phase changes what is sent, not what a decoder sees: the observation
+     * Y/(sqrt(p_k)·s_p·exp(jφ_k)) is H plus noise of the same law, so the training is the
+     * same whatever the phases. Newman phases keep a symbol of many pilots from peaking at
+     * sqrt(K) times its rms in the time domain, where a radio's converter would clip it.
+     */
+    std::string pilot_phases;
     frame_settings frame;            ///< the frame
     std::optional<scene> scene_spec; ///< empty: random scene, all classes, single path
     std::string scene_source = "default random scene"; ///< names the scene in errors and bundle.json

@@ -148,15 +148,16 @@ void bind_pilot_mask(py::module& m)
 {
     py::class_<pilot_mask>(m, "pilot_mask", D(pilot_mask))
         .def(py::init([](int n_symbols, int n_subcarriers, const std::vector<std::pair<int, int>>& pilots,
-                         gr_complex pilot_symbol, std::vector<double> power) {
+                         gr_complex pilot_symbol, std::vector<double> power, std::vector<double> phases) {
                  std::vector<pilot_position> pos;
                  for (const auto& p : pilots)
                      pos.push_back({ p.first, p.second });
                  return pilot_mask(n_symbols, n_subcarriers, pos, pilot_symbol, { { "kind", "explicit" } },
-                                   "pilot mask", std::move(power));
+                                   "pilot mask", std::move(power), std::move(phases));
              }),
              py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("pilots"),
-             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f), py::arg("power") = std::vector<double>{})
+             py::arg("pilot_symbol") = gr_complex(1.0f, 0.0f), py::arg("power") = std::vector<double>{},
+             py::arg("phases") = std::vector<double>{})
         .def_static("uniform", &pilot_mask::uniform, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"))
         .def_static("random", &pilot_mask::random, py::arg("n_symbols"), py::arg("n_subcarriers"), py::arg("count"),
                     py::arg("seed"))
@@ -181,6 +182,17 @@ void bind_pilot_mask(py::module& m)
         .def("pilot_symbol", &pilot_mask::pilot_symbol)
         .def("power", &pilot_mask::power)
         .def("equal_power", &pilot_mask::equal_power)
+        .def("phases", &pilot_mask::phases)
+        .def("zero_phases", &pilot_mask::zero_phases)
+        .def("phase_sequence", &pilot_mask::phase_sequence)
+        .def("with_phases",
+             py::overload_cast<const std::string&, const std::string&>(&pilot_mask::with_phases, py::const_),
+             py::arg("sequence"), py::arg("source") = "pilot phases")
+        .def("with_phases",
+             py::overload_cast<std::vector<double>, const std::string&>(&pilot_mask::with_phases, py::const_),
+             py::arg("phases"), py::arg("source") = "pilot phases")
+        .def_static("phase_sequence_names", &pilot_mask::phase_sequence_names)
+        .def_static("newman_phases", &pilot_mask::newman_phases, py::arg("count"))
         .def("transmitted_pilot", &pilot_mask::transmitted_pilot, py::arg("k"))
         .def("noise_scale", &pilot_mask::noise_scale, py::arg("k"))
         .def("positions",
