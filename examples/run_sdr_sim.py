@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: run a hardware example (SoapySDR TX and RX on one device) against a simulated radio.
+"""gr-sems: a hardware example (SoapySDR TX and RX on one device) with its radio simulated.
 
     run_sdr_sim.py <flowgraph.grc> <outdir> [--scene cable|random] [checks] [-- flowgraph args]
 
@@ -31,7 +31,6 @@ import sys
 
 import yaml
 
-GR_PYTHON = "/usr/bin/python3"
 CABLE_SCENE = {"format": "sems.scene", "version": 1, "classes": "kinematic", "fading": "none",
                "description": "a cable: one still point at range 0",
                "targets": [{"class": "car", "range_m": 0, "speed_mps": 0, "heading_rad": 0,
@@ -119,7 +118,7 @@ def main():
                 extra = ["--latency", str(int(f.read().strip()))] + extra
         except (OSError, ValueError) as e:
             fail(f"{args.latency_file}: cannot read a latency: {e}")
-    cmd = [GR_PYTHON, os.path.join(os.path.dirname(os.path.abspath(__file__)), "run_example.py"),
+    cmd = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "run_example.py"),
            twin_grc, args.outdir, "--"] + extra
     ran = subprocess.run(cmd, capture_output=True, text=True)
     sys.stdout.write(ran.stdout)
@@ -145,7 +144,7 @@ def main():
         if not (frames == classified == scored):
             fail(f"{frames} frames sent, {classified} classified, {scored} scored against their truth")
         if not accuracy >= args.min_accuracy:
-            fail(f"accuracy {accuracy:.4f} over {scored} frames, below the bar {args.min_accuracy}")
+            fail(f"accuracy {accuracy:.4f} over {scored} frames, below the minimum {args.min_accuracy}")
     print("run_sdr_sim: passed", flush=True)
 
 

@@ -81,6 +81,15 @@ void check_power(const std::vector<double>& power, size_t n_pilots, const std::s
                             std::to_string(pilot_mask::power_mean_tolerance));
 }
 
+// The named phase sequences as a message lists them: "newman, ...".
+std::string sequence_list()
+{
+    std::string out;
+    for (const auto& name : pilot_mask::phase_sequence_names())
+        out += (out.empty() ? "" : ", ") + name;
+    return out;
+}
+
 // The phases as given: one per pilot, each finite.
 void check_phases(const std::vector<double>& phases, size_t n_pilots, const std::string& source)
 {
@@ -126,7 +135,7 @@ pilot_mask::pilot_mask(int n_symbols,
         if (std::find(known.begin(), known.end(), phase_sequence) == known.end())
             json_read::fail(source, "phases",
                             "unknown phase sequence \"" + phase_sequence +
-                                "\" (known: newman; or a list of one phase in radians per pilot)");
+                                "\" (known: " + sequence_list() + "; or a list of one phase in radians per pilot)");
     }
     // Energies and phases, given in the order of the pilot list, sorted into mask order
     // together with the positions.
@@ -197,7 +206,7 @@ pilot_mask pilot_mask::with_phases(const std::string& sequence, const std::strin
     if (sequence == "zero")
         return pilot_mask(d_n_symbols, d_n_subcarriers, d_pilots, d_pilot_symbol, d_origin, source, d_power);
     if (sequence.empty())
-        json_read::fail(source, "phases", "no sequence named (known: newman, zero)");
+        json_read::fail(source, "phases", "no sequence named (known: " + sequence_list() + ", zero)");
     return pilot_mask(d_n_symbols, d_n_subcarriers, d_pilots, d_pilot_symbol, d_origin, source, d_power, {},
                       sequence);
 }

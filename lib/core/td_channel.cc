@@ -311,6 +311,17 @@ struct td_channel::impl {
         detail::accumulate_rotated(out + d, src + d, pa.doppler.data() + d, now, s - d);
     }
 
+    // The same with micro-Doppler, over symbol sym: the first D samples end the previous
+    // symbol's echo and continue its slow time, as in accumulate_doppler().
+    void accumulate_micro_doppler_symbol(const path& pa, uint64_t sym, const gr_complex* src, gr_complex* out) const
+    {
+        const int d = std::min(pa.shift, s);
+        const double sd = static_cast<double>(sym);
+        if (d > 0)
+            accumulate_micro_doppler(pa, sd - 1.0, 0, d, s, src, out);
+        accumulate_micro_doppler(pa, sd, d, s, 0, src, out);
+    }
+
     // out[k] += src[k] · exp(j2π ν t_k) · exp(j β sin(ω t_k + φ)) for k_from ≤ k < k_to,
     // t_k = sym·T + (k + k_time)/B (a path with micro-Doppler; k_time = S with sym − 1 for the
     // samples that end the previous symbol's echo). The phase is exact (double) at the
@@ -536,14 +547,9 @@ void td_channel::apply_symbol(int n, const gr_complex* in, gr_complex* out)
                                     2 * s);
             continue;
         }
-        if (pa.has_md) {
-            // The first D samples end the previous symbol's echo: its slow time, continued.
-            const int d = std::min(pa.shift, s);
-            const double sd = static_cast<double>(sym);
-            if (d > 0)
-                I.accumulate_micro_doppler(pa, sd - 1.0, 0, d, s, src, out);
-            I.accumulate_micro_doppler(pa, sd, d, s, 0, src, out);
-        } else if (pa.moving)
+        if (pa.has_md)
+            I.accumulate_micro_doppler_symbol(pa, sym, src, out);
+        else if (pa.moving)
             I.accumulate_doppler(pa, n, src, out);
         else // a static path
             volk_32f_x2_add_32f(reinterpret_cast<float*>(out),

@@ -668,9 +668,15 @@ void training_settings::validate() const
              "\"power\" list is used as it is");
     if (!(pilot_power_floor >= 0.0 && pilot_power_floor < 1.0))
         fail("pilot_power_floor must be in [0, 1), got " + std::to_string(pilot_power_floor));
-    if (!pilot_phases.empty() && pilot_phases != "zero" && pilot_phases != "newman")
-        fail("pilot_phases must be \"zero\" or \"newman\" (or empty: as the mask has them), got \"" + pilot_phases +
-             "\"");
+    if (!pilot_phases.empty() && pilot_phases != "zero") {
+        const auto names = pilot_mask::phase_sequence_names(); // what pilot_mask::with_phases() takes
+        if (std::find(names.begin(), names.end(), pilot_phases) == names.end()) {
+            std::string known = "\"zero\"";
+            for (const auto& name : names)
+                known += " or \"" + name + "\"";
+            fail("pilot_phases must be " + known + " (or empty: as the mask has them), got \"" + pilot_phases + "\"");
+        }
+    }
     frame.validate();
     if (n_pilots < 1 || n_pilots > frame.grid_size())
         fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
