@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# ThreadSanitizer run (docs/reference/hardening.md): builds the learning library and its CppUnit
-# runner with -DSEMS_SANITIZE=thread in their own tree and runs qa_thread_access, which
+# ThreadSanitizer run (docs/reference/hardening.md): builds the learning library and the CppUnit
+# runner qa_sems_threads with -DSEMS_SANITIZE=thread in their own tree and runs qa_thread_access, which
 # calls every setter and getter of every C++ block from another thread while two
 # flowgraphs stream (frequency domain: mapper -> channel -> extractors -> both sinks and
 # the range-Doppler map; time domain: mapper -> IFFT -> target_channel_td -> frame_sync).
@@ -19,11 +19,11 @@ case "$repeats" in ''|*[!0-9]*|0) echo "sanitize_thread.sh: repeats must be a po
 mkdir -p "$build"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DSEMS_SANITIZE=thread > "$build/configure.log" 2>&1 \
   || { cat "$build/configure.log" >&2; exit 1; }
-cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" --target qa_sems_learning
+cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" --target qa_sems_threads
 # No ifunc resolver may be left in what the test loads: the loader runs it before the TSan
 # runtime is up (lib/core/cpu_dispatch.h). An IFUNC symbol or IRELATIVE relocation here means
 # a function was cloned without SEMS_TARGET_CLONES.
-for f in "$build"/lib/libgnuradio-sems*.so "$build/lib/learning/qa_sems_learning"; do
+for f in "$build"/lib/libgnuradio-sems*.so "$build/lib/learning/qa_sems_threads"; do
   if readelf -W --syms --relocs "$f" | grep -E "IFUNC|IRELATIV"; then
     echo "sanitize_thread.sh: $f has an ifunc resolver built with ThreadSanitizer (see lib/core/cpu_dispatch.h)" >&2
     exit 1
@@ -33,6 +33,6 @@ export SEMS_SOURCE_DIR="$root"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/cmake/tsan.supp"
 for i in $(seq 1 "$repeats"); do
   echo "== sanitize_thread.sh: run $i of $repeats =="
-  "$build/lib/learning/qa_sems_learning" qa_thread_access
+  "$build/lib/learning/qa_sems_threads" qa_thread_access
 done
 echo "sanitize_thread.sh: $repeats runs, no data race reported"

@@ -5,7 +5,7 @@
 # By default on the Release tree ./build (the one scripts/demo.sh builds). With
 # SEMS_SANITIZE=address,undefined the suite runs under AddressSanitizer +
 # UndefinedBehaviorSanitizer (docs/reference/hardening.md) in its own tree, ./build-sanitize: that is
-# what CI runs (.ci/run), about 14 minutes of build and 5 of tests on a 2-core machine from cold.
+# what CI runs (.ci/run); its build and test times: docs/reference/hardening.md#sanitizers.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export SEMS_SANITIZE="${SEMS_SANITIZE-}"

@@ -379,6 +379,10 @@ public:
             R"({"model": "rotor", "rotors": 8, "blades": 5, "blade_length_m": 0.5, "rotation_hz": 300, "body_power": 0.1})",
             R"({"model": "rotor", "rotors": 1, "blades": 1, "blade_length_m": 0.2, "rotation_hz": 0, "body_power": 1})",
             R"({"model": "wheels", "wheels": 16, "wheel_radius_m": 0.4, "rim_points": 64, "spokes": 64, "body_power": 0})",
+            // Harmonic rates 1e300 apart: the normalisation's sampling must not overflow an int
+            // (found by fuzz_classes).
+            R"({"model": "scatterers", "scatterers": [{"power": 1, "harmonics": [{"amplitude_m": 0.1, "rate_hz": 1e-150},
+                {"amplitude_m": 0.1, "rate_hz": 1e150}]}]})",
             many
         };
         const frame_settings fs;

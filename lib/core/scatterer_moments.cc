@@ -241,7 +241,9 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
                 }
         }
         // Over the slowest harmonic's period, sampled finely enough for the fastest (capped).
-        const int samples = f_min > 0.0 ? std::min(512, 64 * static_cast<int>(std::ceil(f_max / f_min))) : 64;
+        // The ratio is computed in double: a library may pair a 1e-9 Hz harmonic with a 1e9 Hz one.
+        const int samples =
+            f_min > 0.0 ? static_cast<int>(std::min(512.0, 64.0 * std::ceil(f_max / f_min))) : 64;
         normalise_over_cycle(fs, f_min > 0.0 ? 1.0 / f_min : 1.0, samples);
         for (double a : d_point_a)
             d_amp_sum += d_scale * a;

@@ -479,7 +479,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths,
                 const double beta = I.md_scale * p.md_amplitude_m, omega = two_pi * p.md_rate_hz;
                 // |θ''| ≤ β ω² / B² per sample²; the secant's worst error over a chunk of K is |θ''| K²/8.
                 const double k = std::sqrt(8.0 * md_phase_tolerance_rad * I.b * I.b / (beta * omega * omega));
-                pa.anchor = std::max(1, std::min(I.s, static_cast<int>(std::floor(k))));
+                pa.anchor = std::max(1, static_cast<int>(std::min<double>(I.s, std::floor(k)))); // k may pass INT_MAX
                 pa.md_step = cis_cycles(p.md_rate_hz * pa.anchor / I.b);
             }
             // Phasor tables by recurrence in double, re-anchored every 64 steps (rounding ~1e-15);
