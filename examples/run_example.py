@@ -5,7 +5,10 @@
     run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [-- extra args for the flowgraph]
 
 The flowgraph is compiled into <outdir>/<name>/ and the generated Python runs with
-GNU Radio's interpreter (/usr/bin/python3). With --test, a flowgraph that has a
+GNU Radio's interpreter (/usr/bin/python3). With <outdir> inside a build tree of this source
+(e.g. build/examples), it finds the blocks and the module there: PYTHONPATH, GRC_BLOCKS_PATH
+and SEMS_SOURCE_DIR default to <build>/python_pkg, the source's grc/ and the source tree (a
+value already set wins). With --test, a flowgraph that has a
 `frames` parameter runs a smaller count (--frames, default 1000), and a printed
 "set_snr_db=X measured_snr_db=Y" must agree within ±0.5 dB. Exits non-zero on failure.
 """
@@ -40,6 +43,24 @@ def flowgraph_info(grc_path):
     return script, params
 
 
+def source_tree_defaults(outdir):
+    """Environment for a source-tree run: the build's Python package beside outdir, the
+    source's GRC blocks and models. Variables already set are kept."""
+    source = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env = dict(os.environ)
+    build = os.path.abspath(outdir)  # the nearest folder up from outdir with a CMake cache
+    while not os.path.isfile(os.path.join(build, "CMakeCache.txt")) and os.path.dirname(build) != build:
+        build = os.path.dirname(build)
+    python_pkg = os.path.join(build, "python_pkg")
+    if not (os.path.isdir(os.path.join(source, "grc")) and os.path.isdir(os.path.join(python_pkg, "gnuradio", "sems"))):
+        return env  # not a build tree of this source: the module must be on the default paths
+    defaults = {"PYTHONPATH": python_pkg, "GRC_BLOCKS_PATH": os.path.join(source, "grc"),
+                "SEMS_SOURCE_DIR": source}
+    for key, value in defaults.items():
+        env.setdefault(key, value)
+    return env
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("grc")
@@ -59,7 +80,8 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     script, params = flowgraph_info(args.grc)
 
-    compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True)
+    env = source_tree_defaults(args.outdir)
+    compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True, env=env)
     if compiled.returncode != 0 or not os.path.isfile(os.path.join(outdir, script)):
         sys.stderr.write(compiled.stdout + compiled.stderr)
         fail(f"grcc could not compile {args.grc}")
@@ -70,7 +92,7 @@ def main():
     cmd += extra
     print("run_example:", " ".join(cmd), flush=True)
     try:
-        ran = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+        ran = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout, env=env)
     except subprocess.TimeoutExpired:
         fail(f"{script} did not finish within {args.timeout:.0f} s")
     sys.stdout.write(ran.stdout)
