@@ -44,11 +44,12 @@ def flowgraph_info(grc_path):
 
 
 def source_tree_defaults(outdir):
-    """Environment for a source-tree run: the build's Python package beside outdir, the
-    source's GRC blocks and models. Variables already set are kept."""
+    """Environment for a source-tree run: the Python package of the build tree that holds
+    outdir (the nearest folder up with a CMakeCache.txt), the source's GRC blocks and models.
+    Variables already set are kept."""
     source = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = dict(os.environ)
-    build = os.path.abspath(outdir)  # the nearest folder up from outdir with a CMake cache
+    build = os.path.abspath(outdir)
     while not os.path.isfile(os.path.join(build, "CMakeCache.txt")) and os.path.dirname(build) != build:
         build = os.path.dirname(build)
     python_pkg = os.path.join(build, "python_pkg")
