@@ -48,14 +48,15 @@ def save(fig, out, name, rect=None):
 def accuracy_figure(rows, out):
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.6), squeeze=False)
     pr.plot_accuracy(rows, "kinematic", axes[0], "Moving scatterers, any heading")
-    # Twelve methods and the bound: the legend goes under the panels, not over the lines.
+    # Thirteen methods and the Bayes rows: the legend goes under the panels, not over the
+    # lines, and above the footer.
     legend = axes[0][0].get_legend()
     handles, labels = legend.legend_handles if hasattr(legend, "legend_handles") else legend.legendHandles, \
         [t.get_text() for t in legend.get_texts()]
     legend.remove()
-    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.03), ncol=4, fontsize=7, frameon=False)
     pr.footer(fig, rows)
-    return save(fig, out, "exp7_kinematic.png", rect=(0, 0.17, 1, 1))
+    return save(fig, out, "exp7_kinematic.png", rect=(0, 0.2, 1, 1))
 
 
 def best_hand(rows, snr):

@@ -213,7 +213,29 @@ class Reference:
             x = torch.cat([x, F.leaky_relu(t, 0.1)], 1)
         features = F.linear(x, w["fc2.weight"], w["fc2.bias"])
         logits = F.linear(F.leaky_relu(features, 0.1), w["out.weight"], w["out.bias"])
+        if self.s.get("template_frames", 0) > 0:  # the template bank's layer joins the logits
+            logits = logits + F.linear(self.template_scores(g), w["templates.out.weight"], w["templates.out.bias"])
         return torch.softmax(logits, -1), features
+
+    def template_scores(self, g):
+        # As template_bank.cc: ρ_t = |yᴴt|²/‖y‖², β = N_p/(1 - max ρ), per class the log-mean-exp
+        # of β ρ over its templates, normalised over the classes and floored at -30.
+        t, ends = self.w["templates.templates"], self.w["templates.class_end"].tolist()
+        b = g.shape[0]
+        y = g.reshape(b, 2, -1).index_select(2, self.grid_index).reshape(b, -1)  # the pilots, mask order
+        energy = y.square().sum(1, True).clamp_min(torch.finfo(torch.float32).tiny)
+        yr, yi, tr, ti = y[:, :self.np], y[:, self.np:], t[:, 0], t[:, 1]
+        rho = ((yr @ tr.T + yi @ ti.T).square() + (yr @ ti.T - yi @ tr.T).square()) / energy
+        best = rho.amax(1, keepdim=True).clamp(0.0, 1.0)
+        a = self.np / (1.0 - best).clamp_min(1e-3) * rho
+        scores, lo = [], 0
+        for hi in ends:
+            scores.append(torch.logsumexp(a[:, lo:hi], 1) - math.log(hi - lo) if hi > lo
+                          else torch.full((b,), -math.inf))
+            lo = hi
+        s = torch.stack(scores, 1)
+        s = torch.nan_to_num(s - torch.logsumexp(s, 1, True), -30.0, -30.0, -30.0).clamp_min(-30.0)
+        return torch.cat([s, torch.log(1.0 - best + 1e-4)], 1)
 
     # -- delay_correlation
     def residual_maps(self, xr, xi, support, scale):

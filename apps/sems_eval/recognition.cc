@@ -84,7 +84,7 @@ std::vector<gr_complex> remove_static(std::vector<gr_complex> obs, int count, co
     return obs;
 }
 
-enum class method_kind { sems, mse, perfect_csi, pattern };
+enum class method_kind { sems, sems_templates, mse, perfect_csi, pattern };
 
 struct dl_method {
     std::string method, model_name, mask_label; // model_name: the cache name before its seed suffix
@@ -121,6 +121,19 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
     if (scen == "clutter")
         m.settings.classifier.mti = "mean";
     dl.push_back(m);
+    if (scen == "kinematic") {
+        // SemS whose decoder also keeps every training frame on its final mask as a template
+        // bank (classifier_settings::template_frames): the Monte-Carlo Bayes classifier of its
+        // own training frames beside the network. Its bank's layer draws no random numbers,
+        // so the same program learns SemS's mask from the same seed and differs only in the
+        // decoder phase.
+        dl_method tb = m;
+        tb.method = "SemS + template bank";
+        tb.model_name = prefix + "sems_templates";
+        tb.settings.classifier.template_frames = -1;
+        tb.kind = method_kind::sems_templates;
+        dl.push_back(tb);
+    }
     dl_method mse = m;
     mse.method = "MSE-DL";
     mse.model_name = prefix + "mse";

@@ -98,6 +98,8 @@ json classifier_settings::to_json() const
         j["chirp_bins"] = chirp_bins;
         j["chirp_sweep_bins"] = chirp_sweep_bins;
         j["chirp_min_pilots"] = chirp_min_pilots;
+        if (template_frames != 0) // absent means off: bundles without a bank keep their bundle.json
+            j["template_frames"] = template_frames;
     }
     return j;
 }
@@ -122,6 +124,7 @@ classifier_settings classifier_settings::from_json(const json& json_in, const st
     s.chirp_sweep_bins = j.number_or("chirp_sweep_bins", s.chirp_sweep_bins);
     // absent: legacy, every observed subcarrier counts
     s.chirp_min_pilots = j.int_or("chirp_min_pilots", 1, 1, limits::max_network_size);
+    s.template_frames = j.int_or("template_frames", 0, -1, limits::max_template_frames);
     j.finish();
     s.validate(source);
     return s;
@@ -155,6 +158,12 @@ void classifier_settings::validate(const std::string& source) const
         fail("chirp_sweep_bins", "must be finite and > 0, got " + std::to_string(chirp_sweep_bins));
     if (chirp_min_pilots < 1)
         fail("chirp_min_pilots", "must be >= 1, got " + std::to_string(chirp_min_pilots));
+    if (template_frames < -1 || template_frames > limits::max_template_frames)
+        fail("template_frames", "must be -1 (every training frame), 0 (no template bank) or a frame count up to " +
+                                    std::to_string(limits::max_template_frames) + ", got " +
+                                    std::to_string(template_frames));
+    if (template_frames != 0 && architecture != "spectral")
+        fail("template_frames", "a template bank needs the spectral architecture, not \"" + architecture + "\"");
 }
 
 std::vector<double> classifier_settings::chirp_rates(int n_symbols) const

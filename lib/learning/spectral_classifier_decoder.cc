@@ -97,6 +97,11 @@ spectral_classifier_decoder_module::spectral_classifier_decoder_module(int n, in
     // would be drowned among the width·K of the convolutions at the first layer's input.
     d_fc2 = register_module("fc2", torch::nn::Linear(s.hidden + (s.chirp_bins > 0 ? s.features : 0), s.features));
     d_out = register_module("out", torch::nn::Linear(s.features, s.n_classes));
+    if (s.template_frames == -1)
+        throw std::invalid_argument("spectral classifier decoder: template_frames -1 (every training frame) is for "
+                                    "the trainer to resolve; a decoder needs the bank's frame count");
+    if (s.template_frames > 0)
+        d_templates = register_module("templates", std::make_shared<template_bank_module>(np, s.template_frames, s.n_classes));
 }
 
 torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Tensor& g,
@@ -348,7 +353,27 @@ decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& 
     decoder_output out;
     out.features = d_fc2->forward(x);
     out.logits = d_out->forward(torch::leaky_relu(out.features, 0.1));
+    if (d_templates && d_templates->ready())
+        out.logits = out.logits + d_templates->forward(template_observations(grid, mask));
     return out;
+}
+
+torch::Tensor spectral_classifier_decoder_module::template_observations(const torch::Tensor& grid,
+                                                                        const torch::Tensor& mask) const
+{
+    // The bank holds one mask's pilots in its (row-major) order; the grid's columns and the
+    // mask's agree (whole or compact), so the mask's nonzero elements in order are the pilots.
+    torch::Tensor m = mask;
+    if (m.dim() == 3 && m.size(0) == 1)
+        m = m[0];
+    if (m.dim() != 2)
+        throw std::invalid_argument("spectral classifier: the template bank needs one N x M mask for the batch, got " +
+                                    c10::str(mask.sizes()));
+    const auto idx = (m.detach().flatten() > 0.5).nonzero().squeeze(1);
+    if (idx.size(0) != d_np)
+        throw std::invalid_argument("spectral classifier: the template bank holds " + std::to_string(d_np) +
+                                    " pilots per frame, the mask has " + std::to_string(idx.size(0)));
+    return grid.flatten(2).index_select(2, idx); // B x 2 x N_p
 }
 
 nlohmann::json spectral_classifier_decoder_module::describe() const

@@ -47,11 +47,16 @@
  * approach head on) the power profile on a 64-bin grid cannot tell them apart: a tone
  * between two bins loses up to 19 % of its peak, more than a pedestrian's chirp does. The
  * share one tone (or chirp) explains, maximised off the grid, is 1 for a noiseless car.
+ *
+ *   -> beside them, with classifier_settings::template_frames = T > 0, the template bank
+ *      (template_bank.h): the pilots matched against T noiseless training frames, one class
+ *      score each, through a layer added to the logits (once the bank is filled).
  */
 #ifndef INCLUDED_SEMS_LEARNING_SPECTRAL_CLASSIFIER_DECODER_H
 #define INCLUDED_SEMS_LEARNING_SPECTRAL_CLASSIFIER_DECODER_H
 
 #include "learning/task_decoder.h"
+#include "learning/template_bank.h"
 #include <gnuradio/sems/learning/network_settings.h>
 #include <mutex>
 #include <utility>
@@ -86,6 +91,8 @@ public:
     //! The subcarriers of a compact grid's columns (bundle_decoder's input: the mask's
     //! occupied subcarriers only, in increasing order); the range gate needs them.
     void set_compact_columns(const std::vector<int64_t>& subcarriers);
+    //! The template bank (nullptr when template_frames = 0).
+    std::shared_ptr<template_bank_module> template_bank() const { return d_templates; }
 
 private:
     // cols: the subcarriers of grid's columns (undefined: all M).
@@ -93,6 +100,8 @@ private:
     // The tone/chirp fit's B x J features log(1 - share + 1e-4), searched from the peak of
     // `profile` (that stage's B x 1 x K log profile).
     torch::Tensor tone_fit(const torch::Tensor& grid, const torch::Tensor& mask, const torch::Tensor& profile) const;
+    // The B x 2 x N_p pilots of a grid (whole or compact) in its mask's order, for the template bank.
+    torch::Tensor template_observations(const torch::Tensor& grid, const torch::Tensor& mask) const;
     // The profile and (with_tone and chirp_bins > 0; else undefined) the tone/chirp fit of one
     // grid, normalised once for both.
     std::pair<torch::Tensor, torch::Tensor>
@@ -120,6 +129,7 @@ private:
     torch::nn::Conv1d d_conv1{ nullptr }, d_conv2{ nullptr };
     torch::nn::Linear d_fc1{ nullptr }, d_fc2{ nullptr }, d_out{ nullptr }, d_tone_fc{ nullptr };
     mutable dense_conv d_dense1, d_dense2;
+    std::shared_ptr<template_bank_module> d_templates;
 };
 
 } // namespace nn

@@ -8,6 +8,7 @@
 #include "learning/mask_settle_rule.h"
 #include "learning/reconstruction_decoder.h"
 #include "learning/semantic_encoder.h"
+#include "learning/spectral_classifier_decoder.h"
 #include <gnuradio/sems/learning/trainer.h>
 #include <algorithm>
 #include <chrono>
@@ -102,6 +103,8 @@ private:
         if (d_s.task == task_kind::classify) {
             auto cs = d_s.classifier;
             cs.n_classes = static_cast<int>(d_data.class_names.size());
+            if (cs.template_frames == -1) // every training frame
+                cs.template_frames = static_cast<int>(d_data.train.size());
             return nn::make_classifier(d_n, d_m, d_s.n_pilots, cs);
         }
         auto ds = d_s.delay;
@@ -325,6 +328,15 @@ training_result trainer::run()
     std::vector<double> mask_power; // the pilots' energies, in the order of mask_idx
     json mask_origin;
     const int64_t n_train = d_data.train.size();
+    const int64_t n_templates = d_s.task != task_kind::classify ? 0
+                                : d_s.classifier.template_frames == -1 ? n_train
+                                                                       : d_s.classifier.template_frames;
+    if (n_templates > 0 && d_dist->active())
+        fail("classifier template_frames needs a single process: each rank draws frames of its own, and the bank "
+             "is one set of training frames");
+    if (n_templates > n_train)
+        fail("classifier template_frames is " + std::to_string(n_templates) + " but only " + std::to_string(n_train) +
+             " frames train (--frames " + std::to_string(d_s.frames) + " less the validation and test frames)");
     const int64_t batch = d_s.batch / d_dist->world_size(); // this rank's part of the global batch
     // Every rank runs the same number of steps (collectives pair up).
     const int64_t steps = static_cast<int64_t>(
@@ -510,6 +522,20 @@ training_result trainer::run()
     const auto mask_t = mask_grid(mask_idx);
     const auto noise_t = noise_grid(mask_idx, mask_power); // undefined for equal power
     const int epochs2 = given_mask ? d_s.epochs : d_s.decoder_epochs + mask_epochs_left;
+    // The template bank (template_bank.h): the first T training frames' noiseless pilots on
+    // the final mask. While the decoder trains, each frame is matched leave-one-out (its own
+    // template would match it exactly, which no test frame does).
+    std::shared_ptr<nn::template_bank_module> bank;
+    torch::Tensor bank_row; // training frame -> its row in the bank (-1: not in it)
+    if (n_templates > 0) {
+        bank = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(task_dec)->template_bank();
+        const auto flat = torch::tensor(mask_idx, torch::kLong);
+        const auto pilots = d_data.train.h.slice(0, 0, n_templates).flatten(2).index_select(2, flat);
+        bank_row = torch::full({ n_train }, -1, torch::kLong);
+        bank_row.slice(0, 0, n_templates).copy_(bank->set(pilots, d_data.train.label.slice(0, 0, n_templates)));
+        print("template bank: " + std::to_string(n_templates) + " training frames x " + std::to_string(mask_idx.size()) +
+              " pilots");
+    }
     {
         torch::optim::Adam opt(task_dec->parameters(), torch::optim::AdamOptions(d_s.lr));
         const bool hib = higher_is_better(false);
@@ -529,7 +555,11 @@ training_result trainer::run()
             const double l = train_epoch(
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
                     const auto in = noise_t.defined() ? scale_noise(y, h, noise_t) : y; // σ/sqrt(p_k)
+                    if (bank)
+                        bank->exclude(bank_row.index_select(0, idx));
                     auto out = task_dec->forward(in * mask_t, mask_t);
+                    if (bank)
+                        bank->exclude({});
                     return loss(out, d_data.train, idx, h, ce_w);
                 },
                 opt, { task_dec });

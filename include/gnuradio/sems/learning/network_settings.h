@@ -121,6 +121,19 @@ struct SEMS_LEARNING_API classifier_settings {
                               /// whatever the target is, and a mask learner drifts to masks of one
                               /// to three symbols across many subcarriers, where the fit says
                               /// nothing (docs/RESULTS.md, the collapsed no-micro-Doppler seed)
+    int template_frames = 0;  ///< spectral: the template bank, T of the training frames' noiseless
+                              /// pilots on the final mask, kept in the decoder (0 = off, the
+                              /// legacy value for bundles without this key; -1 = every training
+                              /// frame, resolved by the trainer and recorded as the count). Each frame is matched
+                              /// against every template by its normalised correlation ρ_t, and each
+                              /// class scores log mean_t exp(β ρ_t) over its templates, with
+                              /// β = N_p / (1 - max_t ρ_t) estimated from the frame itself (no SNR
+                              /// given): the Monte-Carlo Bayes classifier of the training frames
+                              /// under an unknown complex gain. A layer joins those scores to the
+                              /// network's logits. The templates are set when the mask is final
+                              /// (the decoder phase), matched leave-one-out while training. Cost per
+                              /// frame: 8·N_p·T multiply-adds, and 8·N_p·T bytes in decoder.pt
+                              /// (docs/PERFORMANCE.md)
 
     /*! \brief Whether `a` names an architecture. \param a the name. \return true for "spectral" or "resnet". */
     static bool known_architecture(const std::string& a) { return a == "spectral" || a == "resnet"; }
