@@ -283,6 +283,8 @@ public:
         s.template_frames = -1;
         const auto m3 = message([&] { spectral_classifier_decoder_module(8, 4, 8, s); });
         CPPUNIT_ASSERT_MESSAGE(m3, m3.find("template_frames") != std::string::npos);
+        const auto m6 = message([] { template_bank_module(1 << 20, 1 << 20, n_classes); });
+        CPPUNIT_ASSERT_MESSAGE(m6, m6.find("exceed the limit") != std::string::npos);
         template_bank_module bank(np, 4, n_classes);
         const auto m4 = message([&] { bank.set(torch::zeros({ 3, 2, np }), torch::zeros({ 3 }, torch::kLong)); });
         CPPUNIT_ASSERT_MESSAGE(m4, m4.find("4 x 2 x 12") != std::string::npos);

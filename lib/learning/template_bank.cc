@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the spectral classifier's template bank (see template_bank.h). */
 #include "learning/template_bank.h"
+#include <gnuradio/sems/core/limits.h>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -25,6 +26,10 @@ template_bank_module::template_bank_module(int n_pilots, int n_templates, int n_
         throw std::invalid_argument("template bank: needs N_p >= 1, T >= 1 and C >= 2, got " +
                                     std::to_string(n_pilots) + ", " + std::to_string(n_templates) + ", " +
                                     std::to_string(n_classes));
+    if (static_cast<long long>(n_templates) * n_pilots > limits::max_template_values)
+        throw std::invalid_argument("template bank: " + std::to_string(n_templates) + " frames x " +
+                                    std::to_string(n_pilots) + " pilots exceed the limit of " +
+                                    std::to_string(limits::max_template_values) + " values");
     d_templates = register_buffer("templates", torch::zeros({ int64_t(n_templates), 2, int64_t(n_pilots) }));
     d_class_end = register_buffer("class_end", torch::zeros({ n_classes }, torch::kLong));
     // The layer starts at zero, so its random initialisation is not needed: it is undone on the

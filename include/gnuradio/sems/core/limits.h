@@ -22,6 +22,7 @@ constexpr int max_clutter_paths = 4096;     // static clutter scatterers per sce
 constexpr int max_classes = 1024;           // classes of a classifier bundle or a random scene
 constexpr int max_network_size = 1000000;   // any width/depth/count in the network settings
 constexpr int max_template_frames = 1 << 20; // a spectral classifier's template bank (training frames)
+constexpr long long max_template_values = 1LL << 28; // its frames x pilots (2 GiB of complex floats)
 // Relative powers (targets, paths, scatterers) up to 10^30: 300 dB between the strongest and the
 // weakest, and sums of up to 256 x 256 of them stay far from overflow (1e308 + 1e308 = inf
 // would zero every normalised power).
