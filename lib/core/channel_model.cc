@@ -275,12 +275,15 @@ void frame_channel::fill_body_rows(int row, double delay_s, const detail::expans
     }
 }
 
-void frame_channel::row(int n, gr_complex* h) const
+void frame_channel::row(int n, gr_complex* h) const { partial_row(n, h, d_scratch->blocks.size()); }
+
+void frame_channel::partial_row(int n, gr_complex* h, size_t blocks) const
 {
     const auto& sc = *d_scratch;
     const gr_complex* slow = d_slow.data() + size_t(n) * d_l;
     detail::row_sum(h, d_delay.data(), d_m, slow, sc.point_rows, d_m);
-    for (const auto& b : sc.blocks) {
+    for (size_t i = 0; i < blocks; ++i) {
+        const auto& b = sc.blocks[i];
         // Σ_p δk_m^p G_p as a polynomial in u = δk_m/δk_max on each sub-band, times the delay.
         const gr_complex* e = d_delay.data() + size_t(b.row) * d_m;
         const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
@@ -301,9 +304,27 @@ void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
         return;
     }
     thread_local std::vector<gr_complex> h; // per thread: apply_row stays const and reentrant
-    h.resize(size_t(d_m));
-    row(n, h.data());
-    detail::multiply(y, x, h.data(), d_m);
+    const auto& blocks = d_scratch->blocks;
+    const auto& last = blocks.back();
+    if (last.plan.sub_bands > 1) {
+        h.resize(size_t(d_m));
+        row(n, h.data());
+        detail::multiply(y, x, h.data(), d_m);
+        return;
+    }
+    // The last body's path has one sub-band, the whole row: the rest of the row first (point
+    // paths, other bodies; nothing at all when it is the only path), then its polynomial, the
+    // sum and the product with x in one pass, with the same operations as row() and multiply()
+    // (one pass over the row instead of three for a target alone).
+    const gr_complex* rest = nullptr;
+    if (d_scratch->point_rows > 0 || blocks.size() > 1) {
+        h.resize(size_t(d_m));
+        partial_row(n, h.data(), blocks.size() - 1);
+        rest = h.data();
+    }
+    const gr_complex* e = d_delay.data() + size_t(last.row) * d_m;
+    const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
+    detail::apply_horner(y, x, rest, e, u2, d_slow.data() + size_t(n) * d_l + last.row, last.plan.order, d_m);
 }
 
 void frame_channel::fill(gr_complex* grid) const
