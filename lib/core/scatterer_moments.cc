@@ -357,10 +357,12 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
             for (int b = 0; b < r->blades; ++b) {
                 append_constant(out.line_r0, 0.0, count);
                 append_constant(out.line_a, d_elem_a * g.rotors, count);
+                out.line_e.resize(out.line_e.size() + c); // keeps the capacity: written below
+                double* e = out.line_e.data() + size_t(first + b) * c;
                 if (b >= half) {
-                    const size_t from = size_t(first + b - half) * c;
+                    const double* from = out.line_e.data() + size_t(first + b - half) * c;
                     for (int n = 0; n < count; ++n)
-                        out.line_e.push_back(-out.line_e[from + n]);
+                        e[n] = -from[n];
                     out.line_mirror.resize(size_t(first + b + 1), -1);
                     out.line_mirror[size_t(first + b - half)] = first + b;
                     out.line_mirror[size_t(first + b)] = first + b - half;
@@ -369,7 +371,7 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
                 turning_angles(t, g.rate_hz, g.phase_rad, two_pi * b / r->blades, out.arg.data(), c);
                 sincos_args(out, count);
                 for (int n = 0; n < count; ++n)
-                    out.line_e.push_back(reach * out.cs[n]);
+                    e[n] = reach * out.cs[n];
             }
         }
     } else if (const auto* w = std::get_if<wheels_motion>(&d_b.motion)) {
@@ -488,6 +490,7 @@ void moments(body_snapshot& s, double kappa_ref, int order)
     }
     std::complex<double> e[max_order + 1], line[max_order + 1], shift[max_order + 1];
     const double* inv = inverse();
+    const size_t terms = size_t(order + 1) * count;
     for (size_t i = 0; i < lines; ++i) {
         // A line whose mirror image (−e, same amplitude, from the reference) is line j > i:
         // the mirror's L_q(−e) is conj(L_q(e)) (E_q(−z) = conj E_q(z), (je)^q = conj (−je)^q),
@@ -496,33 +499,47 @@ void moments(body_snapshot& s, double kappa_ref, int order)
         const int mirror = i < s.line_mirror.size() ? s.line_mirror[i] : -1;
         if (mirror >= 0 && size_t(mirror) < i)
             continue;
-        const bool pair = mirror >= 0;
+        const double* ext = s.line_e.data() + i * count;
+        const double* r0 = s.line_r0.data() + i * count;
+        const double* amp = s.line_a.data() + i * count;
         for (size_t n = 0; n < count; ++n)
-            s.arg[n] = kappa_ref * s.line_e[i * count + n];
+            s.arg[n] = kappa_ref * ext[n];
         sincos_batch(s.arg.data(), s.sn.data(), s.cs.data(), count);
+        // E_q(κ e) at every instant: the upward recurrence where it is stable (in one loop over
+        // the instants), line_integrals() where |z| is small.
+        s.e_re.resize(terms);
+        s.e_im.resize(terms);
+        upward_line_integrals(s.arg.data(), s.cs.data(), s.sn.data(), count, order, s.e_re.data(), s.e_im.data(),
+                              s.x.data());
         for (size_t n = 0; n < count; ++n) {
-            // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e); from r0: e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
-            const size_t k = i * count + n;
-            const double ext = s.line_e[k], r0 = s.line_r0[k];
+            if (std::fabs(s.arg[n]) >= std::max(2.0, double(order)))
+                continue;
             line_integrals(s.arg[n], { s.cs[n], -s.sn[n] }, order, e);
-            // a (−je)^q / q! = (−j)^q · mag_q with mag_q = a e^q / q! real: the product with
-            // E_q is a real scaling and a quarter turn, written out (no complex products).
-            double mag = s.line_a[k];
             for (int q = 0; q <= order; ++q) {
-                const double vr = mag * e[q].real(), vi = mag * e[q].imag();
-                switch (q & 3) { // (−j)^q: 1, −j, −1, j
-                case 0: line[q] = { vr, vi }; break;
-                case 1: line[q] = { vi, -vr }; break;
-                case 2: line[q] = { -vr, -vi }; break;
-                default: line[q] = { -vi, vr }; break;
-                }
-                mag *= ext * inv[q + 1];
+                s.e_re[size_t(q) * count + n] = e[q].real();
+                s.e_im[size_t(q) * count + n] = e[q].imag();
             }
-            if (r0 != 0.0) {
-                std::complex<double> sh = cis(-kappa_ref * r0);
+        }
+        // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e). A line from the reference (a blade), its
+        // mirror too: added as they are.
+        if (std::all_of(r0, r0 + count, [](double v) { return v == 0.0; })) {
+            add_line_moments(s.e_re.data(), s.e_im.data(), ext, amp, count, order, mirror >= 0, s.re.data(),
+                             s.im.data(), s.x.data());
+            continue;
+        }
+        // From r0 (a wheel's spoke from its hub): e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
+        s.l_re.assign(terms, 0.0);
+        s.l_im.assign(terms, 0.0);
+        add_line_moments(s.e_re.data(), s.e_im.data(), ext, amp, count, order, false, s.l_re.data(), s.l_im.data(),
+                         s.x.data());
+        for (size_t n = 0; n < count; ++n) {
+            for (int q = 0; q <= order; ++q)
+                line[q] = { s.l_re[size_t(q) * count + n], s.l_im[size_t(q) * count + n] };
+            if (r0[n] != 0.0) {
+                std::complex<double> sh = cis(-kappa_ref * r0[n]);
                 for (int p = 0; p <= order; ++p) { // sh·(−j r0)/(p+1) = (r0·im − j r0·re)/(p+1)
                     shift[p] = sh;
-                    const double f = r0 * inv[p + 1];
+                    const double f = r0[n] * inv[p + 1];
                     sh = { sh.imag() * f, -sh.real() * f };
                 }
                 for (int q = order; q >= 0; --q) { // line[q] = Σ_{p ≤ q} shift[p]·line[q − p], in place
@@ -532,14 +549,9 @@ void moments(body_snapshot& s, double kappa_ref, int order)
                     line[q] = sum;
                 }
             }
-            if (pair) {
-                for (int p = 0; p <= order; ++p)
-                    s.re[size_t(p) * count + n] += 2.0 * line[p].real();
-            } else {
-                for (int p = 0; p <= order; ++p) {
-                    s.re[size_t(p) * count + n] += line[p].real();
-                    s.im[size_t(p) * count + n] += line[p].imag();
-                }
+            for (int p = 0; p <= order; ++p) {
+                s.re[size_t(p) * count + n] += line[p].real();
+                s.im[size_t(p) * count + n] += line[p].imag();
             }
         }
     }

@@ -63,6 +63,7 @@ struct body_snapshot {
     std::vector<int> line_mirror;
     std::vector<double> arg, sn, cs, x, y; // count values each: phases, their sines and cosines, scratch
     std::vector<double> re, im;            // moments: (order + 1) x count
+    std::vector<double> e_re, e_im, l_re, l_im; // a line's integrals E_p, moments L_p: (order + 1) x count
     void clear()
     {
         point_r.clear();
