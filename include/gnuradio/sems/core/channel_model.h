@@ -146,7 +146,6 @@ public:
 private:
     void update(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
     void fill_delay_row(int row, double delay_s);
-    void partial_row(int n, gr_complex* h, size_t blocks) const; // the row but the bodies from `blocks` on
     void fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk);
     struct scratch; // scatterer bodies' plans and moments (lib/core/channel_model.cc)
     frame_settings d_fs;
