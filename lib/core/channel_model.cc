@@ -275,22 +275,35 @@ void frame_channel::fill_body_rows(int row, double delay_s, const detail::expans
     }
 }
 
-void frame_channel::row(int n, gr_complex* h) const
+namespace {
+
+// Row n of H without the scatterer bodies from `count` on: the point paths' rows, then each
+// body's polynomial on its sub-bands (Σ_p δk_m^p G_p in u = δk_m/δk_max, times its delay).
+// `Block` is frame_channel's scratch::block (deduced: the type is private).
+template <class Block>
+void partial_row(gr_complex* h, const gr_complex* delay, int m, const gr_complex* slow, int point_rows,
+                 const Block* blocks, size_t count)
 {
-    const auto& sc = *d_scratch;
-    const gr_complex* slow = d_slow.data() + size_t(n) * d_l;
-    detail::row_sum(h, d_delay.data(), d_m, slow, sc.point_rows, d_m);
-    for (const auto& b : sc.blocks) {
-        // Σ_p δk_m^p G_p as a polynomial in u = δk_m/δk_max on each sub-band, times the delay.
-        const gr_complex* e = d_delay.data() + size_t(b.row) * d_m;
-        const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
+    detail::row_sum(h, delay, m, slow, point_rows, m);
+    for (size_t i = 0; i < count; ++i) {
+        const Block& b = blocks[i];
+        const gr_complex* e = delay + size_t(b.row) * m;
+        const auto* u2 = reinterpret_cast<const float*>(e + m); // unused when P = 0
         const int terms = b.plan.order + 1;
         for (int band = 0; band < b.plan.sub_bands; ++band) {
             const int m0 = band * b.plan.band_len;
-            detail::add_horner(h, e, u2, slow + b.row + band * terms, b.plan.order, m0,
-                               std::min(m0 + b.plan.band_len, d_m));
+            detail::add_horner(h, e, u2, slow + b.row + band * terms, b.plan.order, m0, std::min(m0 + b.plan.band_len, m));
         }
     }
+}
+
+} // namespace
+
+void frame_channel::row(int n, gr_complex* h) const
+{
+    const auto& sc = *d_scratch;
+    partial_row(h, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, sc.point_rows, sc.blocks.data(),
+                sc.blocks.size());
 }
 
 void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
@@ -301,9 +314,28 @@ void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
         return;
     }
     thread_local std::vector<gr_complex> h; // per thread: apply_row stays const and reentrant
-    h.resize(size_t(d_m));
-    row(n, h.data());
-    detail::multiply(y, x, h.data(), d_m);
+    const auto& blocks = d_scratch->blocks;
+    const auto& last = blocks.back();
+    if (last.plan.sub_bands > 1) {
+        h.resize(size_t(d_m));
+        row(n, h.data());
+        detail::multiply(y, x, h.data(), d_m);
+        return;
+    }
+    // The last body's path has one sub-band, the whole row: the rest of the row first (point
+    // paths, other bodies; nothing at all when it is the only path), then its polynomial, the
+    // sum and the product with x in one pass, with the same operations as row() and multiply()
+    // (one pass over the row instead of three for a target alone).
+    const gr_complex* rest = nullptr;
+    if (d_scratch->point_rows > 0 || blocks.size() > 1) {
+        h.resize(size_t(d_m));
+        partial_row(h.data(), d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_scratch->point_rows,
+                    blocks.data(), blocks.size() - 1);
+        rest = h.data();
+    }
+    const gr_complex* e = d_delay.data() + size_t(last.row) * d_m;
+    const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
+    detail::apply_horner(y, x, rest, e, u2, d_slow.data() + size_t(n) * d_l + last.row, last.plan.order, d_m);
 }
 
 void frame_channel::fill(gr_complex* grid) const

@@ -89,8 +89,12 @@ void row_sum_portable(float* y, const float* x, const float* d, int stride, cons
     }
 }
 
-// add_horner's portable loop from k: acc = c_P, acc = acc·u + c_p down to p = 0, h += e·acc.
-void add_horner_portable(float* h, const float* e, const float* u2, const gr_complex* c, int order, int k, int k1)
+// add_horner's portable loop from k: acc = c_P, acc = acc·u + c_p down to p = 0, then h += e·acc
+// (Apply = false, out = h) or, for apply_horner, out = x·(h + e·acc) (h = 0 when null): the
+// same operations as add_horner followed by multiply.
+template <bool Apply>
+void horner_portable(float* out, const float* x, const float* h, const float* e, const float* u2, const gr_complex* c,
+                     int order, int k, int k1)
 {
     for (; k < k1; ++k) {
         const float u = order > 0 ? u2[2 * k] : 0.0f; // P = 0: no u to read
@@ -100,8 +104,16 @@ void add_horner_portable(float* h, const float* e, const float* u2, const gr_com
             ai = ai * u + c[p].imag();
         }
         const float er = e[2 * k], ei = e[2 * k + 1];
-        h[2 * k] += er * ar - ei * ai;
-        h[2 * k + 1] += ei * ar + er * ai;
+        const float tr = er * ar - ei * ai, ti = ei * ar + er * ai;
+        if (!Apply) {
+            out[2 * k] += tr;
+            out[2 * k + 1] += ti;
+            continue;
+        }
+        const float hr = (h ? h[2 * k] : 0.0f) + tr, hi = (h ? h[2 * k + 1] : 0.0f) + ti;
+        const float xr = x[2 * k], xi = x[2 * k + 1];
+        out[2 * k] = xr * hr - xi * hi;
+        out[2 * k + 1] = xi * hr + xr * hi;
     }
 }
 
@@ -186,11 +198,25 @@ row_sum_avx2(float* y, const float* x, const float* d, int stride, const gr_comp
     row_sum_portable<TimesX>(y, x, d, stride, c, rows, k, n);
 }
 
+// Four subcarriers' e·acc = t, stored: h += t (add_horner, out = h) or out = x·(h + t)
+// (apply_horner, h = 0 when null), the portable loop's operations.
+template <bool Apply>
+__attribute__((target("avx2"), always_inline)) inline void
+store_horner(float* out, const float* x, const float* h, int j, __m256 t)
+{
+    if (Apply) {
+        const __m256 row = _mm256_add_ps(h ? _mm256_loadu_ps(h + j) : _mm256_setzero_ps(), t);
+        _mm256_storeu_ps(out + j, product4(_mm256_loadu_ps(x + j), row));
+    } else {
+        _mm256_storeu_ps(out + j, _mm256_add_ps(_mm256_loadu_ps(out + j), t));
+    }
+}
+
 // V vectors of four subcarriers from k: V independent Horner chains, so the loop is bound by
 // throughput rather than by the latency of one chain's multiply-then-add.
-template <int V>
-__attribute__((target("avx2"), always_inline)) inline void
-horner_chunk(float* h, const float* e, const float* u2, const double* cd, int order, int k)
+template <int V, bool Apply>
+__attribute__((target("avx2"), always_inline)) inline void horner_chunk(
+    float* out, const float* x, const float* h, const float* e, const float* u2, const double* cd, int order, int k)
 {
     __m256 acc[V];
     const __m256 top = _mm256_castpd_ps(_mm256_broadcast_sd(cd + order));
@@ -203,30 +229,28 @@ horner_chunk(float* h, const float* e, const float* u2, const double* cd, int or
     }
     for (int v = 0; v < V; ++v) {
         const int j = 2 * (k + 4 * v);
-        const __m256 t = product4(_mm256_loadu_ps(e + j), acc[v]);
-        _mm256_storeu_ps(h + j, _mm256_add_ps(_mm256_loadu_ps(h + j), t));
+        store_horner<Apply>(out, x, h, j, product4(_mm256_loadu_ps(e + j), acc[v]));
     }
 }
 
-__attribute__((target("avx2"))) void
-add_horner_avx2(float* h, const float* e, const float* u2, const gr_complex* c, int order, int k0, int k1)
+template <bool Apply>
+__attribute__((target("avx2"))) void horner_avx2(float* out, const float* x, const float* h, const float* e,
+                                                 const float* u2, const gr_complex* c, int order, int k0, int k1)
 {
     const double* cd = reinterpret_cast<const double*>(c);
     int k = k0;
-    if (order == 0) { // P = 0: h += e·c_0, no u to read
-        for (; k + 4 <= k1; k += 4) {
-            const int j = 2 * k;
-            const __m256 t = product4(_mm256_loadu_ps(e + j), _mm256_castpd_ps(_mm256_broadcast_sd(cd)));
-            _mm256_storeu_ps(h + j, _mm256_add_ps(_mm256_loadu_ps(h + j), t));
-        }
+    if (order == 0) { // P = 0: t = e·c_0, no u to read
+        for (; k + 4 <= k1; k += 4)
+            store_horner<Apply>(out, x, h, 2 * k,
+                                product4(_mm256_loadu_ps(e + 2 * k), _mm256_castpd_ps(_mm256_broadcast_sd(cd))));
     } else {
         for (; k + 32 <= k1; k += 32)
-            horner_chunk<8>(h, e, u2, cd, order, k);
+            horner_chunk<8, Apply>(out, x, h, e, u2, cd, order, k);
         for (; k + 4 <= k1; k += 4)
-            horner_chunk<1>(h, e, u2, cd, order, k);
+            horner_chunk<1, Apply>(out, x, h, e, u2, cd, order, k);
     }
     _mm256_zeroupper();
-    add_horner_portable(h, e, u2, c, order, k, k1);
+    horner_portable<Apply>(out, x, h, e, u2, c, order, k, k1);
 }
 
 __attribute__((target("avx2"))) void multiply_avx2(float* y, const float* x, const float* h, int n)
@@ -347,9 +371,23 @@ void add_horner(gr_complex* h, const gr_complex* e, const float* u2, const gr_co
     const auto* es = reinterpret_cast<const float*>(e);
 #ifdef SEMS_KERNELS_AVX2
     if (complex_kernels_use_avx2())
-        return add_horner_avx2(hs, es, u2, c, order, k0, k1);
+        return horner_avx2<false>(hs, nullptr, hs, es, u2, c, order, k0, k1);
 #endif
-    add_horner_portable(hs, es, u2, c, order, k0, k1);
+    horner_portable<false>(hs, nullptr, hs, es, u2, c, order, k0, k1);
+}
+
+void apply_horner(gr_complex* y, const gr_complex* x, const gr_complex* h, const gr_complex* e, const float* u2,
+                  const gr_complex* c, int order, int n)
+{
+    auto* ys = reinterpret_cast<float*>(y);
+    const auto* xs = reinterpret_cast<const float*>(x);
+    const auto* hs = reinterpret_cast<const float*>(h);
+    const auto* es = reinterpret_cast<const float*>(e);
+#ifdef SEMS_KERNELS_AVX2
+    if (complex_kernels_use_avx2())
+        return horner_avx2<true>(ys, xs, hs, es, u2, c, order, 0, n);
+#endif
+    horner_portable<true>(ys, xs, hs, es, u2, c, order, 0, n);
 }
 
 void multiply(gr_complex* y, const gr_complex* x, const gr_complex* h, int n)

@@ -55,6 +55,20 @@ void row_sum(gr_complex* h, const gr_complex* d, int stride, const gr_complex* c
  */
 void add_horner(gr_complex* h, const gr_complex* e, const float* u2, const gr_complex* c, int order, int k0, int k1);
 
+/*!
+ * y[k] = x[k] · (h[k] + e[k] · Σ_{p ≤ order} u_k^p · c[p]) for k < n (h = 0 when null): add_horner
+ * on a whole row followed by multiply, in one pass and with the same bits (the last
+ * scatterer body of a symbol whose body has one sub-band). y may alias x; not h, e or u2.
+ */
+void apply_horner(gr_complex* y,
+                  const gr_complex* x,
+                  const gr_complex* h,
+                  const gr_complex* e,
+                  const float* u2,
+                  const gr_complex* c,
+                  int order,
+                  int n);
+
 /*! y[k] = x[k] · h[k], k < n (y may alias x or h). */
 void multiply(gr_complex* y, const gr_complex* x, const gr_complex* h, int n);
 

@@ -43,6 +43,7 @@ class qa_complex_kernels : public CppUnit::TestFixture
     CPPUNIT_TEST(apply_row_sum_is_the_row_product);
     CPPUNIT_TEST(accumulate_rotator_is_the_linear_phase);
     CPPUNIT_TEST(add_horner_is_the_polynomial);
+    CPPUNIT_TEST(apply_horner_is_add_horner_then_multiply);
     CPPUNIT_TEST(multiply_is_the_product);
     CPPUNIT_TEST(sincos_batch_is_libm_within_2_ulp);
     CPPUNIT_TEST_SUITE_END();
@@ -165,6 +166,35 @@ public:
                         const double tol = 1e-6 * (1.0 + std::abs(std::complex<double>(start[k])) +
                                                    std::abs(scale) * size * (order + 2));
                         CPPUNIT_ASSERT(std::abs(std::complex<double>(fast[k]) - ref) < tol);
+                    }
+                }
+    }
+
+    // y = x·(h + e·Σ_p u^p c_p) in one pass: the same bits as add_horner on the whole row then
+    // multiply (h = 0 when null: add_horner on a zeroed row), from both versions, also in place.
+    void apply_horner_is_add_horner_then_multiply()
+    {
+        std::mt19937 g(10);
+        std::uniform_real_distribution<float> ud(-1.0f, 1.0f);
+        for (int order : { 0, 1, 4, 14 })
+            for (int n : { 0, 1, 3, 4, 5, 31, 32, 33, 36, 64, 100 })
+                for (bool with_h : { false, true }) {
+                    const auto e = random_vector(g, n), x = random_vector(g, n), c = random_vector(g, order + 1);
+                    const auto h = with_h ? random_vector(g, n) : std::vector<gr_complex>(n, gr_complex(0.0f, 0.0f));
+                    std::vector<float> u2(2 * n);
+                    for (int k = 0; k < n; ++k)
+                        u2[2 * k] = u2[2 * k + 1] = ud(g);
+                    for (auto choice : { detail::kernel_choice::fastest, detail::kernel_choice::portable }) {
+                        detail::complex_kernels_choose(choice);
+                        std::vector<gr_complex> want = h, got(n), in_place = x;
+                        detail::add_horner(want.data(), e.data(), u2.data(), c.data(), order, 0, n);
+                        detail::multiply(want.data(), x.data(), want.data(), n);
+                        const gr_complex* hp = with_h ? h.data() : nullptr;
+                        detail::apply_horner(got.data(), x.data(), hp, e.data(), u2.data(), c.data(), order, n);
+                        detail::apply_horner(in_place.data(), in_place.data(), hp, e.data(), u2.data(), c.data(), order, n);
+                        detail::complex_kernels_choose(detail::kernel_choice::fastest);
+                        assert_same_bits(want, got);
+                        assert_same_bits(want, in_place);
                     }
                 }
     }

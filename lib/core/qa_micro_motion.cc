@@ -3,6 +3,7 @@
  * sinusoid's narrowband bound, rolling wheels' Doppler span, the expansion against a direct
  * per-scatterer sum, the paper scenes' bits, extremes and bad input. */
 #include "core/scatterer_moments.h"
+#include "core/vector_math.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/core/channel_model.h>
 #include <gnuradio/sems/core/class_library.h>
@@ -144,12 +145,19 @@ public:
 
     // Chen: a blade of length L returns L sinc(x) e^{-jx}, x = κ (L/2) cos β cos(2π f t + φ + 2πk/K),
     // at subcarrier m with κ_m = 4π(f_c + mΔf)/c. A fixed rotor, no bulk motion, no fading.
+    // Odd and even blade counts: an even count's opposite blades are computed as conjugate pairs.
     void rotor_equals_chen_closed_form()
     {
+        for (int K : { 3, 2, 4 })
+            check_rotor_against_chen(K);
+    }
+
+    void check_rotor_against_chen(const int K)
+    {
         const double L = 0.16, f_rot = 47.0, phi = 0.3, beta = 0.2;
-        const int rotors = 2, K = 3;
+        const int rotors = 2;
         const auto s = scene::parse(head + R"("targets": [{"class": "drone", "range_m": 30, "velocity_mps": 0,
-            "micro_motion": {"model": "rotor", "rotors": 2, "blades": 3, "blade_length_m": 0.16,
+            "micro_motion": {"model": "rotor", "rotors": 2, "blades": )" + std::to_string(K) + R"(, "blade_length_m": 0.16,
                              "rotation_hz": [47, 47], "phase_rad": [0.3, 0.3], "elevation_rad": 0.2, "body_power": 0}}]})");
         const frame_settings fs;
         const auto h = grids(fs, s, 2);
@@ -170,7 +178,9 @@ public:
                 got.push_back(cd(h[size_t(row) * fs.n_subcarriers + m]));
             }
             const double c = correlation(got, want);
-            CPPUNIT_ASSERT_MESSAGE("subcarrier " + std::to_string(m) + ": correlation " + std::to_string(c), c > 0.999);
+            CPPUNIT_ASSERT_MESSAGE(std::to_string(K) + " blades, subcarrier " + std::to_string(m) + ": correlation " +
+                                       std::to_string(c),
+                                   c > 0.999);
             // Stronger than the correlation: equal up to one real scale, to float rounding.
             cd num = 0.0;
             double den = 0.0;
@@ -364,6 +374,29 @@ public:
                 want /= 3.0 * n;
                 CPPUNIT_ASSERT_MESSAGE("E_" + std::to_string(p) + "(" + std::to_string(z) + ")",
                                        std::abs(got[p] - want) < 1e-9);
+            }
+        }
+        // The frame-at-a-time upward recurrence (a rotor's blades) is line_integrals' own where
+        // |z| ≥ max(2, order), its stable range: the same values for every order.
+        const std::vector<double> zs = { 2.0, -2.5, 3.7, 8.01, -14.0, 20.0, -35.0, 400.0 };
+        const size_t n = zs.size();
+        std::vector<double> cs(n), sn(n), re, im, w(n);
+        for (size_t i = 0; i < n; ++i) {
+            cs[i] = std::cos(zs[i]);
+            sn[i] = std::sin(zs[i]);
+        }
+        for (int order = 0; order <= detail::max_order; ++order) {
+            re.assign(size_t(order + 1) * n, 0.0);
+            im.assign(size_t(order + 1) * n, 0.0);
+            detail::upward_line_integrals(zs.data(), cs.data(), sn.data(), n, order, re.data(), im.data(), w.data());
+            for (size_t i = 0; i < n; ++i) {
+                if (std::fabs(zs[i]) < std::max(2.0, double(order)))
+                    continue;
+                cd want[detail::max_order + 1];
+                detail::line_integrals(zs[i], cd(cs[i], -sn[i]), order, want);
+                for (int p = 0; p <= order; ++p)
+                    CPPUNIT_ASSERT(std::abs(cd(re[size_t(p) * n + i], im[size_t(p) * n + i]) - want[p]) <=
+                                   1e-15 * std::abs(want[p]));
             }
         }
     }

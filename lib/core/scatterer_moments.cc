@@ -75,59 +75,86 @@ std::pair<std::complex<double>, double> rotor_mean_moments(double x0, int blades
 
 void line_integrals(double z, int order, std::complex<double>* out) { line_integrals(z, cis(-z), order, out); }
 
+namespace {
+
+constexpr int series_terms = 96; // the small-|z| series stops before this many terms
+
+// 1/i for i < series_terms + max_order + 1: a product per term instead of a division.
+const double* inverse()
+{
+    static const auto inv = [] {
+        std::array<double, series_terms + max_order + 1> v{};
+        for (size_t i = 1; i < v.size(); ++i)
+            v[i] = 1.0 / double(i);
+        return v;
+    }();
+    return inv.data();
+}
+
+} // namespace
+
 void line_integrals(double z, std::complex<double> e, int order, std::complex<double>* out)
 {
     const double az = std::fabs(z);
+    const double* inv = inverse();
     if (az >= std::max(2.0, double(order))) {
         // Upward: E_0 = (1 − e^{-jz})/(jz), E_p = (e^{-jz} − p E_{p−1})/(−jz). Each step scales
-        // the previous error by p/|z| ≤ 1 here, so the recurrence is stable.
-        const std::complex<double> inv(0.0, 1.0 / z); // 1/(−jz)
-        out[0] = (e - 1.0) * inv;
-        for (int p = 1; p <= order; ++p)
-            out[p] = (e - double(p) * out[p - 1]) * inv;
+        // the previous error by p/|z| ≤ 1 here, so the recurrence is stable. Dividing by −jz
+        // is a product by j/z: (x + jy)·j/z = (−y + jx)/z, written out (no complex product).
+        const double w = 1.0 / z;
+        double x = e.real() - 1.0, y = e.imag();
+        out[0] = { -y * w, x * w };
+        for (int p = 1; p <= order; ++p) {
+            x = e.real() - double(p) * out[p - 1].real();
+            y = e.imag() - double(p) * out[p - 1].imag();
+            out[p] = { -y * w, x * w };
+        }
         return;
     }
     // |z| < max(2, order) ≤ 14: E_P(z) = Σ_k c_k / (P+k+1), c_k = (−jz)^k / k!, terms until
     // |z|^k/k! < 1e-17 (rounding ~ε·e^{|z|} ≤ 1e-10 at |z| = 14); then downward,
     // E_{p−1} = (e^{-jz} + jz E_p)/p, which scales the error by |z|/p: shrinking while p > |z|,
     // and by at most |z|^|z|/⌊|z|⌋! ≤ e^{|z|} over the steps below, the series' own bound.
-    std::complex<double> c[96];
+    // c_k = (−j)^k t_k with t_k = z^k/k! real: the even terms are real (signs +, −, ...), the
+    // odd ones imaginary (−, +, ...), so the series is two real sums of t_k/(P+k+1).
+    double t[series_terms];
     int n = 0;
-    std::complex<double> term(1.0, 0.0);
-    const std::complex<double> mjz(0.0, -z);
-    for (; n < 96; ++n) {
-        c[n] = term;
-        if (n > az && std::norm(term) < 1e-34)
+    double term = 1.0;
+    for (; n < series_terms; ++n) {
+        t[n] = term;
+        if (n > az && term * term < 1e-34)
             break;
-        term *= mjz / double(n + 1);
+        term *= z * inv[n + 1];
     }
-    static const auto inverse = [] { // 1/i: a product per term instead of a division
-        std::array<double, 96 + max_order + 1> inv{};
-        for (size_t i = 1; i < inv.size(); ++i)
-            inv[i] = 1.0 / double(i);
-        return inv;
-    }();
     double re = 0.0, im = 0.0;
-    for (int k = std::min(n, 95); k >= 0; --k) { // smallest first
-        re += c[k].real() * inverse[order + k + 1];
-        im += c[k].imag() * inverse[order + k + 1];
+    for (int k = std::min(n, series_terms - 1); k >= 0; --k) { // smallest first
+        const double v = t[k] * inv[order + k + 1];
+        switch (k & 3) { // (−j)^k: 1, −j, −1, j
+        case 0: re += v; break;
+        case 1: im -= v; break;
+        case 2: re -= v; break;
+        default: im += v; break;
+        }
     }
     out[order] = { re, im };
-    const std::complex<double> jz(0.0, z);
+    // (e + jz·E)/p = (e_r − z·E_i + j(e_i + z·E_r))/p, written out
     for (int p = order; p >= 1; --p)
-        out[p - 1] = (e + jz * out[p]) * inverse[p];
+        out[p - 1] = { (e.real() - z * out[p].imag()) * inv[p], (e.imag() + z * out[p].real()) * inv[p] };
 }
 
 namespace {
 
 // The smallest plan whose remainder bound Σ_i a_i (δk_max r_i)^{P+1}/(P+1)! is within the
 // tolerance, over scatterers reaching |r| ≤ r_i with amplitudes |a| ≤ a_i (reach[i] = {a_i, r_i}).
-expansion_plan plan_for(const frame_settings& fs, const std::vector<std::pair<double, double>>& reach)
+// `term` is scratch (one value per scatterer).
+expansion_plan plan_for(const frame_settings& fs,
+                        const std::vector<std::pair<double, double>>& reach,
+                        std::vector<double>& term)
 {
     expansion_plan plan;
     const int m = fs.n_subcarriers;
     const double dk_per_subcarrier = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
-    std::vector<double> term(reach.size());
+    term.resize(reach.size());
     for (int s = 1; s <= m; ++s) {
         const int len = (m + s - 1) / s;
         // Within a sub-band of len subcarriers, |δk| ≤ (len − 1)/2 · dk.
@@ -160,7 +187,8 @@ expansion_plan plan_for(const frame_settings& fs, const std::vector<std::pair<do
 
 expansion_plan plan_expansion(const frame_settings& fs, double extent_m, double amplitude_sum)
 {
-    return plan_for(fs, { { amplitude_sum, extent_m } });
+    std::vector<double> term;
+    return plan_for(fs, { { amplitude_sum, extent_m } }, term);
 }
 
 expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s)
@@ -168,7 +196,11 @@ expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s)
     // Each scatterer's largest amplitude and reach over the snapshot's instants (a line: its
     // farther end), so the bound is the model's own, at the scatterers this frame has.
     const size_t count = size_t(s.count);
-    std::vector<std::pair<double, double>> reach;
+    // Called per frame: the scratch lists keep their capacity (per thread, as blocks run in
+    // their own threads), so no allocation once they have grown.
+    thread_local std::vector<std::pair<double, double>> reach;
+    thread_local std::vector<double> term;
+    reach.clear();
     for (size_t i = 0; i < s.point_r.size() / count; ++i) {
         double a = 0.0, r = 0.0;
         for (size_t n = 0; n < count; ++n) {
@@ -186,7 +218,7 @@ expansion_plan plan_expansion(const frame_settings& fs, const body_snapshot& s)
         }
         reach.emplace_back(a, r);
     }
-    return plan_for(fs, reach);
+    return plan_for(fs, reach, term);
 }
 
 body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(b)
@@ -317,15 +349,31 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
         // Rotors that turn alike sit on the same hub (the body's reference point): one set of
         // blades with their summed amplitude, the same return.
         const double reach = r->blade_length_m * std::cos(r->elevation_rad);
-        for (const auto& g : d_rotor_groups)
+        // With an even blade count, blade b + K/2 is blade b turned by π: its extent is
+        // exactly −e (cos(θ + π) = −cos θ, written so), and moments() computes the pair once.
+        const int half = r->blades % 2 == 0 ? r->blades / 2 : r->blades;
+        for (const auto& g : d_rotor_groups) {
+            const int first = static_cast<int>(out.line_e.size() / c);
             for (int b = 0; b < r->blades; ++b) {
+                append_constant(out.line_r0, 0.0, count);
+                append_constant(out.line_a, d_elem_a * g.rotors, count);
+                out.line_e.resize(out.line_e.size() + c); // keeps the capacity: written below
+                double* e = out.line_e.data() + size_t(first + b) * c;
+                if (b >= half) {
+                    const double* from = out.line_e.data() + size_t(first + b - half) * c;
+                    for (int n = 0; n < count; ++n)
+                        e[n] = -from[n];
+                    out.line_mirror.resize(size_t(first + b + 1), -1);
+                    out.line_mirror[size_t(first + b - half)] = first + b;
+                    out.line_mirror[size_t(first + b)] = first + b - half;
+                    continue;
+                }
                 turning_angles(t, g.rate_hz, g.phase_rad, two_pi * b / r->blades, out.arg.data(), c);
                 sincos_args(out, count);
-                append_constant(out.line_r0, 0.0, count);
                 for (int n = 0; n < count; ++n)
-                    out.line_e.push_back(reach * out.cs[n]);
-                append_constant(out.line_a, d_elem_a * g.rotors, count);
+                    e[n] = reach * out.cs[n];
             }
+        }
     } else if (const auto* w = std::get_if<wheels_motion>(&d_b.motion)) {
         append_constant(out.point_r, 0.0, count);
         append_constant(out.point_a, d_body_a, count);
@@ -441,27 +489,58 @@ void moments(body_snapshot& s, double kappa_ref, int order)
                           s.im.data(), s.x.data(), s.y.data());
     }
     std::complex<double> e[max_order + 1], line[max_order + 1], shift[max_order + 1];
+    const double* inv = inverse();
+    const size_t terms = size_t(order + 1) * count;
     for (size_t i = 0; i < lines; ++i) {
+        // A line whose mirror image (−e, same amplitude, from the reference) is line j > i:
+        // the mirror's L_q(−e) is conj(L_q(e)) (E_q(−z) = conj E_q(z), (je)^q = conj (−je)^q),
+        // so the pair adds 2 Re L_q, and line j is skipped below: one line integral for two
+        // blades of a rotor with an even blade count.
+        const int mirror = i < s.line_mirror.size() ? s.line_mirror[i] : -1;
+        if (mirror >= 0 && size_t(mirror) < i)
+            continue;
+        const double* ext = s.line_e.data() + i * count;
+        const double* r0 = s.line_r0.data() + i * count;
+        const double* amp = s.line_a.data() + i * count;
         for (size_t n = 0; n < count; ++n)
-            s.arg[n] = kappa_ref * s.line_e[i * count + n];
+            s.arg[n] = kappa_ref * ext[n];
         sincos_batch(s.arg.data(), s.sn.data(), s.cs.data(), count);
+        // E_q(κ e) at every instant: the upward recurrence where it is stable (in one loop over
+        // the instants), line_integrals() where |z| is small.
+        s.e_re.resize(terms);
+        s.e_im.resize(terms);
+        upward_line_integrals(s.arg.data(), s.cs.data(), s.sn.data(), count, order, s.e_re.data(), s.e_im.data(),
+                              s.x.data());
         for (size_t n = 0; n < count; ++n) {
-            // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e); from r0: e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
-            const size_t k = i * count + n;
-            const double ext = s.line_e[k], r0 = s.line_r0[k];
+            if (std::fabs(s.arg[n]) >= std::max(2.0, double(order)))
+                continue;
             line_integrals(s.arg[n], { s.cs[n], -s.sn[n] }, order, e);
-            std::complex<double> c = s.line_a[k];
-            const std::complex<double> step(0.0, -ext);
-            for (int p = 0; p <= order; ++p) {
-                line[p] = c * e[p];
-                c *= step / double(p + 1);
+            for (int q = 0; q <= order; ++q) {
+                s.e_re[size_t(q) * count + n] = e[q].real();
+                s.e_im[size_t(q) * count + n] = e[q].imag();
             }
-            if (r0 != 0.0) {
-                std::complex<double> sh = cis(-kappa_ref * r0);
-                const std::complex<double> shift_step(0.0, -r0);
-                for (int p = 0; p <= order; ++p) {
+        }
+        // From 0 to e: L_q = a (−je)^q / q! · E_q(κ e). A line from the reference (a blade), its
+        // mirror too: added as they are.
+        if (std::all_of(r0, r0 + count, [](double v) { return v == 0.0; })) {
+            add_line_moments(s.e_re.data(), s.e_im.data(), ext, amp, count, order, mirror >= 0, s.re.data(),
+                             s.im.data(), s.x.data());
+            continue;
+        }
+        // From r0 (a wheel's spoke from its hub): e^{−jκ r0} Σ_{p+q=n} (−j r0)^p/p! · L_q.
+        s.l_re.assign(terms, 0.0);
+        s.l_im.assign(terms, 0.0);
+        add_line_moments(s.e_re.data(), s.e_im.data(), ext, amp, count, order, false, s.l_re.data(), s.l_im.data(),
+                         s.x.data());
+        for (size_t n = 0; n < count; ++n) {
+            for (int q = 0; q <= order; ++q)
+                line[q] = { s.l_re[size_t(q) * count + n], s.l_im[size_t(q) * count + n] };
+            if (r0[n] != 0.0) {
+                std::complex<double> sh = cis(-kappa_ref * r0[n]);
+                for (int p = 0; p <= order; ++p) { // sh·(−j r0)/(p+1) = (r0·im − j r0·re)/(p+1)
                     shift[p] = sh;
-                    sh *= shift_step / double(p + 1);
+                    const double f = r0[n] * inv[p + 1];
+                    sh = { sh.imag() * f, -sh.real() * f };
                 }
                 for (int q = order; q >= 0; --q) { // line[q] = Σ_{p ≤ q} shift[p]·line[q − p], in place
                     std::complex<double> sum(0.0, 0.0);

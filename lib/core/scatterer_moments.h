@@ -56,8 +56,14 @@ struct body_snapshot {
     int count = 1;
     std::vector<double> point_r, point_a; // points: displacement, amplitude
     std::vector<double> line_r0, line_e, line_a; // lines from r0 to r0 + e: start, extent, amplitude
+    // Per line (not per instant), optional: the index of the line that is its mirror image
+    // through the reference point at every instant (extent exactly −e, the same amplitude,
+    // both starting at r0 = 0), or −1; moments() computes such a pair once. Shorter than the
+    // lines (or empty): the lines beyond it have no mirror.
+    std::vector<int> line_mirror;
     std::vector<double> arg, sn, cs, x, y; // count values each: phases, their sines and cosines, scratch
     std::vector<double> re, im;            // moments: (order + 1) x count
+    std::vector<double> e_re, e_im, l_re, l_im; // a line's integrals E_p, moments L_p: (order + 1) x count
     void clear()
     {
         point_r.clear();
@@ -65,6 +71,7 @@ struct body_snapshot {
         line_r0.clear();
         line_e.clear();
         line_a.clear();
+        line_mirror.clear();
     }
 };
 

@@ -92,7 +92,74 @@ void point_moments(const double* __restrict r,
     }
 }
 
+SEMS_TARGET_CLONES("avx2", "default")
+void upward(const double* __restrict z, const double* __restrict cs, const double* __restrict sn, size_t n, int order,
+            double* __restrict re, double* __restrict im, double* __restrict w)
+{
+    // Dividing by −jz is a product by j/z: (x + jy)·j/z = (−y + jx)/z, over the instants at once.
+    for (size_t i = 0; i < n; ++i) {
+        w[i] = 1.0 / z[i];
+        re[i] = sn[i] * w[i]; // x + jy = e^{-jz} − 1 = (cs − 1) − j sn
+        im[i] = (cs[i] - 1.0) * w[i];
+    }
+    for (int p = 1; p <= order; ++p) {
+        const double* __restrict pr = re + size_t(p - 1) * n;
+        const double* __restrict pi = im + size_t(p - 1) * n;
+        double* __restrict qr = re + size_t(p) * n;
+        double* __restrict qi = im + size_t(p) * n;
+        for (size_t i = 0; i < n; ++i) {
+            const double x = cs[i] - double(p) * pr[i], y = -sn[i] - double(p) * pi[i];
+            qr[i] = -y * w[i];
+            qi[i] = x * w[i];
+        }
+    }
+}
+
+SEMS_TARGET_CLONES("avx2", "default")
+void line_moments(const double* __restrict e_re, const double* __restrict e_im, const double* __restrict e,
+                  const double* __restrict a, size_t n, int order, bool pair, double* __restrict out_re,
+                  double* __restrict out_im, double* __restrict mag)
+{
+    // a (−je)^q / q! = (−j)^q · mag_q, mag_q = a e^q / q! real: a scaling and a quarter turn of E_q.
+    for (size_t i = 0; i < n; ++i)
+        mag[i] = a[i];
+    for (int q = 0; q <= order; ++q) {
+        const double* __restrict er = e_re + size_t(q) * n;
+        const double* __restrict ei = e_im + size_t(q) * n;
+        double* __restrict o_re = out_re + size_t(q) * n;
+        double* __restrict o_im = out_im + size_t(q) * n;
+        // (−j)^q = 1, −j, −1, j: L = (±vr, ±vi) or (±vi, ∓vr) with v = mag·E
+        const bool swap = (q & 1) != 0;
+        const double s_re = (q & 3) == 0 || (q & 3) == 1 ? 1.0 : -1.0; // sign of L's real part
+        const double s_im = (q & 3) == 0 || (q & 3) == 3 ? 1.0 : -1.0; // sign of L's imaginary part
+        const double inv = 1.0 / double(q + 1);
+        for (size_t i = 0; i < n; ++i) {
+            const double vr = mag[i] * er[i], vi = mag[i] * ei[i];
+            const double lr = s_re * (swap ? vi : vr), li = s_im * (swap ? vr : vi);
+            if (pair) {
+                o_re[i] += 2.0 * lr;
+            } else {
+                o_re[i] += lr;
+                o_im[i] += li;
+            }
+            mag[i] *= e[i] * inv;
+        }
+    }
+}
+
 } // namespace
+
+void upward_line_integrals(const double* z, const double* cs, const double* sn, size_t n, int order, double* re,
+                           double* im, double* w)
+{
+    upward(z, cs, sn, n, order, re, im, w);
+}
+
+void add_line_moments(const double* e_re, const double* e_im, const double* e, const double* a, size_t n, int order,
+                      bool pair, double* out_re, double* out_im, double* mag)
+{
+    line_moments(e_re, e_im, e, a, n, order, pair, out_re, out_im, mag);
+}
 
 void add_point_moments(const double* r, const double* a, const double* cs, const double* sn, size_t n, int order,
                        double* re, double* im, double* x, double* y)
