@@ -35,10 +35,13 @@ case "$frames" in ''|*[!0-9]*|0) echo "demo.sh: --frames must be a positive inte
 if [ "$do_build" -eq 1 ]; then
   "$root/scripts/install_deps.sh"
   # A new tree builds only what the demo runs: the libraries, the Python package and the GRC
-  # blocks, not the C++ tests and the apps (SEMS_BUILD_TESTS / SEMS_BUILD_APPS, scripts/build.sh).
-  # A tree configured before keeps its settings; scripts/test.sh builds everything.
+  # blocks, not the C++ tests and the apps (SEMS_BUILD_TESTS / SEMS_BUILD_APPS, scripts/build.sh),
+  # and compiles the learning library and the core Python extension in batches
+  # (SEMS_UNITY_BUILD: a faster first build). A tree configured before keeps its settings; scripts/test.sh builds
+  # everything.
   if [ ! -f "$build/CMakeCache.txt" ]; then
     export SEMS_BUILD_TESTS="${SEMS_BUILD_TESTS:-OFF}" SEMS_BUILD_APPS="${SEMS_BUILD_APPS:-OFF}"
+    export SEMS_UNITY_BUILD="${SEMS_UNITY_BUILD:-ON}"
   fi
   SEMS_BUILD_DIR="$build" "$root/scripts/build.sh"
 fi
