@@ -12,6 +12,12 @@ export SEMS_SANITIZE="${SEMS_SANITIZE-}"
 if [ -n "$SEMS_SANITIZE" ]; then default_build="$root/build-sanitize"; else default_build="$root/build"; fi
 export SEMS_BUILD_DIR="${SEMS_BUILD_DIR:-$default_build}"
 "$root/scripts/install_deps.sh"
+# A new tree compiles the learning library and the core Python extension in batches, as the
+# demo's does (SEMS_UNITY_BUILD), so the suite also proves that the batches compile (CI's tree
+# is new; scripts/sanitize_thread.sh's tree compiles the same files one by one).
+if [ ! -f "$SEMS_BUILD_DIR/CMakeCache.txt" ]; then
+  export SEMS_UNITY_BUILD="${SEMS_UNITY_BUILD:-ON}"
+fi
 # Everything, also on a tree scripts/demo.sh configured without tests and apps.
 SEMS_BUILD_TESTS=ON SEMS_BUILD_APPS=ON "$root/scripts/build.sh"
 if [[ "$SEMS_SANITIZE" == *address* ]]; then
