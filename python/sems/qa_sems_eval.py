@@ -173,8 +173,8 @@ class qa_sems_eval(gr_unittest.TestCase):
         the pilot budget sweep; plot_kinematic.py draws and tabulates them."""
         e7 = rows(os.path.join(out, "exp7_kinematic.csv"))
         hand = ["SemS decoder (%s pilots)" % p for p in ("doppler", "uniform", "random", "staggered")]
-        ms = ["SemS", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)", "SVM (uniform pilots)",
-              "SVM (doppler pilots)"] + hand
+        ms = ["SemS", "SemS + template bank", "MSE-DL", "Perfect CSI (noiseless)", "Perfect CSI (test SNR)",
+              "SVM (uniform pilots)", "SVM (doppler pilots)"] + hand
         self.assertEqual({r["method"] for r in e7}, set(ms))
         self.assert_per_seed(e7, ms, TRAIN_SEEDS)
         self.assertEqual({r["scenario"] for r in e7}, {"kinematic"})
