@@ -44,14 +44,7 @@ xoshiro128plus(uint32_t& s0, uint32_t& s1, uint32_t& s2, uint32_t& s3)
 constexpr int L = gaussian_generator::lanes;
 constexpr int steps = gaussian_generator::block / L;
 
-// One block in three passes over its samples, each a short loop the compiler vectorises:
-// the uniforms (xoshiro128+, twice per sample: a for the radius, b for the angle), then the
-// radii, then the angles and the samples. The radius and the angle are long chains of
-// dependent products (two polynomials, a square root); in short loops the processor
-// overlaps more samples' chains than in one long loop of everything, which also ran out of
-// vector registers (a block costs 5-10 % less on an AVX2 machine). Every sample is the same
-// function of the same two words as in one loop, so the stream is unchanged
-// (qa_gaussian_generator's stream_is_pinned).
+// One block: `steps` rounds of L lanes, each lane two xoshiro128+ outputs -> one CN(0, 1).
 SEMS_TARGET_CLONES("avx512f", "avx2", "default")
 void generate_block(uint32_t* __restrict s0,
                     uint32_t* __restrict s1,
@@ -59,73 +52,59 @@ void generate_block(uint32_t* __restrict s0,
                     uint32_t* __restrict s3,
                     float* __restrict out)
 {
-    constexpr int n = gaussian_generator::block;
-    alignas(64) uint32_t wa[n], wb[n];
-    alignas(64) float radius[n];
-    for (int step = 0; step < steps; ++step)
+    for (int step = 0; step < steps; ++step) {
+        float* __restrict o = out + 2 * step * L;
         for (int k = 0; k < L; ++k) {
-            wa[step * L + k] = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
-            wb[step * L + k] = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
-        }
-    for (int i = 0; i < n; ++i) {
-        const uint32_t a = wa[i];
-        // u in [2^-32, 1]: 31 random bits, never 0.
-        const float u = static_cast<float>(static_cast<int32_t>(a >> 1)) * 0x1p-31f + 0x1p-32f;
-        // ln u (Cephes logf): u = m·2^e, m in [sqrt(1/2), sqrt(2)).
-        const int32_t bits = __builtin_bit_cast(int32_t, u);
-        const int32_t e0 = ((bits >> 23) & 0xff) - 126;
-        const float m = __builtin_bit_cast(float, (bits & 0x007fffff) | 0x3f000000); // [0.5, 1)
-        const int32_t lt = m < 0.707106781186547524f ? 1 : 0;
-        const float x = lt ? m + m - 1.0f : m - 1.0f;
-        const float fe = static_cast<float>(e0 - lt);
-        const float z = x * x;
-        float p = 7.0376836292e-2f;
-        p = p * x - 1.1514610310e-1f;
-        p = p * x + 1.1676998740e-1f;
-        p = p * x - 1.2420140846e-1f;
-        p = p * x + 1.4249322787e-1f;
-        p = p * x - 1.6668057665e-1f;
-        p = p * x + 2.0000714765e-1f;
-        p = p * x - 2.4999993993e-1f;
-        p = p * x + 3.3333331174e-1f;
-        float y = p * x * z;
-        y += -2.12194440e-4f * fe;
-        y += -0.5f * z;
-        const float ln_u = x + y + 0.693359375f * fe;
-        radius[i] = std::sqrt(std::max(-ln_u, 0.0f)); // |z|² ~ Exp(1)
-    }
-    for (int i = 0; i < n; ++i) {
-        const uint32_t b = wb[i];
-        const float r = radius[i];
-        // Angle: quadrant q from the top 2 bits, offset in [-π/4, π/4) from the next 24.
-        const uint32_t q = b >> 30;
-        const float f = static_cast<float>(static_cast<int32_t>((b >> 6) & 0xffffff)) * 0x1p-24f;
-        const float w = (f - 0.5f) * 1.57079632679489662f;
-        const float w2 = w * w;
-        const float sn = ((-1.9515295891e-4f * w2 + 8.3321608736e-3f) * w2 - 1.6666654611e-1f) * w2 * w + w;
-        const float cs =
-            ((2.443315711809948e-5f * w2 - 1.388731625493765e-3f) * w2 + 4.166664568298827e-2f) * w2 * w2 -
-            0.5f * w2 + 1.0f;
-        // Rotate (cs, sn) by q·π/2: swap on odd q, then flip signs.
-        const bool odd = (q & 1u) != 0;
-        const float re0 = odd ? sn : cs;
-        const float im0 = odd ? cs : sn;
-        const uint32_t re_sign = ((q ^ (q >> 1)) & 1u) << 31;
-        const uint32_t im_sign = (q >> 1) << 31;
-        const float re = __builtin_bit_cast(float, __builtin_bit_cast(uint32_t, re0) ^ re_sign);
-        const float im = __builtin_bit_cast(float, __builtin_bit_cast(uint32_t, im0) ^ im_sign);
-        out[2 * i] = r * re;
-        out[2 * i + 1] = r * im;
-    }
-}
+            // xoshiro128+, twice: a for the radius, b for the angle (upper bits used).
+            const uint32_t a = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
+            const uint32_t b = xoshiro128plus(s0[k], s1[k], s2[k], s3[k]);
 
-// y[i] += sigma · g[i], i < n (floats): add()'s loop, with an AVX2 version (the same bits:
-// one product and one sum per float, no FMA in this file).
-SEMS_TARGET_CLONES("avx2", "default")
-void scaled_add(float* __restrict y, const float* __restrict g, size_t n, float sigma)
-{
-    for (size_t i = 0; i < n; ++i)
-        y[i] += sigma * g[i];
+            // u in [2^-32, 1]: 31 random bits, never 0.
+            const float u = static_cast<float>(static_cast<int32_t>(a >> 1)) * 0x1p-31f + 0x1p-32f;
+            // ln u (Cephes logf): u = m·2^e, m in [sqrt(1/2), sqrt(2)).
+            const int32_t bits = __builtin_bit_cast(int32_t, u);
+            const int32_t e0 = ((bits >> 23) & 0xff) - 126;
+            const float m = __builtin_bit_cast(float, (bits & 0x007fffff) | 0x3f000000); // [0.5, 1)
+            const int32_t lt = m < 0.707106781186547524f ? 1 : 0;
+            const float x = lt ? m + m - 1.0f : m - 1.0f;
+            const float fe = static_cast<float>(e0 - lt);
+            const float z = x * x;
+            float p = 7.0376836292e-2f;
+            p = p * x - 1.1514610310e-1f;
+            p = p * x + 1.1676998740e-1f;
+            p = p * x - 1.2420140846e-1f;
+            p = p * x + 1.4249322787e-1f;
+            p = p * x - 1.6668057665e-1f;
+            p = p * x + 2.0000714765e-1f;
+            p = p * x - 2.4999993993e-1f;
+            p = p * x + 3.3333331174e-1f;
+            float y = p * x * z;
+            y += -2.12194440e-4f * fe;
+            y += -0.5f * z;
+            const float ln_u = x + y + 0.693359375f * fe;
+            const float r = std::sqrt(std::max(-ln_u, 0.0f)); // |z|² ~ Exp(1)
+
+            // Angle: quadrant q from the top 2 bits, offset in [-π/4, π/4) from the next 24.
+            const uint32_t q = b >> 30;
+            const float f = static_cast<float>(static_cast<int32_t>((b >> 6) & 0xffffff)) * 0x1p-24f;
+            const float w = (f - 0.5f) * 1.57079632679489662f;
+            const float w2 = w * w;
+            const float sn = ((-1.9515295891e-4f * w2 + 8.3321608736e-3f) * w2 - 1.6666654611e-1f) * w2 * w + w;
+            const float cs =
+                ((2.443315711809948e-5f * w2 - 1.388731625493765e-3f) * w2 + 4.166664568298827e-2f) * w2 * w2 -
+                0.5f * w2 + 1.0f;
+            // Rotate (cs, sn) by q·π/2: swap on odd q, then flip signs.
+            const bool odd = (q & 1u) != 0;
+            const float re0 = odd ? sn : cs;
+            const float im0 = odd ? cs : sn;
+            const uint32_t re_sign = ((q ^ (q >> 1)) & 1u) << 31;
+            const uint32_t im_sign = (q >> 1) << 31;
+            const float re = __builtin_bit_cast(float, __builtin_bit_cast(uint32_t, re0) ^ re_sign);
+            const float im = __builtin_bit_cast(float, __builtin_bit_cast(uint32_t, im0) ^ im_sign);
+            o[2 * k] = r * re;
+            o[2 * k + 1] = r * im;
+        }
+    }
 }
 
 } // namespace
@@ -160,7 +139,9 @@ void gaussian_generator::add(gr_complex* y, size_t count, float sigma)
         if (d_pos == block)
             refill();
         const size_t n = std::min(count, static_cast<size_t>(block) - d_pos);
-        scaled_add(yf, d_buf + 2 * d_pos, 2 * n, sigma);
+        const float* __restrict g = d_buf + 2 * d_pos;
+        for (size_t i = 0; i < 2 * n; ++i)
+            yf[i] += sigma * g[i];
         yf += 2 * n;
         count -= n;
         d_pos += n;
