@@ -41,6 +41,22 @@ std::vector<cd> random_vector(std::mt19937& rng, int np, double scale = 1.0)
     return v;
 }
 
+// `count` random templates of N_p pilots, labelled 0, 1, ..., n_classes - 1 in turn.
+struct labelled_templates {
+    std::vector<std::vector<cd>> tmpl;
+    std::vector<int> labels;
+    torch::Tensor label_tensor() const { return torch::tensor(std::vector<int64_t>(labels.begin(), labels.end())); }
+};
+labelled_templates cyclic_templates(std::mt19937& rng, int count, int np, int n_classes)
+{
+    labelled_templates out;
+    for (int t = 0; t < count; ++t) {
+        out.tmpl.push_back(random_vector(rng, np));
+        out.labels.push_back(t % n_classes);
+    }
+    return out;
+}
+
 // The class scores of template_bank.h written out: ρ_t = |yᴴt|²/(‖y‖²‖t‖²), β = N_p/(1 - max ρ)
 // (1 - max ρ at least 1e-3), s_c = log mean_{t in c, t != left_out} exp(β ρ_t), normalised over
 // the classes and floored at -30; then log(1 - max ρ + 1e-4).
@@ -154,14 +170,11 @@ public:
     void leave_one_out_equals_a_bank_without_the_frame()
     {
         std::mt19937 rng(11);
-        std::vector<std::vector<cd>> tmpl;
-        std::vector<int> labels;
-        for (int t = 0; t < 9; ++t) {
-            tmpl.push_back(random_vector(rng, np));
-            labels.push_back(t % 3);
-        }
+        const auto bank_frames = cyclic_templates(rng, 9, np, n_classes);
+        const auto& tmpl = bank_frames.tmpl;
+        const auto& labels = bank_frames.labels;
         template_bank_module bank(np, 9, n_classes);
-        const auto row = bank.set(to_tensor(tmpl), torch::tensor(std::vector<int64_t>(labels.begin(), labels.end())));
+        const auto row = bank.set(to_tensor(tmpl), bank_frames.label_tensor());
         const int own = 4; // the frame is template 4 itself (class 1)
         const auto frame = to_tensor({ tmpl[own], tmpl[own] });
         bank.train();
@@ -193,15 +206,12 @@ public:
     void a_template_in_noise_is_found_at_every_gain_and_phase()
     {
         std::mt19937 rng(3);
-        std::vector<std::vector<cd>> tmpl;
-        std::vector<int64_t> labels;
-        for (int t = 0; t < 30; ++t) {
-            tmpl.push_back(random_vector(rng, np));
-            labels.push_back(t % n_classes);
-        }
+        const auto bank_frames = cyclic_templates(rng, 30, np, n_classes);
+        const auto& tmpl = bank_frames.tmpl;
+        const auto& labels = bank_frames.labels;
         template_bank_module bank(np, 30, n_classes);
         bank.eval();
-        bank.set(to_tensor(tmpl), torch::tensor(labels));
+        bank.set(to_tensor(tmpl), bank_frames.label_tensor());
         for (double gain : { 1e-15, 1e-3, 1.0, 1e15 })
             for (int t : { 0, 13, 29 }) {
                 auto y = tmpl[t];
@@ -210,7 +220,7 @@ public:
                     y[k] = gain * (y[k] * std::polar(1.0, 2.0 * t) + n[k]);
                 const auto s = bank.scores(to_tensor({ y }));
                 CPPUNIT_ASSERT(torch::isfinite(s).all().item<bool>());
-                CPPUNIT_ASSERT_EQUAL(labels[t], s[0].slice(0, 0, n_classes).argmax().item<int64_t>());
+                CPPUNIT_ASSERT_EQUAL(int64_t(labels[t]), s[0].slice(0, 0, n_classes).argmax().item<int64_t>());
             }
         // A frame without energy matches nothing: finite, every class alike.
         const auto z = bank.scores(torch::zeros({ 1, 2, np }));
