@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Checks the user documentation against the repository.
 
-    check_docs.py SOURCE_DIR [--build BUILD_DIR] links|commands|wording|selftest
+    check_docs.py SOURCE_DIR [--build BUILD_DIR] links|commands|wording|numbers|selftest
 
 links     every image and link a document gives (README.md, CHANGELOG.md, models/README.md,
           examples/README.md, docs/**/*.md outside docs/results/notes/) resolves to a file or
@@ -20,7 +20,16 @@ wording   the documents above and the comments and messages of the code (lib/, i
           design file outside the repository; every docs/, models/ or examples/ page the
           code names exists.
 
-selftest  runs the three checks on a small made-up repository with known faults.
+numbers   a number stated by hand lives in one document: no decimal number with three or more
+          significant digits (98.87, 0.0255, 61.5) and no digit-grouped integer (15 308) appears
+          in the prose of two of README.md, models/README.md and docs/**/*.md (outside
+          docs/results/notes/ and the generated tables, GENERATED). Code blocks, inline code
+          and software versions (GNU Radio 3.10) are not read; powers of two are sizes, not
+          measurements. Values that two documents state as different facts are listed, with
+          the documents and the reason, in NUMBERS_ALLOWED. Repeats within one document are
+          not reported.
+
+selftest  runs the four checks on a small made-up repository with known faults.
 
 Prints each problem as FILE:LINE: what, then a summary line; exits 1 if any problem was found.
 """
@@ -56,6 +65,40 @@ PROCESS_TALK = [
     (re.compile(r"(?<![\w.\-/])(?=[0-9a-f]{0,39}[a-f])(?=[0-9a-f]{0,39}\d)[0-9a-f]{7,40}(?![\w\-])"), "a commit hash"),
     (re.compile(r"\b" + MONTHS + r" [0-3]?[\dx]\b(?!\s*(?:Hz|dB|m\b|ms|s\b|%))"), "a date"),
 ]
+
+
+# Tables written by a script from a run's CSV or log: they own their numbers, and prose elsewhere
+# links to them. The numbers check reads only the hand-written documents.
+GENERATED = {
+    "docs/results/tables.md",             # apps/plot_results.py (scripts/eval_full.sh)
+    "docs/results/kinematic_tables.md",   # apps/plot_kinematic.py (scripts/eval_kinematic.sh)
+    "docs/results/td_accuracy.md",        # apps/sems_td_accuracy.py
+    "docs/results/scaling_tables.md",     # apps/sems_bench_scaling.py --table
+    "docs/results/radio_sweep_table.md",  # apps/sems_radio_sweep.py --table
+    "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
+    "docs/pareto/pareto.md",              # apps/sems_pareto.py
+    "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
+    "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py
+}
+
+# The same digits in two documents that state two different facts: value -> (documents, why).
+# The check passes while a value occurs only in (a subset of) its documents.
+NUMBERS_ALLOWED = {
+    "10.4": ({"models/README.md", "docs/reference/hardening.md"},
+             "the clutter target's 10.4 dB and delay_single_fast's 10.4 s of training; a soak run's "
+             "10.4 s of system time"),
+    "12.5": ({"docs/guides/radio_front_end.md", "docs/reference/micro_doppler_gallery.md",
+              "docs/reference/walker.md"},
+             "a residual of 12.5 dB; a car's 12.5 m/s; a wavelength of 12.5 mm"),
+    "52.5": ({"docs/guides/radio_front_end.md", "docs/reference/hardening.md"},
+             "a residual of 52.5 dB; 52.5 s of user time"),
+    "98.9": ({"models/README.md", "docs/reference/time_domain.md"},
+             "the Doppler pattern's test accuracy (seed 2026); the classifier on 1000 FD frames"),
+    "312.5": ({"models/README.md", "docs/reference/frame_files.md"},
+              "the 802.11 subcarrier spacing in kHz, a property of the sdr_2g4_20mhz preset"),
+}
+NUMBER = re.compile(r"(?<![\w.,/#])(\d{1,3}(?:[ \u2009\u202f]\d{3})+(?:\.\d+)?|\d+\.\d+)(?![\w.]\d|\w)")
+VERSION_OF = re.compile(r"(?:GNU Radio|LibTorch|PyTorch|Python|python3-torch|Debian|CMake|Doxygen|version)\s*$")
 
 
 DOC_PAGE = re.compile(r"(?<![\w/])((?:docs|models|examples)/[\w/.-]*\w\.md)\b")
@@ -265,6 +308,55 @@ def check_wording(src, problems, skipped):
     return len(files)
 
 
+def significant_digits(value):
+    """3 for 0.0255 and 98.9, 4 for 1.000; an integer's trailing zeros do not count (30 000: 1)."""
+    digits = value.replace(".", "").lstrip("0")
+    return len(digits if "." in value else digits.rstrip("0"))
+
+
+def stated_numbers(text):
+    """(value, line) of every number the prose of a Markdown text states that the numbers
+    check compares: decimals with 3+ significant digits and digit-grouped integers with 3+
+    that are not powers of two; code, inline code, link targets, HTML and versions skipped."""
+    text = re.sub(r"<!--.*?-->", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    prose = []
+    for _, line, code in prose_lines(text):
+        if code:
+            prose.append("")
+            continue
+        line = re.sub(r"`[^`]*`", " ", line)
+        line = re.sub(r"\]\([^)]*\)", "]", line)
+        prose.append(re.sub(r"<[A-Za-z/!][^>]*>", " ", line))  # tags, not "|α|² < 0.02 ... > 0.5"
+    prose = "\n".join(prose)
+    for m in NUMBER.finditer(prose):
+        value = re.sub(r"\s", "", m.group(1))
+        if significant_digits(value) < 3 or VERSION_OF.search(prose[max(0, m.start() - 30):m.start()]):
+            continue
+        if "." not in value and int(value) & (int(value) - 1) == 0:  # 4 096: a size
+            continue
+        yield value, prose.count("\n", 0, m.start()) + 1
+
+
+def check_numbers(src, problems, skipped):
+    docs = [d for d in documents(src)
+            if d not in GENERATED and d not in ("CHANGELOG.md", "examples/README.md")]
+    where = {}  # value -> {doc: first line}
+    for doc in docs:
+        for value, n in stated_numbers(open(os.path.join(src, doc), encoding="utf-8").read()):
+            where.setdefault(value, {}).setdefault(doc, n)
+    for value, places in sorted(where.items()):
+        allowed = NUMBERS_ALLOWED.get(value, (set(), ""))[0]
+        if len(places) > 1 and not set(places) <= allowed:
+            first, *others = sorted(places.items())
+            problems.append(f"{first[0]}:{first[1]}: {value} is also stated by hand in "
+                            + ", ".join(f"{d}:{n}" for d, n in others)
+                            + ": keep it in the document (or generated table) that owns it and link there")
+    for value, (allowed, _) in sorted(NUMBERS_ALLOWED.items()):
+        if len(where.get(value, {})) < 2:
+            skipped.append(f"NUMBERS_ALLOWED['{value}']: no longer in two documents; the entry can go")
+    return len(docs)
+
+
 def selftest():
     """Each check finds what it is there to find, on a small made-up repository."""
     import tempfile
@@ -287,6 +379,18 @@ def selftest():
                     "    bash scripts/absent.sh\n")
         with open(os.path.join(src, "docs", "results", "notes", "old.md"), "w") as f:
             f.write("issue 3 [x](nowhere.md)\n")
+        os.makedirs(os.path.join(src, "models"))
+        os.makedirs(os.path.join(src, "docs", "results"), exist_ok=True)
+        with open(os.path.join(src, "models", "README.md"), "w") as f:
+            f.write("# Bundles\n\nAccuracy **61.5 %** at 10 dB, MAE 0.0255, 0.94 × the CRB, 30 000 frames,\n"
+                    "GNU Radio 3.10, a 4 096-point FFT, 98.9 %.\n\n    sems_train --lr 0.003 --frames 15 308\n")
+        with open(os.path.join(src, "docs", "page.md"), "a") as f:
+            f.write("\nThe bundle reaches 61.5 % ([models](../models/README.md)); GNU Radio\n3.10, 4 096 "
+                    "samples, 30 000 frames, 0.94 of it, `0.0255`, 98.9 %, and\n\n    --lr 0.003\n")
+        with open(os.path.join(src, "docs", "results", "tables.md"), "w") as f:
+            f.write("| SemS | 0.0255 |\n")
+        with open(os.path.join(src, "docs", "guides.md"), "w") as f:
+            f.write("# Guide\n\n15 308 Hz and 0.0255 index\n")
         with open(os.path.join(src, "lib", "a.cc"), "w") as f:
             f.write("// fixed in #27 this session\n#include <x>\n// see docs/gone.md\n")
         expect = {
@@ -294,13 +398,16 @@ def selftest():
             "commands": ["scripts/bad.py --help: exit status 3", "scripts/absent.sh: no such file"],
             "wording": ["README.md:3: an issue number", "lib/a.cc:1: an issue number (#N)",
                         "lib/a.cc:3: names docs/gone.md"],
+            "numbers": ["docs/page.md:5: 61.5 is also stated by hand in models/README.md:3",
+                        "docs/guides.md:3: 0.0255 is also stated by hand in models/README.md:3"],
         }
         failed = 0
         for check, wanted in expect.items():
             problems, skipped = [], []
             {"links": lambda: check_links(src, problems, skipped),
              "commands": lambda: check_commands(src, None, problems, skipped),
-             "wording": lambda: check_wording(src, problems, skipped)}[check]()
+             "wording": lambda: check_wording(src, problems, skipped),
+             "numbers": lambda: check_numbers(src, problems, skipped)}[check]()
             text = "\n".join(problems)
             for w in wanted:
                 if w not in text:
@@ -313,6 +420,9 @@ def selftest():
             if check == "links" and len(problems) != 3:
                 print(f"selftest links: expected 3 problems, got {len(problems)}:\n{text}")
                 failed += 1
+            if check == "numbers" and len(problems) != 3:  # 61.5, 0.0255 and 98.9 (allowed elsewhere only)
+                print(f"selftest numbers: expected 3 problems, got {len(problems)}:\n{text}")
+                failed += 1
         print(f"check_docs selftest: {'failed' if failed else 'passed'}")
         return 1 if failed else 0
 
@@ -320,7 +430,7 @@ def selftest():
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("source", help="the repository's root")
-    ap.add_argument("check", choices=("links", "commands", "wording", "selftest"))
+    ap.add_argument("check", choices=("links", "commands", "wording", "numbers", "selftest"))
     ap.add_argument("--build", help="a build tree, for the built apps and gnuradio.sems")
     a = ap.parse_args()
     src = os.path.abspath(a.source)
@@ -334,6 +444,9 @@ def main():
     elif a.check == "commands":
         n = check_commands(src, build, problems, skipped)
         what = "commands"
+    elif a.check == "numbers":
+        n = check_numbers(src, problems, skipped)
+        what = "documents"
     else:
         n = check_wording(src, problems, skipped)
         what = "files"
