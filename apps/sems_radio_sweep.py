@@ -33,8 +33,8 @@ import os
 import sys
 import time
 
-FIELDS = ["sweep", "value", "snr_db", "task", "bundle", "receiver", "frames", "scored", "metric", "sync_offset",
-          "sync_failures", "seconds"]
+FIELDS = ["sweep", "value", "snr_db", "task", "bundle", "receiver", "seed", "frames", "scored", "metric",
+          "sync_offset", "sync_failures", "seconds"]
 
 # One impairment at a time: (sweep name, axis label, keyword of front_end_settings, values).
 SWEEPS = [
@@ -60,7 +60,7 @@ def bundle_info(name):
 
 
 def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, sync=False, cancel=False, cp=48,
-              skip=0, forgetting=0.9):
+              skip=0, forgetting=0.9, clip=True):
     """Streams `frames` frames; returns (metric, scored, sync offset, sync failures).
     offset: samples of the radio's latency before the first frame; sync: frame_sync finds
     it; skip: samples dropped instead (a latency calibrated beforehand)."""
@@ -104,7 +104,8 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
         rx = fsync
     if cancel:
         frame_len = n * (m + cp)
-        canc = sems.leakage_canceller(window=frame_len, forgetting=forgetting)
+        full_scale = fe.full_scale() if clip and fe.settings.adc_enob is not None else 0.0
+        canc = sems.leakage_canceller(window=frame_len, forgetting=forgetting, clip_level=full_scale)
         ref = blocks.copy(gr.sizeof_gr_complex)  # the transmitted samples, held while frame_sync searches
         ref.set_min_output_buffer(8 * frame_len)
         tb.connect(rx, (canc, 0))
@@ -130,40 +131,56 @@ def measure(args):
     sweeps = QUICK_SWEEPS if args.quick else SWEEPS
     snrs = [20.0] if args.quick else [10.0, 20.0]
     offsets = OFFSETS[:2] if args.quick else OFFSETS
+    seeds = [args.seed + k for k in range(args.seeds)]
 
-    def point(sweep, value, snr, task, receiver, **kw):
+    def point(sweep, value, snr, task, receiver, seed, **kw):
         t0 = time.time()
-        metric, scored, off, fails = run_chain(bundles[task], snr, args.frames, args.seed, **kw)
+        metric, scored, off, fails = run_chain(bundles[task], snr, args.frames, seed, **kw)
         rows.append(dict(sweep=sweep, value=value, snr_db=snr, task=task, bundle=os.path.basename(bundles[task].directory),
-                         receiver=receiver, frames=args.frames, scored=scored, metric=metric, sync_offset=off,
-                         sync_failures=fails, seconds=round(time.time() - t0, 1)))
-        log(f"  {sweep} {value} @ {snr:g} dB, {task} [{receiver}]: {metric:.4f} ({scored} frames, "
+                         receiver=receiver, seed=seed, frames=args.frames, scored=scored, metric=metric,
+                         sync_offset=off, sync_failures=fails, seconds=round(time.time() - t0, 1)))
+        log(f"  seed {seed}: {sweep} {value} @ {snr:g} dB, {task} [{receiver}]: {metric:.4f} ({scored} frames, "
             f"{time.time() - t0:.1f} s)")
 
-    total = len(snrs) * 2 * (3 + len(offsets) + sum(len(v) for _, _, _, v in sweeps))
-    log(f"sems_radio_sweep: {total} points of {args.frames} frames")
-    for snr in snrs:
-        for task in ("classify", "delay"):
-            point("ideal", "", snr, task, "known start")
-            for sweep, _, key, values in sweeps:
-                for v in values:
-                    extra = {"oscillator": "separate"} if key == "cfo_hz" else {}  # a CFO needs two oscillators
-                    point(sweep, v, snr, task, "known start, canceller", settings={key: v, **extra}, cancel=True)
-            for off in offsets:
-                # The radio's latency (off samples before the first frame) is found by
-                # frame_sync on the delay mask's pilots through the same radio, as
-                # sems_sdr_calibrate does once per radio, then dropped before the canceller (the
-                # classifier's one-subcarrier pilots cannot time a frame themselves).
-                found = run_chain(bundles["delay"], snr, 8, args.seed, radio=args.radio, offset=off, sync=True)[2]
-                point("combined", off, snr, task, "frame_sync start, canceller", radio=args.radio, offset=off,
-                      skip=found, cancel=True)
-                rows[-1]["sync_offset"] = found  # what frame_sync found (the true latency is `value`)
-            point("combined_no_canceller", 0, snr, task, "known start", radio=args.radio)
-            # The same radio with a converter of more headroom: full scale at 8x the rms.
-            point("combined_full_scale_8x", offsets[-1], snr, task, "frame_sync start, canceller", radio=args.radio,
-                  settings={"adc_full_scale_rms": 8.0}, offset=offsets[-1],
-                  skip=run_chain(bundles["delay"], snr, 8, args.seed, radio=args.radio, offset=offsets[-1],
-                                 settings={"adc_full_scale_rms": 8.0}, sync=True)[2], cancel=True)
+    def found_offset(snr, seed, offset, settings=None):
+        # The radio's latency (offset samples before the first frame) is found by frame_sync on
+        # the delay mask's pilots through the same radio, as sems_sdr_calibrate does once per
+        # radio, then dropped before the canceller (the classifier's one-subcarrier pilots
+        # cannot time a frame themselves).
+        return run_chain(bundles["delay"], snr, 8, seed, radio=args.radio, offset=offset, settings=settings,
+                         sync=True)[2]
+
+    per_seed = len(snrs) * 2 * (5 + len(offsets) + sum(len(v) for _, _, _, v in sweeps))
+    log(f"sems_radio_sweep: {per_seed * len(seeds)} points of {args.frames} frames ({len(seeds)} seeds)")
+    for seed in seeds:
+        for snr in snrs:
+            for task in ("classify", "delay"):
+                point("ideal", "", snr, task, "known start", seed)
+                for sweep, _, key, values in sweeps:
+                    for v in values:
+                        extra = {"oscillator": "separate"} if key == "cfo_hz" else {}  # a CFO needs two oscillators
+                        point(sweep, v, snr, task, "known start, canceller", seed, settings={key: v, **extra},
+                              cancel=True)
+                for off in offsets:
+                    found = found_offset(snr, seed, off)
+                    point("combined", off, snr, task, "frame_sync start, canceller", seed, radio=args.radio,
+                          offset=off, skip=found, cancel=True)
+                    rows[-1]["sync_offset"] = found  # what frame_sync found (the true latency is `value`)
+                last = offsets[-1]
+                found = found_offset(snr, seed, last)
+                # What the canceller's handling of clipped samples is worth on this radio.
+                point("combined_clipping_not_handled", last, snr, task, "frame_sync start, canceller", seed,
+                      radio=args.radio, offset=last, skip=found, cancel=True, clip=False)
+                # What the oscillator's phase noise on the leakage costs: the same radio without it.
+                point("combined_without_phase_noise", last, snr, task, "frame_sync start, canceller", seed,
+                      radio=args.radio, settings={"phase_noise_dbc_hz": None}, offset=last,
+                      skip=found_offset(snr, seed, last, {"phase_noise_dbc_hz": None}), cancel=True)
+                point("combined_no_canceller", 0, snr, task, "known start", seed, radio=args.radio)
+                # The same radio with a converter of more headroom: full scale at 8x the rms.
+                eight = {"adc_full_scale_rms": 8.0}
+                point("combined_full_scale_8x", last, snr, task, "frame_sync start, canceller", seed,
+                      radio=args.radio, settings=eight, offset=last, skip=found_offset(snr, seed, last, eight),
+                      cancel=True)
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
@@ -176,8 +193,23 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+def mean_over_seeds(rows):
+    """One row per point: the metric's mean over the seeds, and its spread (sample standard
+    deviation over seeds; 0 with one seed) in `spread`."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["sweep"], r["value"], r["receiver"], r["task"], r["snr_db"]), []).append(r)
+    out = []
+    for group in groups.values():
+        values = [float(r["metric"]) for r in group]
+        mean = sum(values) / len(values)
+        spread = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1)) if len(values) > 1 else 0.0
+        out.append(dict(group[0], metric=mean, spread=spread, seeds=len(values)))
+    return out
+
+
 def table(path):
-    rows = read(path)
+    rows = mean_over_seeds(read(path))
     out = ["<!-- generated by apps/sems_radio_sweep.py --table from its radio_sweep.csv: do not edit -->", ""]
     tasks = [("classify", "classifier accuracy", "{:.3f}"), ("delay", "delay MAE (index)", "{:.4f}")]
     snrs = sorted({float(r["snr_db"]) for r in rows})
@@ -204,9 +236,14 @@ def table(path):
                 rel = ""
                 if ref and sweep != "ideal":
                     rel = f" ({v - ref:+.3f})" if task == "classify" else f" ({v / ref:.2f}×)"
-                cells.append(fmt.format(v) + rel)
+                spread = f" ± {fmt.format(r['spread'])}" if r["seeds"] > 1 else ""
+                cells.append(fmt.format(v) + spread + rel)
         out.append(f"| {sweep.replace('_', ' ')} | {value} | {receiver} | " + " | ".join(cells) + " |")
-    out += ["", "In brackets: the classifier's accuracy minus the ideal radio's, the delay MAE as a multiple "
+    seeds = max(r["seeds"] for r in rows)
+    frames = rows[0]["frames"]
+    out += ["", f"Each cell: the mean over {seeds} seeds of {frames} frames each"
+            + (", ± the standard deviation over the seeds" if seeds > 1 else "")
+            + ". In brackets: the classifier's accuracy minus the ideal radio's, the delay MAE as a multiple "
             "of the ideal radio's (same SNR, same frames).", ""]
     print("\n".join(out))
 
@@ -215,7 +252,7 @@ def plot(path, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    rows = read(path)
+    rows = mean_over_seeds(read(path))
     fig, axes = plt.subplots(2, len(SWEEPS), figsize=(3.2 * len(SWEEPS), 6.2), squeeze=False)
     ideal = {(r["task"], float(r["snr_db"])): float(r["metric"]) for r in rows if r["sweep"] == "ideal"}
     for col, (sweep, label, _, _) in enumerate(SWEEPS):
@@ -247,7 +284,8 @@ def main():
                                 formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     p.add_argument("--out", help="directory for radio_sweep.csv")
     p.add_argument("--frames", type=int, default=400, help="frames per point (default 400)")
-    p.add_argument("--seed", type=int, default=7, help="seed of the data, the scene and the radio")
+    p.add_argument("--seed", type=int, default=7, help="seed of the data, the scene and the radio (the first)")
+    p.add_argument("--seeds", type=int, default=1, help="seeds per point: seed, seed + 1, ... (default 1)")
     p.add_argument("--classifier", default="classifier", help="classifier bundle (name or folder)")
     p.add_argument("--delay", default="delay_single", help="delay bundle (name or folder)")
     p.add_argument("--radio", default="", help="radio file of the combined rows "
@@ -265,6 +303,8 @@ def main():
             p.error("give --out (or --table / --plot)")
         if args.frames < 1:
             p.error("--frames must be >= 1")
+        if args.seeds < 1:
+            p.error("--seeds must be >= 1")
         if not args.radio:
             here = os.path.dirname(os.path.abspath(__file__))
             src = os.environ.get("SEMS_SOURCE_DIR", os.path.join(here, ".."))

@@ -8,7 +8,7 @@ namespace gr {
 namespace sems {
 
 leakage_canceller::sptr
-leakage_canceller::make(int taps, int window, double forgetting, bool widely_linear, bool dc)
+leakage_canceller::make(int taps, int window, double forgetting, bool widely_linear, bool dc, double clip_level)
 {
     leakage_canceller_settings s;
     s.taps = taps;
@@ -16,6 +16,7 @@ leakage_canceller::make(int taps, int window, double forgetting, bool widely_lin
     s.forgetting = forgetting;
     s.widely_linear = widely_linear;
     s.dc = dc;
+    s.clip_level = clip_level;
     return gnuradio::make_block_sptr<leakage_canceller_impl>(s); // validated by the core
 }
 

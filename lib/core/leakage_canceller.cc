@@ -3,6 +3,7 @@
 #include <gnuradio/sems/core/leakage_canceller.h>
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,10 @@ void leakage_canceller_settings::validate() const
     if (!(forgetting >= 0.0 && forgetting < 1.0))
         throw std::invalid_argument("leakage_canceller: forgetting must be in [0, 1), got " +
                                     std::to_string(forgetting));
+    if (!(std::isfinite(clip_level) && clip_level >= 0.0))
+        throw std::invalid_argument("leakage_canceller: clip_level (the converter's full scale) must be finite "
+                                    "and >= 0 (0: no clipping handled), got " +
+                                    std::to_string(clip_level));
 }
 
 leakage_fit::leakage_fit(const leakage_canceller_settings& settings) : d_set(settings)
@@ -38,7 +43,27 @@ void leakage_fit::reset()
     d_g.assign(l, gr_complex(0.0f, 0.0f));
     d_c = gr_complex(0.0f, 0.0f);
     d_windows = 0;
+    d_clipped.assign(d_set.clip_level > 0.0 ? size_t(d_set.window) : 0, 0);
 }
+
+void leakage_fit::mark_clipped(const gr_complex* rx)
+{
+    // A rail at full scale, compared in float as the stream carries it (a relative margin of
+    // a few float steps, so a full scale given in double still matches its float copy).
+    const float level = float(d_set.clip_level) * (1.0f - 1e-6f);
+    for (size_t n = 0; n < d_clipped.size(); ++n)
+        d_clipped[n] = (unsigned char)((std::abs(rx[n].real()) >= level ? 1 : 0) |
+                                       (std::abs(rx[n].imag()) >= level ? 2 : 0));
+}
+
+namespace {
+// The residual a clipped rail can still vouch for: at +full scale the echo is at least the
+// residual, so a negative residual is the leakage's lost overshoot and becomes 0.
+float bounded_residual(float received, float residual)
+{
+    return received > 0.0f ? std::max(residual, 0.0f) : std::min(residual, 0.0f);
+}
+} // namespace
 
 // φ = [tx[n] .. tx[n−L+1], conj(tx[n]) .. conj(tx[n−L+1]), 1] (parts as configured)
 void leakage_fit::regressors(size_t n, std::complex<double>* phi) const
@@ -66,8 +91,13 @@ void leakage_fit::process(const gr_complex* rx, const gr_complex* tx, gr_complex
         v *= lambda;
     for (auto& v : d_p)
         v *= lambda;
+    const bool clipping = d_set.clip_level > 0.0;
+    if (clipping)
+        mark_clipped(rx);
     std::vector<std::complex<double>> phi(k);
     for (size_t n = 0; n < w; ++n) {
+        if (clipping && d_clipped[n])
+            continue; // a clipped sample is not the model's: left out of the fit
         regressors(n, phi.data());
         const std::complex<double> y(rx[n]);
         for (size_t i = 0; i < k; ++i) {
@@ -111,7 +141,14 @@ void leakage_fit::process(const gr_complex* rx, const gr_complex* tx, gr_complex
         std::complex<double> fit(0.0, 0.0);
         for (size_t j = 0; j < k; ++j)
             fit += coef(Eigen::Index(j)) * phi[j];
-        out[n] = rx[n] - gr_complex(fit);
+        gr_complex residual = rx[n] - gr_complex(fit);
+        if (clipping && d_clipped[n]) {
+            if (d_clipped[n] & 1)
+                residual.real(bounded_residual(rx[n].real(), residual.real()));
+            if (d_clipped[n] & 2)
+                residual.imag(bounded_residual(rx[n].imag(), residual.imag()));
+        }
+        out[n] = residual;
     }
     // Keep the last L − 1 transmitted samples for the next window.
     std::copy(d_hist.end() - std::ptrdiff_t(l - 1), d_hist.end(), d_hist.begin());

@@ -3,7 +3,9 @@
  * image and DC is cancelled by >= 60 dB; an echo delayed past the taps passes within 0.1 dB;
  * with noise the fit's error is the least-squares closed form σ²·K/W (and its steady state
  * with forgetting); what is not modelled (the image with widely_linear off) is left; bad
- * settings are refused by name. */
+ * settings are refused by name; a converter clipping the leakage costs the echo tens of dB
+ * unless the canceller is given its full scale, which bounds each clipped rail's error by the
+ * echo's own value there. */
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/core/leakage_canceller.h>
 #include <cppunit/TestAssert.h>
@@ -62,6 +64,8 @@ class qa_leakage_canceller : public CppUnit::TestFixture
     CPPUNIT_TEST(test_echo_past_the_taps_passes);
     CPPUNIT_TEST(test_residual_is_the_least_squares_closed_form);
     CPPUNIT_TEST(test_unmodelled_image_is_left);
+    CPPUNIT_TEST(test_clipped_leakage_bounded_by_the_echo);
+    CPPUNIT_TEST(test_clip_level_above_the_stream_changes_nothing);
     CPPUNIT_TEST(test_bad_settings_refused_by_name);
     CPPUNIT_TEST_SUITE_END();
 
@@ -183,8 +187,83 @@ class qa_leakage_canceller : public CppUnit::TestFixture
             CPPUNIT_ASSERT_EQUAL(gr_complex(0.0f, 0.0f), g);
     }
 
+    // Leakage 40 dB over a unit echo 20 samples behind, each rail clipped at `full_scale`:
+    // returns {received, echo, out} with the canceller given `clip_level`.
+    struct clipped_run {
+        std::vector<gr_complex> rx, echo, out;
+    };
+    static clipped_run run_clipped(float full_scale, double clip_level)
+    {
+        stream s(7);
+        leakage_canceller_settings set; // L = 4, W = 2560, λ = 0.9
+        set.clip_level = clip_level;
+        leakage_fit lc(set);
+        const leakage lk(4, s);
+        const size_t w = size_t(set.window);
+        std::vector<gr_complex> tx(20 * w);
+        for (auto& v : tx)
+            v = s.cn();
+        clipped_run r{ std::vector<gr_complex>(tx.size()), std::vector<gr_complex>(tx.size()),
+                       std::vector<gr_complex>(tx.size()) };
+        auto clip = [full_scale](float v) { return std::max(-full_scale, std::min(full_scale, v)); };
+        for (size_t n = 0; n < tx.size(); ++n) {
+            r.echo[n] = n >= 20 ? gr_complex(0.6f, -0.8f) * tx[n - 20] : gr_complex(0.0f, 0.0f);
+            const gr_complex y = lk.at(tx, n) + r.echo[n];
+            r.rx[n] = gr_complex(clip(y.real()), clip(y.imag()));
+        }
+        for (size_t k = 0; k + w <= tx.size(); k += w)
+            lc.process(r.rx.data() + k, tx.data() + k, r.out.data() + k);
+        return r;
+    }
+
+    void test_clipped_leakage_bounded_by_the_echo()
+    {
+        // The leakage's rails have rms ~ 100·(1 + 1/4 + 1/9 + 1/16)^½/√2 ≈ 83: full scale
+        // at 200 clips about 0.5 % of the rails, where the leakage peaks.
+        const float full_scale = 200.0f;
+        const auto raw = run_clipped(full_scale, 0.0);
+        const auto handled = run_clipped(full_scale, full_scale);
+        const size_t w = size_t(leakage_canceller_settings{}.window);
+        std::vector<gr_complex> err_raw(raw.rx.size()), err(raw.rx.size());
+        size_t clipped = 0;
+        for (size_t n = 0; n < raw.rx.size(); ++n) {
+            err_raw[n] = raw.out[n] - raw.echo[n];
+            err[n] = handled.out[n] - handled.echo[n];
+            const float rails[2][3] = { { handled.rx[n].real(), err[n].real(), handled.echo[n].real() },
+                                        { handled.rx[n].imag(), err[n].imag(), handled.echo[n].imag() } };
+            for (const auto& r : rails)
+                if (std::abs(r[0]) >= full_scale && n >= w) {
+                    ++clipped; // what a clipped rail keeps of the echo: never more error than the echo itself
+                    CPPUNIT_ASSERT_MESSAGE("clipped rail at sample " + std::to_string(n) + ": error " +
+                                               std::to_string(r[1]) + " against the echo's " + std::to_string(r[2]),
+                                           std::abs(r[1]) <= std::abs(r[2]) + 0.1f);
+                }
+        }
+        CPPUNIT_ASSERT_MESSAGE("only " + std::to_string(clipped) + " clipped rails", clipped > 100);
+        const double echo = power(raw.echo, w, raw.echo.size());
+        const double db_raw = 10.0 * std::log10(power(err_raw, w, err_raw.size()) / echo);
+        const double db = 10.0 * std::log10(power(err, w, err.size()) / echo);
+        CPPUNIT_ASSERT_MESSAGE("unhandled clipping left only " + std::to_string(db_raw) + " dB against the echo",
+                               db_raw > 0.0);
+        CPPUNIT_ASSERT_MESSAGE("with the full scale given, the error is " + std::to_string(db) +
+                                   " dB against the echo",
+                               db < -20.0);
+    }
+
+    void test_clip_level_above_the_stream_changes_nothing()
+    {
+        const auto plain = run_clipped(1e9f, 0.0);
+        const auto given = run_clipped(1e9f, 1e6); // above every sample: nothing is clipped
+        CPPUNIT_ASSERT(plain.out == given.out);
+    }
+
     void test_bad_settings_refused_by_name()
     {
+        for (double level : { -1.0, std::nan(""), HUGE_VAL }) {
+            leakage_canceller_settings set;
+            set.clip_level = level;
+            assert_error([&] { leakage_fit lc(set); }, "clip_level", "full scale");
+        }
         auto make = [](int taps, int window, double lambda) {
             leakage_canceller_settings set;
             set.taps = taps;

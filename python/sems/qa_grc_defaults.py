@@ -125,7 +125,7 @@ def cxx_defaults():
         "sems_cfo_corrector": {name: bound_default(sems.cfo_corrector, name)
                                for name in ("n_subcarriers", "cp_len", "symbols", "forgetting", "snr_db")},
         "sems_leakage_canceller": {name: bound_default(sems.leakage_canceller, name)
-                                   for name in ("taps", "window", "forgetting", "widely_linear", "dc")},
+                                   for name in ("taps", "window", "forgetting", "widely_linear", "dc", "clip_level")},
         "sems_range_doppler_map": rd_map,
         "sems_tag_file_sink": tag_files["tag_file_sink"],
         "sems_tag_file_replay": tag_files["tag_file_replay"],

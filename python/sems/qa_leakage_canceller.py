@@ -82,10 +82,32 @@ class qa_leakage_canceller(gr_unittest.TestCase):
 
     def test_003_bad_parameters_refused_by_name(self):
         for kw, name in (({"taps": 0}, "taps"), ({"taps": 65}, "taps"), ({"window": 8}, "window"),
-                         ({"forgetting": 1.0}, "forgetting"), ({"forgetting": -0.5}, "forgetting")):
+                         ({"forgetting": 1.0}, "forgetting"), ({"forgetting": -0.5}, "forgetting"),
+                         ({"clip_level": -1.0}, "clip_level"), ({"clip_level": float("inf")}, "clip_level")):
             with self.subTest(**kw):
                 with self.assertRaisesRegex(ValueError, name):
                     sems.leakage_canceller(**kw)
+
+    def test_003b_clipped_leakage_with_the_full_scale_given(self):
+        # The leakage 40 dB over an echo 30 samples behind, each rail clipped at 3x its rms
+        # (about 0.3 % of the rails): the clipped overshoot lands on the output unless the
+        # block is told the converter's full scale; then what is left is at most the echo's own
+        # value on the clipped rails, >= 20 dB under the echo.
+        rng = np.random.default_rng(5)
+        h = cn(rng, 4, 1e4 / 4)
+        tx = cn(rng, 12 * W)
+        echo = np.zeros_like(tx)
+        echo[30:] = (0.6 - 0.8j) * tx[:-30]
+        clean = leak(tx, h, 0 * h, 0) + echo
+        fs = np.float32(3.0 * np.sqrt(np.mean(np.abs(clean) ** 2) / 2))
+        rx = (np.clip(clean.real, -fs, fs) + 1j * np.clip(clean.imag, -fs, fs)).astype(np.complex64)
+        self.assertGreater(np.mean(np.abs(rx.real) >= fs), 0.001)
+        errors = {}
+        for level in (0.0, float(fs)):
+            _, y, _ = cancel(rx, tx, clip_level=level)
+            errors[level] = 10 * np.log10(np.mean(np.abs(y[W:] - echo[W:]) ** 2) / np.mean(np.abs(echo[W:]) ** 2))
+        self.assertGreater(errors[0.0], 0.0)
+        self.assertLess(errors[float(fs)], -20.0)
 
     def test_004_echo_channel_through_the_receiver_chain(self):
         # 24 frames of the delay mask through ofdm_tx and target_channel_td (a car at 60 m,

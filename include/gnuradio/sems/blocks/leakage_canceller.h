@@ -64,6 +64,10 @@ public:
      * \param forgetting    λ in [0, 1), weight of the previous windows' fit
      * \param widely_linear fit the IQ image (conj(tx) taps) too
      * \param dc            fit a DC offset too
+     * \param clip_level    the converter's full scale per rail in the stream's units (the
+     *                      largest |I| or |Q| it outputs); clipped samples are left out of
+     *                      the fit and their residual bounded (core leakage_canceller.h).
+     *                      0: no clipping handled
      * \return the block.
      * \throws std::invalid_argument naming the parameter.
      */
@@ -71,7 +75,8 @@ public:
                      int window = leakage_canceller_settings{}.window,
                      double forgetting = leakage_canceller_settings{}.forgetting,
                      bool widely_linear = leakage_canceller_settings{}.widely_linear,
-                     bool dc = leakage_canceller_settings{}.dc);
+                     bool dc = leakage_canceller_settings{}.dc,
+                     double clip_level = leakage_canceller_settings{}.clip_level);
 
     //! \brief h_0 .. h_{L−1} of the last fit. \return L taps.
     virtual std::vector<gr_complex> taps() const = 0;

@@ -30,6 +30,16 @@
  * longer delay spread than L samples, or that changes within the window (a drifting
  * oscillator, a nonlinear amplifier), is left in part. tx and rx must be sample-aligned (the
  * radio's fixed TX-to-RX latency removed upstream).
+ *
+ * Clipped samples. When the converter clips, it clips where the leakage peaks, and a clipped
+ * rail has lost the leakage's overshoot beyond full scale: subtracting the fit there leaves
+ * an error of the leakage's size, tens of dB above the echo, in one sample that the receiver's
+ * FFT spreads over every subcarrier of its symbol. Given the converter's full scale (the
+ * largest magnitude a rail takes), the canceller leaves clipped samples out of the fit and
+ * bounds their residual by what the clipped rail still says: a rail at +full scale only says
+ * that the echo there is at least full scale minus the fitted leakage, so the residual is
+ * kept when positive and set to 0 otherwise (mirrored at −full scale). The clipped rail's
+ * error then falls from the leakage's overshoot to at most the echo's own size.
  */
 #ifndef INCLUDED_SEMS_CORE_LEAKAGE_CANCELLER_H
 #define INCLUDED_SEMS_CORE_LEAKAGE_CANCELLER_H
@@ -51,6 +61,9 @@ struct SEMS_API leakage_canceller_settings {
     double forgetting = 0.9;    //!< λ in [0, 1): weight of the previous windows' fit
     bool widely_linear = true;  //!< fit the IQ image (conj(tx) taps) too
     bool dc = true;             //!< fit a DC offset too
+    //! The converter's full scale per rail in the stream's units (the largest |I| or |Q| it
+    //! outputs, e.g. 32767/32768 for UHD's sc16 samples as fc32); 0: no clipping handled
+    double clip_level = 0.0;
 
     //! \brief Refuses bad values. \throws std::invalid_argument naming the parameter.
     void validate() const;
@@ -104,7 +117,10 @@ private:
     gr_complex d_c{ 0.0f, 0.0f };
     unsigned long long d_windows = 0;
 
+    std::vector<unsigned char> d_clipped;        // per window sample: bit 0 I, bit 1 Q at full scale
+
     void regressors(size_t n, std::complex<double>* phi) const; // φ at window sample n
+    void mark_clipped(const gr_complex* rx);                    // fills d_clipped (clip_level > 0)
 };
 
 } // namespace sems

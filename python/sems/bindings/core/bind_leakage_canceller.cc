@@ -22,6 +22,7 @@ void bind_leakage_canceller(py::module& m)
              py::arg("forgetting") = defaults.forgetting,
              py::arg("widely_linear") = defaults.widely_linear,
              py::arg("dc") = defaults.dc,
+             py::arg("clip_level") = defaults.clip_level,
              D(leakage_canceller, make))
         .def("taps", &leakage_canceller::taps, D(leakage_canceller, taps))
         .def("image_taps", &leakage_canceller::image_taps, D(leakage_canceller, image_taps))
