@@ -17,9 +17,12 @@ namespace sems {
  * exceeds the trim threshold; the next call then page-faults it in again. Measured on this
  * project's decoders and trainer (docs/PERFORMANCE.md, "The allocator"): the page faults
  * made inference 3-28x and training 2.4-3.7x slower. Raising both thresholds (mmap at
- * 32 MiB, glibc's maximum; trim at 128 MiB) and the top pad (64 MiB: a block thread's arena
+ * 32 MiB, glibc's maximum; trim at 1 GiB) and the top pad (64 MiB: a block thread's arena
  * keeps an emptied heap instead of unmapping it) keeps the working set in the heap:
  * resident memory stays at the peak working set instead of being returned between calls.
+ * Tensors above 32 MiB (a batch of large frames: 256 frames of 14 x 4 096 complex values
+ * are 117 MB) would still be mapped per call, so mmap is switched off for the heap
+ * (M_MMAP_MAX 0; a block thread's arena still maps what exceeds its 64 MiB heaps).
  * Fast bins are switched off (M_MXFAST 0): with large blocks freed into the heap, glibc
  * consolidated them on every such free, which halved small decoders' batch-1 speed.
  *
@@ -30,8 +33,8 @@ namespace sems {
  * .top_pad; MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, MALLOC_TOP_PAD_), with
  * SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
  *
- * \return what was done, for logs: "mmap threshold 32 MiB, trim threshold 128 MiB, top pad
- *         64 MiB, no fast bins" or why not.
+ * \return what was done, for logs: "mmap threshold 32 MiB and no mmap in the heap, trim
+ *         threshold 1 GiB, top pad 64 MiB, no fast bins" or why not.
  */
 std::string tune_malloc_for_tensors();
 

@@ -2,11 +2,15 @@
 /* gr-sems: the allocator keeps freed tensor memory (malloc_tuning.h). Not a timing test:
  * it counts the page faults of repeated decodes in a thread of its own (a GNU Radio block
  * thread has its own malloc arena). With glibc's defaults each batch-256 call of the
- * accurate delay decoder faulted its temporaries in again (~25 000 faults per call). */
+ * accurate delay decoder faulted its temporaries in again (~25 000 faults per call). Tensors
+ * above glibc's largest mmap threshold (32 MiB: a training batch of large frames) are taken
+ * from the heap, not mapped per call, in the main thread and in a thread of its own. */
 #include "learning/malloc_tuning.h"
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
+#include <torch/torch.h>
+#include <malloc.h>
 #include <sys/resource.h>
 #include <cmath>
 #include <cstdlib>
@@ -45,6 +49,7 @@ class qa_malloc_tuning : public CppUnit::TestFixture
 {
     CPPUNIT_TEST_SUITE(qa_malloc_tuning);
     CPPUNIT_TEST(decodes_reuse_their_memory);
+    CPPUNIT_TEST(large_tensors_stay_in_the_heap);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -82,6 +87,44 @@ public:
         // given back to the kernel between calls costs ~26 000 per call (132 176 for these 5).
         CPPUNIT_ASSERT(faults >= 0);
         CPPUNIT_ASSERT(faults < 10000);
+    }
+
+    // Bytes glibc holds in chunks of their own mapping (not in a heap) while a tensor of
+    // `mib` MiB lives, beyond those held before it.
+    static long long mapped_for_tensor(int64_t mib)
+    {
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+        const auto before = static_cast<long long>(::mallinfo2().hblkhd);
+        const auto t = torch::ones({ mib << 18 });
+        const auto during = static_cast<long long>(::mallinfo2().hblkhd);
+        CPPUNIT_ASSERT_EQUAL(float(mib << 18), t.sum().item<float>());
+        return during - before;
+#else
+        (void)mib;
+        return 0;
+#endif
+    }
+
+    void large_tensors_stay_in_the_heap()
+    {
+        const std::string state = tune_malloc_for_tensors();
+        if (state.rfind("mmap threshold", 0) != 0) {
+            // Not glibc's allocator tuned (the user's own settings, or AddressSanitizer's
+            // allocator with the tensor cache, which decodes_reuse_their_memory checks).
+            std::cerr << "qa_malloc_tuning: " << state << " (placement not checked)\n";
+            return;
+        }
+        torch::NoGradGuard no_grad;
+        // Above glibc's largest mmap threshold (32 MiB), a tensor would be mapped and unmapped
+        // per call, every page faulted in again: 96 MiB in the main thread (the trainer's),
+        // 48 MiB in a thread of its own (a sink's block thread; its arena grows in heaps of
+        // 64 MiB, so larger blocks are mapped there whatever the tuning).
+        const long long main_mapped = mapped_for_tensor(96);
+        long long thread_mapped = -1;
+        std::thread worker([&] { thread_mapped = mapped_for_tensor(48); });
+        worker.join();
+        CPPUNIT_ASSERT_EQUAL_MESSAGE("a 96 MiB tensor mapped on its own", 0LL, main_mapped);
+        CPPUNIT_ASSERT_EQUAL_MESSAGE("a 48 MiB tensor in a thread mapped on its own", 0LL, thread_mapped);
     }
 };
 
