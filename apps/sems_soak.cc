@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems soak test: streams many frames through
- *   pilot_mapper (pilot-only frames) -> gate -> target_channel -> pilot_extractor x2
+ *   ones -> pilot_mapper (the delay mask) -> gate -> target_channel -> pilot_extractor x2
  *     -> classifier_sink, delay_estimator_sink
  * prints the heap in use and the resident memory every --report frames and the frame
  * accounting at the end, and fails (exit 1) unless
@@ -10,8 +10,11 @@
  *   - frames in = frames out + counted drops/skips at every stage:
  *       mapper frames = extractor frames_out + dropped_partial + skipped_nonfinite,
  *       sink frames   = extractor frames_out = scored + skipped (every frame has a truth).
- * The mapper sends pilot-only frames (N_p = N*M), so each extractor can take its own
- * bundle's mask out of the same stream.
+ * The mapper places the delay bundle's pilots with their values (its mask's Newman phases)
+ * and 1 on every other resource element, which are the classifier's unit pilots: each
+ * extractor takes its own bundle's mask out of the same stream, and each sink sees the
+ * pilots it was trained on (on the one element the two masks may share, the classifier
+ * sees a delay pilot's phase). Both sinks' scores are therefore the bundles' own accuracy.
  *
  * Resident memory is read at a quiet point of the one continuous stream: at each report
  * the gate (a head whose budget the main thread raises) holds the next frames back until
@@ -30,6 +33,7 @@
 #include <gnuradio/sems/learning/classifier_sink.h>
 #include <gnuradio/sems/learning/delay_estimator_sink.h>
 #include <gnuradio/sems/learning/model_bundle.h>
+#include <gnuradio/blocks/vector_source.h>
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sync_block.h>
 #include <gnuradio/top_block.h>
@@ -57,7 +61,6 @@ extern "C" size_t __sanitizer_get_current_allocated_bytes(void);
 #include <cstring>
 #include <fstream>
 #include <iostream>
-#include <numeric>
 #include <string>
 #include <thread>
 #include <unistd.h>
@@ -179,10 +182,9 @@ int main(int argc, char** argv)
         return 2;
     }
     const frame_settings fs = cls.frame;
-    std::vector<int> all(static_cast<size_t>(fs.grid_size()));
-    std::iota(all.begin(), all.end(), 0);
-
-    auto mapper = pilot_mapper::make("", all, fs.n_symbols, fs.n_subcarriers);
+    // Data symbols 1 around the delay bundle's pilots (see the file comment).
+    auto ones = gr::blocks::vector_source_c::make(std::vector<gr_complex>{ gr_complex(1.0f, 0.0f) }, true);
+    auto mapper = pilot_mapper::make(dly.directory + "/" + dly.mask_name, {}, fs.n_symbols, fs.n_subcarriers);
     auto gate_ = gnuradio::make_block_sptr<gate>(sizeof(gr_complex) * fs.n_subcarriers, n_frames * fs.n_symbols);
     auto channel = target_channel::make("", {}, 1, 1, true, "approaching", 0, 0.0, snr_db, 1234, fs.n_symbols, fs.n_subcarriers,
                                         fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s);
@@ -193,6 +195,7 @@ int main(int argc, char** argv)
         delay_estimator_sink::make(dly.directory, dly.mask.size(), batch, 1, 0, fs.n_symbols, fs.n_subcarriers);
 
     auto tb = gr::make_top_block("sems_soak");
+    tb->connect(ones, 0, mapper, 0);
     tb->connect(mapper, 0, gate_, 0);
     tb->connect(gate_, 0, channel, 0);
     tb->connect(channel, 0, ex_c, 0);
