@@ -259,12 +259,15 @@ def plot(path, png):
         for row, (task, ylabel) in enumerate((("classify", "classifier accuracy"), ("delay", "delay MAE (index)"))):
             ax = axes[row][col]
             for snr, colour in ((10.0, "tab:blue"), (20.0, "tab:red")):
-                pts = sorted((float(r["value"]), float(r["metric"])) for r in rows
+                pts = sorted((float(r["value"]), float(r["metric"]), float(r["spread"])) for r in rows
                              if r["sweep"] == sweep and r["task"] == task and float(r["snr_db"]) == snr)
                 if pts:
-                    ax.plot(*zip(*pts), "o-", color=colour, label=f"{snr:g} dB")
+                    x, y, e = zip(*pts)  # the bars: the standard deviation over the seeds
+                    ax.errorbar(x, y, yerr=e, fmt="o-", color=colour, capsize=3, label=f"{snr:g} dB")
                 if (task, snr) in ideal:
                     ax.axhline(ideal[(task, snr)], color=colour, ls="--", lw=0.8)
+            if row == 0:  # one scale for every panel: a point of accuracy looks the same everywhere
+                ax.set_ylim(0.96, 1.002)
             if row == 1:
                 ax.set_xlabel(label, fontsize=8)
                 ax.set_yscale("log")
@@ -272,7 +275,7 @@ def plot(path, png):
                 ax.set_ylabel(ylabel)
             ax.tick_params(labelsize=7)
             if row == 0 and col == 0:
-                ax.legend(fontsize=7, title="SNR (dashed: ideal radio)", title_fontsize=7)
+                ax.legend(fontsize=7, title="SNR (dashed: ideal radio;\nbars: spread over seeds)", title_fontsize=7)
     fig.suptitle("Shipped bundles through an SDR front end, one impairment at a time (leakage canceller on)",
                  fontsize=10)
     fig.tight_layout()
