@@ -73,8 +73,21 @@ data_set draw_data(const training_settings& s, const scene& sc)
     const auto& fs = s.frame;
     const int64_t count = s.frames, n = fs.n_symbols, m = fs.n_subcarriers;
     channel_model model(fs, sc, s.seed);
-    std::vector<gr_complex> h(static_cast<size_t>(count * n * m));
-    const auto truths = model.generate(count, h.data(), 0);
+    // count x N x M complex -> count x 2 x N x M (real, imag), drawn in chunks of consecutive
+    // frames (the same frames as one call: the model draws frame after frame) so the set is
+    // held once, not twice: 30 000 NR-sized frames (14 x 4 096) are 13.8 GB.
+    auto all = torch::empty({ count, 2, n, m }, torch::kFloat);
+    const int64_t chunk = std::max<int64_t>(1, std::min<int64_t>(count, (int64_t(64) << 20) / (n * m * 8)));
+    std::vector<gr_complex> h(static_cast<size_t>(chunk * n * m));
+    std::vector<frame_truth> truths;
+    truths.reserve(static_cast<size_t>(count));
+    for (int64_t first = 0; first < count; first += chunk) {
+        const int64_t k = std::min(chunk, count - first);
+        const auto part = model.generate(static_cast<size_t>(k), h.data(), static_cast<uint64_t>(first));
+        truths.insert(truths.end(), part.begin(), part.end());
+        all.slice(0, first, first + k)
+            .copy_(torch::from_blob(h.data(), { k, n, m, 2 }, torch::kFloat).permute({ 0, 3, 1, 2 }));
+    }
 
     data_set d;
     const auto classes = sc.label_classes();
@@ -95,8 +108,6 @@ data_set draw_data(const training_settings& s, const scene& sc)
         d.delay_min = std::min(d.delay_min, t.delay_index);
         d.delay_max = std::max(d.delay_max, t.delay_index);
     }
-    // count x N x M complex -> count x 2 x N x M (real, imag)
-    auto all = torch::from_blob(h.data(), { count, n, m, 2 }, torch::kFloat).permute({ 0, 3, 1, 2 }).contiguous();
     const int64_t n_train = count * 8 / 10, n_val = count / 10;
     d.train = slice(all, label, delay, 0, n_train);
     d.val = slice(all, label, delay, n_train, n_train + n_val);
