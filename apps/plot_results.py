@@ -154,7 +154,8 @@ _COLOURS = {}
 
 
 def colour(method, mask=""):
-    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"] + ["#393b79", "#8c6d31", "#843c39", "#7b4173"]
+    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"] + ["#393b79", "#8c6d31", "#843c39", "#7b4173",
+                                                               "#637939", "#3182bd", "#e6550d", "#31a354"]
     return _COLOURS.setdefault((method, mask), palette[len(_COLOURS) % len(palette)])
 
 
