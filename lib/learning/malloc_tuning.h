@@ -17,9 +17,8 @@ namespace sems {
  * exceeds the trim threshold; the next call then page-faults it in again. Measured on this
  * project's decoders and trainer (docs/PERFORMANCE.md, "The allocator"): the page faults
  * made inference 3-28x and training 2.4-3.7x slower. Raising both thresholds (mmap at
- * 32 MiB, glibc's maximum; trim at 2 GiB, the most mallopt takes) and the top pad (64 MiB:
- * a block thread's arena keeps an emptied heap instead of unmapping it) keeps the working
- * set in the heap:
+ * 32 MiB, glibc's maximum; trim at 1 GiB) and the top pad (64 MiB: a block thread's arena
+ * keeps an emptied heap instead of unmapping it) keeps the working set in the heap:
  * resident memory stays at the peak working set instead of being returned between calls.
  * Tensors above 32 MiB (a batch of large frames: 256 frames of 14 x 4 096 complex values
  * are 117 MB) would still be mapped per call, so mmap is switched off for the heap
@@ -35,7 +34,7 @@ namespace sems {
  * SEMS_MALLOC_TUNING=0, or with a C library other than glibc.
  *
  * \return what was done, for logs: "mmap threshold 32 MiB and no mmap in the heap, trim
- *         threshold 2 GiB, top pad 64 MiB, no fast bins" or why not.
+ *         threshold 1 GiB, top pad 64 MiB, no fast bins" or why not.
  */
 std::string tune_malloc_for_tensors();
 
