@@ -30,6 +30,7 @@ import csv
 import json
 import math
 import os
+import statistics
 import sys
 import time
 
@@ -202,9 +203,8 @@ def mean_over_seeds(rows):
     out = []
     for group in groups.values():
         values = [float(r["metric"]) for r in group]
-        mean = sum(values) / len(values)
-        spread = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1)) if len(values) > 1 else 0.0
-        out.append(dict(group[0], metric=mean, spread=spread, seeds=len(values)))
+        spread = statistics.stdev(values) if len(values) > 1 else 0.0
+        out.append(dict(group[0], metric=statistics.fmean(values), spread=spread, seeds=len(values)))
     return out
 
 

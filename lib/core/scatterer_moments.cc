@@ -99,16 +99,13 @@ void line_integrals(double z, std::complex<double> e, int order, std::complex<do
     const double* inv = inverse();
     if (az >= std::max(2.0, double(order))) {
         // Upward: E_0 = (1 − e^{-jz})/(jz), E_p = (e^{-jz} − p E_{p−1})/(−jz). Each step scales
-        // the previous error by p/|z| ≤ 1 here, so the recurrence is stable. Dividing by −jz
-        // is a product by j/z: (x + jy)·j/z = (−y + jx)/z, written out (no complex product).
-        const double w = 1.0 / z;
-        double x = e.real() - 1.0, y = e.imag();
-        out[0] = { -y * w, x * w };
-        for (int p = 1; p <= order; ++p) {
-            x = e.real() - double(p) * out[p - 1].real();
-            y = e.imag() - double(p) * out[p - 1].imag();
-            out[p] = { -y * w, x * w };
-        }
+        // the previous error by p/|z| ≤ 1 here, so the recurrence is stable. One instant of
+        // the batched recurrence (vector_math.h), which moments() runs over all instants.
+        const double cs = e.real(), sn = -e.imag();
+        double re[max_order + 1], im[max_order + 1], w;
+        upward_line_integrals(&z, &cs, &sn, 1, order, re, im, &w);
+        for (int p = 0; p <= order; ++p)
+            out[p] = { re[p], im[p] };
         return;
     }
     // |z| < max(2, order) ≤ 14: E_P(z) = Σ_k c_k / (P+k+1), c_k = (−jz)^k / k!, terms until
