@@ -14,6 +14,7 @@
  * docs/reference/distributed_training.md for several processes and machines.
  */
 #include "frame_options.h"
+#include <gnuradio/sems/core/front_end.h>
 #include <gnuradio/sems/core/scene.h>
 #include <gnuradio/sems/core/target_class.h>
 #include <gnuradio/sems/learning/trainer.h>
@@ -54,7 +55,7 @@ int main(int argc, char** argv)
 {
     training_settings s;
     std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading, from;
-    std::string class_library_name;
+    std::string class_library_name, radio_file;
     int paths = 1;
     double clutter_csr = std::numeric_limits<double>::quiet_NaN();
     bool no_md = false;
@@ -75,6 +76,10 @@ int main(int argc, char** argv)
         ("pilot-power", po::value(&s.pilot_power)->default_value(s.pilot_power), "pilot energies: equal (every pilot the same) | learned (the mask learner also shares the total pilot energy among the pilots; learned masks only)")
         ("pilot-power-floor", po::value(&s.pilot_power_floor)->default_value(s.pilot_power_floor), "--pilot-power learned: the smallest energy of a pilot, relative to equal power, in [0, 1)")
         ("pilot-phases", po::value(&s.pilot_phases), "pilot phases in the bundle's mask: newman (low crest factor: the pilots of one symbol do not peak together in time, so a radio's converter does not clip them) | zero (none); default: as the mask has them (a --mask file's own phases, none otherwise). The decoder sees Y/s_k, so training is the same")
+        ("radio", po::value(&radio_file), "radio file (format sems.radio, e.g. examples/radios/sdr_monostatic.json): draw every "
+                                          "observation through its front end (leakage and canceller, oscillators, IQ imbalance, DC, "
+                                          "converter; no sample clock offset) for training and the test metrics, and record it in the "
+                                          "bundle; default: the ideal radio")
         ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
         ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "
@@ -248,6 +253,10 @@ int main(int argc, char** argv)
             if (!scene_file.empty() && !vm["class-library"].defaulted())
                 throw std::invalid_argument("--class-library is for random scenes built from the flags; with --scene, "
                                             "set \"classes\" in the scene file");
+            if (!radio_file.empty()) {
+                s.radio = front_end_settings::load(radio_file);
+                s.radio_source = radio_file;
+            }
             if (!scene_file.empty()) {
                 s.scene_spec = scene::load(scene_file);
                 s.scene_source = scene_file;

@@ -128,6 +128,33 @@ std::complex<double> front_end_settings::iq_nu() const
     return 0.5 * (g * std::polar(1.0, iq_phase_deg * pi / 180.0) - 1.0);
 }
 
+namespace {
+// The mean power arriving at the converter without the DC: the IQ-imbalanced transmission
+// (echo and leakage) and noise.
+double arriving_power(const front_end_settings& s, double tx_power, double noise_variance)
+{
+    const double leak = s.leakage_db ? std::pow(10.0, *s.leakage_db / 10.0) : 0.0;
+    return (std::norm(s.iq_mu()) + std::norm(s.iq_nu())) * (tx_power * (1.0 + leak) + noise_variance);
+}
+} // namespace
+
+double front_end_settings::dc_amplitude(double tx_power, double noise_variance) const
+{
+    return dc_offset_db ? std::pow(10.0, *dc_offset_db / 20.0) * std::sqrt(arriving_power(*this, tx_power, noise_variance))
+                        : 0.0;
+}
+
+double front_end_settings::expected_rms(double tx_power, double noise_variance) const
+{
+    const double dc = dc_amplitude(tx_power, noise_variance);
+    return std::sqrt(arriving_power(*this, tx_power, noise_variance) + dc * dc);
+}
+
+double front_end_settings::full_scale(double tx_power, double noise_variance) const
+{
+    return adc_enob ? adc_full_scale_rms * expected_rms(tx_power, noise_variance) / std::sqrt(2.0) : 0.0;
+}
+
 nlohmann::json front_end_settings::to_json() const
 {
     nlohmann::json j = { { "format", format_name }, { "version", format_version } };

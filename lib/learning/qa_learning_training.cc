@@ -95,6 +95,7 @@ class qa_learning_training : public CppUnit::TestFixture
     CPPUNIT_TEST(bad_bundles_are_refused);
     CPPUNIT_TEST(bad_settings_are_refused);
     CPPUNIT_TEST(learned_pilot_power);
+    CPPUNIT_TEST(trained_for_a_radio);
     CPPUNIT_TEST(pilot_phases_in_the_bundle);
     CPPUNIT_TEST_SUITE_END();
 
@@ -378,6 +379,50 @@ public:
         // Without the setting the record has no key, and reads back as "as the mask has them".
         CPPUNIT_ASSERT(!t.result.bundle.training.contains("pilot_phases"));
         CPPUNIT_ASSERT(training_settings::from_bundle(model_bundle::load(t.dir)).pilot_phases.empty());
+        fs::remove_all(dir);
+    }
+
+    // A radio file: the ideal one trains bit for bit as without it (the trainer's own
+    // H + noise); a monostatic radio with strong phase noise changes every observation, is
+    // recorded in bundle.json and read back by --from; what training cannot draw is refused.
+    void trained_for_a_radio()
+    {
+        const auto& t = shared_run();
+        const auto dir = temp_dir("radio");
+        auto s = tiny(dir);
+        s.radio = front_end_settings{};
+        s.radio_source = "ideal.json";
+        auto r = train(s, nullptr);
+        CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), r.bundle.metrics.at("test").dump());
+        CPPUNIT_ASSERT(t.result.bundle.mask == r.bundle.mask);
+
+        front_end_settings radio;
+        radio.leakage_db = 40.0;
+        radio.phase_noise_dbc_hz = -70.0;
+        radio.adc_enob = 8.0;
+        s.radio = radio;
+        s.radio_source = "a harsh radio";
+        r = train(s, nullptr);
+        CPPUNIT_ASSERT(t.result.bundle.metrics.at("test").dump() != r.bundle.metrics.at("test").dump());
+        const auto loaded = model_bundle::load(dir);
+        CPPUNIT_ASSERT_EQUAL(radio.to_json().dump(), loaded.training.at("radio").dump());
+        CPPUNIT_ASSERT_EQUAL(std::string("a harsh radio"), loaded.training.at("radio_source").get<std::string>());
+        const auto again = training_settings::from_bundle(loaded);
+        CPPUNIT_ASSERT(again.radio && *again.radio == radio);
+        // Trained for the ideal radio: no key, and none read back.
+        CPPUNIT_ASSERT(!t.result.bundle.training.contains("radio"));
+        CPPUNIT_ASSERT(!training_settings::from_bundle(model_bundle::load(t.dir)).radio);
+
+        auto bad = tiny(dir);
+        bad.radio = radio;
+        bad.radio->sfo_ppm = 3.0;
+        assert_error([&] { train(bad, nullptr); }, "sfo_ppm", "3");
+        bad.radio->sfo_ppm = 0.0;
+        bad.pilot_power = "learned";
+        assert_error([&] { train(bad, nullptr); }, "pilot_power", "radio");
+        bad.pilot_power = "equal";
+        bad.radio->adc_enob = 0.5;
+        assert_error([&] { train(bad, nullptr); }, "adc_enob", "0.5");
         fs::remove_all(dir);
     }
 };

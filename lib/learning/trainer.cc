@@ -311,12 +311,15 @@ training_result trainer::run()
            << std::fixed << std::setprecision(1) << since(t0) << " s)";
         if (d_dist->active())
             os << " on rank 0 of " << d_dist->world_size() << " (each rank draws its own share)";
+        if (d_s.radio)
+            os << "; observed through the radio " << d_s.radio_source;
         print(os.str());
     }
     // Fixed noise for validation and test, from their own generators.
     auto val_gen = at::detail::createCPUGenerator(rank_seed * 2654435761ULL + 17);
-    auto val_noisy = training::add_noise(
-        d_data.val.h, training::draw_noise_variance(d_data.val.size(), d_s.snr_min_db, d_s.snr_max_db, val_gen), val_gen);
+    auto val_noisy = training::observe(
+        d_data.val.h, training::draw_noise_variance(d_data.val.size(), d_s.snr_min_db, d_s.snr_max_db, val_gen),
+        d_data.val.delay, d_s, val_gen);
 
     nn::task_decoder task_dec = make_task_decoder(sc);
     d_dist->broadcast_module(*task_dec); // identical start: rank 0's weights
@@ -355,9 +358,9 @@ training_result trainer::run()
             step_batch b;
             b.idx = perm.slice(0, st * batch, std::min<int64_t>(n_train, (st + 1) * batch));
             b.h = d_data.train.h.index_select(0, b.idx);
-            b.y = training::add_noise(
+            b.y = training::observe(
                 b.h, training::draw_noise_variance(b.idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
-                c10::nullopt);
+                d_data.train.delay.index_select(0, b.idx), d_s, c10::nullopt);
             return b;
         };
         step_batch next = batch_of_step(0);
@@ -594,8 +597,9 @@ training_result trainer::run()
     json metrics = json::object();
     auto test_gen = at::detail::createCPUGenerator(rank_seed * 2654435761ULL + 29);
     auto score = [&](double lo, double hi, bool keep) {
-        auto noisy = training::add_noise(
-            d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), test_gen);
+        auto noisy = training::observe(
+            d_data.test.h, training::draw_noise_variance(d_data.test.size(), lo, hi, test_gen), d_data.test.delay, d_s,
+            test_gen);
         // eval_frames over all ranks (0 = every test frame); each rank scores its share.
         const int64_t limit = keep || d_s.eval_frames <= 0 ? 0 : std::max<int64_t>(1, d_dist->share(d_s.eval_frames));
         const auto r = evaluate(task_dec, mask_idx, d_data.test, noisy, limit, noise_t);
@@ -708,6 +712,15 @@ void training_settings::validate() const
         }
     }
     frame.validate();
+    if (radio) {
+        radio->validate();
+        if (radio->sfo_ppm != 0.0)
+            fail("radio " + radio_source + ": sfo_ppm is " + std::to_string(radio->sfo_ppm) +
+                 ", but training draws no sample clock offset (set it to 0)");
+        if (pilot_power == "learned")
+            fail("pilot_power \"learned\" scales each pilot's noise by its energy, which a radio's impairments do "
+                 "not follow: train for a radio with equal pilot power");
+    }
     if (n_pilots < 1 || n_pilots > frame.grid_size())
         fail("pilots must be in [1, N*M = " + std::to_string(frame.grid_size()) + "], got " +
              std::to_string(n_pilots));
@@ -796,6 +809,10 @@ json training_settings::to_json() const
         j["pilot_power_floor"] = pilot_power_floor;
     if (!pilot_phases.empty())
         j["pilot_phases"] = pilot_phases;
+    if (radio) { // absent: the ideal radio
+        j["radio"] = radio->to_json();
+        j["radio_source"] = radio_source;
+    }
     return j;
 }
 
@@ -873,6 +890,10 @@ training_settings training_settings::from_bundle(const model_bundle& b)
         bad("scene", "missing");
     s.scene_spec = scene::from_json(t.at("scene"), path + ": training.scene");
     s.scene_source = get("scene_source", s.scene_source, false);
+    if (t.contains("radio")) { // absent: trained for the ideal radio
+        s.radio = front_end_settings::from_json(t.at("radio"), path + ": training.radio");
+        s.radio_source = get("radio_source", s.radio_source, false);
+    }
     // The encoder only trains a learned mask (older records of fixed-mask runs hold keys
     // the encoder settings no longer have).
     if (s.mask_file.empty() && s.mask_pattern.empty()) {

@@ -2,6 +2,8 @@
 /* gr-sems: the trainer's data set, drawn from THE channel model. */
 #include "learning/trainer_data.h"
 #include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/front_end_frame.h>
+#include <ATen/Parallel.h>
 #include <algorithm>
 #include <list>
 #include <mutex>
@@ -130,6 +132,34 @@ torch::Tensor add_noise(const torch::Tensor& h, const torch::Tensor& var, c10::o
 {
     auto noise = torch::randn(h.sizes(), gen, h.options());
     return h + noise * torch::sqrt(var / 2.0).view({ -1, 1, 1, 1 });
+}
+
+torch::Tensor observe(const torch::Tensor& h,
+                      const torch::Tensor& var,
+                      const torch::Tensor& delay,
+                      const training_settings& s,
+                      c10::optional<at::Generator> gen)
+{
+    if (!s.radio || s.radio->is_ideal()) // the ideal radio is the trainer's own model, bit for bit
+        return add_noise(h, var, gen);
+    const int64_t count = h.size(0), n = h.size(2), m = h.size(3);
+    // One seed per frame, drawn first: the same observations whatever the thread count.
+    const auto seeds = torch::randint(0, int64_t(1) << 62, { count }, gen, torch::kLong);
+    // Frames as N x M complex (real, imag interleaved), observed, and back to the planes.
+    const auto in = h.permute({ 0, 2, 3, 1 }).contiguous();
+    auto out = torch::empty_like(in);
+    const auto pv = var.to(torch::kDouble).contiguous(), pd = delay.to(torch::kDouble).contiguous();
+    const double* v = pv.data_ptr<double>();
+    const double* dl = pd.data_ptr<double>();
+    const int64_t* sd = seeds.data_ptr<int64_t>();
+    const auto* src = reinterpret_cast<const gr_complex*>(in.data_ptr<float>());
+    auto* dst = reinterpret_cast<gr_complex*>(out.data_ptr<float>());
+    at::parallel_for(0, count, 16, [&](int64_t a, int64_t b) {
+        front_end_frame radio(s.frame, *s.radio); // FFT plans and buffers per thread
+        for (int64_t i = a; i < b; ++i)
+            radio.observe(src + i * n * m, dl[i], v[i], static_cast<uint64_t>(sd[i]), dst + i * n * m);
+    });
+    return out.permute({ 0, 3, 1, 2 }).contiguous();
 }
 
 } // namespace training

@@ -32,6 +32,14 @@ data_set make_data(const training_settings& s, const scene& sc);
 torch::Tensor draw_noise_variance(int64_t count, double lo, double hi, c10::optional<at::Generator> gen);
 // h + CN(0, σ²) per frame (σ²: B).
 torch::Tensor add_noise(const torch::Tensor& h, const torch::Tensor& var, c10::optional<at::Generator> gen);
+// What the receiver sees of frames h (B x 2 x N x M) at per-frame σ² `var` (B): add_noise for
+// the ideal radio (s.radio empty), else each frame through the radio (core/front_end_frame.h),
+// its oscillators turned at the frame's delay index `delay` (B); seeds from `gen`.
+torch::Tensor observe(const torch::Tensor& h,
+                      const torch::Tensor& var,
+                      const torch::Tensor& delay,
+                      const training_settings& s,
+                      c10::optional<at::Generator> gen);
 
 } // namespace training
 } // namespace sems

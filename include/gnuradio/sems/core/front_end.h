@@ -121,6 +121,30 @@ struct SEMS_API front_end_settings {
     /*! \brief The image coefficient of iq_mu(). \return ν = (g e^{jφ} − 1)/2. */
     std::complex<double> iq_nu() const;
 
+    /*!
+     * \brief The DC offset's amplitude at the converter's input: 10^(dc_offset_db/20) times
+     *        the complex rms of the signal arriving there (the IQ-imbalanced transmission,
+     *        leakage and noise); it is added at phase 45° (equal on I and Q).
+     * \param tx_power mean power of the transmitted samples (1 for unit resource elements on
+     *        every subcarrier, (M − G)/M with G guards)
+     * \param noise_variance the channel's noise power per sample (0 without noise)
+     * \return |DC| in the channel's units, 0 without a DC offset.
+     */
+    double dc_amplitude(double tx_power, double noise_variance) const;
+    /*!
+     * \brief The complex rms the converter expects, DC included: the IQ-imbalanced
+     *        (|μ|² + |ν|²)·(tx_power·(1 + leakage) + noise) plus |DC|².
+     * \param tx_power as dc_amplitude() \param noise_variance as dc_amplitude()
+     * \return the rms in the channel's units.
+     */
+    double expected_rms(double tx_power, double noise_variance) const;
+    /*!
+     * \brief Each converter rail's full scale: adc_full_scale_rms · expected_rms() / √2.
+     * \param tx_power as dc_amplitude() \param noise_variance as dc_amplitude()
+     * \return the full scale in the channel's units; 0 with an ideal converter (nothing clips).
+     */
+    double full_scale(double tx_power, double noise_variance) const;
+
     /*! \brief The radio file's JSON. \return the JSON object. */
     nlohmann::json to_json() const;
     /*!

@@ -32,6 +32,7 @@
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/learning/api.h>
 #include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/front_end.h>
 #include <gnuradio/sems/learning/distributed_settings.h>
 #include <gnuradio/sems/learning/model_bundle.h>
 #include <gnuradio/sems/learning/network_settings.h>
@@ -78,6 +79,14 @@ struct SEMS_LEARNING_API training_settings {
     std::optional<scene> scene_spec; ///< empty: random scene, all classes, single path
     std::string scene_source = "default random scene"; ///< names the scene in errors and bundle.json
 
+    /*!
+     * \brief The radio front end the observations cross (core/front_end_frame.h): empty = the
+     *        ideal radio, H + noise. A radio draws every frame's observation through its
+     *        leakage, oscillators, IQ imbalance, DC and converter (and the canceller), at each
+     *        batch's SNR, for training, validation and the test metrics alike.
+     */
+    std::optional<front_end_settings> radio;
+    std::string radio_source = "ideal radio"; ///< names the radio in the log and bundle.json
     double snr_min_db = 10.0;        ///< training SNR range: lower end in dB
     double snr_max_db = 10.0;        ///< training SNR range: upper end in dB
     int frames = 30000;              ///< split 8:1:1
