@@ -143,7 +143,8 @@ class qa_radio_front_end(gr_unittest.TestCase):
         x = gaussian(820 * N * S)  # whole symbols: the channel works in symbols
         # Clipping-dominated (12 bits at 3.5x: 4.6e-4 of the rail samples clip), granular-dominated,
         # heavy clipping. (At 4x the clipped samples are so rare that 2e6 samples vary by +-0.7 dB.)
-        for enob, k in ((12, 3.5), (8, 8.0), (10, 2.0)):
+        # And 20 bits, past the 16-bit integers a converter model might round through.
+        for enob, k in ((12, 3.5), (8, 8.0), (10, 2.0), (20, 8.0)):
             fe = front_end(scene=still_target(0.0), adc_enob=enob, adc_full_scale_rms=k)
             self.assertAlmostEqual(fe.full_scale(), k / math.sqrt(2), delta=1e-12)
             y, _ = run(fe, x)

@@ -52,7 +52,8 @@ class radio_front_end(gr.hier_block2):
     echo; the echo itself goes through nothing but the channel, so the chain stays sample-
     aligned 1:1. The converter scales so that each rail's full scale is adc_full_scale_rms
     times its expected rms, clips at full scale (analog.rail_ff), quantizes to adc_enob bits
-    (channels.quantizer, rounding to steps of 2^(1 - ENOB) full scale) and scales back: the
+    (blocks.float_to_int and int_to_float, rounding to steps of 2^(1 - ENOB) full scale; up to
+    24 bits) and scales back: the
     output is in the channel's units. A sample clock offset (separate oscillators) resamples
     with filter.mmse_resampler_cc (8-tap MMSE interpolator, aligned so that output k is the
     input at k / (1 + sfo)): the stream then drifts against the frames by sfo samples per
@@ -161,12 +162,17 @@ class radio_front_end(gr.hier_block2):
             self.to_rails = blocks.complex_to_float(1)
             self.clip_i, self.clip_q = analog.rail_ff(-1.0, 1.0), analog.rail_ff(-1.0, 1.0)
             self.clip_q.set_tag_propagation_policy(gr.TPP_DONT)  # the I rail carries the tags
-            self.quant_i, self.quant_q = channels.quantizer(s.adc_enob), channels.quantizer(s.adc_enob)
+            # Rounding to 2^(ENOB-1) steps per unit full scale through 32-bit integers
+            # (channels.quantizer goes through 16-bit shorts, so above 15 bits it saturates
+            # below full scale).
+            steps = 2.0 ** (s.adc_enob - 1.0)
+            self.quant_i, self.quant_q = (blocks.float_to_int(1, steps), blocks.float_to_int(1, steps))
+            self.dequant_i, self.dequant_q = (blocks.int_to_float(1, steps), blocks.int_to_float(1, steps))
             self.from_rails = blocks.float_to_complex(1)
             self.from_scale = blocks.multiply_const_cc(1.0)
             self.connect(rx, self.to_scale, self.to_rails)
-            self.connect((self.to_rails, 0), self.clip_i, self.quant_i, (self.from_rails, 0))
-            self.connect((self.to_rails, 1), self.clip_q, self.quant_q, (self.from_rails, 1))
+            self.connect((self.to_rails, 0), self.clip_i, self.quant_i, self.dequant_i, (self.from_rails, 0))
+            self.connect((self.to_rails, 1), self.clip_q, self.quant_q, self.dequant_q, (self.from_rails, 1))
             self.connect(self.from_rails, self.from_scale)
             rx = (self.from_scale, 0)
         self.connect(rx, (self, 0))
