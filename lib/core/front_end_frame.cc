@@ -108,6 +108,7 @@ front_end_frame::~front_end_frame() = default;
 
 double front_end_frame::tx_power() const { return d->tx_power; }
 bool front_end_frame::cancels() const { return d->cancel; }
+const frame_settings& front_end_frame::frame() const { return d->fs; }
 
 void front_end_frame::observe(const gr_complex* h, double delay_index, double noise_variance, uint64_t seed,
                               gr_complex* out)

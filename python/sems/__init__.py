@@ -2,7 +2,7 @@
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
-keys, front_end_settings; blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
+keys, front_end_settings, front_end_frame; blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
 leakage_canceller, cfo_corrector, pilot_extractor, range_doppler_map, phase_noise_source; hier
 blocks ofdm_tx / ofdm_rx / radio_front_end.
 

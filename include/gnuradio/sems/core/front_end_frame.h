@@ -83,6 +83,8 @@ public:
     double tx_power() const;
     /*! \brief Whether the canceller runs (shared oscillator with leakage or DC). \return it. */
     bool cancels() const;
+    /*! \brief The frame. \return its settings. */
+    const frame_settings& frame() const;
 
 private:
     struct impl;

@@ -8,6 +8,7 @@
 
 #include <gnuradio/sems/blocks/phase_noise_source.h>
 #include <gnuradio/sems/core/front_end.h>
+#include <gnuradio/sems/core/front_end_frame.h>
 #include <gnuradio/sems/core/phase_noise.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
@@ -45,12 +46,43 @@ void bind_front_end(py::module& m)
         .def("leakage_response", &fe::leakage_response, D(front_end_settings, leakage_response))
         .def("iq_mu", &fe::iq_mu, D(front_end_settings, iq_mu))
         .def("iq_nu", &fe::iq_nu, D(front_end_settings, iq_nu))
+        .def("dc_amplitude", &fe::dc_amplitude, py::arg("tx_power"), py::arg("noise_variance"),
+             D(front_end_settings, dc_amplitude))
+        .def("expected_rms", &fe::expected_rms, py::arg("tx_power"), py::arg("noise_variance"),
+             D(front_end_settings, expected_rms))
+        .def("full_scale", &fe::full_scale, py::arg("tx_power"), py::arg("noise_variance"),
+             D(front_end_settings, full_scale))
         .def("to_json_string", &fe::to_json_string, D(front_end_settings, to_json_string))
         .def_static("parse", &fe::parse, py::arg("json_text"), py::arg("source") = "radio text",
                     D(front_end_settings, parse))
         .def_static("load", &fe::load, py::arg("path"), D(front_end_settings, load))
         .def("save", &fe::save, py::arg("path"), D(front_end_settings, save))
         .def("__eq__", &fe::operator==);
+
+    py::class_<front_end_frame>(m, "front_end_frame", D(front_end_frame))
+        .def(py::init<const frame_settings&, const front_end_settings&>(), py::arg("frame"), py::arg("radio"),
+             D(front_end_frame, front_end_frame))
+        .def(
+            "observe",
+            [](front_end_frame& f,
+               py::array_t<gr_complex, py::array::c_style | py::array::forcecast> h,
+               double delay_index,
+               double noise_variance,
+               uint64_t seed) {
+                const auto& fs = f.frame();
+                if (h.ndim() != 2 || h.shape(0) != fs.n_symbols || h.shape(1) != fs.n_subcarriers)
+                    throw std::invalid_argument("front_end_frame.observe: h must be the frame's " +
+                                                std::to_string(fs.n_symbols) + " x " +
+                                                std::to_string(fs.n_subcarriers) + " grid");
+                py::array_t<gr_complex> out({ h.shape(0), h.shape(1) });
+                f.observe(h.data(), delay_index, noise_variance, seed, out.mutable_data());
+                return out;
+            },
+            py::arg("h"), py::arg("delay_index"), py::arg("noise_variance"), py::arg("seed"),
+            D(front_end_frame, observe))
+        .def("tx_power", &front_end_frame::tx_power, D(front_end_frame, tx_power))
+        .def("cancels", &front_end_frame::cancels, D(front_end_frame, cancels))
+        .def("frame", &front_end_frame::frame, D(front_end_frame, frame));
 
     m.def("phase_diffusion_from_dbc", &phase_diffusion_from_dbc, py::arg("dbc_hz"), py::arg("offset_hz"),
           D(phase_diffusion_from_dbc));

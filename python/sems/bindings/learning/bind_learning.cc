@@ -153,6 +153,8 @@ void bind_learning(py::module& m)
             "scene", [](const training_settings& s) { return s.scene_spec; },
             [](training_settings& s, const std::optional<scene>& sc) { s.scene_spec = sc; })
         .def_readwrite("scene_source", &training_settings::scene_source)
+        .def_readwrite("radio", &training_settings::radio)
+        .def_readwrite("radio_source", &training_settings::radio_source)
         .def_readwrite("snr_min_db", &training_settings::snr_min_db)
         .def_readwrite("snr_max_db", &training_settings::snr_max_db)
         .def_readwrite("frames", &training_settings::frames)
