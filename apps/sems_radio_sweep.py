@@ -14,7 +14,9 @@ One impairment at a time, every other one off, at 10 and 20 dB SNR per resource 
 frame start known (the impairment's own cost); then the combined monostatic radio
 (examples/radios/sdr_monostatic.json: leakage 40 dB over the echo, shared oscillator
 -90 dBc/Hz at 100 kHz, IQ 0.5 dB / 3 deg, DC, 12-bit converter at 4x rms) with an unknown
-frame start found by frame_sync, next to the ideal radio with a known start (the reference).
+frame start found by frame_sync, next to the ideal radio with a known start (the reference);
+then the same with the bundles trained for that radio (sems_train --radio), on it and on the
+ideal radio.
 The receiver (frame_sync, then leakage_canceller fed with the transmitted samples) is the same
 in every row that has it; rows say which stages ran.
 
@@ -127,6 +129,9 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
 def measure(args):
     os.makedirs(args.out, exist_ok=True)
     bundles = {"classify": bundle_info(args.classifier), "delay": bundle_info(args.delay)}
+    # Bundles trained for the radio (sems_train --radio): the combined rows again with them.
+    trained = {task: bundle_info(name) for task, name in (("classify", args.radio_classifier),
+                                                         ("delay", args.radio_delay)) if name}
     rows = []
     path = os.path.join(args.out, "radio_sweep.csv")
     sweeps = QUICK_SWEEPS if args.quick else SWEEPS
@@ -134,10 +139,11 @@ def measure(args):
     offsets = OFFSETS[:2] if args.quick else OFFSETS
     seeds = [args.seed + k for k in range(args.seeds)]
 
-    def point(sweep, value, snr, task, receiver, seed, **kw):
+    def point(sweep, value, snr, task, receiver, seed, use=None, **kw):
         t0 = time.time()
-        metric, scored, off, fails = run_chain(bundles[task], snr, args.frames, seed, **kw)
-        rows.append(dict(sweep=sweep, value=value, snr_db=snr, task=task, bundle=os.path.basename(bundles[task].directory),
+        b = (use or bundles)[task]
+        metric, scored, off, fails = run_chain(b, snr, args.frames, seed, **kw)
+        rows.append(dict(sweep=sweep, value=value, snr_db=snr, task=task, bundle=os.path.basename(b.directory),
                          receiver=receiver, seed=seed, frames=args.frames, scored=scored, metric=metric,
                          sync_offset=off, sync_failures=fails, seconds=round(time.time() - t0, 1)))
         log(f"  seed {seed}: {sweep} {value} @ {snr:g} dB, {task} [{receiver}]: {metric:.4f} ({scored} frames, "
@@ -151,7 +157,7 @@ def measure(args):
         return run_chain(bundles["delay"], snr, 8, seed, radio=args.radio, offset=offset, settings=settings,
                          sync=True)[2]
 
-    per_seed = len(snrs) * 2 * (5 + len(offsets) + sum(len(v) for _, _, _, v in sweeps))
+    per_seed = len(snrs) * (2 * (5 + len(offsets) + sum(len(v) for _, _, _, v in sweeps)) + 2 * len(trained))
     log(f"sems_radio_sweep: {per_seed * len(seeds)} points of {args.frames} frames ({len(seeds)} seeds)")
     for seed in seeds:
         for snr in snrs:
@@ -177,6 +183,11 @@ def measure(args):
                       radio=args.radio, settings={"phase_noise_dbc_hz": None}, offset=last,
                       skip=found_offset(snr, seed, last, {"phase_noise_dbc_hz": None}), cancel=True)
                 point("combined_no_canceller", 0, snr, task, "known start", seed, radio=args.radio)
+                if task in trained:
+                    # The bundles trained for this radio: on it, and on the ideal radio.
+                    point("combined_radio_trained", last, snr, task, "frame_sync start, canceller", seed,
+                          use=trained, radio=args.radio, offset=last, skip=found, cancel=True)
+                    point("ideal_radio_trained", "", snr, task, "known start", seed, use=trained)
                 # The same radio with a converter of more headroom: full scale at 8x the rms.
                 eight = {"adc_full_scale_rms": 8.0}
                 point("combined_full_scale_8x", last, snr, task, "frame_sync start, canceller", seed,
@@ -291,6 +302,11 @@ def main():
     p.add_argument("--seeds", type=int, default=1, help="seeds per point: seed, seed + 1, ... (default 1)")
     p.add_argument("--classifier", default="classifier", help="classifier bundle (name or folder)")
     p.add_argument("--delay", default="delay_single", help="delay bundle (name or folder)")
+    p.add_argument("--radio-classifier", default="classifier_monostatic",
+                   help="classifier bundle trained for the radio (sems_train --radio), scored in the combined "
+                   "and ideal rows too; \"\" for none")
+    p.add_argument("--radio-delay", default="",
+                   help="delay bundle trained for the radio (default none: see models/README.md)")
     p.add_argument("--radio", default="", help="radio file of the combined rows "
                    "(default: examples/radios/sdr_monostatic.json of the source tree)")
     p.add_argument("--quick", action="store_true", help="one point per part (checks the tool runs)")
