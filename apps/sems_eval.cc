@@ -242,6 +242,14 @@ int main(int argc, char** argv)
                 throw std::invalid_argument("--exp7-np-sweep: " + std::to_string(np) +
                                             " is outside [1, N*(M - guards) = " +
                                             std::to_string(c.fs.usable_elements()) + "]");
+        // A shipped bundle is scored on this run's test frames: one of another frame is refused
+        // here, before any training, naming the first field that differs and both values.
+        for (const auto& [flag, dir] : { std::pair<std::string, std::string>{ "shipped-classifier", c.shipped_classifier },
+                                         { "shipped-delay-single", c.shipped_delay_single },
+                                         { "shipped-delay-multipath", c.shipped_delay_multi } })
+            if (!dir.empty())
+                model_bundle::load(dir).frame.require_same(
+                    c.fs, "--" + flag + " " + dir, "the bundle's frame", "the run's frame (--frame and its overrides)");
         std::ostringstream cmd;
         for (int i = 0; i < argc; ++i)
             cmd << (i ? " " : "") << argv[i];

@@ -107,7 +107,7 @@ def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, s
         rx = fsync
     if cancel:
         frame_len = n * (m + cp)
-        full_scale = fe.full_scale() if clip and fe.settings.adc_enob is not None else 0.0
+        full_scale = fe.full_scale() if clip else 0.0  # 0.0 for an ideal converter: nothing clips
         canc = sems.leakage_canceller(window=frame_len, forgetting=forgetting, clip_level=full_scale)
         ref = blocks.copy(gr.sizeof_gr_complex)  # the transmitted samples, held while frame_sync searches
         ref.set_min_output_buffer(8 * frame_len)

@@ -317,6 +317,9 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
         // since it was written (re-measuring times on the same networks).
         if (c.reuse_bundles || stored.value("key", nlohmann::json()) == key) {
             out.bundle = model_bundle::load(dir.string());
+            if (c.reuse_bundles) // trusted without its key, but never on another frame than the run's
+                out.bundle.frame.require_same(s.frame, "model " + name + " (--reuse-bundles, " + dir.string() + ")",
+                                              "the cached bundle's frame", "the run's frame");
             out.train_seconds = stored.value("train_seconds", 0.0);
             out.origin = "cached";
             log << "[" << now_utc() << "] model " << name << ": reusing " << dir.string() << std::endl;

@@ -195,10 +195,10 @@ void run_delay(const config& c, std::ostream& log)
             s.bundle = model_bundle::load(shipped);
             s.origin = shipped;
             const std::string kind = s.bundle.mask.origin().value("kind", std::string("unknown"));
-            if (s.bundle.task == task_kind::delay && s.bundle.frame == c.fs)
+            if (s.bundle.task == task_kind::delay) // its frame is the run's (checked at the start)
                 sems.push_back({ "Shipped bundle (" + kind + " pilots)", s, std::nullopt });
             else
-                log << "  shipped delay bundle " << shipped << " does not match the frame: skipped" << std::endl;
+                log << "  shipped delay bundle " << shipped << " is not a delay model: skipped" << std::endl;
         }
         // A bundle with a refinement stage is also scored without it (the network alone).
         for (size_t i = 0, n = sems.size(); i < n; ++i) {

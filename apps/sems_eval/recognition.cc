@@ -411,8 +411,8 @@ void run_recognition(const config& c, std::ostream& log)
             const std::string kind = src.bundle.mask.origin().value("kind", std::string("unknown"));
             const std::string other_library =
                 src.bundle.library ? src.bundle.library->difference(sc.library()) : std::string();
-            if (src.bundle.task != task_kind::classify || src.bundle.frame != c.fs)
-                log << "  shipped classifier " << c.shipped_classifier << " does not match: skipped" << std::endl;
+            if (src.bundle.task != task_kind::classify) // its frame is the run's (checked at the start)
+                log << "  shipped classifier " << c.shipped_classifier << " is not a classifier: skipped" << std::endl;
             else if (!other_library.empty())
                 log << "  shipped classifier " << c.shipped_classifier << " was trained on class library \""
                     << src.bundle.library->name() << "\", the scene's is \"" << sc.library().name()

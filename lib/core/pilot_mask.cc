@@ -11,6 +11,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 
 namespace gr {
 namespace sems {
@@ -500,15 +501,20 @@ std::vector<std::vector<gr_complex>> pilot_mask::pilot_symbol_lists() const
 
 void pilot_mask::check_frame(const frame_settings& fs, const std::string& who) const
 {
-    if (fs.n_symbols != d_n_symbols || fs.n_subcarriers != d_n_subcarriers)
+    if (fs.n_symbols != d_n_symbols || fs.n_subcarriers != d_n_subcarriers) {
+        // Every field that differs, by name, with both values.
+        std::string fields;
+        for (const auto& [name, mine, theirs] :
+             { std::tuple<const char*, int, int>{ "n_symbols", d_n_symbols, fs.n_symbols },
+               { "n_subcarriers", d_n_subcarriers, fs.n_subcarriers } })
+            if (mine != theirs)
+                fields += std::string(fields.empty() ? "" : "; ") + name + ": the mask has " + std::to_string(mine) +
+                          ", the frame has " + std::to_string(theirs);
         throw std::invalid_argument(who + ": the pilot mask is " + std::to_string(d_n_symbols) + " x " +
                                     std::to_string(d_n_subcarriers) + " but the frame is " +
-                                    std::to_string(fs.n_symbols) + " x " + std::to_string(fs.n_subcarriers) +
-                                    (fs.n_symbols != d_n_symbols
-                                         ? " (n_symbols: the mask has " + std::to_string(d_n_symbols) +
-                                               ", the frame has " + std::to_string(fs.n_symbols) + ")"
-                                         : " (n_subcarriers: the mask has " + std::to_string(d_n_subcarriers) +
-                                               ", the frame has " + std::to_string(fs.n_subcarriers) + ")"));
+                                    std::to_string(fs.n_symbols) + " x " + std::to_string(fs.n_subcarriers) + " (" +
+                                    fields + ")");
+    }
     for (size_t i = 0; i < d_pilots.size(); ++i)
         if (fs.is_guard(d_pilots[i].m))
             throw std::invalid_argument(who + ": pilot " + std::to_string(i) + " at [" +

@@ -212,7 +212,12 @@ public:
         assert_error([] { pilot_mask(2, 2, { { 0, 0 } }, gr_complex(0, 0)); }, "pilot_symbol");
         frame_settings fs;
         assert_error([&] { pilot_mask::uniform(16, 64, 8).check_frame(fs, "pilot_extractor"); },
-                     "pilot_extractor: the pilot mask is 16 x 64 but the frame is 32 x 64");
+                     "pilot_extractor: the pilot mask is 16 x 64 but the frame is 32 x 64 "
+                     "(n_symbols: the mask has 16, the frame has 32)");
+        // Both fields differ: each is named with both values.
+        assert_error([&] { pilot_mask::uniform(16, 128, 8).check_frame(fs, "frame_sync"); },
+                     "frame_sync: the pilot mask is 16 x 128 but the frame is 32 x 64 (n_symbols: the mask has 16, "
+                     "the frame has 32; n_subcarriers: the mask has 128, the frame has 64)");
     }
 
     void power_round_trip()

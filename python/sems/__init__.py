@@ -20,7 +20,8 @@ from .core_python import *  # noqa: F401,F403
 
 from .ofdm_tx import ofdm_tx  # noqa: F401
 from .ofdm_rx import ofdm_rx  # noqa: F401
-from .radio_front_end import radio_front_end, radio_settings  # noqa: F401
+from .radio_front_end import (converter_full_scale, radio_front_end, radio_settings,  # noqa: F401
+                              recorded_full_scale, write_recording_info)
 
 # The names of the lazily loaded extensions (qa_lazy_import checks these lists against
 # the modules, so a name bound in C++ and missing here fails a test).

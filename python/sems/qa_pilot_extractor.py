@@ -310,6 +310,24 @@ class qa_pilot_extractor(gr_unittest.TestCase):
             refuses("not both", mask_file=path)
             refuses("mask.json", pilot_positions=[], mask_file=os.path.join(d, "missing", "mask.json"))
 
+    def test_013_every_mask_block_names_the_grid_fields_that_differ(self):
+        """A mask file carries its grid N x M: the extractor, the mapper, frame sync and the
+        range-Doppler map refuse a file of another grid, naming each field that differs and both
+        values (pilot_mask::check_frame, the one comparison)."""
+        makers = {"pilot_extractor": sems.pilot_extractor, "pilot_mapper": sems.pilot_mapper,
+                  "frame_sync": sems.frame_sync, "range_doppler_map": sems.range_doppler_map}
+        with tempfile.TemporaryDirectory() as d:
+            for grid, fields in (((N, 2 * M), ["n_subcarriers: the mask has 16, the frame has 8"]),
+                                 ((N + 1, 2 * M), ["n_symbols: the mask has 5, the frame has 4",
+                                                   "n_subcarriers: the mask has 16, the frame has 8"])):
+                path = os.path.join(d, "mask_%dx%d.json" % grid)
+                sems.pilot_mask(grid[0], grid[1], [(0, 1), (1, 3), (2, 9), (3, 12)]).save(path)
+                for name, make in makers.items():
+                    with self.assertRaises(ValueError, msg=name) as cm:
+                        make(mask_file=path, n_symbols=N, n_subcarriers=M)
+                    for text in [name, path] + fields:
+                        self.assertIn(text, str(cm.exception), name)
+
     def sent(self, path):
         """What the mapper of mask file `path` sends at its pilots in one frame, in mask order."""
         tb = gr.top_block()

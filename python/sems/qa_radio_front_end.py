@@ -213,6 +213,91 @@ class qa_radio_front_end(gr_unittest.TestCase):
         want = np.exp(2j * np.pi * (k / (1 + 1e-6 * ppm)) / M)
         self.assertLess(np.max(np.abs(y[8:] - want)), 1e-3)
 
+    def test_converter_full_scale_without_a_flowgraph(self):
+        """sems.converter_full_scale equals the block's full_scale() for the shipped radios, keyword
+        overrides, SNRs and transmitted powers; it follows the closed form k * rms / sqrt(2); an
+        ideal converter has none (0.0, the leakage canceller's "nothing clips")."""
+        mono, bi = os.path.join(RADIOS, "sdr_monostatic.json"), os.path.join(RADIOS, "sdr_bistatic.json")
+        with open(mono) as f:
+            mono_text = f.read()
+        cases = [(mono, 20.0, 1.0, {}), (mono, 10.0, 1.0, {"adc_full_scale_rms": 8.0}),
+                 (mono, 20.0, 52 / 64, {"leakage_db": 30.0}), (bi, 20.0, 1.0, {}),
+                 ("", 5.0, 1.0, {"adc_enob": 10.0, "adc_full_scale_rms": 3.0}),
+                 (mono_text, float("inf"), 1.0, {})]
+        for radio, snr_db, tx_power, kw in cases:
+            fe = front_end(radio, snr_db=snr_db, tx_power=tx_power, **kw)
+            got = sems.converter_full_scale(radio, snr_db, tx_power, **kw)
+            self.assertGreater(got, 0.0)
+            self.assertEqual(got, fe.full_scale(), f"{radio[:40]} {snr_db} dB {kw}")
+            self.assertEqual(got, sems.converter_full_scale(fe.settings, snr_db, tx_power))
+        # The closed form: leakage L dB over the echo, noise 10^(-SNR/10), no IQ imbalance or DC.
+        want = 4.0 * math.sqrt(1.0 + 1e4 + 0.01) / math.sqrt(2.0)
+        self.assertAlmostEqual(sems.converter_full_scale(leakage_db=40.0, adc_enob=12.0, snr_db=20.0), want,
+                               delta=1e-12 * want)
+        # A changed SNR moves the block's full scale with it, as the function says.
+        fe = front_end(mono, snr_db=20.0)
+        fe.set_snr_db(0.0)
+        self.assertEqual(fe.full_scale(), sems.converter_full_scale(mono, 0.0))
+        # An ideal converter: nothing clips, no full scale, whatever the rest of the radio.
+        for radio, kw in (("", {}), (os.path.join(RADIOS, "ideal.json"), {}), (mono, {"adc_enob": None}),
+                          ("", {"leakage_db": 40.0, "adc_full_scale_rms": 2.0})):
+            self.assertEqual(sems.converter_full_scale(radio, 20.0, **kw), 0.0)
+            self.assertEqual(front_end(radio, snr_db=20.0, **kw).full_scale(), 0.0)
+        # Bad input named, as the block names it.
+        with self.assertRaises(ValueError) as e:
+            sems.converter_full_scale(mono, 20.0, 0.0)
+        self.assertIn("tx_power", str(e.exception))
+        with self.assertRaises(ValueError) as e:
+            sems.converter_full_scale(mono, float("nan"))
+        self.assertIn("snr_db", str(e.exception))
+        with self.assertRaises(ValueError) as e:
+            sems.converter_full_scale(adc_full_scale_rms=-1.0, adc_enob=12.0)
+        self.assertIn("adc_full_scale_rms", str(e.exception))
+        with self.assertRaises(TypeError):
+            sems.converter_full_scale(mono, adc_bits=12)
+
+    def test_recording_says_the_full_scale(self):
+        """write_recording_info writes the converter's full scale next to a recording and
+        recorded_full_scale reads it back; a recording without it gives 0.0 with a note; a
+        broken record is refused naming the file and the key."""
+        import contextlib
+        import io
+        import tempfile
+        mono = os.path.join(RADIOS, "sdr_monostatic.json")
+        with tempfile.TemporaryDirectory() as d:
+            rec = os.path.join(d, "rec.c64")
+            fe = front_end(mono, snr_db=20.0, adc_full_scale_rms=8.0)
+            written = sems.write_recording_info(rec, fe.settings, fe.snr_db(), fe.tx_power)
+            self.assertEqual(written, fe.full_scale())
+            self.assertEqual(sems.recorded_full_scale(rec), fe.full_scale())
+            with open(rec + ".json") as f:
+                info = json.load(f)
+            self.assertEqual(sems.front_end_settings.parse(json.dumps(info["radio"])), fe.settings)
+            self.assertEqual(info["snr_db"], 20.0)
+            # An ideal converter records 0.0; infinite SNR is recorded as null.
+            self.assertEqual(sems.write_recording_info(rec, "", float("inf")), 0.0)
+            self.assertEqual(sems.recorded_full_scale(rec), 0.0)
+            with open(rec + ".json") as f:
+                self.assertIsNone(json.load(f)["snr_db"])
+            # A recording made without the record: clip level 0 and a note naming the file.
+            old = os.path.join(d, "old.c64")
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err):
+                self.assertEqual(sems.recorded_full_scale(old), 0.0)
+            self.assertIn(old + ".json", err.getvalue())
+            self.assertIn("clip_level 0", err.getvalue())
+            for text, key in (("{", "not JSON"), ('{"format": "sems.radio", "version": 1}', "format"),
+                              ('{"format": "sems.radio_recording", "version": 2, "converter_full_scale": 1}', "version"),
+                              ('{"format": "sems.radio_recording", "version": 1}', "converter_full_scale"),
+                              ('{"format": "sems.radio_recording", "version": 1, "converter_full_scale": -1}',
+                               "converter_full_scale")):
+                with open(rec + ".json", "w") as f:
+                    f.write(text)
+                with self.assertRaises(ValueError) as e:
+                    sems.recorded_full_scale(rec)
+                self.assertIn(rec + ".json", str(e.exception))
+                self.assertIn(key, str(e.exception))
+
     def test_bad_settings_are_named(self):
         cases = [(dict(adc_enob=-1.0), "adc_enob"), (dict(phase_noise_dbc_hz=3.0), "phase_noise_dbc_hz"),
                  (dict(phase_noise_dbc_hz=-90.0, phase_noise_offset_hz=-1.0), "phase_noise_offset_hz"),

@@ -7,6 +7,7 @@ clearly."""
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -318,6 +319,52 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertEqual(run(out), ({"cls_default_sems_s2026", "cls_any_doppler_s2026"},
                                         trained - {"cls_default_sems_s2026", "cls_any_doppler_s2026"}))
 
+
+    def test_005_bundles_and_masks_of_another_frame_are_refused_naming_the_field(self):
+        """A shipped bundle of another frame than the run's is refused before anything runs, and a
+        cached one reused with --reuse-bundles too, each naming the field and both values; so is
+        sems_train's --mask of another grid, or with a pilot on one of the frame's guards."""
+        models = os.path.join(SOURCE, "models")
+        train = os.path.join(BUILD, "apps", "sems_train")
+        mask = os.path.join(models, "delay_single", "mask.json")
+        with tempfile.TemporaryDirectory() as out:
+            for frame, texts in ((["--symbols", "16"], ["n_symbols: the mask has 32, the frame has 16"]),
+                                 (["--symbols", "16", "--subcarriers", "128"],
+                                  ["n_symbols: the mask has 32, the frame has 16",
+                                   "n_subcarriers: the mask has 64, the frame has 128"]),
+                                 (["--guards", "1"], ["is on guard subcarrier 1 of the frame"])):
+                r = subprocess.run([train, "--task", "delay", "--mask", mask, "--frames", "20", "--epochs", "1",
+                                    "--threads", "1", "--out", os.path.join(out, "b")] + frame,
+                                   capture_output=True, text=True, timeout=120)
+                self.assertNotEqual(r.returncode, 0, r.stdout[-2000:])
+                for t in [mask] + texts:
+                    self.assertIn(t, r.stderr, frame)
+        base = [EVAL, "--size", "test", "--seeds", "1", "--experiments", "1", "--threads", "1"]
+        with tempfile.TemporaryDirectory() as out:
+            for flag, bundle, frame, field, values in (
+                    ("--shipped-classifier", "classifier", ["--bandwidth-hz", "20e6"], "bandwidth_hz",
+                     ("the bundle's frame has 30000000", "has 20000000")),
+                    ("--shipped-delay-single", "delay_single", ["--symbols", "16"], "n_symbols",
+                     ("the bundle's frame has 32", "has 16"))):
+                r = subprocess.run(base + ["--out", out, "--only-shipped", flag, os.path.join(models, bundle)] + frame,
+                                   capture_output=True, text=True, timeout=120)
+                self.assertNotEqual(r.returncode, 0, r.stdout[-2000:])
+                self.assertIn(flag, r.stderr)
+                self.assertIn("frame field " + field + " differs", r.stderr)
+                for v in values:
+                    self.assertIn(v, r.stderr)
+                self.assertNotIn("training (", r.stdout)  # refused before anything ran
+            # A cache of the paper's frame, reused as is on a 20 MHz run.
+            cached = os.path.join(out, "bundles", "cls_default_sems_s2026")
+            shutil.copytree(os.path.join(models, "classifier"), cached)
+            with open(os.path.join(cached, "eval_key.json"), "w") as f:
+                json.dump({"key": {}, "train_seconds": 0}, f)
+            r = subprocess.run(base + ["--out", out, "--reuse-bundles", "--bandwidth-hz", "20e6"],
+                               capture_output=True, text=True, timeout=600)
+            self.assertNotEqual(r.returncode, 0, r.stdout[-2000:])
+            self.assertIn("model cls_default_sems_s2026 (--reuse-bundles", r.stderr)
+            self.assertIn("frame field bandwidth_hz differs: the cached bundle's frame has 30000000, "
+                          "the run's frame has 20000000", r.stderr)
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)

@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: the time-domain target channel inside an SDR front end (docs/guides/radio_front_end.md)."""
 import cmath
+import json
 import math
+import sys
 
 from gnuradio import analog, blocks, channels, filter, gr
 
@@ -18,10 +20,13 @@ _MMSE_CENTRE = 3  # filter.mmse_resampler_cc: output 0 is input 3 (qa_radio_fron
 
 
 def radio_settings(radio="", **overrides):
-    """The front end's settings: a radio file path, radio JSON text or "" (the ideal radio),
-    then any field of front_end_settings given by keyword (leakage_db=40, adc_enob=12,
-    oscillator="separate", ...). Validated: ValueError names the parameter and its value."""
-    if not radio:
+    """The front end's settings: a radio file path, radio JSON text, "" (the ideal radio) or a
+    front_end_settings (copied), then any field of front_end_settings given by keyword
+    (leakage_db=40, adc_enob=12, oscillator="separate", ...). Validated: ValueError names the
+    parameter and its value."""
+    if isinstance(radio, front_end_settings):
+        s = front_end_settings.parse(radio.to_json_string())
+    elif not radio:
         s = front_end_settings()
     elif radio.lstrip().startswith("{"):
         s = front_end_settings.parse(radio)
@@ -35,6 +40,103 @@ def radio_settings(radio="", **overrides):
         setattr(s, key, value)
     s.validate()
     return s
+
+
+def _check_tx_power(tx_power):
+    if not (math.isfinite(tx_power) and tx_power > 0):
+        raise ValueError(f"radio_front_end: tx_power must be positive and finite, got {tx_power}")
+
+
+def _expected_rms(s, snr_db, tx_power):
+    """(rms, dc) at the converter for settings s: the complex rms (DC included) and the DC's
+    magnitude. The power is tx_power * (1 + leakage) + noise after the IQ imbalance; the DC is
+    dc_offset_db relative to that power."""
+    if math.isnan(snr_db):
+        raise ValueError("radio_front_end: snr_db is NaN")
+    noise = 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
+    leak = 10.0 ** (s.leakage_db / 10.0) if s.leakage_db is not None else 0.0
+    power = (abs(s.iq_mu()) ** 2 + abs(s.iq_nu()) ** 2) * (tx_power * (1.0 + leak) + noise)
+    dc = 10.0 ** (s.dc_offset_db / 20.0) * math.sqrt(power) if s.dc_offset_db is not None else 0.0
+    return math.sqrt(power + dc * dc), dc
+
+
+def converter_full_scale(radio="", snr_db=float("inf"), tx_power=1.0, **settings):
+    """Each rail's full scale of the radio's converter, in the channel's units, without building
+    a flowgraph: what SemS Leakage Canceller takes as clip_level.
+
+    radio, **settings: as radio_settings (a radio file path, radio JSON text, "" for the ideal
+    radio, or a front_end_settings; keyword fields override it); snr_db: the channel's SNR per
+    resource element in dB (inf: no noise); tx_power: the transmitted samples' mean power, as
+    radio_front_end's.
+
+    Returns adc_full_scale_rms * rms / sqrt(2), rms being the complex rms the converter expects
+    (tx_power * (1 + leakage) + noise after the IQ imbalance, plus the DC): the level at which
+    radio_front_end with the same arguments clips each rail (its full_scale()). An ideal
+    converter (adc_enob None) quantizes and clips nothing, so it has no full scale: 0.0, the
+    canceller's "no clipping handled". Bad settings or tx_power: ValueError naming them.
+    """
+    s = radio_settings(radio, **settings)
+    _check_tx_power(tx_power)
+    if s.adc_enob is None:
+        return 0.0
+    return s.adc_full_scale_rms * _expected_rms(s, snr_db, tx_power)[0] / math.sqrt(2.0)
+
+
+RECORDING_INFO_FORMAT = "sems.radio_recording"  # <recording>.json: what the radio was
+
+
+def write_recording_info(recording, radio="", snr_db=float("inf"), tx_power=1.0, **settings):
+    """Writes <recording>.json next to a raw recording made through radio_front_end: the radio's
+    settings, snr_db (null for inf), tx_power and the converter's full scale per rail
+    (converter_full_scale of the same arguments; 0.0 for an ideal converter), so that a replay
+    gives the leakage canceller the right clip_level. Returns the full scale written.
+
+        {"format": "sems.radio_recording", "version": 1, "converter_full_scale": <per rail>,
+         "snr_db": 20, "tx_power": 1.0, "radio": {<the radio file's object, overrides applied>}}
+    """
+    s = radio_settings(radio, **settings)
+    full_scale = converter_full_scale(s, snr_db, tx_power)
+    info = {"format": RECORDING_INFO_FORMAT, "version": 1, "converter_full_scale": full_scale,
+            "snr_db": None if math.isinf(snr_db) else snr_db, "tx_power": tx_power,
+            "radio": json.loads(s.to_json_string())}
+    path = recording + ".json"
+    try:
+        with open(path, "w") as f:
+            json.dump(info, f, indent=1)
+            f.write("\n")
+    except OSError as e:
+        raise ValueError(f"write_recording_info: cannot write {path}: {e}") from None
+    return full_scale
+
+
+def recorded_full_scale(recording):
+    """The converter's full scale per rail recorded in <recording>.json (write_recording_info),
+    for the leakage canceller's clip_level. A recording without that file (made before the
+    full scale was recorded, or by another tool) gives 0.0, no clipping handled, and a note on
+    stderr saying so; a file that is not such a record, or whose full scale is not a finite
+    number >= 0, raises ValueError naming the file and the key."""
+    path = recording + ".json"
+    try:
+        with open(path) as f:
+            text = f.read()
+    except FileNotFoundError:
+        print(f"sems: {path} not found: the recording does not say the converter's full scale; "
+              "clip_level 0 (the leakage canceller handles no clipping)", file=sys.stderr, flush=True)
+        return 0.0
+    except OSError as e:
+        raise ValueError(f"recorded_full_scale: cannot read {path}: {e}") from None
+    try:
+        info = json.loads(text)
+    except ValueError as e:
+        raise ValueError(f"{path}: not JSON: {e}") from None
+    if not isinstance(info, dict) or info.get("format") != RECORDING_INFO_FORMAT:
+        raise ValueError(f"{path}: format: expected {RECORDING_INFO_FORMAT!r}")
+    if info.get("version") != 1:
+        raise ValueError(f"{path}: version: expected 1, got {info.get('version')!r}")
+    value = info.get("converter_full_scale")
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value >= 0):
+        raise ValueError(f"{path}: converter_full_scale: must be a finite number >= 0, got {value!r}")
+    return float(value)
 
 
 class radio_front_end(gr.hier_block2):
@@ -83,8 +185,7 @@ class radio_front_end(gr.hier_block2):
             gr.io_signature(1, 1, gr.sizeof_gr_complex))
         self.settings = radio_settings(radio, **settings)
         s = self.settings
-        if not (math.isfinite(tx_power) and tx_power > 0):
-            raise ValueError(f"radio_front_end: tx_power must be positive and finite, got {tx_power}")
+        _check_tx_power(tx_power)
         self.tx_power = tx_power
         self.channel = target_channel_td(scene, list(classes), n_targets, paths_per_target, micro_doppler,
                                          clutter_paths, clutter_csr_db, snr_db, seed, n_symbols,
@@ -179,25 +280,23 @@ class radio_front_end(gr.hier_block2):
         self._set_levels(snr_db)
 
     def expected_rms(self, snr_db=None):
-        """The rms the converter expects (complex, DC included) at an SNR (default: the channel's)."""
+        """The rms the converter expects (complex, DC included) at an SNR (default: the channel's),
+        and the DC's magnitude: (rms, dc)."""
         snr_db = self.channel.snr_db() if snr_db is None else snr_db
-        s = self.settings
-        noise = 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
-        leak = 10.0 ** (s.leakage_db / 10.0) if s.leakage_db is not None else 0.0
-        power = (abs(s.iq_mu()) ** 2 + abs(s.iq_nu()) ** 2) * (self.tx_power * (1.0 + leak) + noise)
-        dc = 10.0 ** (s.dc_offset_db / 20.0) * math.sqrt(power) if s.dc_offset_db is not None else 0.0
-        return math.sqrt(power + dc * dc), dc
+        return _expected_rms(self.settings, snr_db, self.tx_power)
 
-    def full_scale(self):
-        """Each rail's full scale in the channel's units: adc_full_scale_rms * rms / sqrt(2)."""
-        return self.settings.adc_full_scale_rms * self.expected_rms()[0] / math.sqrt(2.0)
+    def full_scale(self, snr_db=None):
+        """Each rail's full scale in the channel's units at an SNR (default: the channel's):
+        converter_full_scale() of this block's settings, 0.0 with an ideal converter."""
+        snr_db = self.channel.snr_db() if snr_db is None else snr_db
+        return converter_full_scale(self.settings, snr_db, self.tx_power)
 
     def _set_levels(self, snr_db):
-        rms, dc = self.expected_rms(snr_db)
+        _, dc = self.expected_rms(snr_db)
         if self.dc is not None:
             self.dc.set_k(cmath.rect(dc, math.pi / 4))
         if self.to_scale is not None:
-            a = self.settings.adc_full_scale_rms * rms / math.sqrt(2.0)
+            a = self.full_scale(snr_db)
             self.to_scale.set_k(1.0 / a)
             self.from_scale.set_k(a)
 

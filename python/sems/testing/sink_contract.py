@@ -155,6 +155,23 @@ class SinkContract:
                                     lambda j: j.__setitem__("task", self.other_task))
         self.assert_refused("bundle of the other task", name, relabelled, bundle=relabelled)
 
+    def test_refuses_a_bundle_of_another_frame_in_any_field(self):
+        """The bundle's frame is compared with the stream's in every field (N and M above; here
+        B, f_c, T, CP and the guards): a copy whose frame differs in one is refused naming the
+        field, the bundle's value and the stream's."""
+        name = "classifier_sink" if self.task == "classify" else "delay_estimator_sink"
+        used = {m for _, m in self.mask.positions()}
+        guard = next(m for m in range(self.mask.n_subcarriers()) if m not in used)
+        for field, value, mine, theirs in (("bandwidth_hz", 20e6, "20000000", "30000000"),
+                                           ("carrier_hz", 2.4e9, "2400000000", "3000000000"),
+                                           ("symbol_interval_s", 5e-4, "0.0005", "0.001"),
+                                           ("cp_len", 32, "32", "16"),
+                                           ("guard_subcarriers", [guard], "[%d]" % guard, "none")):
+            copy = st.copy_bundle(self.bundle, self.workdir, "frame_" + field,
+                                  lambda j: j["frame"].__setitem__(field, value))
+            self.assert_refused(field, name, "frame field %s differs: the bundle's frame has %s, the stream's "
+                                "frame has %s" % (field, mine, theirs), bundle=copy)
+
     def test_refuses_bad_parameters(self):
         self.assert_refused("batch 0", "batch_size", batch_size=0)
         self.assert_refused("negative threads", "threads", threads=-1)

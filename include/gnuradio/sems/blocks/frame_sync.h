@@ -43,6 +43,10 @@ namespace sems {
 
 /*!
  * \brief Finds the frame start in a sample stream from the known pilots and tags frames.
+ * \details Frame check: a mask file carries only its grid, refused unless it is n_symbols x
+ * n_subcarriers (pilot_mask::check_frame names the field and both values); a mask has no CP to
+ * compare with cp_len, and the block has no guard, bandwidth, carrier or symbol-interval
+ * parameter, so it cannot compare those.
  * \ingroup sems
  */
 class SEMS_API frame_sync : virtual public gr::block

@@ -34,6 +34,11 @@ namespace sems {
  * and the tags of its frame's symbols (keys::truth_tag among them).
  *
  * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m.
+ *
+ * Frame check: a mask file carries only its grid, refused unless it is n_symbols x n_subcarriers
+ * (pilot_mask::check_frame names the field and both values); the block has no guard, bandwidth,
+ * carrier, symbol-interval or CP parameter, so it cannot compare those (pilot_mapper refuses a
+ * pilot on its guards).
  */
 class SEMS_API pilot_extractor : virtual public gr::block
 {

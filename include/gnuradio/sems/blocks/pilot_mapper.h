@@ -38,6 +38,11 @@ namespace sems {
  * The mask comes from a mask file (pilot_mask::load) or from explicit flat positions
  * n·M+m: exactly one of the two. With a file, pilot_symbol must equal the file's.
  *
+ * Frame check: the mask must be n_symbols x n_subcarriers with no pilot on guard_subcarriers
+ * (pilot_mask::check_frame names the field and both values, or the pilot and its guard); a mask
+ * file carries no bandwidth, carrier, symbol interval or CP, and the block has no parameter for
+ * them.
+ *
  * N_p = N·M (pilots only): the frame carries no data, the block consumes no input and
  * acts as a source of pilot-only frames; the input may then be left unconnected
  * (bound the output with a head block). With data positions an input is required.

@@ -22,6 +22,9 @@ namespace sems {
 
 /*!
  * \brief Range-Doppler map of each frame's pilot observations (core/range_doppler.h), in dB.
+ * \details Frame check: a mask file carries only its grid, refused unless it is n_symbols x
+ * n_subcarriers (pilot_mask::check_frame names the field and both values); the block has no guard,
+ * bandwidth, carrier, symbol-interval or CP parameter, so it cannot compare those.
  * \ingroup sems_blocks
  */
 class SEMS_API range_doppler_map : virtual public gr::block
