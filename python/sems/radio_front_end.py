@@ -47,17 +47,18 @@ def _check_tx_power(tx_power):
         raise ValueError(f"radio_front_end: tx_power must be positive and finite, got {tx_power}")
 
 
-def _expected_rms(s, snr_db, tx_power):
-    """(rms, dc) at the converter for settings s: the complex rms (DC included) and the DC's
-    magnitude. The power is tx_power * (1 + leakage) + noise after the IQ imbalance; the DC is
-    dc_offset_db relative to that power."""
+def _noise_variance(snr_db):
+    """The channel's noise power per sample at an SNR per resource element (inf: none)."""
     if math.isnan(snr_db):
         raise ValueError("radio_front_end: snr_db is NaN")
-    noise = 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
-    leak = 10.0 ** (s.leakage_db / 10.0) if s.leakage_db is not None else 0.0
-    power = (abs(s.iq_mu()) ** 2 + abs(s.iq_nu()) ** 2) * (tx_power * (1.0 + leak) + noise)
-    dc = 10.0 ** (s.dc_offset_db / 20.0) * math.sqrt(power) if s.dc_offset_db is not None else 0.0
-    return math.sqrt(power + dc * dc), dc
+    return 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
+
+
+def _expected_rms(s, snr_db, tx_power):
+    """(rms, dc) at the converter for settings s: the complex rms (DC included) and the DC's
+    magnitude, from the core's one formula (front_end_settings.expected_rms, dc_amplitude)."""
+    noise = _noise_variance(snr_db)
+    return s.expected_rms(tx_power, noise), s.dc_amplitude(tx_power, noise)
 
 
 def converter_full_scale(radio="", snr_db=float("inf"), tx_power=1.0, **settings):
@@ -77,9 +78,7 @@ def converter_full_scale(radio="", snr_db=float("inf"), tx_power=1.0, **settings
     """
     s = radio_settings(radio, **settings)
     _check_tx_power(tx_power)
-    if s.adc_enob is None:
-        return 0.0
-    return s.adc_full_scale_rms * _expected_rms(s, snr_db, tx_power)[0] / math.sqrt(2.0)
+    return s.full_scale(tx_power, _noise_variance(snr_db))
 
 
 RECORDING_INFO_FORMAT = "sems.radio_recording"  # <recording>.json: what the radio was
