@@ -229,6 +229,7 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
         cs.clip_level = full;
         leakage_fit fit(cs);
         fit.process(p.rx.data(), p.tx.data(), p.rx.data());
+        fit.hold_as_steady_state(); // that window stands for the stream's earlier ones
         fit.process(p.rx.data() + F, p.tx.data() + F, p.rx.data() + F);
     }
 

@@ -33,6 +33,15 @@ leakage_fit::leakage_fit(const leakage_canceller_settings& settings) : d_set(set
     reset();
 }
 
+void leakage_fit::hold_as_steady_state()
+{
+    const double weight = 1.0 / (1.0 - d_set.forgetting);
+    for (auto& v : d_r)
+        v *= weight;
+    for (auto& v : d_p)
+        v *= weight;
+}
+
 void leakage_fit::reset()
 {
     const size_t k = size_t(d_set.regressors()), l = size_t(d_set.taps);

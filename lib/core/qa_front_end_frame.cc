@@ -158,9 +158,10 @@ public:
         CPPUNIT_ASSERT(f.cancels());
         const auto e = estimate_error(frame_settings{}, r, noise, 30, 2.0);
         // The fit also takes the echo's chance correlation with its K regressors, K/W of the
-        // echo's power (1) in one window, shared with the warm-up window at weight λ.
+        // echo's power (1) in one window; in the steady state the window's own weight in the
+        // fit is 1 − λ of the whole.
         const leakage_canceller_settings cs;
-        const double fit_share = static_cast<double>(cs.regressors()) / cs.window / (1.0 + cs.forgetting);
+        const double fit_share = static_cast<double>(cs.regressors()) / cs.window * (1.0 - cs.forgetting);
         assert_near_rel("cancelled to the noise", noise + fit_share, e.error_power, 0.1);
         // Without a canceller (separate oscillators, bistatic) the leakage stays, 40 dB up.
         r.oscillator = oscillator_kind::separate;

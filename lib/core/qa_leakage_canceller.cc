@@ -66,6 +66,7 @@ class qa_leakage_canceller : public CppUnit::TestFixture
     CPPUNIT_TEST(test_unmodelled_image_is_left);
     CPPUNIT_TEST(test_clipped_leakage_bounded_by_the_echo);
     CPPUNIT_TEST(test_clip_level_above_the_stream_changes_nothing);
+    CPPUNIT_TEST(test_held_steady_state_is_a_long_stream_of_that_window);
     CPPUNIT_TEST(test_bad_settings_refused_by_name);
     CPPUNIT_TEST_SUITE_END();
 
@@ -133,6 +134,46 @@ class qa_leakage_canceller : public CppUnit::TestFixture
         CPPUNIT_ASSERT_MESSAGE("the echo's power changed by " + std::to_string(db) + " dB", std::abs(db) < 0.1);
         // and it is the echo, sample by sample (what is left of the leakage is 30 dB below)
         CPPUNIT_ASSERT(power(err, w, err.size()) < 1e-3 * power(echo, w, echo.size()));
+    }
+
+    void test_held_steady_state_is_a_long_stream_of_that_window()
+    {
+        // One window then hold_as_steady_state() is the same fit as that window repeated for
+        // ever (Σ λ^k): the next window comes out the same (float rounding of 200 repeats).
+        stream s(5);
+        leakage_canceller_settings set;
+        set.window = 400;
+        const leakage lk(set.taps, s);
+        const size_t w = size_t(set.window);
+        std::vector<gr_complex> tx(w), rx(w), tx2(w), rx2(w);
+        // Silent first and last taps − 1 samples: whatever window came before, the leakage
+        // reaching into this one is the same (none), so a repeated window is the same data.
+        const size_t edge = size_t(set.taps) - 1;
+        for (size_t n = edge; n + edge < w; ++n) {
+            tx[n] = s.cn();
+            tx2[n] = s.cn();
+        }
+        for (size_t n = 0; n < w; ++n) {
+            rx[n] = lk.at(tx, n) + s.cn(2.0f);
+            rx2[n] = lk.at(tx2, n) + s.cn(2.0f) + s.cn(); // and an echo-like part the fit should not take
+        }
+        leakage_fit held(set), repeated(set), fresh(set);
+        std::vector<gr_complex> scratch(w), a(w), b(w), c(w);
+        held.process(rx.data(), tx.data(), scratch.data());
+        held.hold_as_steady_state();
+        fresh.process(rx.data(), tx.data(), scratch.data());
+        for (int k = 0; k < 200; ++k)
+            repeated.process(rx.data(), tx.data(), scratch.data());
+        held.process(rx2.data(), tx2.data(), a.data());
+        repeated.process(rx2.data(), tx2.data(), b.data());
+        fresh.process(rx2.data(), tx2.data(), c.data());
+        double diff = 0.0, fresh_diff = 0.0;
+        for (size_t n = 0; n < w; ++n) {
+            diff = std::max(diff, double(std::abs(a[n] - b[n])));
+            fresh_diff = std::max(fresh_diff, double(std::abs(c[n] - b[n])));
+        }
+        CPPUNIT_ASSERT_MESSAGE("held vs repeated: " + std::to_string(diff), diff < 1e-3);
+        CPPUNIT_ASSERT_MESSAGE("without holding the fit differs: " + std::to_string(fresh_diff), fresh_diff > 1e-2);
     }
 
     void test_residual_is_the_least_squares_closed_form()

@@ -29,7 +29,8 @@
  *     leakage or a DC offset, leakage_fit (the defaults, one frame per window, at least the
  *     radio's leakage taps, the converter's full scale as clip_level) cancels them. In a stream
  *     its fit carries the previous windows; here one window of the leakage alone (with noise,
- *     the oscillators running on) precedes the frame.
+ *     the oscillators running on) precedes the frame and stands for them
+ *     (leakage_fit::hold_as_steady_state).
  *  8. Per symbol, the unitary FFT of the prefix-free window, divided by X: the estimate
  *     Ĥ[n, m] (on a guard subcarrier, the FFT itself).
  *

@@ -108,6 +108,15 @@ public:
     unsigned long long windows() const { return d_windows; }
     //! \brief Forgets the fit and the transmitted history (a new stream).
     void reset();
+    /*!
+     * \brief Takes the windows fitted so far as a stream's steady state: as if every earlier
+     *        window had been like them. Multiplies the accumulated normal equations by
+     *        Σ_k λ^k = 1/(1 − λ), the weight the forgotten history has in a long stream, so the
+     *        next window's own share of the fit is the steady state's (1 − λ) and not 1/(1 + λ).
+     *        A model of one frame of a stream (front_end_frame.h) calls it after one window of
+     *        the leakage alone.
+     */
+    void hold_as_steady_state();
 
 private:
     leakage_canceller_settings d_set;
