@@ -6,7 +6,7 @@
  * classifier_kinematic (the kinematic class library, any heading) >= 57 % at 10 dB and
  * >= 74 % at 30 dB; classifier_sdr_2g4 (the same library on the 2.4 GHz / 20 MHz SDR frame
  * preset) >= 59 % at 10 dB and >= 76 % at 30 dB; classifier_monostatic (trained for the
- * monostatic SDR radio) >= 99.2 % at 20 dB and >= 97.7 % at 10 dB through that radio;
+ * monostatic SDR radio) >= 99.4 % at 20 dB and >= 97.7 % at 10 dB through that radio;
  * single-path delay MAE <= 0.05 delay index and <= 1.5x the fading-averaged CRB of the
  * bundle's own mask at 30 dB; multipath delay (3 paths) at 30 dB: median |error|
  * <= 0.01 index, <= 3 % of frames off by more than 0.5 index and a mean <= 0.067 index
@@ -142,7 +142,7 @@ public:
 
     // The classifier trained for the monostatic SDR radio: it records that radio (the
     // example's radio file), and on fresh frames through it it holds what it reached in
-    // training (0.996 at 20 dB, 0.984 at 10 dB on 3 000 frames; models/README.md) within three
+    // training (0.997 at 20 dB, 0.984 at 10 dB on 3 000 frames; models/README.md) within three
     // standard errors.
     void classifier_monostatic_bar()
     {
@@ -152,7 +152,7 @@ public:
         const auto recorded = training_settings::from_bundle(b).radio;
         CPPUNIT_ASSERT_MESSAGE("the bundle records the monostatic radio", recorded && *recorded == radio);
         const double a20 = accuracy(b, 20.0, &radio), a10 = accuracy(b, 10.0, &radio);
-        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a20) + " at 20 dB < 0.992", a20 >= 0.992);
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a20) + " at 20 dB < 0.994", a20 >= 0.994);
         CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.977", a10 >= 0.977);
     }
 
