@@ -17,7 +17,9 @@
  * (Doppler) and moves: averaged over 1/(1 − λ) windows it falls out of the fit, while the
  * leakage's estimate gains (1 + λ)/(1 − λ) in noise.
  *
- * Cost and accuracy: K² complex multiply-adds per sample and one K×K solve per window. With
+ * Cost and accuracy: per sample about 2·L complex multiply-adds for the normal matrix (its
+ * entries are lagged products of tx, summed once per lag), K for the right side and K for the
+ * subtraction, plus K²/2 per clipped sample and one K×K solve per window. With
  * white noise of variance σ² the residual leakage left in the output (the fit's error) has
  * power σ²·K/W per sample at λ = 0 and σ²·K·(1 − λ)/((1 + λ)·W) in the steady state.
  *
@@ -130,6 +132,8 @@ private:
 
     void regressors(size_t n, std::complex<double>* phi) const; // φ at window sample n
     void mark_clipped(const gr_complex* rx);                    // fills d_clipped (clip_level > 0)
+    void add_window_normal_matrix();                           // R += the window's Σ conj(φ)·φᵀ
+    std::vector<std::complex<double>> d_prefix_direct, d_prefix_image; // its lagged prefix sums
 };
 
 } // namespace sems
