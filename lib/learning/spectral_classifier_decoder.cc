@@ -30,6 +30,11 @@ constexpr int range_gate_fft_min_subcarriers = 128;
 // are autograd's own (the square x·x, its derivative g·(2x), the backward transform
 // _fft_c2c(G, forward) and the pad's slice), each applied to every element as before, so
 // values and gradients are the same bits, in a few MB.
+//
+// The input is Z (B x K x M complex), or the slow-time DFT as the matrix product leaves it,
+// B x M x 2K with Z[b,k,m] = F[b,m,k] + j F[b,m,K+k], taken chunk by chunk: then neither Z
+// nor its gradient is held whole (F's gradient is Re and Im of Z's, as complex() passes them
+// back), and neither is F in the B x 2K x M layout matmul() copies it to.
 struct fft_range_gate : public torch::autograd::Function<fft_range_gate> {
     // Frames per chunk: one chunk's B' x K x L complex values within ~32 MB.
     static int64_t chunk_frames(int64_t k, int64_t l)
@@ -37,24 +42,28 @@ struct fft_range_gate : public torch::autograd::Function<fft_range_gate> {
         return std::max<int64_t>(1, (int64_t(32) << 20) / std::max<int64_t>(1, k * l * 8));
     }
 
-    static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& z, int64_t l)
+    static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& in, int64_t l)
     {
-        const int64_t b = z.size(0), k = z.size(1), step = chunk_frames(k, l);
+        const bool rows = !in.is_complex(); // B x M x 2K: [Re, Im] of Z along the last axis
+        const int64_t b = in.size(0), k = rows ? in.size(2) / 2 : in.size(1), step = chunk_frames(k, l);
         auto s = torch::empty({ b, k }, torch::dtype(torch::kFloat));
         auto x_gate = torch::empty({ b, k, 2 }, torch::dtype(torch::kFloat)); // R at the gate, (re, im)
         auto gate = torch::empty({ b }, torch::kLong);
         for (int64_t a = 0; a < b; a += step) {
             const int64_t e = std::min(b, a + step);
-            const auto x = torch::view_as_real(torch::fft::ifft(z.slice(0, a, e), l, -1, "forward")); // B' x K x L x 2
-            const auto p = x.square().sum(-1);                                                       // B' x K x L
-            const auto g = std::get<1>(p.sum(1).max(1));                                            // B'
+            const auto part = in.slice(0, a, e);
+            const auto z = rows ? torch::complex(part.slice(2, 0, k), part.slice(2, k)).transpose(1, 2) : part;
+            const auto x = torch::view_as_real(torch::fft::ifft(z, l, -1, "forward")); // B' x K x L x 2
+            const auto p = x.square().sum(-1);                                           // B' x K x L
+            const auto g = std::get<1>(p.sum(1).max(1));                                // B'
             gate.slice(0, a, e).copy_(g);
             s.slice(0, a, e).copy_(p.gather(2, g.view({ -1, 1, 1 }).expand({ e - a, k, 1 })).squeeze(2));
             x_gate.slice(0, a, e).copy_(x.gather(2, g.view({ -1, 1, 1, 1 }).expand({ e - a, k, 1, 2 })).squeeze(2));
         }
         ctx->save_for_backward({ x_gate, gate });
         ctx->saved_data["l"] = l;
-        ctx->saved_data["m"] = z.size(2);
+        ctx->saved_data["m"] = rows ? in.size(1) : in.size(2);
+        ctx->saved_data["rows"] = rows;
         return s;
     }
 
@@ -65,11 +74,13 @@ struct fft_range_gate : public torch::autograd::Function<fft_range_gate> {
         const auto& x_gate = saved[0];
         const auto& gate = saved[1];
         const int64_t l = ctx->saved_data["l"].toInt(), m = ctx->saved_data["m"].toInt();
+        const bool rows = ctx->saved_data["rows"].toBool();
         const int64_t b = x_gate.size(0), k = x_gate.size(1);
-        auto grad_z = torch::empty({ b, k, m }, torch::dtype(torch::kComplexFloat));
+        const auto grad_in = rows ? torch::empty({ b, m, 2 * k }, torch::dtype(torch::kFloat))
+                                  : torch::empty({ b, k, m }, torch::dtype(torch::kComplexFloat));
         if (!grads[0].defined()) {
-            grad_z.zero_();
-            return { grad_z, torch::Tensor() };
+            grad_in.zero_();
+            return { grad_in, torch::Tensor() };
         }
         // d|R|²/d(re, im) = 2 (re, im) at the gate (pow's derivative: grad · (2·x)), 0 elsewhere.
         const auto g_gate = grads[0].unsqueeze(-1) * (2.0 * x_gate); // B x K x 2
@@ -80,12 +91,25 @@ struct fft_range_gate : public torch::autograd::Function<fft_range_gate> {
             g_r.scatter_(2, gate.slice(0, a, e).view({ -1, 1, 1, 1 }).expand({ e - a, k, 1, 2 }),
                          g_gate.slice(0, a, e).unsqueeze(2));
             // ifft's backward: the forward transform, same normalisation (none), then the pad's slice.
-            const auto g_pad = at::_fft_c2c(torch::view_as_complex(g_r), { 2 }, 0, true);
-            grad_z.slice(0, a, e).copy_(g_pad.narrow(2, 0, std::min(m, l)));
+            const auto g_z = at::_fft_c2c(torch::view_as_complex(g_r), { 2 }, 0, true).narrow(2, 0, std::min(m, l));
+            auto dst = grad_in.slice(0, a, e);
+            if (!rows) {
+                dst.copy_(g_z);
+            } else { // complex()'s backward: the real and imaginary parts
+                dst.slice(2, 0, k).copy_(at::real(g_z).transpose(1, 2));
+                dst.slice(2, k).copy_(at::imag(g_z).transpose(1, 2));
+            }
         }
-        return { grad_z, torch::Tensor() };
+        return { grad_in, torch::Tensor() };
     }
 };
+
+// The profile's last step: log of the power relative to its mean.
+torch::Tensor finish_profile(const torch::Tensor& power)
+{
+    const auto s = power / (power.mean(1, true) + 1e-12);
+    return torch::log(s + 1e-3);
+}
 
 // mask as B' x 1 x N x M (B' = 1 or B), float.
 torch::Tensor mask4(const torch::Tensor& mask, const torch::Tensor& grid)
@@ -179,6 +203,12 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
     // (re + j im)(cos - j sin), one real product:
     // [fr; fi] = [[cos, sin], [-sin, cos]] [re; im] (2K x 2N times B x 2N x M').
     const auto b = g.size(0), m = g.size(3);
+    if (d_s.range_bins > 0 && d_m >= range_gate_fft_min_subcarriers && !cols.defined() && m <= d_s.range_bins) {
+        // The product matmul() computes (it folds the batch into one mm: the same call, the
+        // same bits), left as B x M x 2K for the FFT gate, which forms Z from it.
+        const auto ft = g.reshape({ b, 2 * d_n, m }).mT().reshape({ -1, 2 * d_n }).mm(d_dft.t()).view({ b, m, -1 });
+        return finish_profile(fft_range_gate::apply(ft, d_s.range_bins));
+    }
     const auto f = torch::matmul(d_dft, g.reshape({ b, 2 * d_n, m })); // B x 2K x M'
     torch::Tensor s;
     if (d_s.range_bins == 0) {
@@ -211,8 +241,7 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
             s = p.gather(2, gate.view({ -1, 1, 1 }).expand({ p.size(0), p.size(1), 1 })).squeeze(2);
         }
     }
-    s = s / (s.mean(1, true) + 1e-12);
-    return torch::log(s + 1e-3);
+    return finish_profile(s);
 }
 
 torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& g,
