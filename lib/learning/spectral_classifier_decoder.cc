@@ -2,6 +2,8 @@
 /* gr-sems: the spectral classifier decoder (see spectral_classifier_decoder.h). */
 #include "learning/spectral_classifier_decoder.h"
 #include <gnuradio/sems/core/steering.h>
+#include <ATen/ATen.h>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -18,6 +20,96 @@ namespace {
 // one thread). Below it the product stays, so the bundles of the paper's and the SDR preset's
 // 64-subcarrier frames keep their bits (the two agree to float rounding).
 constexpr int range_gate_fft_min_subcarriers = 128;
+
+// The FFT range gate, S[b,k] = |R[b,k,l*_b]|² with R = ifft(Z, L) ("forward" norm, no 1/L)
+// and l*_b = argmax_l Σ_k |R[b,k,l]|², a few frames at a time. Through autograd the gate held
+// B x K x L complex values and their squares for the backward pass (at 14 x 4 096 and batch
+// 256, 1 GB each, cleared and faulted in at every step) and spent three passes over them on
+// a gradient that is zero off the gate. Here forward keeps R[b,k,l*] alone; backward builds
+// the same sparse gradient of R and runs the same transform on it, chunk by chunk: the ops
+// are autograd's own (the square x·x, its derivative g·(2x), the backward transform
+// _fft_c2c(G, forward) and the pad's slice), each applied to every element as before, so
+// values and gradients are the same bits, in a few MB.
+//
+// The input is Z (B x K x M complex), or the slow-time DFT as the matrix product leaves it,
+// B x M x 2K with Z[b,k,m] = F[b,m,k] + j F[b,m,K+k], taken chunk by chunk: then neither Z
+// nor its gradient is held whole (F's gradient is Re and Im of Z's, as complex() passes them
+// back), and neither is F in the B x 2K x M layout matmul() copies it to.
+struct fft_range_gate : public torch::autograd::Function<fft_range_gate> {
+    // Frames per chunk: one chunk's B' x K x L complex values within ~32 MB.
+    static int64_t chunk_frames(int64_t k, int64_t l)
+    {
+        return std::max<int64_t>(1, (int64_t(32) << 20) / std::max<int64_t>(1, k * l * 8));
+    }
+
+    static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& in, int64_t l)
+    {
+        const bool rows = !in.is_complex(); // B x M x 2K: [Re, Im] of Z along the last axis
+        const int64_t b = in.size(0), k = rows ? in.size(2) / 2 : in.size(1), step = chunk_frames(k, l);
+        auto s = torch::empty({ b, k }, torch::dtype(torch::kFloat));
+        auto x_gate = torch::empty({ b, k, 2 }, torch::dtype(torch::kFloat)); // R at the gate, (re, im)
+        auto gate = torch::empty({ b }, torch::kLong);
+        for (int64_t a = 0; a < b; a += step) {
+            const int64_t e = std::min(b, a + step);
+            const auto part = in.slice(0, a, e);
+            const auto z = rows ? torch::complex(part.slice(2, 0, k), part.slice(2, k)).transpose(1, 2) : part;
+            const auto x = torch::view_as_real(torch::fft::ifft(z, l, -1, "forward")); // B' x K x L x 2
+            const auto p = x.square().sum(-1);                                           // B' x K x L
+            const auto g = std::get<1>(p.sum(1).max(1));                                // B'
+            gate.slice(0, a, e).copy_(g);
+            s.slice(0, a, e).copy_(p.gather(2, g.view({ -1, 1, 1 }).expand({ e - a, k, 1 })).squeeze(2));
+            x_gate.slice(0, a, e).copy_(x.gather(2, g.view({ -1, 1, 1, 1 }).expand({ e - a, k, 1, 2 })).squeeze(2));
+        }
+        ctx->save_for_backward({ x_gate, gate });
+        ctx->saved_data["l"] = l;
+        ctx->saved_data["m"] = rows ? in.size(1) : in.size(2);
+        ctx->saved_data["rows"] = rows;
+        return s;
+    }
+
+    static torch::autograd::variable_list backward(torch::autograd::AutogradContext* ctx,
+                                                   torch::autograd::variable_list grads)
+    {
+        const auto saved = ctx->get_saved_variables();
+        const auto& x_gate = saved[0];
+        const auto& gate = saved[1];
+        const int64_t l = ctx->saved_data["l"].toInt(), m = ctx->saved_data["m"].toInt();
+        const bool rows = ctx->saved_data["rows"].toBool();
+        const int64_t b = x_gate.size(0), k = x_gate.size(1);
+        const auto grad_in = rows ? torch::empty({ b, m, 2 * k }, torch::dtype(torch::kFloat))
+                                  : torch::empty({ b, k, m }, torch::dtype(torch::kComplexFloat));
+        if (!grads[0].defined()) {
+            grad_in.zero_();
+            return { grad_in, torch::Tensor() };
+        }
+        // d|R|²/d(re, im) = 2 (re, im) at the gate (pow's derivative: grad · (2·x)), 0 elsewhere.
+        const auto g_gate = grads[0].unsqueeze(-1) * (2.0 * x_gate); // B x K x 2
+        const int64_t step = chunk_frames(k, l);
+        for (int64_t a = 0; a < b; a += step) {
+            const int64_t e = std::min(b, a + step);
+            auto g_r = torch::zeros({ e - a, k, l, 2 }, torch::dtype(torch::kFloat));
+            g_r.scatter_(2, gate.slice(0, a, e).view({ -1, 1, 1, 1 }).expand({ e - a, k, 1, 2 }),
+                         g_gate.slice(0, a, e).unsqueeze(2));
+            // ifft's backward: the forward transform, same normalisation (none), then the pad's slice.
+            const auto g_z = at::_fft_c2c(torch::view_as_complex(g_r), { 2 }, 0, true).narrow(2, 0, std::min(m, l));
+            auto dst = grad_in.slice(0, a, e);
+            if (!rows) {
+                dst.copy_(g_z);
+            } else { // complex()'s backward: the real and imaginary parts
+                dst.slice(2, 0, k).copy_(at::real(g_z).transpose(1, 2));
+                dst.slice(2, k).copy_(at::imag(g_z).transpose(1, 2));
+            }
+        }
+        return { grad_in, torch::Tensor() };
+    }
+};
+
+// The profile's last step: log of the power relative to its mean.
+torch::Tensor finish_profile(const torch::Tensor& power)
+{
+    const auto s = power / (power.mean(1, true) + 1e-12);
+    return torch::log(s + 1e-3);
+}
 
 // mask as B' x 1 x N x M (B' = 1 or B), float.
 torch::Tensor mask4(const torch::Tensor& mask, const torch::Tensor& grid)
@@ -111,6 +203,12 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
     // (re + j im)(cos - j sin), one real product:
     // [fr; fi] = [[cos, sin], [-sin, cos]] [re; im] (2K x 2N times B x 2N x M').
     const auto b = g.size(0), m = g.size(3);
+    if (d_s.range_bins > 0 && d_m >= range_gate_fft_min_subcarriers && !cols.defined() && m <= d_s.range_bins) {
+        // The product matmul() computes (it folds the batch into one mm: the same call, the
+        // same bits), left as B x M x 2K for the FFT gate, which forms Z from it.
+        const auto ft = g.reshape({ b, 2 * d_n, m }).mT().reshape({ -1, 2 * d_n }).mm(d_dft.t()).view({ b, m, -1 });
+        return finish_profile(fft_range_gate::apply(ft, d_s.range_bins));
+    }
     const auto f = torch::matmul(d_dft, g.reshape({ b, 2 * d_n, m })); // B x 2K x M'
     torch::Tensor s;
     if (d_s.range_bins == 0) {
@@ -119,7 +217,6 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
         // Range gate: R[k,l] = Σ_m F[k,m] exp(+j2π m l / L), then the Doppler profile of the
         // delay bin with the most energy (a single target sits in one bin at every Doppler).
         const auto fr = f.slice(1, 0, d_s.doppler_bins), fi = f.slice(1, d_s.doppler_bins);
-        torch::Tensor p; // B x K x L
         if (d_m >= range_gate_fft_min_subcarriers) {
             const int64_t l = d_s.range_bins;
             auto z = torch::complex(fr, fi); // B x K x M'
@@ -131,20 +228,20 @@ torch::Tensor spectral_classifier_decoder_module::power_profile(const torch::Ten
                 const auto periods = (z.size(2) + l - 1) / l;
                 z = torch::constant_pad_nd(z, { 0, periods * l - z.size(2) }).view({ b, d_s.doppler_bins, periods, l }).sum(2);
             }
-            // Σ_m Z[k,m] exp(+j2π m l / L): the inverse DFT without its 1/L ("forward" norm).
-            p = torch::view_as_real(torch::fft::ifft(z, l, -1, "forward")).square().sum(-1);
+            // Σ_m Z[k,m] exp(+j2π m l / L): the inverse DFT without its 1/L ("forward" norm),
+            // gated at each frame's strongest delay bin (fft_range_gate).
+            s = fft_range_gate::apply(z, l);
         } else {
             const auto rcos = cols.defined() ? d_rcos.index_select(0, cols) : d_rcos;
             const auto rsin = cols.defined() ? d_rsin.index_select(0, cols) : d_rsin;
             const auto rr = torch::matmul(fr, rcos) - torch::matmul(fi, rsin);
             const auto ri = torch::matmul(fr, rsin) + torch::matmul(fi, rcos);
-            p = rr * rr + ri * ri;
+            const auto p = rr * rr + ri * ri;
+            const auto gate = std::get<1>(p.detach().sum(1).max(1)); // B: the strongest delay bin
+            s = p.gather(2, gate.view({ -1, 1, 1 }).expand({ p.size(0), p.size(1), 1 })).squeeze(2);
         }
-        const auto gate = std::get<1>(p.detach().sum(1).max(1)); // B: the strongest delay bin
-        s = p.gather(2, gate.view({ -1, 1, 1 }).expand({ p.size(0), p.size(1), 1 })).squeeze(2);
     }
-    s = s / (s.mean(1, true) + 1e-12);
-    return torch::log(s + 1e-3);
+    return finish_profile(s);
 }
 
 torch::Tensor spectral_classifier_decoder_module::tone_fit(const torch::Tensor& g,

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -29,6 +30,8 @@ double since(clock_type::time_point t0)
 {
     return std::chrono::duration<double>(clock_type::now() - t0).count();
 }
+// CPU seconds of the process (all threads) since `c0`, a std::clock() reading.
+double cpu_since(std::clock_t c0) { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; }
 
 void fail(const std::string& what) { throw std::invalid_argument("training settings: " + what); }
 
@@ -344,6 +347,8 @@ training_result trainer::run()
     // Every rank runs the same number of steps (collectives pair up).
     const int64_t steps = static_cast<int64_t>(
         d_dist->all_reduce_min({ static_cast<double>(std::max<int64_t>(1, n_train / batch)) })[0]);
+    // Frames one epoch trains on, all ranks (a set smaller than the batch is one short step).
+    const double epoch_frames = static_cast<double>(steps * std::min(batch, n_train) * d_dist->world_size());
     int epoch_no = 0;
     int mask_epochs_left = 0; // phase 1's unused epochs, given to phase 2
 
@@ -411,6 +416,7 @@ training_result trainer::run()
         mask_settle_rule settle(d_s.mask_settle_epochs);
         for (int e = 0; e < d_s.epochs; ++e) {
             const auto te = clock_type::now();
+            const auto ce = std::clock();
             const double ce_w = d_s.delay_ce_weight;
             const bool hard = e >= d_s.encoder.soft_epochs; // hard 0/1 masks unless in the soft warm-up
             const double l = train_epoch(
@@ -432,7 +438,8 @@ training_result trainer::run()
                     return task_l;
                 },
                 opt, { dec1, enc.ptr() });
-            const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
+            const double fps = epoch_frames / since(te); // training frames/s, all ranks
+            const double cpu_s = cpu_since(ce);         // this process's CPU time
             mask_idx = enc->final_indices();
             const auto power = enc->final_power(mask_idx, floor);
             const auto v = evaluate(dec1, mask_idx, d_data.val, val_noisy, 0, noise_grid(mask_idx, power));
@@ -445,7 +452,7 @@ training_result trainer::run()
                << (mse ? "mse " : (hib ? "acc " : "mae ")) << std::setprecision(4) << v.metric << "  temp "
                << std::setprecision(3) << tau << "  distinct " << distinct << "/" << d_s.n_pilots << "  symbols " << n_sym
                << " subcarriers " << n_sub << "  " << std::setprecision(1) << since(te) << " s  " << std::setprecision(0)
-               << fps << " frames/s";
+               << fps << " frames/s  " << std::setprecision(1) << cpu_s << " CPU-s";
             const auto [p_lo, p_hi] = std::minmax_element(power.begin(), power.end());
             if (learn_power)
                 os << std::setprecision(2) << "  power " << *p_lo << ".." << *p_hi;
@@ -453,7 +460,7 @@ training_result trainer::run()
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "mask" }, { "loss", l }, { "val", v.metric },
                                   { "temperature", tau }, { "distinct", distinct }, { "symbols", n_sym },
                                   { "subcarriers", n_sub }, { "hard", hard }, { "seconds", since(te) },
-                                  { "train_frames_per_s", fps } });
+                                  { "cpu_seconds", cpu_s }, { "train_frames_per_s", fps } });
             if (learn_power)
                 d_history.back()["pilot_power_range"] = { *p_lo, *p_hi };
             const bool at_floor = tau <= d_s.encoder.temperature_floor * (1 + 1e-9);
@@ -547,6 +554,7 @@ training_result trainer::run()
         int since_best = 0;
         for (int e = 0; e < epochs2; ++e) {
             const auto te = clock_type::now();
+            const auto ce = std::clock();
             // Cosine learning rate from lr to lr * lr_final_scale; the delay loss moves
             // from cross-entropy towards L1 over the same schedule.
             const double frac = epochs2 > 1 ? static_cast<double>(e) / (epochs2 - 1) : 1.0;
@@ -566,16 +574,19 @@ training_result trainer::run()
                     return loss(out, d_data.train, idx, h, ce_w);
                 },
                 opt, { task_dec });
-            const double fps = steps * d_s.batch / since(te); // training frames/s, all ranks
+            const double fps = epoch_frames / since(te); // training frames/s, all ranks
+            const double cpu_s = cpu_since(ce);         // this process's CPU time
             const auto v = evaluate(task_dec, mask_idx, d_data.val, val_noisy, 0, noise_t);
             std::ostringstream os;
             os << std::fixed << "epoch " << std::setw(3) << ++epoch_no << " [decoder] loss " << std::setprecision(4)
                << l << "  val " << (hib ? "acc " : "mae ") << v.metric << "  lr " << std::setprecision(5) << lr
                << "  distinct " << mask_idx.size() << "/" << d_s.n_pilots << "  " << std::setprecision(1)
-               << since(te) << " s  " << std::setprecision(0) << fps << " frames/s";
+               << since(te) << " s  " << std::setprecision(0) << fps << " frames/s  " << std::setprecision(1) << cpu_s
+               << " CPU-s";
             print(os.str());
             d_history.push_back({ { "epoch", epoch_no }, { "phase", "decoder" }, { "loss", l }, { "val", v.metric },
-                                  { "lr", lr }, { "seconds", since(te) }, { "train_frames_per_s", fps } });
+                                  { "lr", lr }, { "seconds", since(te) }, { "cpu_seconds", cpu_s },
+                                  { "train_frames_per_s", fps } });
             const bool better = hib ? v.metric > best : v.metric < best;
             if (better) {
                 best = v.metric;
