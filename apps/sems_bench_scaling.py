@@ -111,10 +111,12 @@ def training_rows(binary, work, n, m, np_, frames):
     if not epoch or not peak:
         sys.exit(f"sems_bench_scaling: could not read the epoch rate or the peak memory of: {' '.join(cmd)}")
     train_frames = int(re.search(r"data: (\d+) train", proc.stdout).group(1))
-    # The epoch's frames (whole batches of 256) over its wall and its CPU seconds.
+    # The epoch's frames (whole batches of 256) over its wall and its CPU seconds (the log gives
+    # tenths: an epoch under 0.05 CPU-s, as --quick's, has no CPU rate).
     epoch_frames = float(epoch.group(2)) * float(epoch.group(1))
+    cpu_s = float(epoch.group(3))
     return [dict(part="training", name="mask+task epoch", n_symbols=n, n_subcarriers=m, n_pilots=np_, batch="",
-                 frames=train_frames, wall=float(epoch.group(2)), cpu=epoch_frames / float(epoch.group(3)),
+                 frames=train_frames, wall=float(epoch.group(2)), cpu=epoch_frames / cpu_s if cpu_s > 0 else "",
                  unit="frames/s", anchor_wall="", anchor_cpu="", peak_mib=int(peak.group(1)) / 1024.0)]
 
 
