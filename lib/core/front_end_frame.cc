@@ -38,7 +38,7 @@ struct front_end_frame::impl {
     std::vector<gr_complex> x;        // 2N x M: the warm-up's and the frame's symbols
     std::vector<gr_complex> tx;       // 2F baseband transmitted samples
     std::vector<gr_complex> rx;       // 2F received samples
-    std::vector<double> phi_tx, phi_rx; // lead + 2F phases (index 0 = sample −lead)
+    std::vector<double> phi_tx, phi_rx; // lead + 2F phases (index 0 = sample −lead); phi_rx: separate only
     std::vector<gr_complex> osc_rx;     // e^{jφ_rx}, the same samples
     std::vector<gr_complex> sent;       // e^{jφ_tx}·tx, the same samples (0 before the warm-up)
     std::vector<gr_complex> hx;         // a symbol's H·X
@@ -152,19 +152,18 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
             p.phi_rx.resize(lead + total);
             for (auto& v : p.phi_rx)
                 v = rx_osc.next();
-        } else {
-            p.phi_rx = p.phi_tx;
         }
-    } else {
-        p.phi_rx.assign(lead + total, 0.0);
     }
+    // One oscillator (monostatic) or none: the receiver's phases are the transmitter's.
+    const std::vector<double>& phi_rx =
+        diffusion > 0.0 && r.oscillator == oscillator_kind::separate ? p.phi_rx : p.phi_tx;
     // The oscillators as phasors: e^{jφ_tx}·x is what leaves the transmitter.
     const bool noisy_osc = diffusion > 0.0;
     if (noisy_osc) {
         p.osc_rx.resize(lead + total);
         p.sent.resize(lead + total);
         for (size_t i = 0; i < lead + total; ++i) {
-            p.osc_rx[i] = std::polar(1.0f, static_cast<float>(p.phi_rx[i]));
+            p.osc_rx[i] = std::polar(1.0f, static_cast<float>(phi_rx[i]));
             const gr_complex x = i < lead ? gr_complex(0, 0) : p.tx[i - lead];
             p.sent[i] = x * std::polar(1.0f, static_cast<float>(p.phi_tx[i]));
         }
@@ -174,17 +173,16 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
     }
 
     // 3-4. Echo (the frame only) and leakage (the warm-up and the frame), down-converted.
-    std::vector<gr_complex>& hx = p.hx;
     std::fill(p.rx.begin(), p.rx.end(), gr_complex(0, 0));
     for (int sym = 0; sym < n; ++sym) {
         const gr_complex* xs = &p.x[static_cast<size_t>(n + sym) * m];
         for (int k = 0; k < m; ++k)
-            hx[static_cast<size_t>(k)] = h[static_cast<size_t>(sym) * m + k] * xs[k];
-        p.modulate(hx.data(), &p.rx[F + static_cast<size_t>(sym) * s]);
+            p.hx[static_cast<size_t>(k)] = h[static_cast<size_t>(sym) * m + k] * xs[k];
+        p.modulate(p.hx.data(), &p.rx[F + static_cast<size_t>(sym) * s]);
     }
     if (noisy_osc)
         for (size_t t = F; t < total; ++t) {
-            const double turn = p.phase_at(p.phi_tx, static_cast<double>(lead + t) - delay_index) - p.phi_rx[lead + t];
+            const double turn = p.phase_at(p.phi_tx, static_cast<double>(lead + t) - delay_index) - phi_rx[lead + t];
             p.rx[t] *= std::polar(1.0f, static_cast<float>(turn));
         }
     if (!p.leak.empty())

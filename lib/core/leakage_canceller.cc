@@ -221,7 +221,7 @@ void leakage_fit::process(const gr_complex* rx, const gr_complex* tx, gr_complex
     d_c = d_set.dc ? gr_complex(coef(Eigen::Index(i))) : gr_complex(0.0f, 0.0f);
 
     // Subtract the fit from the window.
-    std::vector<std::complex<double>>& fit = d_prefix_direct; // scratch: the fit per sample
+    std::vector<std::complex<double>>& fit = d_fit;
     fit.assign(w, std::complex<double>(d_set.dc ? coef(Eigen::Index(k - 1)) : 0.0));
     for (size_t d = 0; d < l; ++d) {
         const std::complex<double> h = coef(Eigen::Index(d));

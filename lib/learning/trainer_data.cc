@@ -6,6 +6,7 @@
 #include <ATen/Parallel.h>
 #include <algorithm>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 
@@ -134,6 +135,23 @@ torch::Tensor add_noise(const torch::Tensor& h, const torch::Tensor& var, c10::o
     return h + noise * torch::sqrt(var / 2.0).view({ -1, 1, 1, 1 });
 }
 
+namespace {
+// This thread's model of the radio, kept across batches: its FFT plans take milliseconds to
+// make. observe() keeps no state between frames, so reusing it changes no observation.
+front_end_frame& thread_radio(const frame_settings& fs, const front_end_settings& radio)
+{
+    thread_local std::unique_ptr<front_end_frame> model;
+    thread_local frame_settings model_frame;
+    thread_local front_end_settings model_radio;
+    if (!model || model_frame != fs || !(model_radio == radio)) {
+        model = std::make_unique<front_end_frame>(fs, radio);
+        model_frame = fs;
+        model_radio = radio;
+    }
+    return *model;
+}
+} // namespace
+
 torch::Tensor observe(const torch::Tensor& h,
                       const torch::Tensor& var,
                       const torch::Tensor& delay,
@@ -155,7 +173,7 @@ torch::Tensor observe(const torch::Tensor& h,
     const auto* src = reinterpret_cast<const gr_complex*>(in.data_ptr<float>());
     auto* dst = reinterpret_cast<gr_complex*>(out.data_ptr<float>());
     at::parallel_for(0, count, 16, [&](int64_t a, int64_t b) {
-        front_end_frame radio(s.frame, *s.radio); // FFT plans and buffers per thread
+        front_end_frame& radio = thread_radio(s.frame, *s.radio);
         for (int64_t i = a; i < b; ++i)
             radio.observe(src + i * n * m, dl[i], v[i], static_cast<uint64_t>(sd[i]), dst + i * n * m);
     });

@@ -8,7 +8,7 @@ import sys
 from gnuradio import analog, blocks, channels, filter, gr
 
 from .core_python import frame_settings as _frame_settings
-from .core_python import front_end_settings, oscillator_from_name, oscillator_kind
+from .core_python import channel_model, front_end_settings, oscillator_from_name, oscillator_kind
 from .core_python import phase_noise_source, target_channel_td
 
 _FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame_settings.h)
@@ -48,10 +48,11 @@ def _check_tx_power(tx_power):
 
 
 def _noise_variance(snr_db):
-    """The channel's noise power per sample at an SNR per resource element (inf: none)."""
+    """The channel's noise power per sample at an SNR per resource element (inf: none):
+    channel_model.noise_variance, with a NaN named as this block's parameter."""
     if math.isnan(snr_db):
         raise ValueError("radio_front_end: snr_db is NaN")
-    return 0.0 if math.isinf(snr_db) else 10.0 ** (-snr_db / 10.0)
+    return channel_model.noise_variance(snr_db)
 
 
 def _expected_rms(s, snr_db, tx_power):

@@ -134,6 +134,7 @@ private:
     void mark_clipped(const gr_complex* rx);                    // fills d_clipped (clip_level > 0)
     void add_window_normal_matrix();                           // R += the window's Σ conj(φ)·φᵀ
     std::vector<std::complex<double>> d_prefix_direct, d_prefix_image; // its lagged prefix sums
+    std::vector<std::complex<double>> d_fit;                           // the window's fitted leakage
 };
 
 } // namespace sems
