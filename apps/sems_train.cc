@@ -103,6 +103,7 @@ int main(int argc, char** argv)
         ("patience", po::value(&s.patience)->default_value(s.patience), "early stop after this many epochs without improvement")
         ("mask-settle-epochs", po::value(&s.mask_settle_epochs)->default_value(s.mask_settle_epochs), "phase 1 ends once the learned mask is unchanged for this many epochs (0 = never); its unused epochs go to the decoder phase")
         ("threads", po::value(&s.threads)->default_value(2), "LibTorch threads")
+        ("data", po::value(&s.training_data)->default_value(s.training_data), "the training frames: hold (in memory, 8*N*M bytes a frame) | stream (computed again from their drawn paths for every batch: the same bundle, the emulator's time per epoch) | auto (stream when they would take more than half the machine's memory)")
         ("seed", po::value(&s.seed)->default_value(s.seed), "seed (data, noise, initial weights)")
         ("eval-snr", po::value(&eval_snr)->default_value("0,10,20,30"), "test SNR points (dB), comma-separated")
         ("eval-frames", po::value(&s.eval_frames)->default_value(s.eval_frames), "test frames per SNR point (0 = all)")
@@ -166,13 +167,13 @@ int main(int argc, char** argv)
         if (!from.empty()) {
             // The bundle's own settings; only sizes, output and where it runs may change.
             static const std::set<std::string> allowed = { "from", "out", "frames", "epochs", "decoder-epochs",
-                                                            "batch", "eval-frames", "eval-snr", "threads", "quiet", "dry-run",
+                                                            "batch", "eval-frames", "eval-snr", "threads", "data", "quiet", "dry-run",
                                                             "world-size", "rank", "store-file", "master-addr",
                                                             "master-port", "gloo-interface", "dist-timeout" };
             for (const auto& [name, value] : vm)
                 if (!value.defaulted() && !allowed.count(name))
                     throw std::invalid_argument("--" + name + " cannot be given with --from (the bundle's recorded "
-                                                "settings are used; only sizes, --out and --threads may change)");
+                                                "settings are used; only sizes, --out, --threads and --data may change)");
             auto r = training_settings::from_bundle(model_bundle::load(from));
             auto size = [&](const char* flag, int& field, int value) {
                 if (!vm[flag].defaulted())
@@ -185,6 +186,7 @@ int main(int argc, char** argv)
             size("eval-frames", r.eval_frames, s.eval_frames);
             if (!vm["threads"].defaulted())
                 r.threads = s.threads;
+            r.training_data = s.training_data;
             if (!vm["eval-snr"].defaulted()) {
                 r.eval_snr_db.clear();
                 for (const auto& v : split_list(eval_snr))

@@ -5,6 +5,7 @@
 #include <gnuradio/sems/learning/bundle_decoder.h>
 #include <gnuradio/sems/learning/trainer.h>
 #include "learning/mask_settle_rule.h"
+#include "learning/trainer_data.h"
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -52,6 +53,13 @@ training_settings tiny(const std::string& out)
     return s;
 }
 
+// Trains s changed by `change` (s keeps the change).
+training_result train_changed(training_settings& s, const std::function<void(training_settings&)>& change)
+{
+    change(s);
+    return train(s, nullptr);
+}
+
 struct trained {
     std::string dir;
     training_result result;
@@ -74,6 +82,14 @@ void copy_bundle(const std::string& from, const std::string& to)
     fs::copy(from, to, fs::copy_options::recursive);
 }
 
+std::string file_bytes(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    if (!f)
+        throw std::runtime_error("qa: cannot read " + path);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
 void edit_json(const std::string& path, const std::function<void(nlohmann::json&)>& f)
 {
     nlohmann::json j;
@@ -92,6 +108,8 @@ class qa_learning_training : public CppUnit::TestFixture
     CPPUNIT_TEST(settled_mask_gives_its_epochs_to_the_decoder);
     CPPUNIT_TEST(bundle_reproduces_trainer_answers);
     CPPUNIT_TEST(same_seed_same_mask_and_metrics);
+    CPPUNIT_TEST(streamed_frames_are_the_held_frames);
+    CPPUNIT_TEST(streamed_frames_train_the_same_bundle);
     CPPUNIT_TEST(bad_bundles_are_refused);
     CPPUNIT_TEST(bad_settings_are_refused);
     CPPUNIT_TEST(learned_pilot_power);
@@ -217,6 +235,61 @@ public:
                                    "\n" + again.history.dump() + "\n" + t.result.history.dump(),
                                again.bundle.mask == t.result.bundle.mask);
         CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), again.bundle.metrics.at("test").dump());
+    }
+
+    // The data set's training frames held and streamed: the same bits for every frame in any
+    // order, and for any grid positions of the first frames (the template bank's pilots), on
+    // a library of moving scatterers (walkers, rotors, wheels) at any heading; the same labels,
+    // delays, validation and test frames.
+    void streamed_frames_are_the_held_frames()
+    {
+        auto s = tiny("");
+        s.frames = 300;
+        random_spec spec;
+        spec.classes.clear();
+        spec.heading = heading_kind::any;
+        const scene sc = scene::random(spec, std::nullopt, fading_kind::rayleigh, class_library::find("kinematic"));
+        s.training_data = "hold";
+        const auto held = training::make_data(s, sc);
+        s.training_data = "stream";
+        const auto streamed = training::make_data(s, sc);
+        CPPUNIT_ASSERT(streamed.train.streamed() && !held.train.streamed() && !streamed.train.h.defined());
+        CPPUNIT_ASSERT_EQUAL(int64_t(240), streamed.train.size());
+        CPPUNIT_ASSERT_EQUAL(held.train.held_bytes(), streamed.train.held_bytes());
+        const auto idx = torch::randperm(held.train.size(), torch::kLong);
+        CPPUNIT_ASSERT(torch::equal(held.train.frames(idx), streamed.train.frames(idx)));
+        CPPUNIT_ASSERT(torch::equal(held.train.label, streamed.train.label));
+        CPPUNIT_ASSERT(torch::equal(held.train.delay, streamed.train.delay));
+        CPPUNIT_ASSERT(torch::equal(held.val.h, streamed.val.h) && torch::equal(held.test.h, streamed.test.h));
+        CPPUNIT_ASSERT(torch::equal(held.test.label, streamed.test.label));
+        const int64_t grid = s.frame.n_symbols * s.frame.n_subcarriers;
+        const auto flat = torch::tensor({ int64_t(0), int64_t(5), int64_t(77), grid - 1 }, torch::kLong);
+        CPPUNIT_ASSERT(torch::equal(held.train.pilots(200, flat), streamed.train.pilots(200, flat)));
+        CPPUNIT_ASSERT_THROW(streamed.train.frames(torch::tensor({ int64_t(240) }, torch::kLong)), std::logic_error);
+    }
+
+    // Streamed training frames are the held ones bit for bit: the same mask, epochs, decoder
+    // weights and test metrics.
+    void streamed_frames_train_the_same_bundle()
+    {
+        const auto& t = shared_run();
+        const auto dir = temp_dir("streamed");
+        auto s = tiny(dir);
+        const auto r = train_changed(s, [](training_settings& c) { c.training_data = "stream"; });
+        CPPUNIT_ASSERT(r.bundle.mask == t.result.bundle.mask);
+        CPPUNIT_ASSERT_EQUAL(t.result.bundle.metrics.at("test").dump(), r.bundle.metrics.at("test").dump());
+        auto untimed = [](nlohmann::json h) { // the epochs' losses and scores, not their times
+            for (auto& e : h)
+                for (const char* k : { "seconds", "cpu_seconds", "train_frames_per_s" })
+                    e.erase(k);
+            return h.dump();
+        };
+        CPPUNIT_ASSERT_EQUAL(untimed(t.result.history), untimed(r.history));
+        CPPUNIT_ASSERT_EQUAL(file_bytes(t.dir + "/decoder.pt"), file_bytes(dir + "/decoder.pt"));
+        CPPUNIT_ASSERT(!r.bundle.training.contains("training_data")); // where frames live is not a setting of the bundle
+        s.training_data = "disk";
+        assert_error([&] { train(s, nullptr); }, "training_data", "disk");
+        fs::remove_all(dir);
     }
 
     void bad_bundles_are_refused()
@@ -364,8 +437,7 @@ public:
         const auto& t = shared_run();
         const auto dir = temp_dir("phases");
         auto s = tiny(dir);
-        s.pilot_phases = "newman";
-        const auto r = train(s, nullptr);
+        const auto r = train_changed(s, [](training_settings& c) { c.pilot_phases = "newman"; });
         const auto& mk = r.bundle.mask;
         CPPUNIT_ASSERT_EQUAL(std::string("newman"), mk.phase_sequence());
         CPPUNIT_ASSERT(!mk.zero_phases());

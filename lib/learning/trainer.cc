@@ -312,6 +312,10 @@ training_result trainer::run()
         os << "data: " << d_data.train.size() << " train / " << d_data.val.size() << " val / "
            << d_data.test.size() << " test frames from " << d_s.scene_source << " ("
            << std::fixed << std::setprecision(1) << since(t0) << " s)";
+        if (d_data.train.streamed())
+            os << "; the training frames are streamed (" << std::setprecision(1)
+               << d_data.train.held_bytes() / 1073741824.0
+               << " GiB if held): each batch's are computed again from their drawn paths";
         if (d_dist->active())
             os << " on rank 0 of " << d_dist->world_size() << " (each rank draws its own share)";
         if (d_s.radio)
@@ -362,7 +366,7 @@ training_result trainer::run()
         auto batch_of_step = [&](int64_t st) {
             step_batch b;
             b.idx = perm.slice(0, st * batch, std::min<int64_t>(n_train, (st + 1) * batch));
-            b.h = d_data.train.h.index_select(0, b.idx);
+            b.h = d_data.train.frames(b.idx);
             b.y = training::observe(
                 b.h, training::draw_noise_variance(b.idx.size(0), d_s.snr_min_db, d_s.snr_max_db, c10::nullopt),
                 d_data.train.delay.index_select(0, b.idx), d_s, c10::nullopt);
@@ -540,7 +544,7 @@ training_result trainer::run()
     if (n_templates > 0) {
         bank = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(task_dec)->template_bank();
         const auto flat = torch::tensor(mask_idx, torch::kLong);
-        const auto pilots = d_data.train.h.slice(0, 0, n_templates).flatten(2).index_select(2, flat);
+        const auto pilots = d_data.train.pilots(n_templates, flat);
         bank_row = torch::full({ n_train }, -1, torch::kLong);
         bank_row.slice(0, 0, n_templates).copy_(bank->set(pilots, d_data.train.label.slice(0, 0, n_templates)));
         print("template bank: " + std::to_string(n_templates) + " training frames x " + std::to_string(mask_idx.size()) +
@@ -706,6 +710,8 @@ void training_settings::validate() const
 {
     if (objective != "task" && objective != "mse")
         fail("objective must be \"task\" or \"mse\", got \"" + objective + "\"");
+    if (training_data != "hold" && training_data != "stream" && training_data != "auto")
+        fail("training_data must be \"hold\", \"stream\" or \"auto\", got \"" + training_data + "\"");
     if (pilot_power != "equal" && pilot_power != "learned")
         fail("pilot_power must be \"equal\" or \"learned\", got \"" + pilot_power + "\"");
     if (pilot_power == "learned" && (!mask_file.empty() || !mask_pattern.empty()))

@@ -9,21 +9,94 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace gr {
 namespace sems {
 namespace training {
 
-namespace {
-split slice(const torch::Tensor& h, const torch::Tensor& label, const torch::Tensor& delay, int64_t a, int64_t b)
+// Streamed frames: each frame's drawn paths, and its H computed from them when asked.
+// channel_model::generate() computes a frame as factors(draw(i), i·N).fill(), and the factors
+// are a function of the paths alone: the same bits as the held frame.
+class frame_stream
 {
-    return { h.slice(0, a, b), label.slice(0, a, b), delay.slice(0, a, b) };
+public:
+    frame_stream(const frame_settings& fs, std::vector<frame_realization> frames)
+        : d_fs(fs), d_frames(std::move(frames))
+    {
+    }
+    int64_t size() const { return static_cast<int64_t>(d_frames.size()); }
+    // What the frames would take held.
+    double bytes() const { return double(size()) * 2 * d_fs.n_symbols * d_fs.n_subcarriers * sizeof(float); }
+    // Frames idx as count x 2 x N x M.
+    torch::Tensor frames(const torch::Tensor& idx) const
+    {
+        const auto ix = idx.to(torch::kLong).contiguous();
+        const int64_t count = ix.size(0), n = d_fs.n_symbols, m = d_fs.n_subcarriers;
+        const int64_t* pi = ix.data_ptr<int64_t>();
+        for (int64_t i = 0; i < count; ++i)
+            if (pi[i] < 0 || pi[i] >= size())
+                throw std::logic_error("streamed training frames: frame " + std::to_string(pi[i]) + " of " +
+                                       std::to_string(size()));
+        auto out = torch::empty({ count, n, m, 2 }, torch::kFloat);
+        auto* dst = reinterpret_cast<gr_complex*>(out.data_ptr<float>());
+        at::parallel_for(0, count, 1, [&](int64_t a, int64_t b) {
+            for (int64_t i = a; i < b; ++i) {
+                const uint64_t f = static_cast<uint64_t>(pi[i]);
+                frame_channel(d_fs, d_frames[f], f * static_cast<uint64_t>(n)).fill(dst + i * n * m);
+            }
+        });
+        return out.permute({ 0, 3, 1, 2 }).contiguous();
+    }
+
+private:
+    frame_settings d_fs;
+    std::vector<frame_realization> d_frames; // frame i of the data set (the training frames come first)
+};
+
+torch::Tensor split::frames(const torch::Tensor& idx) const
+{
+    return stream ? stream->frames(idx) : h.index_select(0, idx);
+}
+
+torch::Tensor split::pilots(int64_t count, const torch::Tensor& flat) const
+{
+    if (!stream)
+        return h.slice(0, 0, count).flatten(2).index_select(2, flat);
+    auto out = torch::empty({ count, 2, flat.size(0) }, torch::kFloat);
+    constexpr int64_t step = 256;
+    for (int64_t a = 0; a < count; a += step) {
+        const int64_t b = std::min(count, a + step);
+        out.slice(0, a, b).copy_(stream->frames(torch::arange(a, b, torch::kLong)).flatten(2).index_select(2, flat));
+    }
+    return out;
+}
+
+double split::held_bytes() const
+{
+    return h.defined() ? static_cast<double>(h.nbytes()) : stream ? stream->bytes() : 0.0;
+}
+
+namespace {
+// The training frames (8 of 10) held in memory would take this many bytes.
+double training_bytes(const training_settings& s)
+{
+    return double(s.frames) * 8 / 10 * 2 * s.frame.n_symbols * s.frame.n_subcarriers * sizeof(float);
+}
+
+// Whether s's training frames are streamed.
+bool streams(const training_settings& s)
+{
+    if (s.training_data != "auto")
+        return s.training_data == "stream";
+    const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
+    return memory > 0.0 && training_bytes(s) > 0.5 * memory;
 }
 
 data_set draw_data(const training_settings& s, const scene& sc);
 
 // The last few data sets drawn in this process, by what determines them (frame, scene with its
-// class library, frame count, seed). An evaluation trains many networks per training seed on
+// class library, frame count, seed, streamed or held). An evaluation trains many networks per training seed on
 // the same frames; they are drawn once. The tensors are shared and never written in place.
 class data_cache
 {
@@ -32,7 +105,7 @@ public:
     {
         const std::string key = s.frame.to_json().dump() + "|" + sc.to_json_string() + "|" +
                                 sc.library().to_json().dump() + "|" + std::to_string(s.frames) + "|" +
-                                std::to_string(s.seed);
+                                std::to_string(s.seed) + "|" + std::to_string(streams(s));
         std::lock_guard<std::mutex> lock(d_mutex);
         for (auto it = d_entries.begin(); it != d_entries.end(); ++it)
             if (it->first == key) {
@@ -55,7 +128,8 @@ public:
 private:
     static size_t bytes_of(const data_set& d)
     {
-        return static_cast<size_t>(d.train.h.nbytes() + d.val.h.nbytes() + d.test.h.nbytes());
+        auto held = [](const split& p) { return p.h.defined() ? p.h.nbytes() : size_t(0); };
+        return held(d.train) + held(d.val) + held(d.test);
     }
     static constexpr size_t max_bytes = size_t(2) << 30; // 2 GiB: four paper-frame sets of 30 000 frames
     static constexpr long max_entries = 4;
@@ -75,20 +149,35 @@ data_set draw_data(const training_settings& s, const scene& sc)
 {
     const auto& fs = s.frame;
     const int64_t count = s.frames, n = fs.n_symbols, m = fs.n_subcarriers;
+    const int64_t n_train = count * 8 / 10, n_val = count / 10;
     channel_model model(fs, sc, s.seed);
+    std::vector<frame_truth> truths;
+    truths.reserve(static_cast<size_t>(count));
+    // Streamed: the training frames' paths only (the model draws frame after frame, so they are
+    // drawn first, as generate() would); their H is computed per batch.
+    std::shared_ptr<const frame_stream> stream;
+    int64_t first_held = 0;
+    if (streams(s)) {
+        std::vector<frame_realization> drawn;
+        drawn.reserve(static_cast<size_t>(n_train));
+        for (int64_t i = 0; i < n_train; ++i) {
+            drawn.push_back(model.draw(static_cast<uint64_t>(i)));
+            truths.push_back(drawn.back().truth);
+        }
+        stream = std::make_shared<frame_stream>(fs, std::move(drawn));
+        first_held = n_train;
+    }
     // count x N x M complex -> count x 2 x N x M (real, imag), drawn in chunks of consecutive
     // frames (the same frames as one call: the model draws frame after frame) so the set is
     // held once, not twice: 30 000 NR-sized frames (14 x 4 096) are 13.8 GB.
-    auto all = torch::empty({ count, 2, n, m }, torch::kFloat);
+    auto held = torch::empty({ count - first_held, 2, n, m }, torch::kFloat);
     const int64_t chunk = std::max<int64_t>(1, std::min<int64_t>(count, (int64_t(64) << 20) / (n * m * 8)));
     std::vector<gr_complex> h(static_cast<size_t>(chunk * n * m));
-    std::vector<frame_truth> truths;
-    truths.reserve(static_cast<size_t>(count));
-    for (int64_t first = 0; first < count; first += chunk) {
+    for (int64_t first = first_held; first < count; first += chunk) {
         const int64_t k = std::min(chunk, count - first);
         const auto part = model.generate(static_cast<size_t>(k), h.data(), static_cast<uint64_t>(first));
         truths.insert(truths.end(), part.begin(), part.end());
-        all.slice(0, first, first + k)
+        held.slice(0, first - first_held, first - first_held + k)
             .copy_(torch::from_blob(h.data(), { k, n, m, 2 }, torch::kFloat).permute({ 0, 3, 1, 2 }));
     }
 
@@ -111,10 +200,16 @@ data_set draw_data(const training_settings& s, const scene& sc)
         d.delay_min = std::min(d.delay_min, t.delay_index);
         d.delay_max = std::max(d.delay_max, t.delay_index);
     }
-    const int64_t n_train = count * 8 / 10, n_val = count / 10;
-    d.train = slice(all, label, delay, 0, n_train);
-    d.val = slice(all, label, delay, n_train, n_train + n_val);
-    d.test = slice(all, label, delay, n_train + n_val, count);
+    // Frames [a, b), held: row i of `held` is frame first_held + i.
+    auto rows = [&](int64_t a, int64_t b) {
+        return split{ held.slice(0, a - first_held, b - first_held), label.slice(0, a, b), delay.slice(0, a, b), nullptr };
+    };
+    if (stream)
+        d.train = split{ torch::Tensor(), label.slice(0, 0, n_train), delay.slice(0, 0, n_train), stream };
+    else
+        d.train = rows(0, n_train);
+    d.val = rows(n_train, n_train + n_val);
+    d.test = rows(n_train + n_val, count);
     return d;
 }
 } // namespace

@@ -6,16 +6,29 @@
 
 #include <gnuradio/sems/learning/trainer.h>
 #include <torch/torch.h>
+#include <memory>
 
 namespace gr {
 namespace sems {
 namespace training {
 
+class frame_stream; // frames computed when asked, from their drawn paths (trainer_data.cc)
+
 struct split {
-    torch::Tensor h;      // B x 2 x N x M, noiseless
+    torch::Tensor h;      // B x 2 x N x M, noiseless; undefined when streamed
     torch::Tensor label;  // B (long): class index into class_names
     torch::Tensor delay;  // B (float): delay index of the target of interest
-    int64_t size() const { return h.size(0); }
+    std::shared_ptr<const frame_stream> stream; // set when the frames are streamed
+    int64_t size() const { return label.size(0); }
+    bool streamed() const { return static_cast<bool>(stream); }
+    // Frames idx (long) as idx.size(0) x 2 x N x M: held ones selected, streamed ones computed;
+    // the same bits either way.
+    torch::Tensor frames(const torch::Tensor& idx) const;
+    // The first `count` frames' values at the flat grid indices `flat` (long, into N·M):
+    // count x 2 x flat.size(0), computed in batches when streamed.
+    torch::Tensor pilots(int64_t count, const torch::Tensor& flat) const;
+    // What the frames take (or would take) in memory.
+    double held_bytes() const;
 };
 
 struct data_set {
@@ -24,8 +37,9 @@ struct data_set {
     double delay_min = 0.0, delay_max = 0.0; // over all frames
 };
 
-// The data set of s and sc: noiseless channels of s.frames frames drawn with s.seed. The
-// last few sets drawn in the process are reused (one evaluation trains many networks on them).
+// The data set of s and sc: noiseless channels of s.frames frames drawn with s.seed, the
+// training frames held or streamed as s.training_data says. The last few sets drawn in the
+// process are reused (one evaluation trains many networks on them).
 data_set make_data(const training_settings& s, const scene& sc);
 
 // Per-frame σ² for SNRs (dB) drawn uniformly in [lo, hi] from `gen` (nullopt: global).

@@ -110,7 +110,8 @@ class qa_learning(gr_unittest.TestCase):
             self.assertEqual((training["delay_ce_weight"], training["delay_ce_weight_final"]), (0.5, 0.1))
             dec = sems.bundle_decoder(d, 1)
             np.testing.assert_allclose(dec.estimate_delay_index(r.test_obs), r.test_delay_index, atol=1e-4)
-        for name, bad in (("mask_settle_epochs", -1), ("delay_ce_weight", -0.5), ("delay_ce_weight_final", float("nan"))):
+        for name, bad in (("mask_settle_epochs", -1), ("delay_ce_weight", -0.5), ("delay_ce_weight_final", float("nan")),
+                          ("training_data", "disk")):
             t = sems.training_settings()
             setattr(t, name, bad)
             with self.assertRaisesRegex(ValueError, name):

@@ -104,6 +104,16 @@ struct SEMS_LEARNING_API training_settings {
      */
     int mask_settle_epochs = 2;
     int threads = 0;                 ///< <= 0: leave LibTorch's default
+    /*!
+     * \brief Where the training frames live: "hold" (in memory, 8·N·M bytes a frame),
+     *        "stream" (each batch's frames computed again from their drawn paths) or "auto".
+     * \details Streamed frames are the held ones bit for bit (the channel model's factors are
+     * a function of a frame's drawn paths), so the bundle is the same either way; streaming
+     * costs the emulator's time on every training frame of every epoch and holds only the
+     * paths. "auto" streams when the training frames would take more than half the machine's
+     * physical memory. The validation and test frames (a fifth of `frames`) are held.
+     */
+    std::string training_data = "auto";
     uint64_t seed = 1;               ///< seed of data, noise, mask draws and torch::manual_seed
     std::vector<double> eval_snr_db{ 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
     int eval_frames = 0;             ///< test frames scored per SNR point; 0 = the whole test split
