@@ -15,8 +15,8 @@
  * Exits 1 when --max-false-locks is exceeded or a detection rate is under --min-leakage-detection
  * (with leakage) or --min-echo-detection (the echo alone).
  */
-#include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/frame_search.h>
+#include <gnuradio/sems/core/ofdm_modem.h>
 #include <gnuradio/sems/core/pilot_mask.h>
 #include <boost/program_options.hpp>
 #include <cmath>
@@ -45,32 +45,28 @@ class frame_maker
 {
 public:
     frame_maker(const pilot_mask& mask, int cp, double pilot_power)
-        : d_n(mask.n_symbols()), d_m(mask.n_subcarriers()), d_cp(cp), d_ifft(mask.n_subcarriers()),
-          d_rows(mask.carrier_lists()), d_values(mask.pilot_symbol_lists()), d_ep(std::sqrt(pilot_power))
+        : d_n(mask.n_symbols()), d_m(mask.n_subcarriers()), d_modem(mask.n_subcarriers(), cp),
+          d_x(size_t(mask.n_subcarriers())), d_rows(mask.carrier_lists()), d_values(mask.pilot_symbol_lists()),
+          d_ep(std::sqrt(pilot_power))
     {
     }
-    int len() const { return d_n * (d_m + d_cp); }
+    int len() const { return d_n * d_modem.symbol_len(); }
     void make(std::mt19937_64& g, gr_complex* out)
     {
-        const float s = float(1.0 / std::sqrt(double(d_m)));
         const float q = float(M_SQRT1_2);
         for (int k = 0; k < d_n; ++k) {
-            gr_complex* in = d_ifft.get_inbuf();
             for (int i = 0; i < d_m; ++i)
-                in[i] = gr_complex((g() & 1) ? q : -q, (g() & 2) ? q : -q);
+                d_x[size_t(i)] = gr_complex((g() & 1) ? q : -q, (g() & 2) ? q : -q);
             for (size_t j = 0; j < d_rows[k].size(); ++j)
-                in[d_rows[k][j]] = d_values[k][j] * float(d_ep);
-            d_ifft.execute();
-            const gr_complex* o = d_ifft.get_outbuf();
-            gr_complex* sym = out + size_t(k) * (d_m + d_cp);
-            for (int i = 0; i < d_m + d_cp; ++i)
-                sym[i] = o[((i - d_cp) % d_m + d_m) % d_m] * s;
+                d_x[size_t(d_rows[k][j])] = d_values[k][j] * float(d_ep);
+            d_modem.modulate(d_x.data(), out + size_t(k) * d_modem.symbol_len());
         }
     }
 
 private:
-    int d_n, d_m, d_cp;
-    gr::fft::fft_complex_rev d_ifft;
+    int d_n, d_m;
+    ofdm_modem d_modem;
+    std::vector<gr_complex> d_x; // one symbol's subcarrier values
     std::vector<std::vector<int>> d_rows;
     std::vector<std::vector<gr_complex>> d_values;
     double d_ep;

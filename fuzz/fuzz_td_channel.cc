@@ -10,8 +10,8 @@
  *    inside the prefix (τB <= CP): the M-point FFT of each output symbol's prefix-free
  *    window equals H[n,m]·X[n,m] of the frequency-domain model (td_channel.h), within float
  *    rounding, on a stream of its own. */
-#include "qa/ofdm_modem.h"
 #include "scene_input.h"
+#include <gnuradio/sems/core/ofdm_modem.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <limits>
 #include <stdexcept>
@@ -45,7 +45,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const scene sc = in.read();
         gr::sems::channel_model model(fs, sc, in.seed);
         gr::sems::td_channel td(fs);
-        gr::sems::qa::ofdm_modem o(m, fs.cp_len);
+        gr::sems::ofdm_modem o(m, fs.cp_len);
         qpsk symbols_of(in.seed);
         std::vector<gr_complex> x(m), t(s), y(s), rx(m), h(m);
         frame_realization r;
@@ -66,7 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             td.set_frame(r, first);
             for (int k = 0; k < symbols; ++k) {
                 symbols_of.draw(x.data(), m);
-                o.tx(x.data(), t.data());
+                o.modulate(x.data(), t.data());
                 td.apply_symbol(k, t.data(), y.data());
                 for (int i = 0; i < s; ++i) {
                     const double a = std::abs(std::complex<double>(y[i]));
@@ -95,9 +95,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             double err = 0.0;
             for (int k = 0; k < symbols; ++k) {
                 symbols_of.draw(x.data(), m);
-                o.tx(x.data(), t.data());
+                o.modulate(x.data(), t.data());
                 ref.apply_symbol(k, t.data(), y.data());
-                o.rx(y.data(), rx.data());
+                o.demodulate(y.data(), rx.data());
                 fc.row(k, h.data());
                 for (int i = 0; i < m; ++i)
                     err += std::norm(std::complex<double>(rx[i]) -

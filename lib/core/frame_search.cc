@@ -3,6 +3,7 @@
 #include "core/checks.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/frame_search.h>
+#include <gnuradio/sems/core/ofdm_modem.h>
 #include <volk/volk.h>
 #include <algorithm>
 #include <cmath>
@@ -77,19 +78,18 @@ frame_search::frame_search(
     const int s = m + cp_len;
     d_len = n * s;
     d_template.assign(size_t(d_len), gr_complex(0.0f, 0.0f));
-    gr::fft::fft_complex_rev ifft(m);
-    const float scale = static_cast<float>(std::sqrt(pilot_power) / std::sqrt(double(m)));
+    ofdm_modem modem(m, cp_len); // the pilots alone, as ofdm_tx sends them
+    const float amplitude = static_cast<float>(std::sqrt(pilot_power));
     const auto rows = mask.carrier_lists();
     const auto values = mask.pilot_symbol_lists(); // sqrt(p_k)·s_p, as the mapper sends them
+    std::vector<gr_complex> x(static_cast<size_t>(m));
     for (int k = 0; k < n; ++k) {
         if (rows[k].empty())
             continue;
-        std::fill(ifft.get_inbuf(), ifft.get_inbuf() + m, gr_complex(0.0f, 0.0f));
+        std::fill(x.begin(), x.end(), gr_complex(0.0f, 0.0f));
         for (size_t j = 0; j < rows[k].size(); ++j)
-            ifft.get_inbuf()[rows[k][j]] = values[k][j] * scale;
-        ifft.execute();
-        for (int i = 0; i < s; ++i)
-            d_template[size_t(k) * s + i] = ifft.get_outbuf()[((i - cp_len) % m + m) % m];
+            x[static_cast<size_t>(rows[k][j])] = values[k][j] * amplitude;
+        modem.modulate(x.data(), &d_template[size_t(k) * s]);
     }
     for (const auto& v : d_template)
         d_template_energy += std::norm(v);

@@ -2,9 +2,9 @@
 /* gr-sems: one frame through the radio front end (front_end_frame.h has the chain). */
 #include "core/checks.h"
 #include "core/gaussian_generator.h"
-#include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/front_end_frame.h>
 #include <gnuradio/sems/core/leakage_canceller.h>
+#include <gnuradio/sems/core/ofdm_modem.h>
 #include <gnuradio/sems/core/phase_noise.h>
 #include <algorithm>
 #include <cmath>
@@ -26,15 +26,14 @@ constexpr uint64_t tx_osc_seed = 0x9E3779B97F4A7C15ULL, rx_osc_seed = 0xBF58476D
 struct front_end_frame::impl {
     frame_settings fs;
     front_end_settings radio;
-    int n, m, cp, s;
+    int n, m, s;
     size_t frame_len;  // F = N·S
     double tx_power;
     bool cancel;
     leakage_canceller_settings canceller;
     std::vector<gr_complex> leak;  // the leakage taps
     std::vector<char> used;        // per subcarrier
-    gr::fft::fft_complex_fwd fwd;
-    gr::fft::fft_complex_rev rev;
+    ofdm_modem modem;
     std::vector<gr_complex> x;        // 2N x M: the warm-up's and the frame's symbols
     std::vector<gr_complex> tx;       // 2F baseband transmitted samples
     std::vector<gr_complex> rx;       // 2F received samples
@@ -48,10 +47,8 @@ struct front_end_frame::impl {
           radio(r),
           n(f.n_symbols),
           m(f.n_subcarriers),
-          cp(f.cp_len),
           s(f.n_subcarriers + f.cp_len),
-          fwd(f.n_subcarriers, 1),
-          rev(f.n_subcarriers, 1)
+          modem(f.n_subcarriers, f.cp_len)
     {
         frame_len = static_cast<size_t>(n) * s;
         used.assign(static_cast<size_t>(m), 1);
@@ -70,18 +67,6 @@ struct front_end_frame::impl {
         tx.resize(2 * frame_len);
         rx.resize(2 * frame_len);
         hx.resize(static_cast<size_t>(m));
-    }
-
-    // Unitary inverse FFT of `in` (M values) into the symbol's S samples with the prefix.
-    void modulate(const gr_complex* in, gr_complex* out)
-    {
-        std::copy(in, in + m, rev.get_inbuf());
-        rev.execute();
-        const float scale = static_cast<float>(1.0 / std::sqrt(static_cast<double>(m)));
-        const gr_complex* t = rev.get_outbuf();
-        for (int k = 0; k < m; ++k)
-            out[cp + k] = t[k] * scale;
-        std::copy(out + m, out + m + cp, out); // the prefix repeats the symbol's last CP samples
     }
 
     // φ at fractional sample t (from the lead-in on), linear between samples.
@@ -121,7 +106,7 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
                                     checks::text(noise_variance));
     impl& p = *d;
     const front_end_settings& r = p.radio;
-    const int n = p.n, m = p.m, s = p.s, cp = p.cp;
+    const int n = p.n, m = p.m, s = p.s;
     const size_t F = p.frame_len, total = 2 * F;
     std::mt19937_64 bits(seed);
 
@@ -136,7 +121,7 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
             const unsigned q = static_cast<unsigned>(b >> (2 * (k % 32))) & 3u;
             xs[k] = p.used[static_cast<size_t>(k)] ? gr_complex(q & 1u ? -a : a, q & 2u ? -a : a) : gr_complex(0, 0);
         }
-        p.modulate(xs, &p.tx[static_cast<size_t>(sym) * s]);
+        p.modem.modulate(xs, &p.tx[static_cast<size_t>(sym) * s]);
     }
 
     // Oscillators from `lead` samples before the warm-up (the echo's and the leakage's reach).
@@ -178,7 +163,7 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
         const gr_complex* xs = &p.x[static_cast<size_t>(n + sym) * m];
         for (int k = 0; k < m; ++k)
             p.hx[static_cast<size_t>(k)] = h[static_cast<size_t>(sym) * m + k] * xs[k];
-        p.modulate(p.hx.data(), &p.rx[F + static_cast<size_t>(sym) * s]);
+        p.modem.modulate(p.hx.data(), &p.rx[F + static_cast<size_t>(sym) * s]);
     }
     if (noisy_osc)
         for (size_t t = F; t < total; ++t) {
@@ -232,16 +217,13 @@ void front_end_frame::observe(const gr_complex* h, double delay_index, double no
     }
 
     // 8. FFT of each prefix-free window, divided by X.
-    const float scale = static_cast<float>(1.0 / std::sqrt(static_cast<double>(m)));
     for (int sym = 0; sym < n; ++sym) {
-        const gr_complex* w = &p.rx[F + static_cast<size_t>(sym) * s + cp];
-        std::copy(w, w + m, p.fwd.get_inbuf());
-        p.fwd.execute();
-        const gr_complex* y = p.fwd.get_outbuf();
         const gr_complex* xs = &p.x[static_cast<size_t>(n + sym) * m];
         gr_complex* o = out + static_cast<size_t>(sym) * m;
+        p.modem.demodulate(&p.rx[F + static_cast<size_t>(sym) * s], o);
         for (int k = 0; k < m; ++k)
-            o[k] = p.used[static_cast<size_t>(k)] ? y[k] * scale * std::conj(xs[k]) / std::norm(xs[k]) : y[k] * scale;
+            if (p.used[static_cast<size_t>(k)])
+                o[k] = o[k] * std::conj(xs[k]) / std::norm(xs[k]);
     }
 }
 

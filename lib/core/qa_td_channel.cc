@@ -5,10 +5,10 @@
  * point scatterers) equal the frequency-domain model's up to the motion within a symbol, and
  * follow the bodies' exact per-sample return; bad settings and delays are refused. */
 #include "core/scatterer_moments.h"
-#include "qa/ofdm_modem.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/ofdm_modem.h>
 #include <gnuradio/sems/core/td_channel.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -20,7 +20,7 @@ using namespace gr::sems;
 
 namespace {
 
-using ofdm = gr::sems::qa::ofdm_modem; // unitary CP-OFDM, the maths of ofdm_tx/ofdm_rx
+using ofdm = gr::sems::ofdm_modem; // unitary CP-OFDM, the maths of ofdm_tx/ofdm_rx
 
 // NMSE of TD -> OFDM receiver against H·X of the frequency-domain model, same seed.
 double nmse_against_fd(const frame_settings& fs, const scene& sc, int frames)
@@ -39,9 +39,9 @@ double nmse_against_fd(const frame_settings& fs, const scene& sc, int frames)
         for (int k = 0; k < n; ++k) {
             for (auto& v : x)
                 v = gr_complex((g() & 1) ? 1.0f : -1.0f, (g() & 1) ? 1.0f : -1.0f) * float(M_SQRT1_2);
-            o.tx(x.data(), t.data());
+            o.modulate(x.data(), t.data());
             td.apply_symbol(k, t.data(), y.data());
-            o.rx(y.data(), rx.data());
+            o.demodulate(y.data(), rx.data());
             fc.row(k, h.data());
             for (int i = 0; i < m; ++i) {
                 err += std::norm(rx[i] - h[i] * x[i]);
@@ -102,9 +102,9 @@ body_result body_against_fd(const frame_settings& fs, const target_spec& t, int 
         for (int k = 0; k < n; ++k) {
             for (auto& v : x)
                 v = gr_complex((g() & 1) ? 1.0f : -1.0f, (g() & 1) ? 1.0f : -1.0f) * float(M_SQRT1_2);
-            o.tx(x.data(), tx.data());
+            o.modulate(x.data(), tx.data());
             td.apply_symbol(k, tx.data(), y.data());
-            o.rx(y.data(), rx.data());
+            o.demodulate(y.data(), rx.data());
             fc.row(k, h.data());
             for (int i = 0; i < m; ++i) {
                 err += std::norm(rx[i] - h[i] * x[i]);
