@@ -84,13 +84,15 @@ double training_bytes(const training_settings& s)
     return double(s.frames) * 8 / 10 * 2 * s.frame.n_symbols * s.frame.n_subcarriers * sizeof(float);
 }
 
-// Whether s's training frames are streamed.
+// Whether s's training frames are streamed. "auto": beyond a quarter of the memory, since the
+// validation and test frames add a quarter of the training frames' size and a batch of large
+// frames takes gigabytes (30 000 nr_30khz frames held: over 20 GiB at the peak).
 bool streams(const training_settings& s)
 {
     if (s.training_data != "auto")
         return s.training_data == "stream";
     const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
-    return memory > 0.0 && training_bytes(s) > 0.5 * memory;
+    return memory > 0.0 && training_bytes(s) > 0.25 * memory;
 }
 
 data_set draw_data(const training_settings& s, const scene& sc);

@@ -110,8 +110,9 @@ struct SEMS_LEARNING_API training_settings {
      * \details Streamed frames are the held ones bit for bit (the channel model's factors are
      * a function of a frame's drawn paths), so the bundle is the same either way; streaming
      * costs the emulator's time on every training frame of every epoch and holds only the
-     * paths. "auto" streams when the training frames would take more than half the machine's
-     * physical memory. The validation and test frames (a fifth of `frames`) are held.
+     * paths. "auto" streams when the training frames would take more than a quarter of the
+     * machine's physical memory: the validation and test frames (a fifth of `frames`) are
+     * held either way, and a large frame's batches take gigabytes of their own.
      */
     std::string training_data = "auto";
     uint64_t seed = 1;               ///< seed of data, noise, mask draws and torch::manual_seed
