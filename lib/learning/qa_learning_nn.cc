@@ -36,6 +36,7 @@ class qa_learning_nn : public CppUnit::TestFixture
     CPPUNIT_TEST(encoder_forward_one_hot_at_floor);
     CPPUNIT_TEST(topk_distinct_and_finite_at_extremes);
     CPPUNIT_TEST(topk_encoder_mask_is_exactly_np_distinct);
+    CPPUNIT_TEST(topk_mask_equals_the_dense_column_sums);
     CPPUNIT_TEST(encoder_never_selects_a_guard);
     CPPUNIT_TEST(mti_removes_static_path_exactly);
     CPPUNIT_TEST(spectral_decoder_phase_invariant_on_any_mask);
@@ -215,6 +216,55 @@ public:
         CPPUNIT_ASSERT_THROW(gumbel_topk_st(z, n + 1, 1.0), std::invalid_argument);
         CPPUNIT_ASSERT_THROW(gumbel_topk_st(z, k, 0.0), std::invalid_argument);
         CPPUNIT_ASSERT_THROW(gumbel_topk_st(torch::full({ n }, NAN), k, 1.0), std::invalid_argument);
+    }
+
+    // The O(K) mask equals the dense k x K selection's column sums: exactly forward, and its
+    // relaxed values and gradients to float rounding, with guard elements (−inf) and at the
+    // extremes of temperature and score; the same draws from the global generator.
+    void topk_mask_equals_the_dense_column_sums()
+    {
+        torch::manual_seed(5);
+        const int n = 300, k = 40;
+        auto guarded = torch::randn({ n });
+        guarded.slice(0, 0, 20).fill_(-std::numeric_limits<float>::infinity());
+        for (const auto& z : { torch::randn({ n }), guarded, torch::randn({ n }) * 30.0 })
+            for (double temp : { 1e-2, 0.3, 1.0, 1e2 })
+                for (bool hard : { true, false }) {
+                    const auto uni = torch::rand({ n });
+                    auto zd = z.clone().requires_grad_(true), zm = z.clone().requires_grad_(true);
+                    const auto dense = gumbel_topk_st(zd, k, temp, uni, hard).sum(0);
+                    const auto mask = gumbel_topk_mask_st(zm, k, temp, uni, hard);
+                    CPPUNIT_ASSERT(all_finite(mask));
+                    // Float rounding of the logits (z + g)/τ, of size R, is about R·2^-23 in each
+                    // exponent: the two orders of summation agree to that, relative to the scale.
+                    const auto finite = z.masked_select(torch::isfinite(z));
+                    const double reach = 1.0 + (finite.abs().max().item<double>() + 15.0) / temp;
+                    auto agree = [&](const torch::Tensor& x, const torch::Tensor& y, const char* what) {
+                        const double scale = x.abs().max().item<double>();
+                        const double diff = (x - y).abs().max().item<double>();
+                        CPPUNIT_ASSERT_MESSAGE(std::string(what) + " at temperature " + std::to_string(temp) +
+                                                   " differ by " + std::to_string(diff) + " at scale " +
+                                                   std::to_string(scale),
+                                               diff <= 64 * 1.19e-7 * reach * scale + 1e-7);
+                    };
+                    if (hard)
+                        CPPUNIT_ASSERT(torch::equal(dense, mask));
+                    else
+                        agree(dense, mask, "relaxed column sums");
+                    const auto w = torch::randn({ n });
+                    (dense * w).sum().backward();
+                    (mask * w).sum().backward();
+                    CPPUNIT_ASSERT(all_finite(zm.grad()));
+                    agree(zd.grad(), zm.grad(), "gradients");
+                }
+        torch::manual_seed(9);
+        const auto a = gumbel_topk_st(torch::randn({ n }), k, 1.0).sum(0);
+        torch::manual_seed(9);
+        const auto b = gumbel_topk_mask_st(torch::randn({ n }), k, 1.0);
+        CPPUNIT_ASSERT(torch::equal(a, b));
+        CPPUNIT_ASSERT_THROW(gumbel_topk_mask_st(torch::randn({ n }), 0, 1.0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_mask_st(torch::randn({ n }), k, -1.0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(gumbel_topk_mask_st(torch::full({ n }, NAN), k, 1.0), std::invalid_argument);
     }
 
     void topk_encoder_mask_is_exactly_np_distinct()

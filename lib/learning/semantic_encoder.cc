@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace gr {
 namespace sems {
@@ -60,29 +61,43 @@ std::vector<int64_t> greedy_distinct_assignment(const torch::Tensor& scores)
     return out;
 }
 
+namespace {
+// Gumbel top-k's draw: the perturbed scores Z + g and the k largest of them, in order (pick t
+// is the t-th largest). Arguments are checked in the name of `who`; NaN scores are refused
+// rather than picked.
+struct topk_draw {
+    torch::Tensor perturbed, picks;
+};
+topk_draw draw_topk(const char* who, const torch::Tensor& scores, int k, double temperature, const torch::Tensor& uniform)
+{
+    const std::string name(who);
+    if (!(temperature > 0.0) || !std::isfinite(temperature))
+        throw std::invalid_argument(name + ": temperature must be positive and finite");
+    if (scores.dim() != 1)
+        throw std::invalid_argument(name + ": scores must be one row (K), got shape " + c10::str(scores.sizes()));
+    const int64_t n = scores.size(0);
+    if (k < 1 || k > n)
+        throw std::invalid_argument(name + ": k must be in [1, " + std::to_string(n) + "], got " + std::to_string(k));
+    auto u = uniform.defined() ? uniform.to(scores.dtype()) : torch::rand_like(scores);
+    u = u.clamp(uniform_eps, 1.0 - uniform_eps);
+    topk_draw d;
+    d.perturbed = scores - torch::log(-torch::log(u));
+    const auto pd = d.perturbed.detach();
+    if (torch::isnan(pd).any().item<bool>())
+        throw std::invalid_argument(name + ": NaN score");
+    d.picks = std::get<1>(pd.topk(k)); // k distinct indices
+    return d;
+}
+} // namespace
+
 torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
                              int k,
                              double temperature,
                              const torch::Tensor& uniform,
                              bool hard_forward)
 {
-    if (!(temperature > 0.0) || !std::isfinite(temperature))
-        throw std::invalid_argument("gumbel_topk_st: temperature must be positive and finite");
-    if (scores.dim() != 1)
-        throw std::invalid_argument("gumbel_topk_st: scores must be one row (K), got shape " +
-                                    c10::str(scores.sizes()));
+    const auto [perturbed, picks] = draw_topk("gumbel_topk_st", scores, k, temperature, uniform);
     const int64_t n = scores.size(0);
-    if (k < 1 || k > n)
-        throw std::invalid_argument("gumbel_topk_st: k must be in [1, " + std::to_string(n) + "], got " +
-                                    std::to_string(k));
-    auto u = uniform.defined() ? uniform.to(scores.dtype()) : torch::rand_like(scores);
-    u = u.clamp(uniform_eps, 1.0 - uniform_eps);
-    const auto perturbed = scores - torch::log(-torch::log(u));
-    // The picks: the k largest of Z + g. NaN scores are refused rather than picked.
-    const auto pd = perturbed.detach();
-    if (torch::isnan(pd).any().item<bool>())
-        throw std::invalid_argument("gumbel_topk_st: NaN score");
-    const auto picks = std::get<1>(pd.topk(k)); // k distinct indices
     auto hard = torch::zeros({ k, n }, scores.options());
     hard.scatter_(1, picks.unsqueeze(1), 1.0);
     // Relaxed draws without replacement: pick i's softmax excludes the picks before it.
@@ -90,6 +105,32 @@ torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
     const auto before = torch::cumsum(hard.detach(), 0) - hard.detach(); // 1 where taken by an earlier pick
     const auto masked = logits.unsqueeze(0).masked_fill(before > 0.5, -std::numeric_limits<double>::infinity());
     const auto soft = torch::exp(torch::log_softmax(masked, 1));
+    if (!hard_forward)
+        return soft;
+    return hard + (soft - soft.detach());
+}
+
+torch::Tensor gumbel_topk_mask_st(const torch::Tensor& scores,
+                                  int k,
+                                  double temperature,
+                                  const torch::Tensor& uniform,
+                                  bool hard_forward)
+{
+    const auto [perturbed, picks] = draw_topk("gumbel_topk_mask_st", scores, k, temperature, uniform);
+    const int64_t n = scores.size(0);
+    const auto hard = torch::zeros({ n }, scores.options()).scatter(0, picks, 1.0);
+    const auto logits = perturbed / temperature;
+    // In logs, so that no row's normaliser under- or overflows at any temperature: pick t's
+    // logit a_t is the largest left in row t, and log Z_i = logsumexp(a_i, …, a_{k−1}, log U).
+    const auto a = logits.index_select(0, picks);
+    auto v = a;
+    const auto unpicked = logits.masked_fill(hard.detach() > 0.5, -std::numeric_limits<double>::infinity());
+    if (torch::isfinite(unpicked.detach()).any().item<bool>())
+        v = torch::cat({ a, torch::logsumexp(unpicked, 0, true) });
+    const auto log_z = torch::flip(torch::logcumsumexp(torch::flip(v, { 0 }), 0), { 0 }).slice(0, 0, k);
+    const auto l = torch::logcumsumexp(-log_z, 0); // l_t = log Σ_{i ≤ t} 1/Z_i
+    // Column j: e_j·Σ 1/Z_i over the rows that still hold it.
+    const auto soft = torch::exp((logits + l[k - 1]).scatter(0, picks, a + l));
     if (!hard_forward)
         return soft;
     return hard + (soft - soft.detach());
@@ -167,6 +208,14 @@ torch::Tensor semantic_encoder_module::sample(double temperature, bool hard)
     if (d_topk)
         return gumbel_topk_st(scores().squeeze(0), d_np, temperature, {}, hard);
     return gumbel_softmax_st(scores(), temperature, {}, hard);
+}
+
+torch::Tensor semantic_encoder_module::sample_mask(double temperature, bool hard)
+{
+    constexpr double dense_limit = double(1 << 24); // N_p·N·M elements of the dense selection
+    if (d_topk && double(d_np) * d_n * d_m > dense_limit)
+        return gumbel_topk_mask_st(scores().squeeze(0), d_np, temperature, {}, hard).view({ d_n, d_m });
+    return mask_from_selection(sample(temperature, hard), d_n, d_m);
 }
 
 torch::Tensor semantic_encoder_module::mask_from_selection(const torch::Tensor& selection, int n, int m)

@@ -81,6 +81,23 @@ SEMS_LEARNING_API torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
                                                const torch::Tensor& uniform = {},
                                                bool hard_forward = true);
 
+/*!
+ * \brief gumbel_topk_st(...).sum(0) computed in O(K + k) memory: the mask of the k picks
+ *        (forward: exactly 1 on each pick, 0 elsewhere), with the relaxed rows' column sums
+ *        as its gradient.
+ * \details Row i's relaxation is e_j / Z_i over the elements j not picked before it, with
+ * e = exp((scores + g)/τ) and Z_i = U + Σ_{t ≥ i} e_{pick t} (U: the sum over unpicked
+ * elements), so column j sums to e_j·Σ_{i ≤ t} 1/Z_i when j is pick t and e_j·Σ_i 1/Z_i when
+ * it is not picked. The dense k x K rows need 4·k·K bytes per temporary (16 GiB at
+ * k = 1 024 pilots of a 256 x 4 096 grid); this needs a few K-vectors. Equal to the dense
+ * column sums up to float rounding (same draws from `uniform` or the global generator).
+ */
+SEMS_LEARNING_API torch::Tensor gumbel_topk_mask_st(const torch::Tensor& scores,
+                                                    int k,
+                                                    double temperature,
+                                                    const torch::Tensor& uniform = {},
+                                                    bool hard_forward = true);
+
 class SEMS_LEARNING_API semantic_encoder_module : public torch::nn::Module
 {
 public:
@@ -104,6 +121,12 @@ public:
     torch::Tensor sample(double temperature, bool hard = true);
     //! The mask N x M seen by the decoder: Σ_r S_r (0/1; a 2 where two heads collide).
     static torch::Tensor mask_from_selection(const torch::Tensor& selection, int n_symbols, int n_subcarriers);
+    /*!
+     * \brief mask_from_selection(sample(τ, hard)) without the N_p x (N*M) selection when it
+     *        would be large (gumbel_topk with N_p·N·M > 2^24: gumbel_topk_mask_st); the same
+     *        draws, and the same bits below that size.
+     */
+    torch::Tensor sample_mask(double temperature, bool hard = true);
     //! gumbel_heads: Σ_{r≠s} <p_r, p_s> with p = softmax(Z/τ); gumbel_topk: 0 (no collisions).
     torch::Tensor collision_penalty(double temperature);
     //! The final mask: N_p distinct flat indices (top-k of Z, or the greedy assignment).

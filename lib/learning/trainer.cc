@@ -425,14 +425,15 @@ training_result trainer::run()
             const bool hard = e >= d_s.encoder.soft_epochs; // hard 0/1 masks unless in the soft warm-up
             const double l = train_epoch(
                 [&](const torch::Tensor& y, const torch::Tensor& h, const torch::Tensor& idx) {
-                    auto sel = enc->sample(tau, hard);
-                    auto mask = nn::semantic_encoder_module::mask_from_selection(sel, d_n, d_m);
-                    torch::Tensor in;
+                    torch::Tensor in, mask;
                     if (learn_power) {
                         // Pilot k observes H + noise/sqrt(p_k) (pilot_mask::noise_scale_of_power).
+                        auto sel = enc->sample(tau, hard);
+                        mask = nn::semantic_encoder_module::mask_from_selection(sel, d_n, d_m);
                         const auto scale = torch::matmul(torch::rsqrt(enc->pilot_power(sel, floor)), sel);
                         in = h * mask + (y - h) * scale.view({ d_n, d_m });
                     } else {
+                        mask = enc->sample_mask(tau, hard); // without the N_p x N·M selection when large
                         in = y * mask;
                     }
                     auto out = dec1->forward(in, mask);
