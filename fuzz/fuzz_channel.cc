@@ -11,7 +11,7 @@
  * hundreds of times its mean). Given the b_l, Σ|H|² / Σ p_l|b_l|² is a weighted mean of
  * unit exponentials whose largest weight is 1/k; its Chernoff bounds are those of a
  * Gamma(k)/k draw (the log-MGF is convex in each weight), so it must lie within the bounds
- * that put a false alarm below 1e-11 per input: [0.6, 1.55] at k = 256 (one point path),
+ * that put a false alarm below 1e-11 per input: [0.62, 1.51] at k = 256 (one point path),
  * wider as a flash dominates; below k = 16 the check is left out. The noise's mean power
  * over 4096 values must lie within [0.88, 1.12] of σ² (below 1e-12). */
 #include "scene_input.h"

@@ -15,6 +15,13 @@ namespace gr {
 namespace sems {
 namespace training {
 
+namespace {
+// One frame's noiseless channel held as floats: 2·N·M of them.
+double frame_bytes(const frame_settings& fs) { return 2.0 * fs.n_symbols * fs.n_subcarriers * sizeof(float); }
+// The frames of the 8:1:1 split that train (the rest: validation, then test).
+int64_t training_frames(int64_t count) { return count * 8 / 10; }
+} // namespace
+
 // Streamed frames: each frame's drawn paths, and its H computed from them when asked.
 // channel_model::generate() computes a frame as factors(draw(i), i·N).fill(), and the factors
 // are a function of the paths alone: the same bits as the held frame.
@@ -27,7 +34,7 @@ public:
     }
     int64_t size() const { return static_cast<int64_t>(d_frames.size()); }
     // What the frames would take held.
-    double bytes() const { return double(size()) * 2 * d_fs.n_symbols * d_fs.n_subcarriers * sizeof(float); }
+    double bytes() const { return double(size()) * frame_bytes(d_fs); }
     // Frames idx as count x 2 x N x M.
     torch::Tensor frames(const torch::Tensor& idx) const
     {
@@ -51,7 +58,7 @@ public:
 
 private:
     frame_settings d_fs;
-    std::vector<frame_realization> d_frames; // frame i of the data set (the training frames come first)
+    std::vector<frame_realization> d_frames; // training frame i (frame i of the data set)
 };
 
 torch::Tensor split::frames(const torch::Tensor& idx) const
@@ -78,12 +85,6 @@ double split::held_bytes() const
 }
 
 namespace {
-// The training frames (8 of 10) held in memory would take this many bytes.
-double training_bytes(const training_settings& s)
-{
-    return double(s.frames) * 8 / 10 * 2 * s.frame.n_symbols * s.frame.n_subcarriers * sizeof(float);
-}
-
 // Whether s's training frames are streamed. "auto": beyond a quarter of the memory, since the
 // validation and test frames add a quarter of the training frames' size and a batch of large
 // frames takes gigabytes (30 000 nr_30khz frames held: over 20 GiB at the peak).
@@ -92,29 +93,32 @@ bool streams(const training_settings& s)
     if (s.training_data != "auto")
         return s.training_data == "stream";
     const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
-    return memory > 0.0 && training_bytes(s) > 0.25 * memory;
+    return memory > 0.0 && double(training_frames(s.frames)) * frame_bytes(s.frame) > 0.25 * memory;
 }
 
-data_set draw_data(const training_settings& s, const scene& sc);
+// The data set, its training frames streamed when `streamed`.
+data_set draw_data(const training_settings& s, const scene& sc, bool streamed);
 
 // The last few data sets drawn in this process, by what determines them (frame, scene with its
-// class library, frame count, seed, streamed or held). An evaluation trains many networks per training seed on
-// the same frames; they are drawn once. The tensors are shared and never written in place.
+// class library, frame count, seed, streamed or held). An evaluation trains many networks per
+// training seed on the same frames; they are drawn once. The tensors are shared and never
+// written in place.
 class data_cache
 {
 public:
     data_set get(const training_settings& s, const scene& sc)
     {
+        const bool stream = streams(s);
         const std::string key = s.frame.to_json().dump() + "|" + sc.to_json_string() + "|" +
                                 sc.library().to_json().dump() + "|" + std::to_string(s.frames) + "|" +
-                                std::to_string(s.seed) + "|" + std::to_string(streams(s));
+                                std::to_string(s.seed) + "|" + std::to_string(stream);
         std::lock_guard<std::mutex> lock(d_mutex);
         for (auto it = d_entries.begin(); it != d_entries.end(); ++it)
             if (it->first == key) {
                 d_entries.splice(d_entries.begin(), d_entries, it); // most recent first
                 return it->second;
             }
-        data_set d = draw_data(s, sc);
+        data_set d = draw_data(s, sc, stream);
         d_entries.emplace_front(key, d);
         size_t bytes = 0;
         for (auto it = d_entries.begin(); it != d_entries.end(); ++it) {
@@ -147,11 +151,11 @@ data_set make_data(const training_settings& s, const scene& sc)
 }
 
 namespace {
-data_set draw_data(const training_settings& s, const scene& sc)
+data_set draw_data(const training_settings& s, const scene& sc, bool streamed)
 {
     const auto& fs = s.frame;
     const int64_t count = s.frames, n = fs.n_symbols, m = fs.n_subcarriers;
-    const int64_t n_train = count * 8 / 10, n_val = count / 10;
+    const int64_t n_train = training_frames(count), n_val = count / 10;
     channel_model model(fs, sc, s.seed);
     std::vector<frame_truth> truths;
     truths.reserve(static_cast<size_t>(count));
@@ -159,7 +163,7 @@ data_set draw_data(const training_settings& s, const scene& sc)
     // drawn first, as generate() would); their H is computed per batch.
     std::shared_ptr<const frame_stream> stream;
     int64_t first_held = 0;
-    if (streams(s)) {
+    if (streamed) {
         std::vector<frame_realization> drawn;
         drawn.reserve(static_cast<size_t>(n_train));
         for (int64_t i = 0; i < n_train; ++i) {
@@ -173,7 +177,7 @@ data_set draw_data(const training_settings& s, const scene& sc)
     // frames (the same frames as one call: the model draws frame after frame) so the set is
     // held once, not twice: 30 000 NR-sized frames (14 x 4 096) are 13.8 GB.
     auto held = torch::empty({ count - first_held, 2, n, m }, torch::kFloat);
-    const int64_t chunk = std::max<int64_t>(1, std::min<int64_t>(count, (int64_t(64) << 20) / (n * m * 8)));
+    const int64_t chunk = std::max<int64_t>(1, std::min<int64_t>(count, int64_t((64 << 20) / frame_bytes(fs))));
     std::vector<gr_complex> h(static_cast<size_t>(chunk * n * m));
     for (int64_t first = first_held; first < count; first += chunk) {
         const int64_t k = std::min(chunk, count - first);
