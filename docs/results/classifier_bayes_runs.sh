@@ -62,4 +62,8 @@ for per_class in 5000 50000; do
   bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
     --prior $per_class --as-decoder --csv "$kcsv" > "$logs/kinematic_doppler_draws_$((6 * per_class)).log"
 done
+# the template bank's likelihood against the exact one without the SNR and the one given it, on
+# 24 000 draws (experiment 7's training frames) and no network: is the gap the likelihood?
+/usr/bin/python3 docs/results/bank_likelihoods.py --scene models/scenes/kinematic_any.json --templates 24000 \
+  --frames 3000 > "$logs/bank_likelihoods.log"
 echo "classifier_bayes_runs: logs in $logs, bound rows in $csv and $kcsv"
