@@ -55,6 +55,15 @@ def class_log_means(ll, bounds):
     return np.stack(out, 1)
 
 
+def scale_free_loglik(rho, e, s2, n_p):
+    """log p(y | t, s2) of y = c (alpha g + v), g = sqrt(e) t / |t|, alpha ~ CN(0, 1),
+    v ~ CN(0, s2 I), the scale c integrated out with the prior 1/c, as a function of
+    rho = |t^H y|^2 / (|t|^2 |y|^2), but for terms common to every template and noise level
+    (-N_p log |y|^2 and constants): log s2 + (N_p - 1) log(s2 + e) - N_p log(s2 + e (1 - rho))."""
+    unexplained = np.float32(e) * (1 - np.minimum(rho, 1)).astype(np.float32)
+    return -n_p * np.log(np.float32(s2) + unexplained) + np.float32(math.log(s2) + (n_p - 1) * math.log(s2 + e))
+
+
 def noise_grid(lo, hi, step):
     steps = int(math.ceil((hi - lo) / step - 1e-9))
     snrs = [hi] if steps == 0 else [hi - (hi - lo) * j / steps for j in range(steps + 1)]
@@ -121,10 +130,8 @@ def main():
             beta = n_p / np.maximum(1 - np.clip(rho.max(1, keepdims=True), 0, 1), 1e-3)
             gain_max = class_log_means(beta * rho, bounds)
             ray = None
-            unexplained = np.float32(e_bank) * (1 - np.minimum(rho, 1)).astype(np.float32)
             for g in grid:
-                sj = class_log_means(-n_p * np.log(np.float32(g) + unexplained), bounds) \
-                    + (math.log(g) + (n_p - 1) * math.log(g + e_bank))
+                sj = class_log_means(scale_free_loglik(rho, e_bank, g, n_p), bounds).astype(np.float64)
                 ray = sj if ray is None else np.logaddexp(ray, sj)
             for k, s in (("known", known), ("gain_max", gain_max), ("rayleigh", ray)):
                 right[k].append(s.argmax(1) == want)

@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """docs/results/classifier_bayes.py on a scene of bodies (--scene): the likelihood of
 y = alpha g + v against the Gaussian density written out in full, the chunked Monte-Carlo
-class posterior against the same mean computed at once, and the scenes it refuses."""
+class posterior against the same mean computed at once, and the scenes it refuses; and
+docs/results/bank_likelihoods.py's likelihood without a known scale against that density
+integrated over the scale."""
 import importlib.util
 import json
 import os
@@ -15,15 +17,15 @@ SOURCE = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__
 SCENE = os.path.join(SOURCE, "models", "scenes", "kinematic_any.json")
 
 
-def load_script():
-    spec = importlib.util.spec_from_file_location(
-        "classifier_bayes", os.path.join(SOURCE, "docs", "results", "classifier_bayes.py"))
+def load_script(name):
+    spec = importlib.util.spec_from_file_location(name, os.path.join(SOURCE, "docs", "results", name + ".py"))
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
 
 
-cb = load_script()
+cb = load_script("classifier_bayes")
+bl = load_script("bank_likelihoods")
 
 
 def complex_normal_logpdf(y, cov):
@@ -145,6 +147,39 @@ class qa_classifier_bayes(gr_unittest.TestCase):
             with open(path) as f:
                 got = sorted((r["method"], r["accuracy"]) for r in cb.csv.DictReader(f))
         self.assertEqual(got, sorted([(small, "0.44"), (large, "0.46"), (cb.METHOD_UNCONVERGED, "0.48")]))
+
+
+    def test_scale_free_likelihood_is_the_density_integrated_over_the_scale(self):
+        # y = c (alpha g + v): the density of y given g and s2, integrated over log c (the prior
+        # 1/c) by quadrature, differs from bank_likelihoods' closed form by one constant per
+        # frame, the same for every template and noise level; and the closed form does not
+        # change when the frame is scaled.
+        rng = np.random.default_rng(3)
+        n_p, k = 5, 4
+        t = rng.standard_normal((k, n_p)) + 1j * rng.standard_normal((k, n_p))
+        t /= np.linalg.norm(t, axis=1, keepdims=True)
+        e = 2.5
+        y = t[1] * 1.3 + 0.4 * (rng.standard_normal(n_p) + 1j * rng.standard_normal(n_p))
+        log_c = np.linspace(-12.0, 12.0, 24001)
+        diffs = []
+        for s2 in (0.05, 0.5, 4.0):
+            for j in range(k):
+                g = np.sqrt(e) * t[j]
+                cov = s2 * np.eye(n_p) + np.outer(g, g.conj())
+                dens = np.array([complex_normal_logpdf(y, np.exp(2 * u) * cov) for u in log_c])
+                integral = log_mean_exp(dens, 0) + np.log(log_c[-1] - log_c[0])  # ∫ p(y | c) dc/c, dc/c = d log c
+                rho = np.abs(t[j].conj() @ y) ** 2 / np.sum(np.abs(y) ** 2)
+                diffs.append(integral - float(bl.scale_free_loglik(np.float32(rho), e, s2, n_p)))
+                for scale in (1e-3, 1e3):
+                    rho_s = np.abs(t[j].conj() @ (scale * y)) ** 2 / np.sum(np.abs(scale * y) ** 2)
+                    self.assertAlmostEqual(float(bl.scale_free_loglik(np.float32(rho_s), e, s2, n_p)),
+                                           float(bl.scale_free_loglik(np.float32(rho), e, s2, n_p)), places=3)
+        self.assertLess(np.ptp(diffs), 1e-3, diffs)
+        # the constant is the dropped terms, -N_p log |y|^2 + log(Γ(N_p) / 2) - N_p log π (with
+        # w = 1/c², dc/c = dw/(2w) and ∫ w^(N_p - 1) exp(-w Q) dw = Γ(N_p) / Q^N_p)
+        from math import lgamma
+        want = -n_p * np.log(np.sum(np.abs(y) ** 2)) + lgamma(n_p) - np.log(2.0) - n_p * np.log(np.pi)
+        self.assertAlmostEqual(float(np.mean(diffs)), want, places=3)
 
 
 if __name__ == "__main__":
