@@ -7,7 +7,8 @@
 Reads RESULTS/exp7_kinematic.csv (with the 32-pilot Doppler pattern's rows of
 bound_kinematic.csv beside it when present: the Monte-Carlo Bayes classifier of
 docs/results/classifier_bayes.py --scene), exp7_confusion.csv, exp7_pilot_budget.csv and
-exp7_pilot_power.csv (SemS with learned pilot energies); writes
+exp7_pilot_power.csv (SemS with learned pilot energies) and exp7_bank.csv (SemS and the
+Doppler pattern's decoder, each with a template bank); writes
 exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
 and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
 exp7_pilot_budget.png (accuracy against N_p), and with --tables the markdown tables.
@@ -27,6 +28,7 @@ np = pr.np
 
 
 ENERGIES = "SemS (learned energies)"
+BANK_LEARNED, BANK_DOPPLER = "SemS + template bank", "SemS decoder + template bank (doppler pilots)"
 
 
 def bound_rows(results):
@@ -134,7 +136,20 @@ def budget_claim(rows):
     return out
 
 
-def tables(rows, conf, budget):
+def bank_tables(bank):
+    """Markdown: per N_p of the bank part, both decoders' accuracy and the learned mask against
+    the Doppler pattern when each decoder keeps its training frames."""
+    out = ["### Experiment 7: with template banks, the learned mask against the Doppler pattern", ""]
+    for n in sorted({int(pr.fnum(r["n_pilots"])) for r in bank}):
+        rs = [r for r in bank if int(pr.fnum(r["n_pilots"])) == n]
+        out += ["#### N_p = %d" % n, "", pr.pivot(rs, "method", "accuracy"), ""]
+        claim = pr.learned_vs_hand(rs, "kinematic", learned=BANK_LEARNED, rivals={BANK_DOPPLER})
+        if claim:
+            out += [claim, ""]
+    return out
+
+
+def tables(rows, conf, budget, bank=()):
     n = pr.n_seeds(rows)
     out = []
     if n > 1:
@@ -176,6 +191,8 @@ def tables(rows, conf, budget):
                                            learned=ENERGIES, rivals={"SemS"})
                 if claim:
                     out += ["#### N_p = %d" % n, "", claim, ""]
+    if bank:
+        out += bank_tables(bank)
     return "\n".join(out)
 
 
@@ -193,6 +210,7 @@ def main(argv):
     power = pr.read_csv(os.path.join(a.results, "exp7_pilot_power.csv")) or []
     budget = (pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []) + power
     budget = budget_rows(rows, budget) if budget else []
+    bank = pr.read_csv(os.path.join(a.results, "exp7_bank.csv")) or []
     rows += [r for r in power if int(pr.fnum(r["n_pilots"])) == 32]  # beside every method at 32 pilots
     rows += bound_rows(a.results)
     out = a.out or a.results
@@ -206,7 +224,7 @@ def main(argv):
         print("wrote", p)
     if a.tables:
         with open(a.tables, "w") as f:
-            f.write(tables(rows, conf, budget))
+            f.write(tables(rows, conf, budget, bank))
         print("wrote", a.tables)
     return 0
 

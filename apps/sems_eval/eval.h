@@ -50,7 +50,9 @@ struct config {
     std::string exp7_class_library = "kinematic"; // experiment 7: targets of moving scatterers (name or file)
     std::vector<int> exp7_np_sweep{ 8 };          // experiment 7's pilot budgets besides its 32
     std::vector<int> exp7_power_np{ 32 };        // experiment 7: N_p of SemS with learned pilot energies
-    std::set<std::string> exp7_parts{ "main", "budget", "power" }; // one per process lets cores share a run
+    std::vector<int> exp7_bank_np{ 8 };          // experiment 7: N_p of the bank part (SemS and the Doppler
+                                                 // pattern, each with a template bank)
+    std::set<std::string> exp7_parts{ "main", "budget", "power", "bank" }; // one per process lets cores share a run
     double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };

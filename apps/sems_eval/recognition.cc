@@ -356,6 +356,29 @@ void run_kinematic_power(const config& c, std::ostream& log)
     });
 }
 
+// Experiment 7's bank part: at each N_p of c.exp7_bank_np, SemS + template bank against the
+// Doppler pattern's decoder with a template bank. The bank matches a frame against its training
+// frames whatever the pilots' spacing, where the spectral network's slow-time DFT favours
+// evenly spaced symbols: whether a learned mask that trails a hand pattern with the network
+// alone trails it with the bank too (docs/results/notes/bayes_classifier.md).
+void run_kinematic_bank(const config& c, std::ostream& log)
+{
+    run_kinematic_part(c, log, "template banks", "exp7_bank.csv", c.exp7_bank_np, [](std::vector<dl_method> all) {
+        std::vector<dl_method> out;
+        for (auto& m : all) {
+            if (m.kind == method_kind::sems_templates) {
+                out.push_back(m);
+            } else if (m.kind == method_kind::pattern && m.mask_label == "doppler") {
+                m.method = "SemS decoder + template bank (doppler pilots)";
+                m.model_name += "_templates";
+                m.settings.classifier.template_frames = -1;
+                out.push_back(std::move(m));
+            }
+        }
+        return out;
+    });
+}
+
 } // namespace
 
 void run_recognition(const config& c, std::ostream& log)
@@ -426,6 +449,8 @@ void run_recognition(const config& c, std::ostream& log)
         run_kinematic_budget(c, log);
     if (c.experiments.count(7) && c.exp7_parts.count("power") && !c.only_shipped)
         run_kinematic_power(c, log);
+    if (c.experiments.count(7) && c.exp7_parts.count("bank") && !c.only_shipped)
+        run_kinematic_bank(c, log);
 }
 
 } // namespace sems_eval

@@ -62,6 +62,13 @@ for per_class in 5000 50000; do
   bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
     --prior $per_class --as-decoder --csv "$kcsv" > "$logs/kinematic_doppler_draws_$((6 * per_class)).log"
 done
+# the 16-pilot masks experiment 7's learner chose (the bank part's three seeds) against the Doppler
+# pattern of 16 pilots, where the network alone on them trails it
+bayes --scene models/scenes/kinematic_any.json --mask doppler:16 --label doppler_16 \
+  --mask docs/results/masks_np16/learned_s2026.json --label learned_s2026 \
+  --mask docs/results/masks_np16/learned_s2027.json --label learned_s2027 \
+  --mask docs/results/masks_np16/learned_s2028.json --label learned_s2028 \
+  --snr=-10,-5,0 --frames 3000 --prior 40000 > "$logs/kinematic_masks_np16.log"
 # the template bank's likelihood against the exact one without the SNR and the one given it, on
 # 24 000 draws (experiment 7's training frames) and no network: is the gap the likelihood?
 /usr/bin/python3 docs/results/bank_likelihoods.py --scene models/scenes/kinematic_any.json --templates 24000 \

@@ -34,6 +34,7 @@ CSVS = {
     "exp7_confusion.csv": ["method", "snr_db", "train_seed", "true_class", "predicted_class", "count"],
     "exp7_pilot_budget.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
     "exp7_pilot_power.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
+    "exp7_bank.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
 }
 PLOT7 = os.path.join(SOURCE, "apps", "plot_kinematic.py")
 KINEMATIC = ["adult", "bicyclist", "car", "child", "hexacopter", "quadcopter"]
@@ -204,6 +205,15 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertEqual({(r["method"], r["n_pilots"]) for r in power}, {("SemS (learned energies)", "32")})
         self.assert_per_seed(power, ["SemS (learned energies)"], TRAIN_SEEDS)
         self.assertEqual({(r["seed"], r["n_frames"]) for r in power}, {(e7[0]["seed"], "24")})  # the same frames
+        bank = rows(os.path.join(out, "exp7_bank.csv"))
+        bank_methods = ["SemS + template bank", "SemS decoder + template bank (doppler pilots)"]
+        self.assertEqual({r["n_pilots"] for r in bank}, {"8"})
+        self.assert_per_seed(bank, bank_methods, TRAIN_SEEDS)
+        self.assertEqual({(r["seed"], r["n_frames"]) for r in bank}, {(e7[0]["seed"], "24")})  # the same frames
+        with open(os.path.join(out, "bundles", "cls_kinematic_np8_doppler_templates_s%d" % SEED, "bundle.json")) as f:
+            b = json.load(f)
+        self.assertEqual(b["training"]["mask_pattern"], "doppler")
+        self.assertEqual(b["decoder"]["settings"]["template_frames"], 48)  # every training frame of 60
         learned = 0
         for name in os.listdir(os.path.join(out, "bundles")):  # masks of learned energies (mean 1)
             if name.startswith("cls_kinematic_sems_power"):
@@ -228,6 +238,7 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertIn("#### N_p = 32", md)
         self.assertIn("| SemS decoder (staggered pilots) |", md)
         self.assertIn("learned pilot energies against equal energies", md)
+        self.assertIn("with template banks, the learned mask against the Doppler pattern", md)
 
     def assert_per_seed(self, rs, methods, seeds, key=("method",)):
         """rs hold every one of methods (the first key field), and each key has, at every SNR
