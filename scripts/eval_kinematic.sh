@@ -12,7 +12,7 @@
 #           confusion matrices at 10 dB
 #   budget  SemS against the Doppler and staggered patterns at N_p = 128, 64, 16, 8
 #   power   SemS whose mask learner also shares the pilots' total energy, at N_p = 32 and 128
-#   bank    SemS and the Doppler pattern's decoder, each with a template bank, at N_p = 16
+#   bank    SemS and the Doppler pattern's decoder, each with a template bank, at N_p = 16 and 64
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. The results (exp7_*.csv, exp7_*.png and
 # kinematic_tables.md) go to RESULTS (default docs/results), the run's record to
