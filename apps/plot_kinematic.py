@@ -7,8 +7,9 @@
 Reads RESULTS/exp7_kinematic.csv (with the 32-pilot Doppler pattern's rows of
 bound_kinematic.csv beside it when present: the Monte-Carlo Bayes classifier of
 docs/results/classifier_bayes.py --scene), exp7_confusion.csv, exp7_pilot_budget.csv and
-exp7_pilot_power.csv (SemS with learned pilot energies) and exp7_bank.csv (SemS and the
-Doppler pattern's decoder, each with a template bank); writes
+exp7_pilot_power.csv (SemS with learned pilot energies), exp7_burst.csv (the burst pattern,
+beside the sweep's hand patterns) and exp7_bank.csv (SemS and the Doppler pattern's decoder,
+each with a template bank); writes
 exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
 and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
 exp7_pilot_budget.png (accuracy against N_p), and with --tables the markdown tables.
@@ -208,7 +209,8 @@ def main(argv):
         return 1
     conf = pr.read_csv(os.path.join(a.results, "exp7_confusion.csv")) or []
     power = pr.read_csv(os.path.join(a.results, "exp7_pilot_power.csv")) or []
-    budget = (pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []) + power
+    burst = pr.read_csv(os.path.join(a.results, "exp7_burst.csv")) or []  # a hand pattern beside the sweep's
+    budget = (pr.read_csv(os.path.join(a.results, "exp7_pilot_budget.csv")) or []) + burst + power
     budget = budget_rows(rows, budget) if budget else []
     bank = pr.read_csv(os.path.join(a.results, "exp7_bank.csv")) or []
     rows += [r for r in power if int(pr.fnum(r["n_pilots"])) == 32]  # beside every method at 32 pilots

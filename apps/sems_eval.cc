@@ -119,6 +119,7 @@ void apply_size(config& c)
         // Where the network alone on the learned mask is behind the Doppler pattern beyond two
         // standard errors at some SNR (docs/RESULTS.md)
         c.exp7_bank_np = { 16, 64 };
+        c.exp7_burst_np = { 8, 16 };
         c.classic_oversample = 16;
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
@@ -130,7 +131,7 @@ void apply_size(config& c)
 int main(int argc, char** argv)
 {
     config c;
-    std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank",
+    std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank,burst",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
     apps::frame_options frame_flags;
@@ -162,7 +163,7 @@ int main(int argc, char** argv)
         ("exp7-parts", po::value(&exp7_parts)->default_value(exp7_parts),
          "experiment 7: comma-separated subset of main (N_p 32, every method), budget (the N_p sweep), power (SemS with "
          "learned pilot energies), bank (SemS and the Doppler pattern's decoder, each with a template bank, at N_p 16 and 64), "
-         "to split a run over processes")
+         "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes")
         ("confusion-snr", po::value(&c.confusion_snr_db)->default_value(c.confusion_snr_db), "experiment 7: SNR (dB) of the confusion matrices")
         ("multipath-paths", po::value(&c.multipath_paths)->default_value(c.multipath_paths), "paths per target in the multipath scene")
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
@@ -191,7 +192,7 @@ int main(int argc, char** argv)
         c.exp1_any_heading = !vm.count("no-any-heading");
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
-        c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank" }, "--exp7-parts");
+        c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst" }, "--exp7-parts");
         if (vm.count("test-frames"))
             c.test_frames = vm["test-frames"].as<int>();
         if (vm.count("train-frames"))

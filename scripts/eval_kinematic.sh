@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Experiment 7 of docs/RESULTS.md: semantic sensing on targets of moving scatterers (the
 # kinematic class library, any heading), at the paper's budget, split over three processes of one
-# LibTorch thread each (a fourth, short, beside them), then its CSVs, figures and tables.
+# LibTorch thread each (two more, short, beside them), then its CSVs, figures and tables.
 #
 #   bash scripts/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test]
 #
@@ -13,6 +13,7 @@
 #   budget  SemS against the Doppler and staggered patterns at N_p = 128, 64, 16, 8
 #   power   SemS whose mask learner also shares the pilots' total energy, at N_p = 32 and 128
 #   bank    SemS and the Doppler pattern's decoder, each with a template bank, at N_p = 16 and 64
+#   burst   the SemS decoder on the burst pattern at N_p = 8 and 16 (beside the budget part's patterns)
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. The results (exp7_*.csv, exp7_*.png and
 # kinematic_tables.md) go to RESULTS (default docs/results), the run's record to
@@ -24,17 +25,18 @@ out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_kinematic"
 log=eval_kinematic.log
 source "$(dirname "$0")/eval_parts.sh"
 
-stamp "sems_eval --size $size --experiments 7, 4 processes, logs in $out/*.log"
+stamp "sems_eval --size $size --experiments 7, 5 processes, logs in $out/*.log"
 pids=()
 run_part main --experiments 7 --exp7-parts main & pids+=($!)
 run_part budget --experiments 7 --exp7-parts budget & pids+=($!)
 run_part power --experiments 7 --exp7-parts power & pids+=($!)
 run_part bank --experiments 7 --exp7-parts bank & pids+=($!)
+run_part burst --experiments 7 --exp7-parts burst & pids+=($!)
 status=0
 for p in "${pids[@]}"; do wait "$p" || status=1; done
 [ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
 cp "$out/main/exp7_kinematic.csv" "$out/main/exp7_confusion.csv" "$out/budget/exp7_pilot_budget.csv" \
-   "$out/power/exp7_pilot_power.csv" "$out/bank/exp7_bank.csv" "$results/"
-for p in main budget power bank; do cp "$out/$p.log" "$results/eval_kinematic_$p.log"; done
+   "$out/power/exp7_pilot_power.csv" "$out/bank/exp7_bank.csv" "$out/burst/exp7_burst.csv" "$results/"
+for p in main budget power bank burst; do cp "$out/$p.log" "$results/eval_kinematic_$p.log"; done
 /usr/bin/python3 "$root/apps/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
 stamp "done in $(( $(date +%s) - start )) s"

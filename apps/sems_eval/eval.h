@@ -52,7 +52,8 @@ struct config {
     std::vector<int> exp7_power_np{ 32 };        // experiment 7: N_p of SemS with learned pilot energies
     std::vector<int> exp7_bank_np{ 8 };          // experiment 7: N_p of the bank part (SemS and the Doppler
                                                  // pattern, each with a template bank)
-    std::set<std::string> exp7_parts{ "main", "budget", "power", "bank" }; // one per process lets cores share a run
+    std::vector<int> exp7_burst_np{ 8 };         // experiment 7: N_p of the burst pattern (below N: else the Doppler one)
+    std::set<std::string> exp7_parts{ "main", "budget", "power", "bank", "burst" }; // one per process lets cores share a run
     double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };

@@ -379,6 +379,25 @@ void run_kinematic_bank(const config& c, std::ostream& log)
     });
 }
 
+// Experiment 7's burst part: the SemS decoder on the burst pattern (consecutive symbols of the
+// Doppler pattern's subcarriers) at each N_p of c.exp7_burst_np, beside the budget part's
+// rows of the same seeds and test frames. Below N pilots a learned mask may pack its symbols
+// into part of the frame; the burst is the hand pattern that does so.
+void run_kinematic_burst(const config& c, std::ostream& log)
+{
+    run_kinematic_part(c, log, "burst pattern", "exp7_burst.csv", c.exp7_burst_np, [](std::vector<dl_method> all) {
+        for (auto& m : all)
+            if (m.kind == method_kind::pattern && m.mask_label == "doppler") {
+                m.method = "SemS decoder (burst pilots)";
+                m.mask_label = "burst";
+                m.model_name.replace(m.model_name.size() - std::string("doppler").size(), std::string::npos, "burst");
+                m.settings.mask_pattern = "burst";
+                return std::vector<dl_method>{ m };
+            }
+        return std::vector<dl_method>{};
+    });
+}
+
 } // namespace
 
 void run_recognition(const config& c, std::ostream& log)
@@ -451,6 +470,8 @@ void run_recognition(const config& c, std::ostream& log)
         run_kinematic_power(c, log);
     if (c.experiments.count(7) && c.exp7_parts.count("bank") && !c.only_shipped)
         run_kinematic_bank(c, log);
+    if (c.experiments.count(7) && c.exp7_parts.count("burst") && !c.only_shipped)
+        run_kinematic_burst(c, log);
 }
 
 } // namespace sems_eval

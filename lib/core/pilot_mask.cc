@@ -310,6 +310,24 @@ pilot_mask pilot_mask::staggered(int n_symbols, int n_subcarriers, int count)
                       { { "kind", "staggered" }, { "subcarriers", k } }, "staggered pilot mask");
 }
 
+pilot_mask pilot_mask::burst(int n_symbols, int n_subcarriers, int count)
+{
+    check_count(n_symbols, n_subcarriers, count, "burst pilot mask");
+    // The Doppler pattern's subcarriers and counts, each on consecutive symbols centred in the
+    // frame: every symbol's slow time (Doppler unambiguous over ±1/(2T)) for a shorter time.
+    const int k = (count + n_symbols - 1) / n_symbols;
+    std::vector<pilot_position> pilots;
+    const auto cols = spread(k, n_subcarriers);
+    for (int j = 0; j < k; ++j) {
+        const int in_col = count / k + (j < count % k ? 1 : 0);
+        const int first = (n_symbols - in_col) / 2;
+        for (int r = first; r < first + in_col; ++r)
+            pilots.push_back({ r, cols[j] });
+    }
+    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+                      { { "kind", "burst" }, { "subcarriers", k } }, "burst pilot mask");
+}
+
 pilot_mask pilot_mask::from_pattern(
     const std::string& pattern, int n_symbols, int n_subcarriers, int count, uint64_t seed)
 {
@@ -321,8 +339,10 @@ pilot_mask pilot_mask::from_pattern(
         return doppler(n_symbols, n_subcarriers, count);
     if (pattern == "staggered")
         return staggered(n_symbols, n_subcarriers, count);
+    if (pattern == "burst")
+        return burst(n_symbols, n_subcarriers, count);
     throw std::invalid_argument("unknown pilot pattern \"" + pattern +
-                                "\" (known: uniform, random, doppler, staggered)");
+                                "\" (known: uniform, random, doppler, staggered, burst)");
 }
 
 pilot_mask pilot_mask::from_pattern(const std::string& pattern, const frame_settings& fs, int count, uint64_t seed)

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <algorithm>
 #include <map>
 #include <set>
 #include <string>
@@ -82,6 +83,7 @@ class qa_pilot_mask : public CppUnit::TestFixture
     CPPUNIT_TEST(uniform_lattice);
     CPPUNIT_TEST(doppler_pattern);
     CPPUNIT_TEST(staggered_spans_band_at_every_symbol);
+    CPPUNIT_TEST(burst_is_a_centred_run_of_symbols);
     CPPUNIT_TEST(random_is_seeded);
     CPPUNIT_TEST(count_extremes);
     CPPUNIT_TEST(mask_order_and_exports);
@@ -121,6 +123,38 @@ public:
         for (const auto& p : two.positions())
             cols2.insert(p.m);
         CPPUNIT_ASSERT_EQUAL(size_t(2), cols2.size());
+    }
+
+    void burst_is_a_centred_run_of_symbols()
+    {
+        // 8 pilots: symbols 12..19 of the Doppler pattern's one subcarrier (32), in a row.
+        const auto m8 = pilot_mask::burst(32, 64, 8);
+        std::vector<int> symbols;
+        for (const auto& p : m8.positions()) {
+            CPPUNIT_ASSERT_EQUAL(pilot_mask::doppler(32, 64, 8).positions()[0].m, p.m);
+            symbols.push_back(p.n);
+        }
+        CPPUNIT_ASSERT(symbols == (std::vector<int>{ 12, 13, 14, 15, 16, 17, 18, 19 }));
+        // An odd run and an odd frame: 5 of 9 symbols are 2..6.
+        const auto odd = pilot_mask::burst(9, 4, 5);
+        CPPUNIT_ASSERT_EQUAL(2, odd.positions().front().n);
+        CPPUNIT_ASSERT_EQUAL(6, odd.positions().back().n);
+        // Whole columns: the Doppler pattern itself; 40 pilots: 20 + 20 in the middle.
+        CPPUNIT_ASSERT(pilot_mask::burst(32, 64, 64).flat_indices() == pilot_mask::doppler(32, 64, 64).flat_indices());
+        const auto m40 = pilot_mask::burst(32, 64, 40);
+        std::map<int, std::vector<int>> by_col;
+        for (const auto& p : m40.positions())
+            by_col[p.m].push_back(p.n);
+        CPPUNIT_ASSERT_EQUAL(size_t(2), by_col.size());
+        for (const auto& [col, rows] : by_col) {
+            CPPUNIT_ASSERT_EQUAL(size_t(20), rows.size());
+            CPPUNIT_ASSERT_EQUAL(6, *std::min_element(rows.begin(), rows.end()));
+            CPPUNIT_ASSERT_EQUAL(25, *std::max_element(rows.begin(), rows.end()));
+        }
+        CPPUNIT_ASSERT_EQUAL(std::string("burst"), m40.origin().value("kind", std::string()));
+        CPPUNIT_ASSERT(pilot_mask::from_pattern("burst", 32, 64, 8).flat_indices() == m8.flat_indices());
+        CPPUNIT_ASSERT_THROW(pilot_mask::burst(32, 64, 0), std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(pilot_mask::burst(32, 64, 32 * 64 + 1), std::invalid_argument);
     }
 
     void staggered_spans_band_at_every_symbol()

@@ -35,6 +35,7 @@ CSVS = {
     "exp7_pilot_budget.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
     "exp7_pilot_power.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
     "exp7_bank.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
+    "exp7_burst.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
 }
 PLOT7 = os.path.join(SOURCE, "apps", "plot_kinematic.py")
 KINEMATIC = ["adult", "bicyclist", "car", "child", "hexacopter", "quadcopter"]
@@ -214,6 +215,13 @@ class qa_sems_eval(gr_unittest.TestCase):
             b = json.load(f)
         self.assertEqual(b["training"]["mask_pattern"], "doppler")
         self.assertEqual(b["decoder"]["settings"]["template_frames"], 48)  # every training frame of 60
+        burst = rows(os.path.join(out, "exp7_burst.csv"))
+        self.assertEqual({(r["method"], r["mask"], r["n_pilots"]) for r in burst},
+                         {("SemS decoder (burst pilots)", "burst", "8")})
+        self.assert_per_seed(burst, ["SemS decoder (burst pilots)"], TRAIN_SEEDS)
+        self.assertEqual({(r["seed"], r["n_frames"]) for r in burst}, {(e7[0]["seed"], "24")})  # the same frames
+        with open(os.path.join(out, "bundles", "cls_kinematic_np8_burst_s%d" % SEED, "mask.json")) as f:
+            self.assertEqual(sorted(p[0] for p in json.load(f)["pilots"]), list(range(12, 20)))  # symbols 12..19
         learned = 0
         for name in os.listdir(os.path.join(out, "bundles")):  # masks of learned energies (mean 1)
             if name.startswith("cls_kinematic_sems_power"):
@@ -237,6 +245,7 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertIn("#### N_p = 8", md)
         self.assertIn("#### N_p = 32", md)
         self.assertIn("| SemS decoder (staggered pilots) |", md)
+        self.assertIn("| SemS decoder (burst pilots), N_p 8 |", md)
         self.assertIn("learned pilot energies against equal energies", md)
         self.assertIn("with template banks, the learned mask against the Doppler pattern", md)
 

@@ -117,8 +117,18 @@ public:
      */
     static pilot_mask staggered(int n_symbols, int n_subcarriers, int count);
     /*!
+     * \brief Burst: the Doppler pattern's subcarriers, each sampled on a run of consecutive
+     * symbols in the middle of the frame instead of spread over it. Below N pilots the slow time
+     * is sampled at every symbol (the whole unambiguous Doppler span) for a shorter time; with a
+     * multiple of N pilots it is the Doppler pattern.
+     * \param n_symbols N. \param n_subcarriers M. \param count N_p, 1..N·M.
+     * \return the mask.
+     * \throws std::invalid_argument if count is out of range.
+     */
+    static pilot_mask burst(int n_symbols, int n_subcarriers, int count);
+    /*!
      * \brief Builds a mask by pattern name.
-     * \param pattern "uniform", "random", "doppler" or "staggered".
+     * \param pattern "uniform", "random", "doppler", "staggered" or "burst".
      * \param n_symbols N. \param n_subcarriers M. \param count N_p.
      * \param seed the seed of "random" (ignored by the others).
      * \return the mask.

@@ -53,7 +53,7 @@ struct SEMS_LEARNING_API training_settings {
     std::string objective = "task"; ///< "task" (SemS) or "mse" (reconstruction baseline)
     int n_pilots = 32;               ///< N_p
     std::string mask_file;          ///< empty: learn the mask; else train the decoder on it
-    std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler|staggered; random seeded by seed)
+    std::string mask_pattern;       ///< or a standard pattern (uniform|random|doppler|staggered|burst; random seeded by seed)
     /*!
      * \brief The pilots' energies: "equal" (every pilot the same) or "learned".
      * \details "learned" (a learned mask only): the semantic encoder also learns one power
