@@ -51,6 +51,20 @@ std::vector<int> spread(int k, int n)
     return out;
 }
 
+// The Doppler pattern's layout: k = ⌈count/N⌉ subcarriers spread evenly over the band, the
+// first count mod k of them with one pilot more, column j's symbols from symbols(pilots in it).
+template <class Symbols>
+std::vector<pilot_position> doppler_columns(int n_symbols, int n_subcarriers, int count, Symbols symbols)
+{
+    const int k = (count + n_symbols - 1) / n_symbols;
+    std::vector<pilot_position> pilots;
+    const auto cols = spread(k, n_subcarriers);
+    for (int j = 0; j < k; ++j)
+        for (int r : symbols(count / k + (j < count % k ? 1 : 0)))
+            pilots.push_back({ r, cols[j] });
+    return pilots;
+}
+
 // The pilots' energies: one per pilot, each finite and > 0 (a pilot of zero energy
 // observes nothing: its observation Y/(sqrt(p)·s_p) is undefined), mean 1.
 void check_power(const std::vector<double>& power, size_t n_pilots, const std::string& source)
@@ -274,15 +288,9 @@ pilot_mask pilot_mask::doppler(int n_symbols, int n_subcarriers, int count)
     // As few subcarriers as the count allows, each sampled over (nearly) every symbol:
     // the longest slow-time runs give the finest Doppler resolution.
     const int k = (count + n_symbols - 1) / n_symbols;
-    std::vector<pilot_position> pilots;
-    const auto cols = spread(k, n_subcarriers);
-    for (int j = 0; j < k; ++j) {
-        const int in_col = count / k + (j < count % k ? 1 : 0);
-        for (int r : spread(in_col, n_symbols))
-            pilots.push_back({ r, cols[j] });
-    }
-    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
-                      { { "kind", "doppler" }, { "subcarriers", k } }, "doppler pilot mask");
+    return pilot_mask(n_symbols, n_subcarriers,
+                      doppler_columns(n_symbols, n_subcarriers, count, [&](int in_col) { return spread(in_col, n_symbols); }),
+                      { 1.0f, 0.0f }, { { "kind", "doppler" }, { "subcarriers", k } }, "doppler pilot mask");
 }
 
 pilot_mask pilot_mask::staggered(int n_symbols, int n_subcarriers, int count)
@@ -316,15 +324,12 @@ pilot_mask pilot_mask::burst(int n_symbols, int n_subcarriers, int count)
     // The Doppler pattern's subcarriers and counts, each on consecutive symbols centred in the
     // frame: every symbol's slow time (Doppler unambiguous over ±1/(2T)) for a shorter time.
     const int k = (count + n_symbols - 1) / n_symbols;
-    std::vector<pilot_position> pilots;
-    const auto cols = spread(k, n_subcarriers);
-    for (int j = 0; j < k; ++j) {
-        const int in_col = count / k + (j < count % k ? 1 : 0);
-        const int first = (n_symbols - in_col) / 2;
-        for (int r = first; r < first + in_col; ++r)
-            pilots.push_back({ r, cols[j] });
-    }
-    return pilot_mask(n_symbols, n_subcarriers, pilots, { 1.0f, 0.0f },
+    const auto run = [&](int in_col) {
+        std::vector<int> rows(in_col);
+        std::iota(rows.begin(), rows.end(), (n_symbols - in_col) / 2);
+        return rows;
+    };
+    return pilot_mask(n_symbols, n_subcarriers, doppler_columns(n_symbols, n_subcarriers, count, run), { 1.0f, 0.0f },
                       { { "kind", "burst" }, { "subcarriers", k } }, "burst pilot mask");
 }
 
