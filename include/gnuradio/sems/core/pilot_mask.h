@@ -144,7 +144,7 @@ public:
      * \brief Builds a mask by pattern name on a frame's usable subcarriers: the pattern is
      *        laid over the N x (M − guards) grid of the non-guard subcarriers, so no pilot
      *        lands on a guard. Without guards it is from_pattern(pattern, N, M, count, seed).
-     * \param pattern "uniform", "random" or "doppler".
+     * \param pattern "uniform", "random", "doppler", "staggered" or "burst".
      * \param fs the frame (N, M and its guard subcarriers).
      * \param count N_p, 1..N·(M − guards).
      * \param seed the seed of "random" (ignored by the others).
