@@ -526,8 +526,9 @@ def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
 
     head = ("| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | ahead by > 2 SE | SemS ≥ best − 2 SE |"
             if rivals is None else
-            "| SNR (dB) | %s | best of %s | difference ± 2 SE | ahead by > 2 SE | ≥ best − 2 SE |" % (
-                learned, ", ".join(sorted(rivals))))
+            "| SNR (dB) | %s | %s%s | difference ± 2 SE | ahead by > 2 SE | ≥ %s − 2 SE |" % (
+                learned, "best of " if len(hands) > 1 else "", ", ".join(sorted(hands)),
+                "best" if len(hands) > 1 else "rival"))
     lines = [head, "|---|---|---|---|---|---|"]
     for snr in sorted({fnum(r["snr_db"]) for r in rs}):
         sems = stats(learned, snr)
@@ -536,10 +537,11 @@ def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
             continue
         best = max(measured, key=lambda t: t[1])
         diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
-        lines.append("| %g | %.3f | %.3f (%s) | %+.3f ± %.3f | %s | %s |" % (
-            snr, sems[0], best[1],
-            best[0][len("SemS decoder ("):-len(" pilots)")] if best[0].startswith("SemS decoder (") else best[0],
-            diff, two_se, "**yes**" if diff > two_se else "no",
+        # Which rival was best, where there is a choice.
+        which = " (%s)" % (best[0][len("SemS decoder ("):-len(" pilots)")] if best[0].startswith("SemS decoder (")
+                           else best[0]) if len(hands) > 1 else ""
+        lines.append("| %g | %.3f | %.3f%s | %+.3f ± %.3f | %s | %s |" % (
+            snr, sems[0], best[1], which, diff, two_se, "**yes**" if diff > two_se else "no",
             "yes" if diff >= -two_se else "**no**"))
     return "\n".join(lines)
 
