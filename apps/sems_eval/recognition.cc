@@ -106,13 +106,43 @@ std::vector<std::string> hand_patterns(const config& c, const std::string& scen)
     return {};
 }
 
+// The cache names' prefix of a scenario's networks: they carry N_p when it is not the
+// experiments' 32.
+std::string model_prefix(const std::string& scen, int np)
+{
+    return "cls_" + scen + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
+}
+
+// The SemS decoder on a hand pattern at SemS's budget: what the learned mask must beat.
+dl_method hand_pattern_method(const dl_method& sems, const std::string& prefix, const std::string& pattern)
+{
+    dl_method hp = sems;
+    hp.method = "SemS decoder (" + pattern + " pilots)";
+    hp.model_name = prefix + pattern;
+    hp.mask_label = pattern;
+    hp.settings = hand_pattern_training(sems.settings, pattern);
+    hp.kind = method_kind::pattern;
+    return hp;
+}
+
+// The same training with a decoder that also keeps every training frame on its final mask as a
+// template bank (classifier_settings::template_frames). The bank's layer draws no random
+// numbers, so a learned mask is the one learned without the bank.
+dl_method with_template_bank(dl_method m, const std::string& method)
+{
+    m.method = method;
+    m.model_name += "_templates";
+    m.settings.classifier.template_frames = -1;
+    return m;
+}
+
 // The learned methods of one scenario, trained with train_seed: all by the same trainer at
-// the same data budget. Cache names carry N_p when it is not the experiments' 32.
+// the same data budget.
 std::vector<dl_method> learned_methods(const config& c, const std::string& scen, const scene& sc,
                                        const std::string& full_mask, int np, uint64_t train_seed)
 {
     std::vector<dl_method> dl;
-    const std::string prefix = "cls_" + scen + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
+    const std::string prefix = model_prefix(scen, np);
     dl_method m{ "SemS", prefix + "sems", "learned (task)",
                  base_training(c, task_kind::classify, sc, "sems_eval " + scen, train_seed), false };
     m.settings.n_pilots = np;
@@ -122,15 +152,9 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
         m.settings.classifier.mti = "mean";
     dl.push_back(m);
     if (scen == "kinematic") {
-        // SemS whose decoder also keeps every training frame on its final mask as a template
-        // bank (classifier_settings::template_frames): the Monte-Carlo Bayes classifier of its
-        // own training frames beside the network. Its bank's layer draws no random numbers,
-        // so the same program learns SemS's mask from the same seed and differs only in the
-        // decoder phase.
-        dl_method tb = m;
-        tb.method = "SemS + template bank";
-        tb.model_name = prefix + "sems_templates";
-        tb.settings.classifier.template_frames = -1;
+        // SemS with a template bank: the Monte-Carlo Bayes classifier of its own training
+        // frames beside the network, on SemS's mask; it differs only in the decoder phase.
+        dl_method tb = with_template_bank(m, "SemS + template bank");
         tb.kind = method_kind::sems_templates;
         dl.push_back(tb);
     }
@@ -155,15 +179,8 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
     pcsi.noiseless_input = true;
     dl.push_back(pcsi);
     // The same decoder on the hand patterns, at the same budget: what the learned mask must beat.
-    for (const std::string& pattern : hand_patterns(c, scen)) {
-        dl_method hp = m;
-        hp.method = "SemS decoder (" + pattern + " pilots)";
-        hp.model_name = prefix + pattern;
-        hp.mask_label = pattern;
-        hp.settings = hand_pattern_training(m.settings, pattern);
-        hp.kind = method_kind::pattern;
-        dl.push_back(hp);
-    }
+    for (const std::string& pattern : hand_patterns(c, scen))
+        dl.push_back(hand_pattern_method(m, prefix, pattern));
     if (scen == "default" || scen == "kinematic") {
         dl_method pn = pcsi;
         pn.method = "Perfect CSI (test SNR)";
@@ -369,10 +386,7 @@ void run_kinematic_bank(const config& c, std::ostream& log)
             if (m.kind == method_kind::sems_templates) {
                 out.push_back(m);
             } else if (m.kind == method_kind::pattern && m.mask_label == "doppler") {
-                m.method = "SemS decoder + template bank (doppler pilots)";
-                m.model_name += "_templates";
-                m.settings.classifier.template_frames = -1;
-                out.push_back(std::move(m));
+                out.push_back(with_template_bank(m, "SemS decoder + template bank (doppler pilots)"));
             }
         }
         return out;
@@ -386,15 +400,9 @@ void run_kinematic_bank(const config& c, std::ostream& log)
 void run_kinematic_burst(const config& c, std::ostream& log)
 {
     run_kinematic_part(c, log, "burst pattern", "exp7_burst.csv", c.exp7_burst_np, [](std::vector<dl_method> all) {
-        for (auto& m : all)
-            if (m.kind == method_kind::pattern && m.mask_label == "doppler") {
-                m.method = "SemS decoder (burst pilots)";
-                m.mask_label = "burst";
-                m.model_name.replace(m.model_name.size() - std::string("doppler").size(), std::string::npos, "burst");
-                m.settings.mask_pattern = "burst";
-                return std::vector<dl_method>{ m };
-            }
-        return std::vector<dl_method>{};
+        const dl_method& sems = all.front();
+        return std::vector<dl_method>{ hand_pattern_method(sems, model_prefix("kinematic", sems.settings.n_pilots),
+                                                           "burst") };
     });
 }
 
