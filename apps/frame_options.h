@@ -12,7 +12,7 @@
 #ifndef INCLUDED_SEMS_APPS_FRAME_OPTIONS_H
 #define INCLUDED_SEMS_APPS_FRAME_OPTIONS_H
 
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <iomanip>

@@ -70,13 +70,13 @@ PROCESS_TALK = [
 # Tables written by a script from a run's CSV or log: they own their numbers, and prose elsewhere
 # links to them. The numbers check reads only the hand-written documents.
 GENERATED = {
-    "docs/results/tables.md",             # apps/plot_results.py (scripts/eval_full.sh)
-    "docs/results/kinematic_tables.md",   # apps/plot_kinematic.py (scripts/eval_kinematic.sh)
-    "docs/results/td_accuracy.md",        # apps/sems_td_accuracy.py
-    "docs/results/scaling_tables.md",     # apps/sems_bench_scaling.py --table
-    "docs/results/radio_sweep_table.md",  # apps/sems_radio_sweep.py --table
+    "docs/results/tables.md",             # apps/figures/plot_results.py (scripts/eval_full.sh)
+    "docs/results/kinematic_tables.md",   # apps/figures/plot_kinematic.py (scripts/eval_kinematic.sh)
+    "docs/results/td_accuracy.md",        # apps/evaluation/sems_td_accuracy.py
+    "docs/results/scaling_tables.md",     # apps/benchmarks/sems_bench_scaling.py --table
+    "docs/results/radio_sweep_table.md",  # apps/evaluation/sems_radio_sweep.py --table
     "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
-    "docs/pareto/pareto.md",              # apps/sems_pareto.py
+    "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py
 }

@@ -4,8 +4,8 @@
  * scratch directory next to a fixed 32 x 64 mask.json with 4 pilots. Any input either
  * loads or is refused with std::invalid_argument; a loaded classifier's class names
  * always match its n_classes. */
-#include <gnuradio/sems/learning/model_bundle.h>
-#include <gnuradio/sems/learning/network_settings.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/sems/learning/networks/network_settings.h>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>

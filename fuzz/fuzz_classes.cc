@@ -3,8 +3,8 @@
  * Any input either loads or is refused with std::invalid_argument; a library that loads
  * survives its own round trip, and when it fits the paper's frame its random scene draws
  * frames that are finite, labelled with one of its classes, inside its intervals. */
-#include <gnuradio/sems/core/channel_model.h>
-#include <gnuradio/sems/core/class_library.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/scene/class_library.h>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>

@@ -8,7 +8,7 @@
 #include <gnuradio/blocks/vector_sink.h>
 #include <gnuradio/blocks/vector_source.h>
 #include <gnuradio/sems/blocks/pilot_extractor.h>
-#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/common/tags.h>
 #include <gnuradio/top_block.h>
 #include <cmath>
 #include <cstdint>

@@ -2,7 +2,7 @@
 /* libFuzzer harness: the pilot mask reader. Any input either loads or is refused with
  * std::invalid_argument; anything else (another exception, a crash, a sanitizer report)
  * is a finding. A mask that loads must survive its own round trip. */
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>

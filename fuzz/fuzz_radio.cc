@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* libFuzzer harness: the radio file reader. Any input either loads or is refused with
  * std::invalid_argument; a radio that loads is valid and survives its own round trip. */
-#include <gnuradio/sems/core/front_end.h>
+#include <gnuradio/sems/core/radio/front_end.h>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* libFuzzer harness: the scene reader. Any input either loads or is refused with
  * std::invalid_argument; a scene that loads must survive its own round trip. */
-#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/core/scene/scene.h>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>

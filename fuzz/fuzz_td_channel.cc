@@ -11,8 +11,8 @@
  *    window equals H[n,m]·X[n,m] of the frequency-domain model (td_channel.h), within float
  *    rounding, on a stream of its own. */
 #include "scene_input.h"
-#include <gnuradio/sems/core/ofdm_modem.h>
-#include <gnuradio/sems/core/td_channel.h>
+#include <gnuradio/sems/core/frame/ofdm_modem.h>
+#include <gnuradio/sems/core/channel/td_channel.h>
 #include <limits>
 #include <stdexcept>
 

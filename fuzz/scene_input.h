@@ -12,9 +12,9 @@
 #ifndef INCLUDED_SEMS_FUZZ_SCENE_INPUT_H
 #define INCLUDED_SEMS_FUZZ_SCENE_INPUT_H
 
-#include <gnuradio/sems/core/channel_model.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/scene/scene.h>
 #include <algorithm>
 #include <cmath>
 #include <complex>

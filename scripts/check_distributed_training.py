@@ -14,7 +14,7 @@
         says why.
 
 The exact part of data parallelism (all-reduced half-batch gradients equal the full
-batch's) is tested in lib/learning/qa_learning_distributed.cc.
+batch's) is tested in lib/learning/distributed/qa_learning_distributed.cc.
 """
 import json
 import math

@@ -9,7 +9,7 @@ build="$1" pydir="$2" python="$3"
 prefix="$(mktemp -d)"
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" > /dev/null
-for f in include/gnuradio/sems/core/channel_model.h include/gnuradio/sems/learning/network_settings.h \
+for f in include/gnuradio/sems/core/channel/channel_model.h include/gnuradio/sems/learning/networks/network_settings.h \
     lib/cmake/gnuradio-sems/gnuradio-semsConfig.cmake share/gnuradio/grc/blocks/sems_target_channel.block.yml \
     share/gr-sems/models/classifier/bundle.json share/gr-sems/models/delay_single/decoder.pt; do
   [ -f "$prefix/$f" ] || { echo "check_install: $f was not installed"; exit 1; }

@@ -13,7 +13,7 @@
 #   full4  experiment 4 single path, then experiment 3 (clutter, SNR, velocity), 5 at N_p 16, 6
 #   full4b experiment 4 multipath, then experiment 5 at N_p 32 (experiment 4's network from the
 #          same cache), 64 and 128, 6
-# then `--only-shipped` for models/, docs/results/combine_runs.py and apps/plot_results.py into
+# then `--only-shipped` for models/, docs/results/combine_runs.py and apps/figures/plot_results.py into
 # RESULTS (default docs/results). Prints the wall time of each part and of the whole run, also
 # into RESULTS/eval_full.log.
 # The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test
@@ -26,7 +26,7 @@ source "$(dirname "$0")/eval_parts.sh"
 
 stamp "sems_eval --size $size, 3 processes, logs in $out/*.log"
 pids=()
-# The parts' N_p lists together are --size full's sweep (config::np_sweep in apps/sems_eval.cc,
+# The parts' N_p lists together are --size full's sweep (config::np_sweep in apps/evaluation/sems_eval.cc,
 # 2..128), split by cost; --size test: N_p 2, 8 and 32, one per part.
 if [ "$size" = full ]; then np_full=(--np-sweep 2,8); np_full4=(--np-sweep 16); np_full4b=(--np-sweep 32,64,128)
 else np_full=(--np-sweep 2); np_full4=(--np-sweep 8); np_full4b=(--np-sweep 32); fi
@@ -39,6 +39,6 @@ for p in "${pids[@]}"; do wait "$p" || failed=1; done
 run_part shipped --experiments 1,4 --only-shipped --shipped-classifier "$root/models/classifier" \
   --shipped-delay-single "$root/models/delay_single" --shipped-delay-multipath "$root/models/delay_multipath"
 /usr/bin/python3 "$root/docs/results/combine_runs.py" "$out" "$results"
-/usr/bin/python3 "$root/apps/plot_results.py" "$results" --tables "$results/tables.md"
+/usr/bin/python3 "$root/apps/figures/plot_results.py" "$results" --tables "$results/tables.md"
 for f in "$out"/*.log; do cp "$f" "$results/eval_full_$(basename "$f")"; done
 stamp "whole run: $(( ($(date +%s) - start) / 60 )) min $(( ($(date +%s) - start) % 60 )) s"

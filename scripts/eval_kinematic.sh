@@ -38,5 +38,5 @@ for p in "${pids[@]}"; do wait "$p" || status=1; done
 cp "$out/main/exp7_kinematic.csv" "$out/main/exp7_confusion.csv" "$out/budget/exp7_pilot_budget.csv" \
    "$out/power/exp7_pilot_power.csv" "$out/bank/exp7_bank.csv" "$out/burst/exp7_burst.csv" "$results/"
 for p in main budget power bank burst; do cp "$out/$p.log" "$results/eval_kinematic_$p.log"; done
-/usr/bin/python3 "$root/apps/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
+/usr/bin/python3 "$root/apps/figures/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
 stamp "done in $(( $(date +%s) - start )) s"

@@ -18,7 +18,7 @@ packages=(
   libcppunit-dev pybind11-dev python3-pybind11
   nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
   python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako
-  # The decoders' anchor: the same networks in PyTorch from Python (apps/torch_reference.py;
+  # The decoders' anchor: the same networks in PyTorch from Python (apps/benchmarks/torch_reference.py;
   # the tests torch_reference_matches and bench_quick).
   python3-torch
   # The time-domain emulator's peer in sems_bench (gr-radar's static_target_simulator_cc).

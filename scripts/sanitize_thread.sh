@@ -21,11 +21,11 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr
   || { cat "$build/configure.log" >&2; exit 1; }
 cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" --target qa_sems_threads
 # No ifunc resolver may be left in what the test loads: the loader runs it before the TSan
-# runtime is up (lib/core/cpu_dispatch.h). An IFUNC symbol or IRELATIVE relocation here means
+# runtime is up (lib/core/kernels/cpu_dispatch.h). An IFUNC symbol or IRELATIVE relocation here means
 # a function was cloned without SEMS_TARGET_CLONES.
 for f in "$build"/lib/libgnuradio-sems*.so "$build/lib/learning/qa_sems_threads"; do
   if readelf -W --syms --relocs "$f" | grep -E "IFUNC|IRELATIV"; then
-    echo "sanitize_thread.sh: $f has an ifunc resolver built with ThreadSanitizer (see lib/core/cpu_dispatch.h)" >&2
+    echo "sanitize_thread.sh: $f has an ifunc resolver built with ThreadSanitizer (see lib/core/kernels/cpu_dispatch.h)" >&2
     exit 1
   fi
 done

@@ -9,7 +9,7 @@
  *                                velocity in stance and swing, its peak, the lower leg's range
  *   walker_signature bench       CPU ns per scatterers() call and per walker_model set-up
  */
-#include <gnuradio/sems/core/walker_model.h>
+#include <gnuradio/sems/core/scene/walker_model.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

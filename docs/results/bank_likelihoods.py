@@ -7,7 +7,7 @@ templates.
 
 A bank of T templates t (unit-gain noiseless frames of the scene, drawn from its prior) scores
 a class by a likelihood of the frame y under each of the class's templates
-(lib/learning/template_bank.h). Three scores are compared on the same templates, test frames
+(lib/learning/networks/template_bank.h). Three scores are compared on the same templates, test frames
 and noise:
 
 - known SNR: the Monte-Carlo Bayes classifier of the T draws, the noise variance s2 given,

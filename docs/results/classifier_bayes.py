@@ -36,7 +36,7 @@ The more scene parameters a mask's pilots depend on (the delay, on several subca
 more prior draws the mean needs: read the all / half columns. --bundle scores a classifier
 bundle on the same noisy frames (on its own mask). Every mask and bundle sees the same
 channels, and the same noise on the resource elements they share. --csv writes the Bayes rows
-in sems_eval's experiment-1 columns; apps/plot_results.py draws them as `bound_<csv>`.
+in sems_eval's experiment-1 columns; apps/figures/plot_results.py draws them as `bound_<csv>`.
 
 --scene FILE replaces the paper's scene by a scene file of one random target with one path and
 a Rayleigh gain whose class library makes targets bodies of scatterers (the kinematic library:
@@ -285,7 +285,7 @@ def macro_f1(pred, truth, n_cls):
 def write_csv(path, scenario, rows, extra_cols=()):
     """Rows in the columns of sems_eval's exp1_recognition.csv (and extra_cols after them); the
     file's rows of other scenarios or other masks are kept, so one file holds both scenes and
-    several runs' masks (apps/plot_results.py draws a bound_<csv> beside its experiment)."""
+    several runs' masks (apps/figures/plot_results.py draws a bound_<csv> beside its experiment)."""
     cols = ["experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "accuracy", "macro_f1", "n_frames",
             "seed", "train_seed", "us_per_frame", "train_seconds", "model"] + list(extra_cols)
     kept = []

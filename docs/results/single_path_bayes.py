@@ -71,7 +71,7 @@ def noisy(clean, snr, rng):
 def bayes_and_ml(y, sub, m, sigma2, lo, hi, spacing, chunk=400):
     """Posterior median and maximum (grid + parabola) of the delay index, uniform prior on [lo, hi]."""
     grid = np.arange(lo, hi + spacing / 2, spacing)
-    # conj(a): the conjugate of core/steering.h's delay_phasor(m, tau, M) = exp(-j 2 pi m tau / M),
+    # conj(a): the conjugate of core/array/steering.h's delay_phasor(m, tau, M) = exp(-j 2 pi m tau / M),
     # which has no Python binding; written out as the Python tests do (qa_baselines.py).
     steer_conj = np.exp(2j * np.pi * np.outer(sub, grid) / m).astype(np.complex64)  # N_p x G
     kappa = 1.0 / (sigma2 * (sigma2 + len(sub)))
@@ -122,7 +122,7 @@ def main():
     bundles = args.bundle or ["models/delay_single"]
     labels = [os.path.basename(os.path.normpath(b)) for b in bundles]
     tmp = tempfile.mkdtemp()
-    if args.without_global_peak:  # as apps/torch_reference.py's with_refinement_off, for another key
+    if args.without_global_peak:  # as apps/benchmarks/torch_reference.py's with_refinement_off, for another key
         copy = os.path.join(tmp, "without_global_peak")
         shutil.copytree(bundles[0], copy)
         with open(os.path.join(copy, "bundle.json")) as f:

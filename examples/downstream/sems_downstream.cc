@@ -11,9 +11,9 @@
 #include <gnuradio/sems/blocks/pilot_extractor.h>
 #include <gnuradio/sems/blocks/pilot_mapper.h>
 #include <gnuradio/sems/blocks/target_channel.h>
-#include <gnuradio/sems/core/tags.h>
-#include <gnuradio/sems/learning/bundle_decoder.h>
-#include <gnuradio/sems/learning/model_bundle.h>
+#include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/top_block.h>
 #include <pmt/pmt.h>
 #include <algorithm>

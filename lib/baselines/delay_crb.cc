@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: closed-form Cramér–Rao bound on a single path's delay. See delay_crb.h. */
-#include "core/checks.h"
-#include <gnuradio/sems/core/channel_model.h>
+#include "core/common/checks.h"
+#include <gnuradio/sems/core/channel/channel_model.h>
 #include <gnuradio/sems/baselines/delay_crb.h>
-#include <gnuradio/sems/core/steering.h>
+#include <gnuradio/sems/core/array/steering.h>
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>

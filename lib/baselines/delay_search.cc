@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the delay search grid of the classical estimators. */
-#include "core/checks.h"
+#include "core/common/checks.h"
 #include <gnuradio/sems/baselines/delay_search.h>
 #include <cmath>
 #include <stdexcept>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: Doppler-spectrum features of the pilots. See doppler_features.h. */
-#include "core/checks.h"
+#include "core/common/checks.h"
 #include <gnuradio/sems/baselines/doppler_features.h>
-#include <gnuradio/sems/core/steering.h>
+#include <gnuradio/sems/core/array/steering.h>
 #include <cmath>
 #include <map>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: RBF SVM (libsvm) on standardised features. See feature_svm.h. */
-#include "core/checks.h"
+#include "core/common/checks.h"
 #include <gnuradio/sems/baselines/feature_svm.h>
 #include <libsvm/svm.h>
 #include <cmath>

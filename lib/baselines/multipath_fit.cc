@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: variable-projection Levenberg–Marquardt multipath fit. See multipath_fit.h. */
 #include "baselines/pilot_observations.h"
-#include "core/complex_mul.h"
+#include "core/kernels/complex_mul.h"
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <algorithm>
 #include <numeric>
@@ -40,7 +40,7 @@ struct multipath_fitter::impl {
 
     // Φ_kl = b(n_k; ν) a(m_k; τ_l); x = ν·T (cycles per symbol). The pilots' subcarriers and
     // symbols are integers, so a(m_k; τ) = a(1; τ)^m_k and b(n_k; ν) = b(1; ν)^n_k: two
-    // phasors from core/steering.h per path instead of 2·N_p (the fit's hot loop).
+    // phasors from core/array/steering.h per path instead of 2·N_p (the fit's hot loop).
     Eigen::MatrixXcd basis(const std::vector<double>& tau, double x) const
     {
         Eigen::MatrixXcd phi;

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the pilot observations as the classical baselines see them (internal):
  * a checked double vector, pilots grouped by symbol, peak interpolation, mask checks.
- * The steering phasors and the Doppler grid come from core/steering.h. */
+ * The steering phasors and the Doppler grid come from core/array/steering.h. */
 #ifndef INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 #define INCLUDED_SEMS_LIB_BASELINES_PILOT_OBSERVATIONS_H
 
-#include "core/checks.h"
+#include "core/common/checks.h"
 #include <gnuradio/gr_complex.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
-#include <gnuradio/sems/core/steering.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/array/steering.h>
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>

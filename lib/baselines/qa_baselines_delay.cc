@@ -7,7 +7,7 @@
 #include <gnuradio/sems/baselines/music_delay_estimator.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
 #include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
-#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

@@ -4,10 +4,10 @@
 #define INCLUDED_SEMS_LIB_BASELINES_QA_BASELINES_FRAMES_H
 
 #include <gnuradio/gr_complex.h>
-#include <gnuradio/sems/core/channel_model.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
-#include <gnuradio/sems/core/scene.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/scene/scene.h>
 #include <vector>
 
 namespace gr {

@@ -10,7 +10,7 @@
 #include <gnuradio/sems/baselines/ls_delay_estimator.h>
 #include <gnuradio/sems/baselines/multipath_fit.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
-#include <gnuradio/sems/core/channel_model.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>

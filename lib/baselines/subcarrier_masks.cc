@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot patterns for RP- and OP-MUSIC. See subcarrier_masks.h. */
-#include "core/rng.h"
+#include "core/kernels/rng.h"
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 /* gr-sems: cfo_corrector implementation (see cfo_corrector.h). */
 #include "blocks/cfo_corrector_impl.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/cp_sync.h>
+#include <gnuradio/sems/core/frame/cp_sync.h>
 #include <cmath>
 #include <stdexcept>
 #include <string>

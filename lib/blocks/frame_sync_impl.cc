@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: frame_sync implementation (see frame_sync.h). */
 #include "blocks/frame_sync_impl.h"
-#include "blocks/block_mask.h"
+#include "blocks/common/block_mask.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/common/tags.h>
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>

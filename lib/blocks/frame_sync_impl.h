@@ -3,9 +3,9 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
 #define INCLUDED_SEMS_LIB_BLOCKS_FRAME_SYNC_IMPL_H
 
-#include "blocks/frame_spacing.h"
+#include "blocks/common/frame_spacing.h"
 #include <gnuradio/sems/blocks/frame_sync.h>
-#include <gnuradio/sems/core/frame_search.h>
+#include <gnuradio/sems/core/frame/frame_search.h>
 #include <pmt/pmt.h>
 #include <atomic>
 #include <string>

@@ -2,7 +2,7 @@
 /* gr-sems: phase_noise_source implementation (see phase_noise_source.h). */
 #include "blocks/phase_noise_source_impl.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/front_end.h>
+#include <gnuradio/sems/core/radio/front_end.h>
 #include <stdexcept>
 #include <string>
 

@@ -4,7 +4,7 @@
 #define INCLUDED_SEMS_LIB_BLOCKS_PHASE_NOISE_SOURCE_IMPL_H
 
 #include <gnuradio/sems/blocks/phase_noise_source.h>
-#include <gnuradio/sems/core/phase_noise.h>
+#include <gnuradio/sems/core/radio/phase_noise.h>
 #include <atomic>
 
 namespace gr {

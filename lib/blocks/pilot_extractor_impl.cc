@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot_extractor implementation (see pilot_extractor.h). */
-#include "blocks/block_mask.h"
+#include "blocks/common/block_mask.h"
 #include "blocks/pilot_extractor_impl.h"
-#include "blocks/stream_values.h"
+#include "blocks/common/stream_values.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/common/tags.h>
 #include <cmath>
 
 namespace gr {

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot_mapper implementation (see pilot_mapper.h). */
-#include "blocks/block_mask.h"
+#include "blocks/common/block_mask.h"
 #include "blocks/pilot_mapper_impl.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/common/tags.h>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: range_doppler_map implementation (see range_doppler_map.h). */
-#include "blocks/block_mask.h"
+#include "blocks/common/block_mask.h"
 #include "blocks/range_doppler_map_impl.h"
-#include "blocks/stream_values.h"
+#include "blocks/common/stream_values.h"
 #include <gnuradio/io_signature.h>
 #include <algorithm>
 

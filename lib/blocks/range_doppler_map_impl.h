@@ -4,7 +4,7 @@
 #define INCLUDED_SEMS_RANGE_DOPPLER_MAP_IMPL_H
 
 #include <gnuradio/sems/blocks/range_doppler_map.h>
-#include <gnuradio/sems/core/range_doppler.h>
+#include <gnuradio/sems/core/channel/range_doppler.h>
 #include <atomic>
 
 namespace gr {

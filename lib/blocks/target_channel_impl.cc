@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: target_channel implementation (see target_channel.h). */
 #include "blocks/target_channel_impl.h"
-#include "blocks/stream_values.h"
+#include "blocks/common/stream_values.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/tags.h>
+#include <gnuradio/sems/core/common/tags.h>
 #include <algorithm>
 #include <cmath>
 #include <limits>

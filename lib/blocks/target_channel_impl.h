@@ -3,9 +3,9 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_IMPL_H
 #define INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_IMPL_H
 
-#include "blocks/channel_block_common.h"
-#include <gnuradio/sems/core/channel_model.h>
-#include "blocks/fault_log.h"
+#include "blocks/common/channel_block_common.h"
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include "blocks/common/fault_log.h"
 #include <gnuradio/sems/blocks/target_channel.h>
 #include <pmt/pmt.h>
 #include <atomic>

@@ -3,11 +3,11 @@
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H
 #define INCLUDED_SEMS_LIB_BLOCKS_TARGET_CHANNEL_TD_IMPL_H
 
-#include "blocks/channel_block_common.h"
-#include "blocks/frame_spacing.h"
+#include "blocks/common/channel_block_common.h"
+#include "blocks/common/frame_spacing.h"
 #include <gnuradio/sems/blocks/target_channel_td.h>
-#include <gnuradio/sems/core/channel_model.h>
-#include <gnuradio/sems/core/td_channel.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/channel/td_channel.h>
 #include <atomic>
 #include <string>
 

@@ -6,7 +6,7 @@ from gnuradio import blocks, digital, fft, gr
 
 from .core_python import frame_settings as _frame_settings
 
-_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame_settings.h)
+_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame/frame_settings.h)
 
 
 class ofdm_tx(gr.hier_block2):

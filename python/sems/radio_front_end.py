@@ -11,8 +11,8 @@ from .core_python import frame_settings as _frame_settings
 from .core_python import channel_model, front_end_settings, oscillator_from_name, oscillator_kind
 from .core_python import phase_noise_source, target_channel_td
 
-_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame_settings.h)
-_IDEAL = front_end_settings()  # the defaults' one place (include/gnuradio/sems/core/front_end.h)
+_FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame/frame_settings.h)
+_IDEAL = front_end_settings()  # the defaults' one place (include/gnuradio/sems/core/radio/front_end.h)
 _SETTINGS = tuple(k for k in dir(_IDEAL) if not k.startswith("_") and not callable(getattr(_IDEAL, k)))
 # Seeds of the oscillators, apart from the channel's own draws of the same seed.
 _TX_OSC, _RX_OSC = 0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9

@@ -38,8 +38,8 @@
 #define INCLUDED_SEMS_BASELINES_DELAY_CRB_H
 
 #include <gnuradio/sems/baselines/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <complex>
 #include <vector>
 

@@ -13,7 +13,7 @@
 #define INCLUDED_SEMS_BASELINES_DELAY_SEARCH_H
 
 #include <gnuradio/sems/baselines/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <string>
 #include <vector>
 

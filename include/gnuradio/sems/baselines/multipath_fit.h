@@ -7,7 +7,7 @@
  * \details Model (one target, its L paths share the slow-time factor):
  *
  *     y_k = b(n_k; ν) · Σ_l α_l · a(m_k; τ_l) + w_k,
- *     a(m; τ) = delay_phasor(m, τ, M),  b(n; ν) = doppler_phasor(n, ν, T)   (core/steering.h)
+ *     a(m; τ) = delay_phasor(m, τ, M),  b(n; ν) = doppler_phasor(n, ν, T)   (core/array/steering.h)
  *
  * over the N_p pilots k of the mask. Unknowns: the delays τ_l (delay indices), the complex
  * gains α_l and the shared Doppler ν. When every pilot sits on one OFDM symbol ν is not
@@ -24,8 +24,8 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <memory>
 #include <vector>
 

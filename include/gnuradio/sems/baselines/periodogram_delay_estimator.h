@@ -21,8 +21,8 @@
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/baselines/api.h>
 #include <gnuradio/sems/baselines/delay_search.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <memory>
 #include <vector>
 

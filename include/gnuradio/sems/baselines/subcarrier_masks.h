@@ -18,7 +18,7 @@
 #define INCLUDED_SEMS_BASELINES_SUBCARRIER_MASKS_H
 
 #include <gnuradio/sems/baselines/api.h>
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <cstdint>
 
 namespace gr {

@@ -2,14 +2,14 @@
 /*!
  * \file
  * \brief The CFO corrector block: a bistatic receiver's carrier frequency offset, estimated
- *        from the cyclic prefix (core/cp_sync.h) and removed.
+ *        from the cyclic prefix (core/frame/cp_sync.h) and removed.
  */
 #ifndef INCLUDED_SEMS_BLOCKS_CFO_CORRECTOR_H
 #define INCLUDED_SEMS_BLOCKS_CFO_CORRECTOR_H
 
 #include <gnuradio/sync_block.h>
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <cstdint>
 
 namespace gr {

@@ -19,7 +19,7 @@
  * to it unless the offset is calibrated once on the direct path
  * (examples/sems_offset_calibration.grc). False locks per frame of noise:
  * frame_search::false_lock_probability() (3.6e-8 coherent at the defaults; measured by
- * apps/sems_sync_false_lock, docs/reference/sdr_receiver.md).
+ * apps/evaluation/sems_sync_false_lock, docs/reference/sdr_receiver.md).
  *
  * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
  * output offset = input offset − offset(); tags on the dropped samples are dropped with them,
@@ -33,7 +33,7 @@
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -2,14 +2,14 @@
 /*!
  * \file
  * \brief The leakage canceller block: a monostatic radio's received samples minus the
- *        fitted leakage of its own transmission, its IQ image and DC (core/leakage_canceller.h).
+ *        fitted leakage of its own transmission, its IQ image and DC (core/radio/leakage_canceller.h).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_LEAKAGE_CANCELLER_H
 #define INCLUDED_SEMS_BLOCKS_LEAKAGE_CANCELLER_H
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/leakage_canceller.h>
+#include <gnuradio/sems/core/radio/leakage_canceller.h>
 #include <cstdint>
 #include <string>
 #include <vector>

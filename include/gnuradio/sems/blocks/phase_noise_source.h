@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: a free-running oscillator's phase noise as a sample stream.
  *
- * gr_complex out: exp(jφ[n]), φ the Wiener phase of core/phase_noise.h (double precision,
+ * gr_complex out: exp(jφ[n]), φ the Wiener phase of core/radio/phase_noise.h (double precision,
  * seeded), φ[0] = 0. Multiplying the transmitted samples by this stream is the up-conversion
  * by a noisy oscillator; multiplying the received samples by its conjugate
  * (blocks.multiply_conjugate_cc) with the SAME stream is the down-conversion by the same

@@ -8,8 +8,8 @@
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the range-Doppler map block: one gr_complex[N_p] frame of pilot observations
- * in (the pilot extractor's output), one float[N·M] map in dB out (core/range_doppler.h:
+ * in (the pilot extractor's output), one float[N·M] map in dB out (core/channel/range_doppler.h:
  * row d = Doppler bin d - N/2, column q = delay index q). For the full grid, give a mask
  * with every cell a pilot (the extractor then passes the whole grid Y/X).
  *
@@ -12,7 +12,7 @@
 
 #include <gnuradio/block.h>
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,7 +21,7 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief Range-Doppler map of each frame's pilot observations (core/range_doppler.h), in dB.
+ * \brief Range-Doppler map of each frame's pilot observations (core/channel/range_doppler.h), in dB.
  * \details Frame check: a mask file carries only its grid, refused unless it is n_symbols x
  * n_subcarriers (pilot_mask::check_frame names the field and both values); the block has no guard,
  * bandwidth, carrier, symbol-interval or CP parameter, so it cannot compare those.

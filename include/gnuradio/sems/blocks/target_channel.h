@@ -7,7 +7,7 @@
 #define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_H
 
 #include <gnuradio/sems/api.h>
-#include <gnuradio/sems/core/frame_settings.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
 #include <limits>

@@ -3,13 +3,13 @@
  * target classes, scenes and the channel model (H as numpy arrays). JSON crosses the
  * boundary as text (to_json_string / parse), the same text the files hold.
  */
-#include <gnuradio/sems/core/channel_model.h>
-#include <gnuradio/sems/core/class_library.h>
-#include <gnuradio/sems/core/frame_settings.h>
-#include <gnuradio/sems/core/pilot_mask.h>
-#include <gnuradio/sems/core/scene.h>
-#include <gnuradio/sems/core/tags.h>
-#include <gnuradio/sems/core/target_class.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/scene/class_library.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/scene/scene.h>
+#include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/core/scene/target_class.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/complex.h>
@@ -40,7 +40,7 @@ py::dict truth_dict(const frame_truth& t)
 
 void bind_keys(py::module& m)
 {
-    auto k = m.def_submodule("keys", "Tag, dictionary and port keys (include/gnuradio/sems/core/tags.h)");
+    auto k = m.def_submodule("keys", "Tag, dictionary and port keys (include/gnuradio/sems/core/common/tags.h)");
     k.attr("frame_tag") = keys::frame_tag;
     k.attr("truth_tag") = keys::truth_tag;
     k.attr("frame") = keys::frame;

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: Python bindings for the radio front end's settings (core/front_end.h), the
- * oscillator's phase noise (core/phase_noise.h) and the phase_noise_source block. */
+/* gr-sems: Python bindings for the radio front end's settings (core/radio/front_end.h), the
+ * oscillator's phase noise (core/radio/phase_noise.h) and the phase_noise_source block. */
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <gnuradio/sems/blocks/phase_noise_source.h>
-#include <gnuradio/sems/core/front_end.h>
-#include <gnuradio/sems/core/front_end_frame.h>
-#include <gnuradio/sems/core/phase_noise.h>
+#include <gnuradio/sems/core/radio/front_end.h>
+#include <gnuradio/sems/core/radio/front_end_frame.h>
+#include <gnuradio/sems/core/radio/phase_noise.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 

@@ -4,8 +4,8 @@
  * of rotor_motion, walker_motion, wheels_motion, scatterers_motion (pybind11/stl.h). JSON
  * crosses the boundary as text, as elsewhere in the bindings.
  */
-#include <gnuradio/sems/core/class_library.h>
-#include <gnuradio/sems/core/micro_motion.h>
+#include <gnuradio/sems/core/scene/class_library.h>
+#include <gnuradio/sems/core/scene/micro_motion.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/operators.h>

@@ -3,9 +3,9 @@
  * numpy arrays, and the trainer (train(settings) -> result with the bundle and the
  * test frames it was scored on). JSON crosses the boundary as text.
  */
-#include <gnuradio/sems/learning/bundle_decoder.h>
-#include <gnuradio/sems/learning/model_bundle.h>
-#include <gnuradio/sems/learning/trainer.h>
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/sems/learning/training/trainer.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/complex.h>

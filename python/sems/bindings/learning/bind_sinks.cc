@@ -3,9 +3,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <gnuradio/sems/learning/classifier_sink.h>
-#include <gnuradio/sems/learning/delay_estimator_sink.h>
-#include <gnuradio/sems/learning/sink_defaults.h>
+#include <gnuradio/sems/learning/sinks/classifier_sink.h>
+#include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/sinks/sink_defaults.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 
@@ -49,7 +49,7 @@ void bind_sinks(py::module& m)
     using gr::sems::classifier_sink;
     using gr::sems::delay_estimator_sink;
 
-    // The sinks' defaults, as GRC's blocks must spell them (python/sems/qa_grc_defaults.py).
+    // The sinks' defaults, as GRC's blocks must spell them (python/sems/qa/qa_grc_defaults.py).
     py::class_<sink_defaults>(m, "sink_defaults", D(sink_defaults))
         .def_readonly_static("batch_size", &sink_defaults::batch_size, D(sink_defaults, batch_size))
         .def_readonly_static("threads", &sink_defaults::threads, D(sink_defaults, threads))

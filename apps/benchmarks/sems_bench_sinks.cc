@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* sems_bench_sinks: frames per second of the sinks' inference, at several batch sizes.
+ *
+ * For each bundle and batch size it measures
+ *   decoder  bundle_decoder::classify / estimate_delay called directly, batch by batch;
+ *   sink     the block in a flowgraph (vector_source -> sink), whole-run wall time,
+ *            so stream bookkeeping, tags and one result message per frame are included.
+ * The frames are complex Gaussian pilot observations with a fixed seed: the decoders'
+ * cost does not depend on the values.
+ * Each rate is given twice: per wall-clock second, and per second of the process's CPU
+ * time (std::clock), which stays meaningful when other jobs share the cores.
+ *
+ * With both bundles it then runs the two decoders at once, each in its own thread with
+ * its own intra-op thread count (--together-threads), as two sinks in one flowgraph do.
+ *
+ *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
+ */
+#include <gnuradio/blocks/vector_source.h>
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <gnuradio/sems/learning/sinks/classifier_sink.h>
+#include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/top_block.h>
+#include <boost/program_options.hpp>
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstdio>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace po = boost::program_options;
+using namespace gr::sems;
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+// Wall and CPU seconds since construction.
+struct stopwatch {
+    clock_type::time_point wall0 = clock_type::now();
+    std::clock_t cpu0 = std::clock();
+    double wall() const { return std::chrono::duration<double>(clock_type::now() - wall0).count(); }
+    double cpu() const { return double(std::clock() - cpu0) / CLOCKS_PER_SEC; }
+};
+
+struct rate {
+    double wall_fps, cpu_fps;
+};
+
+rate rate_of(size_t frames, const stopwatch& w)
+{
+    const double cpu = w.cpu(), wall = w.wall();
+    return { frames / wall, cpu > 0 ? frames / cpu : 0.0 };
+}
+
+std::vector<gr_complex> gaussian_frames(size_t frames, int n_pilots, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g(0.0f, std::sqrt(0.5f));
+    std::vector<gr_complex> x(frames * n_pilots);
+    for (auto& v : x)
+        v = gr_complex(g(rng), g(rng));
+    return x;
+}
+
+// Frames to time for one batch size: at least `min_frames`, a whole number of batches.
+size_t frames_for(int batch, size_t min_frames)
+{
+    const size_t b = static_cast<size_t>(batch);
+    return std::max<size_t>(b, (min_frames + b - 1) / b * b);
+}
+
+rate decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
+{
+    const int np = dec.n_pilots();
+    auto run_batch = [&](size_t first) {
+        if (dec.bundle().task == task_kind::classify)
+            (void)dec.classify(obs.data() + first * np, batch);
+        else
+            (void)dec.estimate_delay(obs.data() + first * np, batch);
+    };
+    run_batch(0); // warm-up: first-call allocations
+    const stopwatch w;
+    for (size_t f = 0; f < frames; f += batch)
+        run_batch(f);
+    return rate_of(frames, w);
+}
+
+rate sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t frames, int batch, int threads)
+{
+    const int np = b.mask.size();
+    gr::block_sptr sink;
+    if (b.task == task_kind::classify)
+        sink = classifier_sink::make(b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
+    else
+        sink = delay_estimator_sink::make(
+            b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
+    const std::vector<gr_complex> data(obs.begin(), obs.begin() + frames * np);
+    auto src = gr::blocks::vector_source<gr_complex>::make(data, false, np);
+    auto tb = gr::make_top_block("sems_bench_sinks");
+    tb->connect(src, 0, sink, 0);
+    const stopwatch w;
+    tb->run();
+    return rate_of(frames, w);
+}
+
+// Wall-clock frames/s of one decoder in a thread of its own (CPU time is per process, so
+// only wall time separates two decoders that run at once).
+double decoder_wall_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
+{
+    return decoder_fps(dec, obs, frames, batch).wall_fps;
+}
+
+// Two decoders at once, each in its own thread with its own intra-op thread count, as two
+// sinks in one flowgraph run: frames/s of each alone, then of each while the other runs.
+void two_at_once(const model_bundle& a,
+                 const model_bundle& b,
+                 int threads_a,
+                 int threads_b,
+                 int batch,
+                 size_t min_frames)
+{
+    const bundle_decoder da(a, threads_a), db(b, threads_b);
+    const size_t frames = frames_for(batch, min_frames);
+    const auto oa = gaussian_frames(frames, a.mask.size(), 2), ob = gaussian_frames(frames, b.mask.size(), 3);
+    double alone_a = 0, alone_b = 0, with_a = 0, with_b = 0;
+    std::thread([&] { alone_a = decoder_wall_fps(da, oa, frames, batch); }).join();
+    std::thread([&] { alone_b = decoder_wall_fps(db, ob, frames, batch); }).join();
+    std::thread ta([&] { with_a = decoder_wall_fps(da, oa, frames, batch); });
+    std::thread tb([&] { with_b = decoder_wall_fps(db, ob, frames, batch); });
+    ta.join();
+    tb.join();
+    std::printf("\ntwo decoders at once (own threads), batch %d, wall frames/s:\n", batch);
+    std::printf("%-28s %8s %12s %12s\n", "bundle", "threads", "alone", "together");
+    std::printf("%-28s %8d %12.0f %12.0f\n", a.directory.c_str(), threads_a, alone_a, with_a);
+    std::printf("%-28s %8d %12.0f %12.0f\n", b.directory.c_str(), threads_b, alone_b, with_b);
+}
+
+// Comma-separated positive integers of option `option` (batch sizes, thread counts).
+std::vector<int> parse_counts(const std::string& s, const std::string& option)
+{
+    std::vector<int> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        const int b = std::stoi(item);
+        if (b < 1)
+            throw std::invalid_argument(option + ": values must be >= 1, got " + item);
+        out.push_back(b);
+    }
+    if (out.empty())
+        throw std::invalid_argument(option + ": no value given");
+    return out;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    std::string classifier_dir, delay_dir, batches_text;
+    size_t min_frames = 0;
+    int threads = 1;
+    std::string together_text;
+    po::options_description opts("sems_bench_sinks: frames per second of the sinks at several batch sizes");
+    opts.add_options()("help,h", "this help")(
+        "classifier", po::value(&classifier_dir), "classifier bundle directory (e.g. models/classifier)")(
+        "delay", po::value(&delay_dir), "delay bundle directory (e.g. models/delay_single)")(
+        "batches", po::value(&batches_text)->default_value("1,32,256"), "comma-separated batch sizes")(
+        "frames", po::value(&min_frames)->default_value(1024), "frames timed per measurement (at least)")(
+        "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads")(
+        "together-threads", po::value(&together_text)->default_value("1,1"),
+        "with both bundles: intra-op threads of the classifier and the delay decoder when run at once");
+    try {
+        po::variables_map vm;
+        po::store(po::parse_command_line(argc, argv, opts), vm);
+        if (vm.count("help")) {
+            std::cout << opts << std::endl;
+            return 0;
+        }
+        po::notify(vm);
+        if (classifier_dir.empty() && delay_dir.empty())
+            throw std::invalid_argument("give --classifier and/or --delay bundle directories");
+        if (min_frames < 1)
+            throw std::invalid_argument("--frames must be >= 1");
+        if (threads < 1)
+            throw std::invalid_argument("--threads must be >= 1");
+        const std::vector<int> batches = parse_counts(batches_text, "--batches");
+
+        std::printf("%-28s %6s %7s %12s %12s %12s %12s\n", "bundle", "batch", "frames", "decoder fps",
+                    "sink fps", "decoder/cpu", "sink/cpu");
+        for (const std::string& dir : { classifier_dir, delay_dir }) {
+            if (dir.empty())
+                continue;
+            const model_bundle b = model_bundle::load(dir);
+            const bundle_decoder dec(b, threads);
+            const int np = b.mask.size();
+            const size_t max_frames = frames_for(*std::max_element(batches.begin(), batches.end()), min_frames);
+            const std::vector<gr_complex> obs = gaussian_frames(max_frames, np, 1);
+            for (int batch : batches) {
+                const size_t frames = frames_for(batch, min_frames);
+                const rate d = decoder_fps(dec, obs, frames, batch);
+                const rate s = sink_fps(b, obs, frames, batch, threads);
+                std::printf("%-28s %6d %7zu %12.0f %12.0f %12.0f %12.0f\n", dir.c_str(), batch, frames, d.wall_fps,
+                            s.wall_fps, d.cpu_fps, s.cpu_fps);
+                std::fflush(stdout);
+            }
+        }
+        if (!classifier_dir.empty() && !delay_dir.empty()) {
+            const std::vector<int> tt = parse_counts(together_text, "--together-threads");
+            if (tt.size() != 2)
+                throw std::invalid_argument("--together-threads: give two counts, e.g. 1,1");
+            two_at_once(model_bundle::load(classifier_dir), model_bundle::load(delay_dir), tt[0], tt[1],
+                        batches.back(), min_frames);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "sems_bench_sinks: " << e.what() << std::endl;
+        return 1;
+    }
+    return 0;
+}

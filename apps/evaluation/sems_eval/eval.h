@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* sems_eval: shared pieces of the evaluation app (configuration, the common test
+ * frames, CSV output, metrics, and training-or-reusing the decoders). */
+#ifndef SEMS_EVAL_EVAL_H
+#define SEMS_EVAL_EVAL_H
+
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/scene/scene.h>
+#include <gnuradio/sems/learning/training/trainer.h>
+#include <chrono>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace sems_eval {
+
+using namespace gr::sems;
+
+struct config {
+    std::string size = "test";
+    std::string out_dir;
+    uint64_t seed = 2026;         // test frames: seed + a per-scene constant; training: see training_seeds
+    int seeds = 1;                // training seeds per learned method: seed, seed + 1, ..., seed + seeds - 1
+    int threads = 2;
+    int test_frames = 60;         // per operating point (the same frames at every SNR)
+    int train_frames = 600;       // DL training frames (the trainer splits 8:1:1)
+    int epochs = 2;               // mask-learning epochs (decoder epochs on a fixed mask)
+    int decoder_epochs = 1;       // decoder epochs after a learned mask
+    int classifier_epochs = 2;    // mask-learning epochs of the classification networks (experiments 1-3)
+    int patience = 3;
+    int batch = 64;
+    int svm_train_frames = 300;
+    int tsne_frames = 60;
+    double tsne_snr_db = 10.0;
+    double train_snr_min_db = -10.0, train_snr_max_db = 30.0;
+    double delay_train_snr_min_db = -10.0, delay_train_snr_max_db = 30.0;
+    std::vector<double> snrs{ -10, 0, 10, 20, 30 };
+    std::vector<double> delay_snrs{ -10, 0, 10, 20, 30 };
+    std::vector<int> np_sweep{ 2, 8, 32 };
+    int multipath_paths = 3;
+    double clutter_csr_db = 10.0;
+    std::string class_library = "paper"; // experiments 1-3: the recognition scenes' class library (name or file)
+    std::string exp7_class_library = "kinematic"; // experiment 7: targets of moving scatterers (name or file)
+    std::vector<int> exp7_np_sweep{ 8 };          // experiment 7's pilot budgets besides its 32
+    std::vector<int> exp7_power_np{ 32 };        // experiment 7: N_p of SemS with learned pilot energies
+    std::vector<int> exp7_bank_np{ 8 };          // experiment 7: N_p of the bank part (SemS and the Doppler
+                                                 // pattern, each with a template bank)
+    std::vector<int> exp7_burst_np{ 8 };         // experiment 7: N_p of the burst pattern (below N: else the Doppler one)
+    std::set<std::string> exp7_parts{ "main", "budget", "power", "bank", "burst" }; // one per process lets cores share a run
+    double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
+    int classic_oversample = 16;
+    std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
+    std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
+    bool reuse_bundles = false; // load any cached bundle without comparing settings (timing re-runs)
+    bool only_shipped = false; // evaluate only the shipped bundles (rows to add to a full run)
+    bool exp1_any_heading = true;   // experiment 1 also on the "any" heading scene
+    bool exp1_hand_patterns = true; // experiment 1: the SemS decoder also on Doppler/uniform/random pilots
+    std::set<std::string> delay_scenarios{ "single", "multipath" }; // experiment 4's scenes (one per process
+                                                                    // lets two cores share a full run)
+    frame_settings fs;
+    std::string command_line;
+};
+
+// Wall-clock stamps for progress lines.
+std::string now_utc();
+double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b);
+
+// The test frames of one scene: noiseless H and unit-variance noise W, drawn once, so
+// Y = H + σ·W gives exactly the same frames (and noise shape) at every SNR.
+struct test_set {
+    frame_settings fs;
+    int count = 0;
+    std::vector<gr_complex> h; // count x N x M
+    std::vector<gr_complex> w; // count x N x M, CN(0, 1)
+    std::vector<frame_truth> truth;
+
+    // count x N_p observations at the mask positions (mask order) at snr_db (+inf: noiseless).
+    std::vector<gr_complex> observe(const pilot_mask& mask, double snr_db) const;
+};
+test_set make_test_set(const frame_settings& fs, const scene& sc, int count, uint64_t seed);
+
+// Frames for training the feature SVM: per-frame SNR uniform in [lo, hi] dB.
+struct train_set {
+    std::vector<gr_complex> y; // count x N x M, noisy
+    std::vector<gr_complex> h; // count x N x M, noiseless
+    std::vector<frame_truth> truth;
+};
+train_set make_train_set(const frame_settings& fs, const scene& sc, int count, uint64_t seed, double lo, double hi);
+// count x N_p pilots of the mask from noisy grids. Pilot k's noise is scaled by
+// mask.noise_scale(k): a mask whose pilots differ in energy needs the noiseless grids `clean`.
+std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, const frame_settings& fs,
+                               const pilot_mask& mask, const std::vector<gr_complex>* clean = nullptr);
+
+// Scenes of the experiments.
+// default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)
+scene recognition_scene(const std::string& scenario, const config& c);
+scene delay_scene(int paths);
+
+// Accuracy and macro-F1 (unweighted mean of per-class F1 over the classes present).
+struct class_score {
+    double accuracy = 0.0, macro_f1 = 0.0;
+};
+class_score score(const std::vector<int>& predicted, const std::vector<int>& truth, int n_classes);
+
+// One CSV per experiment; values are written as given.
+class csv_file
+{
+public:
+    csv_file(const std::string& path, const std::vector<std::string>& header);
+    void row(const std::vector<std::string>& values);
+    const std::string& path() const { return d_path; }
+
+private:
+    std::string d_path;
+    size_t d_cols;
+    std::ofstream d_out;
+};
+std::string num(double v, int precision = 6);
+
+// Cost rows gathered from every experiment (experiment 6).
+struct cost_row {
+    std::string experiment, scenario, method;
+    std::string mask; // a method's pilots (some methods run on several)
+    uint64_t test_seed;
+    std::string train_seed; // the training seed, or "none" (see train_seed_label)
+    int n_pilots;
+    double snr_db;
+    std::string metric;
+    double value;
+    double us_per_frame;
+    int n_frames;
+    double train_seconds;
+};
+std::vector<cost_row>& cost_rows();
+
+// A decoder bundle: trained here (cached under <out>/bundles/<name> and reused when the
+// settings match), or a shipped bundle given on the command line.
+struct decoder_source {
+    model_bundle bundle;
+    double train_seconds = 0.0;
+    std::string origin; // "trained", "cached", or the shipped path
+};
+decoder_source train_or_load(const config& c, const std::string& name, training_settings s, std::ostream& log);
+// The trainer's settings for one learned method trained with train_seed (one of training_seeds(c)).
+training_settings base_training(const config& c, task_kind task, const scene& sc, const std::string& scene_source,
+                                uint64_t train_seed);
+// The SemS decoder on a fixed hand pattern (doppler, uniform, random) at the learned mask's
+// budget (its mask and decoder epochs together), from the SemS settings. Experiments 1 and
+// 2 share these bundles (one cache name, one set of settings).
+training_settings hand_pattern_training(training_settings sems, const std::string& pattern);
+
+// Every learned method is trained once per seed c.seed, ..., c.seed + c.seeds - 1 on the same
+// test frames (drawn from c.seed + a constant), so the spread over seeds is the training's alone.
+std::vector<uint64_t> training_seeds(const config& c);
+// The cache name of a bundle trained with train_seed: <name>_s<seed> (one bundle per seed).
+std::string seeded_name(const std::string& name, uint64_t train_seed);
+// The CSVs' train_seed value: the seed, or "none" for a method without training.
+std::string train_seed_label(std::optional<uint64_t> train_seed);
+// Writes a mask file under <out>/masks and returns its path.
+std::string write_mask(const config& c, const pilot_mask& mask, const std::string& name);
+pilot_mask full_grid_mask(const frame_settings& fs);
+
+// Experiments.
+void run_recognition(const config& c, std::ostream& log);   // 1, 3 and 7
+void run_tsne(const config& c, std::ostream& log);          // 2
+void run_delay(const config& c, std::ostream& log);         // 4
+void run_pilot_budget(const config& c, std::ostream& log);  // 5
+void write_cost(const config& c, std::ostream& log);        // 6
+
+} // namespace sems_eval
+
+#endif

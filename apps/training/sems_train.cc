@@ -1,0 +1,322 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* sems_train: learn a pilot mask and a task decoder, write a model bundle.
+ *
+ *   sems_train --task classify --out models/classifier --snr-min 0 --snr-max 20 --threads 2
+ *   sems_train --task delay --paths 3 --snr-min 10 --snr-max 30 --out models/delay_multipath
+ *   sems_train --task classify --mask uniform.json --out uniform_bundle   (decoder only)
+ *   sems_train --task classify --pilot-power learned --out powered   (learned placement and energies)
+ *   sems_train --task delay --mask m.json --pilot-phases newman --out d   (pilots with Newman phases)
+ *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
+ *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
+ *   sems_train --task classify --frame sdr_2g4_20mhz --out sdr_classifier   (another radio's frame)
+ *
+ * See include/gnuradio/sems/learning/training/trainer.h for what the phases do and
+ * docs/reference/distributed_training.md for several processes and machines.
+ */
+#include "frame_options.h"
+#include <gnuradio/sems/core/radio/front_end.h>
+#include <gnuradio/sems/core/scene/scene.h>
+#include <gnuradio/sems/core/scene/target_class.h>
+#include <gnuradio/sems/learning/training/trainer.h>
+#include <boost/program_options.hpp>
+#include <iostream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace po = boost::program_options;
+using namespace gr::sems;
+
+namespace {
+std::vector<std::string> split_list(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+double parse_snr(const std::string& s)
+{
+    if (s == "inf" || s == "+inf")
+        return std::numeric_limits<double>::infinity();
+    size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size())
+        throw std::invalid_argument("not a number: " + s);
+    return v;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+    training_settings s;
+    std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading, from;
+    std::string class_library_name, radio_file;
+    int paths = 1;
+    double clutter_csr = std::numeric_limits<double>::quiet_NaN();
+    bool no_md = false;
+
+    po::options_description opts("sems_train: learn pilots and a task decoder, write a model bundle");
+    apps::frame_options frame_flags;
+    // clang-format off
+    opts.add_options()
+        ("help,h", "this help")
+        ("task", po::value(&task), "classify | delay (required unless --from)")
+        ("from", po::value(&from), "train again from this bundle's recorded settings (a bundle directory or name, e.g. classifier): "
+                                   "same settings and seed, same mask and weights; only --out, --frames, --epochs, --decoder-epochs, "
+                                   "--batch, --eval-frames, --eval-snr, --threads, --quiet and the distributed options may be given with it")
+        ("objective", po::value(&s.objective)->default_value(s.objective), "task (SemS) | mse (reconstruction baseline)")
+        ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
+        ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
+        ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler|staggered|burst): train the decoder only")
+        ("pilot-power", po::value(&s.pilot_power)->default_value(s.pilot_power), "pilot energies: equal (every pilot the same) | learned (the mask learner also shares the total pilot energy among the pilots; learned masks only)")
+        ("pilot-power-floor", po::value(&s.pilot_power_floor)->default_value(s.pilot_power_floor), "--pilot-power learned: the smallest energy of a pilot, relative to equal power, in [0, 1)")
+        ("pilot-phases", po::value(&s.pilot_phases), "pilot phases in the bundle's mask: newman (low crest factor: the pilots of one symbol do not peak together in time, so a radio's converter does not clip them) | zero (none); default: as the mask has them (a --mask file's own phases, none otherwise). The decoder sees Y/s_k, so training is the same")
+        ("radio", po::value(&radio_file), "radio file (format sems.radio, e.g. examples/radios/sdr_monostatic.json): draw every "
+                                          "observation through its front end (leakage and canceller, oscillators, IQ imbalance, DC, "
+                                          "converter; no sample clock offset) for training and the test metrics, and record it in the "
+                                          "bundle; default: the ideal radio")
+        ("scene", po::value(&scene_file), "scene JSON file (else a random scene from the flags below)")
+        ("classes", po::value(&classes)->default_value("pedestrian,car,drone"),
+         "random scene: comma-separated classes of --class-library (default: the paper's three; with another "
+         "library, every class of it)")
+        ("class-library", po::value(&class_library_name)->default_value("paper"),
+         "random scene: the class library, by name (paper, kinematic) or file (format sems.classes); default: the "
+         "library the frame names (the paper's for the paper frame)")
+        ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
+        ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
+        ("no-micro-doppler", po::bool_switch(&no_md), "random scene: no micro-Doppler")
+        ("heading", po::value(&heading)->default_value("approaching"), "random scene: approaching (radial velocity = +speed, the paper) | any (speed·cos θ, θ uniform)")
+        ("snr", po::value(&snr), "fixed SNR in dB ('inf' = noiseless)")
+        ("snr-min", po::value(&snr_min), "SNR range, low end (dB)")
+        ("snr-max", po::value(&snr_max), "SNR range, high end (dB)")
+        ("frames", po::value(&s.frames)->default_value(s.frames), "frames, split 8:1:1 train/val/test")
+        ("epochs", po::value(&s.epochs)->default_value(s.epochs), "mask-learning epochs (decoder epochs with --mask)")
+        ("decoder-epochs", po::value(&s.decoder_epochs)->default_value(s.decoder_epochs), "decoder epochs on the final learned mask")
+        ("batch", po::value(&s.batch)->default_value(s.batch), "batch size")
+        ("lr", po::value(&s.lr)->default_value(s.lr), "Adam learning rate")
+        ("lr-final", po::value(&s.lr_final_scale)->default_value(s.lr_final_scale), "cosine schedule ends at lr * this")
+        ("patience", po::value(&s.patience)->default_value(s.patience), "early stop after this many epochs without improvement")
+        ("mask-settle-epochs", po::value(&s.mask_settle_epochs)->default_value(s.mask_settle_epochs), "phase 1 ends once the learned mask is unchanged for this many epochs (0 = never); its unused epochs go to the decoder phase")
+        ("threads", po::value(&s.threads)->default_value(2), "LibTorch threads")
+        ("data", po::value(&s.training_data)->default_value(s.training_data), "the training frames: hold (in memory, 8*N*M bytes a frame) | stream (computed again from their drawn paths for every batch: the same bundle, the emulator's time per epoch) | auto (stream when they would take more than a quarter of the machine's memory)")
+        ("seed", po::value(&s.seed)->default_value(s.seed), "seed (data, noise, initial weights)")
+        ("eval-snr", po::value(&eval_snr)->default_value("0,10,20,30"), "test SNR points (dB), comma-separated")
+        ("eval-frames", po::value(&s.eval_frames)->default_value(s.eval_frames), "test frames per SNR point (0 = all)")
+        ("out", po::value(&s.out_dir)->required(), "bundle directory to write")
+        // Network sizes (defaults: include/gnuradio/sems/learning/networks/network_settings.h).
+        ("width", po::value<int>(), "decoder width (classifier: first-stage channels; delay: 1-D CNN channels)")
+        ("depth", po::value<int>(), "decoder depth (classifier: residual stages; delay: residual blocks)")
+        ("hidden", po::value(&s.classifier.hidden)->default_value(s.classifier.hidden), "classifier MLP width")
+        ("projections", po::value(&s.delay.projections)->default_value(s.delay.projections), "delay: complex time projections")
+        ("kernel", po::value(&s.delay.kernel)->default_value(s.delay.kernel), "delay: 1-D kernel size (odd)")
+        ("window", po::value(&s.delay.window)->default_value(s.delay.window), "delay: local soft-argmax half-window (0 = global)")
+        ("dilation-growth", po::value(&s.delay.dilation_growth)->default_value(s.delay.dilation_growth), "delay: residual block i dilates by growth^i (1 = undilated)")
+        ("refine-paths", po::value(&s.delay.refine_paths)->default_value(s.delay.refine_paths), "delay: paths of the least-squares refinement after the network (0 = off, -1 = the scene's paths per target)")
+        ("delay-spacing", po::value(&s.delay_spacing)->default_value(s.delay_spacing), "delay: dictionary spacing (delay index)")
+        ("temp-start", po::value(&s.encoder.temperature_start)->default_value(s.encoder.temperature_start), "Gumbel temperature at the start")
+        ("temp-floor", po::value(&s.encoder.temperature_floor)->default_value(s.encoder.temperature_floor), "Gumbel temperature floor")
+        ("temp-decay", po::value(&s.encoder.temperature_decay)->default_value(s.encoder.temperature_decay), "temperature factor per epoch")
+        ("encoder", po::value(&s.encoder.kind)->default_value(s.encoder.kind), "mask learner: gumbel_topk (structured scores, top-N_p) | gumbel_heads (the paper's N_p heads)")
+        ("free-scores", "encoder gumbel_topk: add a free N x M score term to a[n] + b[m]")
+        ("soft-epochs", po::value(&s.encoder.soft_epochs)->default_value(s.encoder.soft_epochs), "mask epochs with a soft (relaxed) forward pass first; 0 = hard 0/1 masks from the start")
+        ("embedding", po::value(&s.encoder.embedding)->default_value(s.encoder.embedding), "encoder: head embedding size")
+        ("encoder-hidden", po::value(&s.encoder.hidden)->default_value(s.encoder.hidden), "encoder: MLP width")
+        ("shared-scores", "encoder: add a score matrix shared by all heads")
+        ("full-scores", "encoder: free N*M score matrix per head instead of the factorised a[n] + b[m]")
+        ("collision-weight", po::value(&s.encoder.collision_weight)->default_value(s.encoder.collision_weight), "gumbel_heads: head collision penalty (0 = off)")
+        ("classifier", po::value(&s.classifier.architecture)->default_value(s.classifier.architecture), "classifier decoder: spectral (phase-invariant Doppler profile, any mask) | resnet (the paper's)")
+        ("mti", po::value(&s.classifier.mti)->default_value(s.classifier.mti), "spectral classifier: zero-Doppler stage none | mean (subtract each subcarrier's mean: removes static clutter) | both")
+        ("doppler-bins", po::value(&s.classifier.doppler_bins)->default_value(s.classifier.doppler_bins), "spectral classifier: slow-time DFT size (>= symbols)")
+        ("range-bins", po::value(&s.classifier.range_bins)->default_value(s.classifier.range_bins), "spectral classifier: range gate, L delay bins (coherent across subcarriers; -1 = 2·M); 0 = off (the subcarriers' Doppler profiles pooled in power)")
+        ("chirp-bins", po::value(&s.classifier.chirp_bins)->default_value(s.classifier.chirp_bins), "spectral classifier: tone/chirp fit, the number of chirp rates (odd; 0 = off): the share of the slow-time energy one tone or chirp explains, which tells a car (a pure tone) from a pedestrian (a chirp) at equal Doppler; needs the range gate")
+        ("chirp-sweep-bins", po::value(&s.classifier.chirp_sweep_bins)->default_value(s.classifier.chirp_sweep_bins), "spectral classifier: the largest chirp rate of the fit, as its Doppler change over the frame in Doppler bins")
+        ("chirp-min-pilots", po::value(&s.classifier.chirp_min_pilots)->default_value(s.classifier.chirp_min_pilots), "spectral classifier: the tone/chirp fit counts only subcarriers with at least this many pilots (1 = every observed one)")
+        ("template-frames", po::value(&s.classifier.template_frames)->default_value(s.classifier.template_frames), "spectral classifier: keep this many training frames' noiseless pilots on the final mask as a template bank and add its class scores (each class's likelihood over its templates, the Monte-Carlo Bayes classifier of those frames) to the network's (0 = off, -1 = every training frame; costs 8 N_p T multiply-adds and 8 N_p T bytes per frame; one process only)")
+        ("conv-slope", po::value(&s.classifier.conv_slope)->default_value(s.classifier.conv_slope), "spectral classifier: leaky-ReLU slope of the convolutions (0 = ReLU, as bundles trained before this setting)")
+        ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
+        ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
+        ("quiet", "no per-epoch progress")
+        ("dry-run", "print the resolved settings (JSON: training record, decoder settings, frame) and exit without training")
+        // Distributed training (docs/reference/distributed_training.md); the flags override
+        // WORLD_SIZE, RANK, MASTER_ADDR, MASTER_PORT and GLOO_SOCKET_IFNAME.
+        ("world-size", po::value<int>(), "number of ranks (processes) training together (default: WORLD_SIZE or 1)")
+        ("rank", po::value<int>(), "this process's rank in [0, world-size) (default: RANK)")
+        ("store-file", po::value<std::string>(), "rendezvous through this file (FileStore; one machine): a fresh path every run")
+        ("master-addr", po::value<std::string>(), "rendezvous at rank 0's address (TCPStore; default: MASTER_ADDR)")
+        ("master-port", po::value<int>(), "rank 0's TCPStore port (default: MASTER_PORT or 29500)")
+        ("gloo-interface", po::value<std::string>(), "network interface for Gloo's connections (default: GLOO_SOCKET_IFNAME)")
+        ("dist-timeout", po::value<double>(), "seconds a rank waits for the others (rendezvous, each collective) before failing");
+    // clang-format on
+    frame_flags.add_to(opts);
+
+    try {
+        po::variables_map vm;
+        po::store(po::parse_command_line(argc, argv, opts), vm);
+        if (vm.count("help")) {
+            std::cout << opts << std::endl;
+            return 0;
+        }
+        po::notify(vm);
+        s.verbose = !vm.count("quiet");
+        frame_file frame; // the frame trained on, printed before training
+        if (!from.empty()) {
+            // The bundle's own settings; only sizes, output and where it runs may change.
+            static const std::set<std::string> allowed = { "from", "out", "frames", "epochs", "decoder-epochs",
+                                                            "batch", "eval-frames", "eval-snr", "threads", "data", "quiet", "dry-run",
+                                                            "world-size", "rank", "store-file", "master-addr",
+                                                            "master-port", "gloo-interface", "dist-timeout" };
+            for (const auto& [name, value] : vm)
+                if (!value.defaulted() && !allowed.count(name))
+                    throw std::invalid_argument("--" + name + " cannot be given with --from (the bundle's recorded "
+                                                "settings are used; only sizes, --out, --threads and --data may change)");
+            auto r = training_settings::from_bundle(model_bundle::load(from));
+            auto size = [&](const char* flag, int& field, int value) {
+                if (!vm[flag].defaulted())
+                    field = value;
+            };
+            size("frames", r.frames, s.frames);
+            size("epochs", r.epochs, s.epochs);
+            size("decoder-epochs", r.decoder_epochs, s.decoder_epochs);
+            size("batch", r.batch, s.batch);
+            size("eval-frames", r.eval_frames, s.eval_frames);
+            if (!vm["threads"].defaulted())
+                r.threads = s.threads;
+            r.training_data = s.training_data;
+            if (!vm["eval-snr"].defaulted()) {
+                r.eval_snr_db.clear();
+                for (const auto& v : split_list(eval_snr))
+                    r.eval_snr_db.push_back(parse_snr(v));
+            }
+            r.out_dir = s.out_dir;
+            r.verbose = s.verbose;
+            s = r;
+            frame.name = "of bundle " + from;
+            frame.frame = s.frame;
+        }
+        s.distributed = distributed_settings::from_environment();
+        if (vm.count("world-size"))
+            s.distributed.world_size = vm["world-size"].as<int>();
+        if (vm.count("rank"))
+            s.distributed.rank = vm["rank"].as<int>();
+        if (vm.count("store-file"))
+            s.distributed.store_file = vm["store-file"].as<std::string>();
+        if (vm.count("master-addr"))
+            s.distributed.master_addr = vm["master-addr"].as<std::string>();
+        if (vm.count("master-port"))
+            s.distributed.master_port = vm["master-port"].as<int>();
+        if (vm.count("gloo-interface"))
+            s.distributed.interface = vm["gloo-interface"].as<std::string>();
+        if (vm.count("dist-timeout"))
+            s.distributed.timeout_s = vm["dist-timeout"].as<double>();
+        if (vm.count("shared-scores"))
+            s.encoder.shared = true;
+        if (vm.count("full-scores"))
+            s.encoder.factorized = false;
+        if (vm.count("free-scores"))
+            s.encoder.free_scores = true;
+        if (from.empty()) { // the settings from the flags
+            if (task.empty())
+                throw std::invalid_argument("--task is required (classify | delay), or --from a bundle");
+            frame = frame_flags.resolve(vm);
+            s.frame = frame.frame;
+            if (vm["class-library"].defaulted() && !frame.classes.empty())
+                class_library_name = frame.classes;
+            s.task = task_from_name(task);
+            if (vm.count("width")) {
+                s.classifier.width = vm["width"].as<int>();
+                s.delay.width = vm["width"].as<int>();
+            }
+            if (vm.count("depth")) {
+                s.classifier.depth = vm["depth"].as<int>();
+                s.delay.depth = vm["depth"].as<int>();
+            }
+            if (!snr.empty() && (!snr_min.empty() || !snr_max.empty()))
+                throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
+            if (!snr.empty()) {
+                s.snr_min_db = s.snr_max_db = parse_snr(snr);
+            } else if (!snr_min.empty() || !snr_max.empty()) {
+                if (snr_min.empty() || snr_max.empty())
+                    throw std::invalid_argument("--snr-min and --snr-max go together");
+                s.snr_min_db = parse_snr(snr_min);
+                s.snr_max_db = parse_snr(snr_max);
+            }
+            s.eval_snr_db.clear();
+            for (const auto& v : split_list(eval_snr))
+                s.eval_snr_db.push_back(parse_snr(v));
+
+            if (!scene_file.empty() && !vm["heading"].defaulted())
+                throw std::invalid_argument("--heading is for random scenes built from the flags; with --scene, "
+                                            "set \"heading\" in the scene file");
+            if (!scene_file.empty() && !vm["class-library"].defaulted())
+                throw std::invalid_argument("--class-library is for random scenes built from the flags; with --scene, "
+                                            "set \"classes\" in the scene file");
+            if (!radio_file.empty()) {
+                s.radio = front_end_settings::load(radio_file);
+                s.radio_source = radio_file;
+            }
+            if (!scene_file.empty()) {
+                s.scene_spec = scene::load(scene_file);
+                s.scene_source = scene_file;
+            } else {
+                const auto lib = class_library::find(class_library_name);
+                const bool all_classes = vm["classes"].defaulted() && lib->name() != class_library::paper()->name();
+                if (all_classes)
+                    classes = "all of " + lib->name();
+                random_spec r;
+                r.classes.clear(); // empty: every class of the library
+                if (!all_classes)
+                    for (const auto& c : split_list(classes))
+                        r.classes.push_back(static_cast<target_class>(lib->id_of(c)));
+                r.paths_per_target = paths;
+                r.micro_doppler = !no_md;
+                r.heading = heading_from_name(heading);
+                std::optional<clutter_spec> clutter;
+                if (!std::isnan(clutter_csr)) {
+                    clutter_spec c;
+                    c.csr_db = clutter_csr;
+                    clutter = c;
+                }
+                s.scene_spec = scene::random(r, clutter, fading_kind::rayleigh, lib);
+                std::ostringstream src;
+                src << "random scene (classes " << classes << ", " << paths << " path(s) per target"
+                    << (no_md ? ", no micro-Doppler" : "") << ", heading " << heading
+                    << (clutter ? ", clutter CSR " + std::to_string(clutter_csr) + " dB" : "") << ")";
+                s.scene_source = src.str();
+            }
+        }
+        // The command as typed, the program by its name (not where this machine keeps it).
+        std::ostringstream cmd;
+        const std::string program = argv[0];
+        cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
+        for (int i = 1; i < argc; ++i)
+            cmd << " " << argv[i];
+        s.command_line = cmd.str();
+
+        if (vm.count("dry-run")) {
+            s.validate();
+            nlohmann::json j = { { "training", s.to_json() }, { "frame", s.frame.to_json() } };
+            j["training"]["scene"] = s.scene_spec ? s.scene_spec->to_json() : nlohmann::json();
+            j[s.task == task_kind::classify ? "classifier" : "delay"] =
+                s.task == task_kind::classify ? s.classifier.to_json() : s.delay.to_json();
+            std::cout << j.dump(2) << std::endl;
+            return 0;
+        }
+        if (s.distributed.rank == 0)
+            std::cout << apps::describe(frame) << std::endl;
+        const auto res = train(s, &std::cout);
+        if (s.distributed.rank == 0)
+            std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;
+        return 0;
+    } catch (const po::error& e) {
+        std::cerr << "sems_train: " << e.what() << "\n\n" << opts << std::endl;
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "sems_train: " << e.what() << std::endl;
+        return 1;
+    }
+}

@@ -1,0 +1,248 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief THE channel model (docs/design.md §1).
+ *
+ * \details The emulator block, the training app, the
+ * evaluation and the Python bindings all draw their channels here.
+ *
+ * \verbatim
+   H[n,m] = Σ_l α_l · exp(-j2π m Δf τ_l) · exp(j2π ν_l t_n) · exp(j (4π/λ) A_l sin(ω_l t_n + φ_l))
+   Y[n,m] = H[n,m] · X[n,m] + V[n,m],   V ~ CN(0, σ²),  σ² = 10^(-SNR/10)
+   \endverbatim
+ *
+ * H is separable per path: a delay factor over m times a slow-time factor over n,
+ * so a frame costs L·(N + M) phase evaluations plus the N·M accumulation, and the
+ * micro-Doppler factor is only evaluated for paths that have one.
+ * t_n is absolute slow time (symbol index since the stream began, times T): phases
+ * are reduced modulo one cycle in double precision, so a fixed scene keeps a
+ * continuous, drift-free Doppler phase however long it streams.
+ *
+ * Draws are seeded and reproducible. Scene/gain draws and noise draws use separate
+ * generators, so the same seed gives the same frames at every SNR.
+ */
+#ifndef INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
+#define INCLUDED_SEMS_CORE_CHANNEL_MODEL_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/scene/scene.h>
+#include <complex>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+namespace detail {
+struct expansion_plan; // lib/core/channel/scatterer_moments.h
+}
+
+/*! \brief One propagation path of one frame, with its gain already drawn. */
+struct SEMS_API channel_path {
+    /*! \brief τ_l, the round-trip delay in s. */
+    double delay_s = 0.0;
+    double doppler_hz = 0.0;      ///< ν_l in Hz
+    double md_rate_hz = 0.0;      ///< 0: no micro-Doppler factor
+    double md_amplitude_m = 0.0;  ///< A_l in m
+    double md_phase_rad = 0.0;    ///< φ_l in rad
+    std::complex<double> gain{ 1.0, 0.0 }; ///< α_l
+    double mean_power = 1.0;               ///< p_l, the mean of |α_l|²
+    int body = -1; ///< index of the target's scatterer body in frame_realization::bodies (-1: a point target)
+};
+
+/*!
+ * \brief A target made of moving scatterers (micro_motion.h) in one frame: its model with
+ *        the parameters drawn for the frame, and the motion its scatterers move with.
+ */
+struct SEMS_API scatterer_body {
+    micro_motion motion;      ///< the model and its parameters
+    double speed_mps = 0.0;   ///< the target's speed (the walker's gait and the wheels' spin follow it)
+    double heading_rad = 0.0; ///< θ between its motion and the line towards the radar (0: approaching head-on)
+};
+
+/*! \brief Ground truth of one frame: the target of interest (its direct path). */
+struct SEMS_API frame_truth {
+    uint64_t frame = 0;      ///< frame index
+    int class_id = 0;        ///< class id of the target of interest
+    std::string class_name;  ///< its class name
+    double delay_s = 0.0;    ///< round-trip delay in s
+    double delay_index = 0.0; ///< τ·B
+    double range_m = 0.0;      ///< range in m
+    double velocity_mps = 0.0; ///< radial velocity in m/s
+    double snr_db = 0.0;      ///< +inf when noiseless
+    int n_paths = 0;          ///< all paths of the realization, clutter included
+    std::string micro_motion = "none"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", ...)
+};
+
+/*! \brief One drawn frame: its paths and its truth. */
+struct SEMS_API frame_realization {
+    std::vector<channel_path> paths;     ///< every path, clutter included
+    std::vector<scatterer_body> bodies;  ///< the scatterer bodies the paths refer to (channel_path::body)
+    int truth_body = -1;                 ///< the target of interest's body (-1: none)
+    frame_truth truth;                   ///< the target of interest
+};
+
+/*! \brief The separable factors of one frame: H[n,m] = Σ_l slow_l[n] · delay_l[m]. */
+class SEMS_API frame_channel
+{
+public:
+    /*!
+     * \brief Computes the factors of one frame.
+     * \param fs the frame settings.
+     * \param paths the frame's paths.
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
+    frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol);
+    /*!
+     * \brief The factors of another frame, computed in place in the same buffers.
+     * \details What a streaming block calls once per frame, allocation-free once the
+     * buffers have grown.
+     * \param paths the frame's paths.
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
+    void update(const std::vector<channel_path>& paths, uint64_t first_symbol);
+    /*!
+     * \brief The factors of a drawn frame, its scatterer bodies included.
+     * \param r the frame (paths and bodies).
+     * \param first_symbol the absolute slow-time index of row 0.
+     */
+    void update(const frame_realization& r, uint64_t first_symbol);
+    /*!
+     * \brief A drawn frame's factors.
+     * \param fs the frame settings. \param r the frame. \param first_symbol the absolute slow-time index of row 0.
+     */
+    frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol);
+    ~frame_channel(); ///< Destructor.
+    /*! \brief Copy constructor. \param o the factors to copy. */
+    frame_channel(const frame_channel& o);
+    /*! \brief Move constructor. */
+    frame_channel(frame_channel&&) noexcept;
+    /*! \brief Copy assignment. \param o the factors to copy. \return *this. */
+    frame_channel& operator=(const frame_channel& o);
+    /*! \brief Move assignment. \return *this. */
+    frame_channel& operator=(frame_channel&&) noexcept;
+
+    /*! \brief N. \return the symbols per frame. */
+    int n_symbols() const { return d_n; }
+    /*! \brief M. \return the subcarriers per symbol. */
+    int n_subcarriers() const { return d_m; }
+    /*! \brief The number of separable terms (one per point path; a scatterer body's path has several, micro_motion.h). \return the terms. */
+    int n_paths() const { return d_l; }
+
+    /*! \brief One row of H. \param n the symbol. \param h out: h[m] = H[n,m], M values. */
+    void row(int n, gr_complex* h) const;
+    /*!
+     * \brief Applies one row: y = H[n,:] ⊙ x.
+     * \param n the symbol. \param x M input values. \param y M output values (may be x).
+     */
+    void apply_row(int n, const gr_complex* x, gr_complex* y) const;
+    /*! \brief The whole frame's H. \param grid out: row-major N x M. */
+    void fill(gr_complex* grid) const;
+
+private:
+    void update(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
+    void fill_delay_row(int row, double delay_s);
+    void fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk);
+    struct scratch; // scatterer bodies' plans and moments (lib/core/channel/channel_model.cc)
+    frame_settings d_fs;
+    int d_n, d_m, d_l;
+    std::vector<gr_complex> d_slow;  // N x L (a symbol's terms side by side), gain included
+    std::vector<gr_complex> d_delay; // L x M (a scatterer body's path: its delay phasor and δk/δk_max)
+    std::vector<double> d_delay_key; // per row: the delay (and term) its delay row was computed for
+    std::unique_ptr<scratch> d_scratch;
+};
+
+/*!
+ * \brief The seeded channel model of one frame format and one scene: draws frames,
+ *        their factors and the noise.
+ */
+class SEMS_API channel_model
+{
+public:
+    /*!
+     * \brief A model of a scene on a frame.
+     * \param fs the frame settings.
+     * \param sc the scene.
+     * \param seed seed of the scene/gain draws and of the noise.
+     * \throws std::invalid_argument if the scene does not fit the frame (ranges inside the
+     *         unambiguous delay, instantaneous Doppler inside ±1/(2T)).
+     */
+    channel_model(const frame_settings& fs, const scene& sc, uint64_t seed);
+    ~channel_model(); ///< Destructor.
+    /*! \brief Move constructor. */
+    channel_model(channel_model&&) noexcept;
+    /*! \brief Move assignment. \return *this. */
+    channel_model& operator=(channel_model&&) noexcept;
+
+    /*! \brief The frame settings. \return the model's frame. */
+    const frame_settings& settings() const { return d_fs; }
+    /*! \brief The scene. \return the model's scene. */
+    const scene& scene_spec() const { return d_scene; }
+
+    /*!
+     * \brief σ² for an SNR in dB.
+     * \param snr_db SNR per resource element in dB (+inf: noiseless).
+     * \return 10^(-snr_db/10); 0 for +inf.
+     * \throws std::invalid_argument on NaN.
+     */
+    static double noise_variance(double snr_db);
+
+    /*!
+     * \brief Draws the next frame's paths (scene parameters for random scenes, and gains).
+     * \param frame_index the frame index written into the truth.
+     * \return the frame's paths and truth.
+     */
+    frame_realization draw(uint64_t frame_index);
+    /*!
+     * \brief The same draw into `out`, reusing its buffers: what a streaming block calls once
+     *        per frame, allocation-free once they have grown (fixed scenes are read in place).
+     * \param frame_index the frame index written into the truth.
+     * \param out the frame's paths and truth.
+     */
+    void draw(uint64_t frame_index, frame_realization& out);
+    /*!
+     * \brief The frame's separable factors.
+     * \param r a drawn frame.
+     * \param first_symbol the absolute slow-time index of row 0.
+     * \return the factors.
+     */
+    frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
+
+    /*!
+     * \brief Adds noise: y += CN(0, σ²) per element; draws nothing when snr_db = +inf.
+     * \details The noise is a single-precision vectorised Box–Muller stream
+     * (lib/core/kernels/gaussian_generator.h): the same seed gives the same noise whatever the sizes
+     * of the calls.
+     * \param y the values to add noise to.
+     * \param count the number of values.
+     * \param snr_db SNR per resource element in dB.
+     */
+    void add_noise(gr_complex* y, size_t count, double snr_db);
+
+    /*!
+     * \brief Noiseless H of consecutive frames.
+     * \param count frames to generate.
+     * \param h_out out: count x N x M values.
+     * \param first_frame index of the first frame (its rows start at first_frame·N).
+     * \return the frames' truths.
+     */
+    std::vector<frame_truth> generate(size_t count, gr_complex* h_out, uint64_t first_frame = 0);
+
+    /*! \brief Restarts both generators. \param seed the new seed. */
+    void reseed(uint64_t seed);
+
+private:
+    struct rngs; // generators and per-frame scratch (lib/core/channel/channel_model.cc)
+    frame_settings d_fs;
+    scene d_scene;
+    std::unique_ptr<rngs> d_rng;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_CORE_CHANNEL_MODEL_H */

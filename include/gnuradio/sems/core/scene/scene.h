@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief What the emulator models (docs/design.md §1): targets, their paths, clutter, and
+ * the target of interest; fixed (given values) or random (drawn per frame from the
+ * class table). A scene models only what it has: no micro-Doppler on a target without
+ * it, no clutter paths without clutter.
+ *
+ * \details Power bookkeeping: the mean path powers of one realization sum to 1 (unit mean
+ * channel power per resource element). Clutter takes csr/(1+csr) of it, the targets
+ * the rest, split by target power and then by path power.
+ */
+#ifndef INCLUDED_SEMS_CORE_SCENE_H
+#define INCLUDED_SEMS_CORE_SCENE_H
+
+#include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/scene/class_library.h>
+#include <gnuradio/sems/core/scene/micro_motion.h>
+#include <gnuradio/sems/core/scene/target_class.h>
+#include <nlohmann/json.hpp>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*! \brief One path of a target (the first is the direct path). */
+struct SEMS_API path_spec {
+    double excess_range_m = 0.0; ///< beyond the target's range (0 = the direct path)
+    double power = 1.0;          ///< relative to the target's other paths
+};
+
+/*! \brief One target of a fixed scene. */
+struct SEMS_API target_spec {
+    target_class cls = target_class::car; ///< its class: an id in the scene's class library
+    double range_m = 50.0;                ///< range in m
+    double velocity_mps = 15.0; ///< radial, positive = Doppler > 0
+    /*! \brief Its speed along its motion; NaN: |velocity_mps| (moving along the line of sight). */
+    double speed_mps = std::numeric_limits<double>::quiet_NaN();
+    /*! \brief θ between its motion and the line towards the radar (velocity = speed·cos θ); used with speed_mps. */
+    double heading_rad = 0.0;
+    std::optional<micro_doppler> md;      ///< its micro-Doppler (model `sinusoid`), if any
+    std::optional<micro_motion> motion;   ///< its scatterer micro-motion (rotor, walker, wheels, scatterers), if any
+    double power = 1.0;                        ///< relative to the scene's other targets
+    std::vector<path_spec> paths{ path_spec{} }; ///< at least one; the first is the direct path
+};
+
+/*! \brief Static clutter: zero-Doppler scatterers at a clutter-to-signal power ratio. */
+struct SEMS_API clutter_spec {
+    double csr_db = 0.0;                ///< clutter-to-signal power ratio
+    int n_paths = 4;                    ///< static (zero-Doppler) scatterers
+    double range_min_m = 0.0;           ///< drawn per frame, unless ranges_m is given
+    double range_max_m = 200.0;         ///< upper end of the drawn ranges
+    std::vector<double> ranges_m;       ///< fixed scatterer ranges (then n_paths = ranges_m.size())
+};
+
+/// Direction of a random target's motion. approaching: radial velocity = +speed (the
+/// paper: every class in its own positive Doppler band). any: radial velocity =
+/// speed·cos θ with θ ~ U[0, 2π) per frame (approaching, receding and crossing targets;
+/// the bulk Doppler bands overlap, micro-Doppler must tell the classes apart).
+enum class heading_kind { approaching, any };
+/*! \brief The name of a heading. \param h the heading. \return "approaching" or "any". */
+SEMS_API std::string heading_name(heading_kind h);
+/*!
+ * \brief The heading of a name.
+ * \param name "approaching" or "any".
+ * \return the heading.
+ * \throws std::invalid_argument listing the known names.
+ */
+SEMS_API heading_kind heading_from_name(const std::string& name);
+
+/*!
+ * \brief A target's speed and heading.
+ * \param t the target.
+ * \return {speed, θ}: speed_mps and heading_rad when speed_mps is set, else |velocity| and 0 (approaching) or π.
+ */
+SEMS_API std::pair<double, double> target_speed_heading(const target_spec& t);
+
+/// What a moving target does at the bounds of its track: start the pass again from its first
+/// range, or turn around (its radial velocity changes sign).
+enum class track_bound { restart, reflect };
+
+/*!
+ * \brief A fixed scene whose targets move: each range follows its radial velocity from frame
+ *        to frame, R(t) = R_0 − v·t at the frame's first symbol (t = frame·N·T; no migration
+ *        within a frame), inside [range_min_m, range_max_m].
+ */
+struct SEMS_API track_spec {
+    double range_min_m = 0.0;   ///< the track's near end
+    double range_max_m = 200.0; ///< the track's far end
+    track_bound at_bound = track_bound::restart; ///< what a target does at an end
+};
+
+/// How a random scene draws a frame.
+struct SEMS_API random_spec {
+    /*! \brief Class ids (in the scene's class library) the target of interest is drawn from; empty: every class. */
+    std::vector<target_class> classes{ target_class::pedestrian, target_class::car, target_class::drone };
+    int n_targets = 1;                 ///< the target of interest is target 0
+    int paths_per_target = 1;          ///< 1 = single path
+    double excess_range_min_m = 2.0;   ///< extra paths: excess range ~ U[min, max]
+    double excess_range_max_m = 30.0;  ///< upper end of the extra paths' excess range
+    double path_power_decay_db = 3.0;  ///< path k has mean power 10^(-k·decay/10) relative to path 0
+    bool micro_doppler = true;         ///< false: the micro-Doppler-free experiment
+    heading_kind heading = heading_kind::approaching; ///< see heading_kind
+};
+
+/*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */
+enum class fading_kind { rayleigh, none };
+
+/*! \brief A scene: fixed targets, or random ones drawn per frame, with optional clutter. */
+class SEMS_API scene
+{
+public:
+    static constexpr const char* format_name = "sems.scene"; ///< the file's `format`
+    static constexpr int format_version = 1;                 ///< the file's `version`
+
+    /*!
+     * \brief A fixed scene: given targets, optional clutter.
+     * \param targets the targets (at least one).
+     * \param clutter the clutter, if any.
+     * \param target_of_interest index of the target the truth describes.
+     * \param fading the gains' fading.
+     * \param library the class library the targets' classes index (null: the paper's).
+     * \return the scene.
+     * \throws std::invalid_argument naming the bad field.
+     */
+    static scene fixed(std::vector<target_spec> targets,
+                       std::optional<clutter_spec> clutter = std::nullopt,
+                       int target_of_interest = 0,
+                       fading_kind fading = fading_kind::rayleigh,
+                       std::shared_ptr<const class_library> library = nullptr);
+    /*!
+     * \brief A random scene drawn per frame from the class table.
+     * \param spec how frames are drawn.
+     * \param clutter the clutter, if any.
+     * \param fading the gains' fading.
+     * \param library the class library spec.classes index (null: the paper's).
+     * \return the scene.
+     * \throws std::invalid_argument naming the bad field.
+     */
+    static scene random(random_spec spec,
+                        std::optional<clutter_spec> clutter = std::nullopt,
+                        fading_kind fading = fading_kind::rayleigh,
+                        std::shared_ptr<const class_library> library = nullptr);
+
+    /*!
+     * \brief Reads a scene file (docs/reference/file_formats.md).
+     * \param path the file.
+     * \return the scene.
+     * \throws std::invalid_argument naming the file and the field.
+     */
+    static scene load(const std::string& path);
+    /*!
+     * \brief Parses scene JSON text.
+     * \param json_text the JSON. \param source names the text in errors.
+     * \return the scene.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
+    static scene parse(const std::string& json_text, const std::string& source = "scene text");
+    /*!
+     * \brief Reads a scene from JSON.
+     * \param j the JSON object. \param source names the origin in errors.
+     * \return the scene.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
+    static scene from_json(const nlohmann::json& j, const std::string& source);
+    /*! \brief The file format's JSON. \return the JSON object. */
+    nlohmann::json to_json() const;
+    /*! \brief The file format's JSON text. \return the text. */
+    std::string to_json_string() const;
+    /*! \brief Writes the scene file. \param path the file. \throws std::invalid_argument naming the file if it cannot be written. */
+    void save(const std::string& path) const;
+
+    /*! \brief Random or fixed. \return true for a random scene. */
+    bool is_random() const { return d_random.has_value(); }
+    /*! \brief The targets of a fixed scene. \return the targets (empty for a random scene). */
+    const std::vector<target_spec>& targets() const { return d_targets; }
+    /*! \brief How a random scene draws. \return the settings (empty for a fixed scene). */
+    const std::optional<random_spec>& random_settings() const { return d_random; }
+    /*! \brief The clutter. \return the clutter, if any. */
+    const std::optional<clutter_spec>& clutter() const { return d_clutter; }
+    /*! \brief The target of interest. \return its index in targets(). */
+    int target_of_interest() const { return d_toi; }
+    /*! \brief The gains' fading. \return the fading kind. */
+    fading_kind fading() const { return d_fading; }
+    /*! \brief Classes a frame of this scene can be labelled with (the target of interest's possible classes). \return the classes. */
+    std::vector<target_class> label_classes() const;
+    /*! \brief The class library the scene's classes come from. \return the library (`paper` unless set). */
+    const class_library& library() const { return *d_library; }
+    /*! \brief The class library, shared. \return the library. */
+    std::shared_ptr<const class_library> library_ptr() const { return d_library; }
+    /*!
+     * \brief The same scene with its classes from another library (a random scene without a
+     *        class list then draws every class of it).
+     * \param lib the library. \return the scene.
+     * \throws std::invalid_argument when a class id is beyond the library.
+     */
+    scene with_library(std::shared_ptr<const class_library> lib) const;
+    /*! \brief Whether a fixed scene's targets move. \return its track, if any. */
+    const std::optional<track_spec>& track() const { return d_track; }
+    /*!
+     * \brief The same fixed scene with moving targets.
+     * \param t the track. \return the scene.
+     * \throws std::invalid_argument for a random scene or a bad track.
+     */
+    scene with_track(track_spec t) const;
+    /*! \brief A class name in the scene's library. \param c the class id. \return its name. */
+    std::string class_name(target_class c) const { return d_library->at(static_cast<int>(c)).name; }
+
+    /*!
+     * \brief Checks every field.
+     * \param source names the scene in errors.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
+    void validate(const std::string& source = "scene") const;
+
+private:
+    scene() = default;
+    std::vector<target_spec> d_targets;
+    std::optional<random_spec> d_random;
+    std::optional<clutter_spec> d_clutter;
+    std::optional<track_spec> d_track;
+    std::shared_ptr<const class_library> d_library = class_library::paper();
+    int d_toi = 0;
+    fading_kind d_fading = fading_kind::rayleigh;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_CORE_SCENE_H */

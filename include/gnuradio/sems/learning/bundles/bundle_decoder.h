@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief Inference on a model bundle.
+ */#ifndef INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
+#define INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <memory>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief Inference on a model bundle, shared by the sinks, the evaluation app and the bindings.
+ * \details Rebuilds the decoder network from bundle.json, loads its weights and maps pilot
+ * observations (Y/s_p at the mask positions, in mask order) to answers. LibTorch stays
+ * behind this header (pimpl), so blocks and bindings need no torch headers.
+ *
+ * Non-finite input: a frame holding NaN or Inf (real or imaginary part, any pilot) is never
+ * decoded. classify(), estimate_delay(), estimate_delay_index() and features() refuse a
+ * batch that holds one with std::invalid_argument (ValueError in Python) naming the
+ * method, the index of the first such frame in the batch and its pilot, and answer no
+ * frame of that batch: the caller leaves the frame out. The sinks do so: they count such
+ * a frame in `frames_skipped` and never hand it to the decoder (docs/reference/sinks.md).
+ */
+class SEMS_LEARNING_API bundle_decoder
+{
+public:
+    /*!
+     * \brief Loads a bundle's decoder.
+     * \param bundle the bundle (from model_bundle::load).
+     * \param threads LibTorch intra-op threads; <= 0 leaves LibTorch's count alone; > 0 is
+     *        applied in the thread that runs each inference (LibTorch's OpenMP count is per
+     *        thread), so two decoders (two sinks) in one process each keep the count they
+     *        were given.
+     * \throws std::invalid_argument naming the weights file and the problem.
+     */
+    explicit bundle_decoder(const model_bundle& bundle, int threads = 1);
+    ~bundle_decoder(); ///< Destructor.
+
+    /*! \brief The bundle. \return the bundle the decoder was loaded from. */
+    const model_bundle& bundle() const;
+    /*! \brief N_p. \return the observations per frame. */
+    int n_pilots() const;
+
+    /*!
+     * \brief Classifies frames.
+     * \param obs batch x N_p observations, row-major. \param batch the number of frames.
+     * \return batch x C class probabilities, row-major.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
+     */
+    std::vector<float> classify(const gr_complex* obs, int batch) const;
+    /*!
+     * \brief Estimates the delay of the target of interest.
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return the delays in s.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a classifier bundle.
+     */
+    std::vector<double> estimate_delay(const gr_complex* obs, int batch) const;
+    /*!
+     * \brief The same estimate as estimate_delay() as a delay index (τ·B).
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return the delay indices.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a classifier bundle.
+     */
+    std::vector<double> estimate_delay_index(const gr_complex* obs, int batch) const;
+    /*!
+     * \brief Classifier only: the embeddings (for t-SNE).
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \return batch x feature_size() values, row-major.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
+     */
+    std::vector<float> features(const gr_complex* obs, int batch) const;
+    /*! \brief The embedding size. \return the features per frame. */
+    int feature_size() const;
+
+private:
+    struct impl;
+    std::unique_ptr<impl> d_impl;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H */

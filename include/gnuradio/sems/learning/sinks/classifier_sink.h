@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief The classifier_sink block.
+ */
+#ifndef INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H
+#define INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H
+
+#include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/learning/sinks/sink_defaults.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sync_block.h>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*!
+ * \brief Classifies the target of each frame with a model bundle.
+ *
+ * \details Input: gr_complex[N_p] per frame, the pilot observations Y/s_p in mask order (from
+ * pilot_extractor). Output: a PMT dict per frame on message port `result`:
+ *   frame, label, class_name, probs (f32vector, one per class of the bundle) and, when a
+ *   sems_truth tag came with the frame, truth (that dict) and correct (bool; the truth's
+ *   class_name, else its class id, compared with the predicted class name).
+ * Running metrics (frames, frames_scored, frames_skipped, accuracy, confusion) are
+ * readable through the getters and sent on port `metrics` every `metrics_period` frames
+ * and once when the stream ends.
+ *
+ * Frames are decoded `batch_size` at a time; the partial last batch is decoded in stop().
+ * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still
+ * running; read the getters after wait() for the final numbers.
+ */
+class SEMS_LEARNING_API classifier_sink : virtual public gr::sync_block
+{
+public:
+    typedef std::shared_ptr<classifier_sink> sptr; ///< shared pointer to the block
+
+    /*!
+     * \brief Makes a classifier sink.
+     * \param bundle_dir     model bundle directory (bundle.json, mask.json, decoder.pt), task `classify`
+     * \param n_pilots       N_p, the input vector length; must match the bundle's mask
+     * \param batch_size     frames per inference call (>= 1)
+     * \param threads        LibTorch intra-op threads (0: leave LibTorch's setting)
+     * \param metrics_period send metrics every K frames (0: only at the end of the stream)
+     * \param n_symbols      N of the stream's frames; must match the bundle
+     * \param n_subcarriers  M of the stream's frames; must match the bundle
+     * \param frame          the stream's frame: a preset's name (e.g. `sdr_2g4_20mhz`) or a frame
+     *                       file (`"format": "sems.frame"`); its N and M must equal n_symbols and
+     *                       n_subcarriers. Empty: the paper's frame with n_symbols x n_subcarriers.
+     *                       The bundle's frame must equal it in every field (N, M, B, f_c, T, CP, guards).
+     * \return the block.
+     * \throws std::invalid_argument naming the bundle and the mismatch.
+     */
+    static sptr make(const std::string& bundle_dir,
+                     int n_pilots,
+                     int batch_size = sink_defaults::batch_size,
+                     int threads = sink_defaults::threads,
+                     int metrics_period = sink_defaults::metrics_period,
+                     int n_symbols = frame_settings().n_symbols,
+                     int n_subcarriers = frame_settings().n_subcarriers,
+                     const std::string& frame = "");
+
+    /*! \brief Frames handled: answered or skipped. \return the count. */
+    virtual uint64_t frames() const = 0;
+    /*! \brief Frames answered with a truth to compare. \return the count. */
+    virtual uint64_t frames_scored() const = 0;
+    /*! \brief Non-finite or faulted frames, never answered. \return the count. */
+    virtual uint64_t frames_skipped() const = 0;
+    /*!
+     * \brief Frames skipped because decoding or the bookkeeping failed (an exception in
+     *        work(), logged once per kind); the stream goes on.
+     * \return the count; frames() = answered + frames_skipped().
+     */
+    virtual uint64_t frames_faulted() const = 0;
+    /*! \brief Fraction of scored frames classified correctly. \return the accuracy; NaN before the first scored frame. */
+    virtual double accuracy() const = 0;
+    /*!
+     * \brief The confusion matrix over the bundle's classes (truths of other classes are
+     *        scored as wrong but have no row).
+     * \return confusion[truth][predicted].
+     */
+    virtual std::vector<std::vector<uint64_t>> confusion() const = 0;
+    /*! \brief The bundle's classes. \return the class names, indexed by label. */
+    virtual std::vector<std::string> class_names() const = 0;
+    /*! \brief Restarts the running metrics (counters and sums) from zero. */
+    virtual void reset_metrics() = 0;
+
+    /*! \brief Frames per inference call. \return the batch size. */
+    virtual int batch_size() const = 0;
+    /*! \brief Frames between `metrics` messages. \return K (0: only at the end of the stream). */
+    virtual int metrics_period() const = 0;
+    /*!
+     * \brief Sets the frames between `metrics` messages.
+     * \param k K (>= 0; 0: only at the end of the stream).
+     * \throws std::invalid_argument if k < 0.
+     */
+    virtual void set_metrics_period(int k) = 0;
+};
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_CLASSIFIER_SINK_H */

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: how the mapper and the extractor turn their block parameters into a
+ * pilot_mask (internal to the library). One place, so both ends of the chain read
+ * the same parameters the same way: a mask file OR explicit flat positions n·M+m.
+ */
+#ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
+#define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
+
+#include "core/common/checks.h"
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+inline std::string complex_text(gr_complex z)
+{
+    std::ostringstream s;
+    s << "(" << z.real() << (z.imag() < 0 ? "" : "+") << z.imag() << "j)";
+    return s.str();
+}
+
+// `who` names the block in errors. Throws std::invalid_argument naming the parameter.
+inline pilot_mask block_mask(const std::string& who,
+                             int n_symbols,
+                             int n_subcarriers,
+                             const std::string& mask_file,
+                             const std::vector<int>& pilot_positions,
+                             gr_complex pilot_symbol)
+{
+    frame_settings fs;
+    fs.n_symbols = n_symbols;
+    fs.n_subcarriers = n_subcarriers;
+    if (n_symbols < 1 || n_subcarriers < 1)
+        throw std::invalid_argument(who + ": n_symbols and n_subcarriers must be >= 1, got " +
+                                    std::to_string(n_symbols) + " x " + std::to_string(n_subcarriers));
+    if (!mask_file.empty() && !pilot_positions.empty())
+        throw std::invalid_argument(who + ": give either mask_file or pilot_positions, not both");
+    if (mask_file.empty() && pilot_positions.empty())
+        throw std::invalid_argument(who + ": no pilots: give mask_file or pilot_positions");
+
+    if (!mask_file.empty()) {
+        pilot_mask mask = [&] {
+            try {
+                return pilot_mask::load(mask_file);
+            } catch (const std::invalid_argument& e) { // the reader names the file and the problem
+                throw std::invalid_argument(who + ": mask_file: " + e.what());
+            }
+        }();
+        mask.check_frame(fs, who + " (mask_file '" + mask_file + "')");
+        // The file carries its own pilot symbol; a different one on the block would make
+        // the two ends of the chain disagree, so it is refused rather than overridden.
+        if (mask.pilot_symbol() != pilot_symbol)
+            throw std::invalid_argument(who + ": pilot_symbol " + complex_text(pilot_symbol) +
+                                        " differs from the pilot_symbol " +
+                                        complex_text(mask.pilot_symbol()) + " of mask_file '" + mask_file +
+                                        "'; set them equal");
+        return mask;
+    }
+
+    const long grid = static_cast<long>(n_symbols) * n_subcarriers;
+    std::vector<pilot_position> pos;
+    pos.reserve(pilot_positions.size());
+    for (size_t i = 0; i < pilot_positions.size(); ++i) {
+        const int p = pilot_positions[i];
+        if (p < 0 || p >= grid)
+            throw std::invalid_argument(who + ": pilot_positions[" + std::to_string(i) + "] = " +
+                                        std::to_string(p) + " is outside the " + std::to_string(n_symbols) +
+                                        " x " + std::to_string(n_subcarriers) + " grid (flat index n*M+m in [0, " +
+                                        std::to_string(grid - 1) + "])");
+        pos.push_back({ p / n_subcarriers, p % n_subcarriers });
+    }
+    return pilot_mask(n_symbols, n_subcarriers, std::move(pos), pilot_symbol, { { "kind", "explicit" } },
+                      who + " pilot_positions");
+}
+
+// Power parameters are energies per symbol: finite and >= 0.
+inline void check_power(const std::string& who, const std::string& name, double value)
+{
+    if (!checks::non_negative(value))
+        throw std::invalid_argument(who + ": " + name + " must be finite and >= 0, got " + std::to_string(value));
+}
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H */

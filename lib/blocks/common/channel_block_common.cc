@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: what the two target channel blocks share (see channel_block_common.h). */
+#include "blocks/common/channel_block_common.h"
+#include <gnuradio/sems/core/common/tags.h>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+namespace detail {
+
+void check_snr(const char* who, double snr_db)
+{
+    if (std::isnan(snr_db) || snr_db == -std::numeric_limits<double>::infinity())
+        throw std::invalid_argument(std::string(who) + ": snr_db must be a number or +inf (noiseless), got " +
+                                    std::to_string(snr_db));
+}
+
+scene channel_block_scene(const char* who,
+                          const std::string& text,
+                          const std::vector<std::string>& classes,
+                          int n_targets,
+                          int paths_per_target,
+                          bool micro_doppler,
+                          const std::string& heading,
+                          int clutter_paths,
+                          double clutter_csr_db,
+                          const std::string& class_library_name)
+{
+    const auto first = text.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos) { // a fixed scene: file or JSON text
+        const random_spec defaults;
+        if (!classes.empty() || n_targets != defaults.n_targets ||
+            paths_per_target != defaults.paths_per_target || micro_doppler != defaults.micro_doppler ||
+            heading != heading_name(defaults.heading) || clutter_paths != 0 || clutter_csr_db != 0.0)
+            throw std::invalid_argument(std::string(who) +
+                                        ": classes, n_targets, paths_per_target, micro_doppler, heading and "
+                                        "clutter_* "
+                                        "describe random scenes; a fixed scene (scene = file or JSON) carries "
+                                        "its own, so leave them at their defaults");
+        if (class_library_name != default_class_library)
+            throw std::invalid_argument(std::string(who) + ": class_library = \"" + class_library_name +
+                                        "\" describes random scenes; a fixed scene (scene = file or JSON) "
+                                        "names its own library in its \"classes\" key, so leave class_library at "
+                                        "\"" + default_class_library + "\"");
+        if (text[first] == '{')
+            return scene::parse(text, std::string(who) + " scene JSON");
+        return scene::load(text);
+    }
+
+    std::shared_ptr<const class_library> lib;
+    try {
+        lib = class_library::find(class_library_name);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": class_library: " + e.what());
+    }
+    random_spec r;
+    if (!classes.empty() || lib->name() != class_library::paper()->name()) // empty: every class of the library
+        r.classes.clear();
+    for (const auto& name : classes) {
+        try {
+            r.classes.push_back(static_cast<target_class>(lib->id_of(name)));
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string(who) + ": classes (library \"" + lib->name() + "\"): " + e.what());
+        }
+    }
+    r.n_targets = n_targets;
+    r.paths_per_target = paths_per_target;
+    r.micro_doppler = micro_doppler;
+    try {
+        r.heading = heading_from_name(heading);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": heading: " + e.what());
+    }
+    std::optional<clutter_spec> clutter;
+    if (clutter_paths < 0)
+        throw std::invalid_argument(std::string(who) + ": clutter_paths must be >= 0, got " +
+                                    std::to_string(clutter_paths));
+    if (clutter_paths == 0 && clutter_csr_db != 0.0)
+        throw std::invalid_argument(std::string(who) + ": clutter_csr_db = " + std::to_string(clutter_csr_db) +
+                                    " has no effect with clutter_paths = 0: set clutter_paths > 0 to add "
+                                    "clutter, or leave clutter_csr_db at 0");
+    if (clutter_paths > 0) {
+        clutter_spec c;
+        c.n_paths = clutter_paths;
+        c.csr_db = clutter_csr_db;
+        clutter = c;
+    }
+    auto sc = scene::random(r, clutter, fading_kind::rayleigh, lib);
+    sc.validate(std::string(who) + " random scene");
+    return sc;
+}
+
+truth_dict::truth_dict(const std::string& library)
+    : d_truth_key(pmt::intern(keys::truth_tag)),
+      d_frame(pmt::intern(keys::frame)),
+      d_class(pmt::intern(keys::class_id)),
+      d_class_name(pmt::intern(keys::class_name)),
+      d_delay_s(pmt::intern(keys::delay_s)),
+      d_delay_index(pmt::intern(keys::delay_index)),
+      d_range_m(pmt::intern(keys::range_m)),
+      d_velocity_mps(pmt::intern(keys::velocity_mps)),
+      d_snr_db(pmt::intern(keys::snr_db)),
+      d_n_paths(pmt::intern(keys::n_paths)),
+      d_micro_motion(pmt::intern(keys::micro_motion)),
+      d_micro_motion_params(pmt::intern(keys::micro_motion_params)),
+      d_class_library(pmt::intern(keys::class_library)),
+      d_library_symbol(pmt::string_to_symbol(library)),
+      d_no_params(pmt::PMT_NIL)
+{
+}
+
+namespace {
+// Equal as stored (a -0 is not a +0): a cached PMT is reused only for the very same value.
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool same_body(const std::optional<scatterer_body>& a, const scatterer_body* b)
+{
+    if (!a || !b)
+        return !a && !b;
+    return a->motion == b->motion && same_bits(a->speed_mps, b->speed_mps) &&
+           same_bits(a->heading_rad, b->heading_rad);
+}
+
+// JSON as PMT: objects as dicts, arrays as vectors, numbers, booleans, and strings as
+// symbols (only model names here, a handful: interned once each).
+pmt::pmt_t json_to_pmt(const nlohmann::json& j)
+{
+    if (j.is_object()) {
+        pmt::pmt_t d = pmt::make_dict();
+        for (auto it = j.rbegin(); it != j.rend(); ++it) // acons prepends: keep the JSON's order
+            d = pmt::acons(pmt::string_to_symbol(it.key()), json_to_pmt(it.value()), d);
+        return d;
+    }
+    if (j.is_array()) {
+        pmt::pmt_t v = pmt::make_vector(j.size(), pmt::PMT_NIL);
+        for (size_t k = 0; k < j.size(); ++k)
+            pmt::vector_set(v, k, json_to_pmt(j[k]));
+        return v;
+    }
+    if (j.is_boolean())
+        return pmt::from_bool(j.get<bool>());
+    if (j.is_number_integer())
+        return pmt::from_long(j.get<long>());
+    if (j.is_number())
+        return pmt::from_double(j.get<double>());
+    if (j.is_string())
+        return pmt::string_to_symbol(j.get<std::string>());
+    return pmt::PMT_NIL;
+}
+
+// The body's drawn parameters as a PMT dict (micro_motion_to_json, speed and heading). Not
+// as JSON text: PMT strings are symbols, interned for the life of the process, and a
+// random scene draws new parameters every frame.
+pmt::pmt_t body_params(const scatterer_body& b)
+{
+    auto j = micro_motion_to_json(b.motion);
+    j["speed_mps"] = b.speed_mps;
+    j["heading_rad"] = b.heading_rad;
+    return json_to_pmt(j);
+}
+} // namespace
+
+pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double snr_db)
+{
+    const frame_truth& t = r.truth;
+    if (r.truth_body >= static_cast<int>(r.bodies.size()))
+        throw std::invalid_argument("sems_truth: the target of interest's body " + std::to_string(r.truth_body) +
+                                    " is beyond the frame's " + std::to_string(r.bodies.size()) + " bodies");
+    const scatterer_body* body = r.truth_body >= 0 ? &r.bodies[static_cast<size_t>(r.truth_body)] : nullptr;
+    const bool same_tail = d_tail_valid && t.class_id == d_tail_truth.class_id &&
+                           t.n_paths == d_tail_truth.n_paths && t.class_name == d_tail_truth.class_name &&
+                           same_bits(t.delay_s, d_tail_truth.delay_s) &&
+                           same_bits(t.delay_index, d_tail_truth.delay_index) &&
+                           same_bits(t.range_m, d_tail_truth.range_m) &&
+                           same_bits(t.velocity_mps, d_tail_truth.velocity_mps) && same_bits(snr_db, d_tail_snr_db) &&
+                           t.micro_motion == d_tail_truth.micro_motion && same_body(d_tail_body, body);
+    if (!same_tail) {
+        if (t.class_id < 0)
+            throw std::invalid_argument("sems_truth: negative class id " + std::to_string(t.class_id));
+        const auto cls = static_cast<size_t>(t.class_id);
+        if (cls >= d_class_symbols.size())
+            d_class_symbols.resize(cls + 1);
+        if (!d_class_symbols[cls]) // interning hashes and locks: once per class, not per frame
+            d_class_symbols[cls] = pmt::string_to_symbol(t.class_name);
+        pmt::pmt_t tail = pmt::make_dict();
+        tail = pmt::acons(d_class, pmt::from_long(t.class_id), tail);
+        tail = pmt::acons(d_class_name, d_class_symbols[cls], tail);
+        tail = pmt::acons(d_delay_s, pmt::from_double(t.delay_s), tail);
+        tail = pmt::acons(d_delay_index, pmt::from_double(t.delay_index), tail);
+        tail = pmt::acons(d_range_m, pmt::from_double(t.range_m), tail);
+        tail = pmt::acons(d_velocity_mps, pmt::from_double(t.velocity_mps), tail);
+        tail = pmt::acons(d_snr_db, pmt::from_double(snr_db), tail);
+        tail = pmt::acons(d_n_paths, pmt::from_long(t.n_paths), tail);
+        auto& model = d_motion_symbols[t.micro_motion]; // a handful of model names: interned once each
+        if (!model)
+            model = pmt::string_to_symbol(t.micro_motion);
+        tail = pmt::acons(d_micro_motion, model, tail);
+        tail = pmt::acons(d_micro_motion_params, body ? body_params(*body) : d_no_params, tail);
+        tail = pmt::acons(d_class_library, d_library_symbol, tail);
+        d_tail = tail;
+        if (body)
+            d_tail_body = *body;
+        else
+            d_tail_body.reset();
+        d_tail_truth = t;
+        d_tail_snr_db = snr_db;
+        d_tail_valid = true;
+    }
+    return pmt::acons(d_frame, pmt::from_uint64(frame), d_tail);
+}
+
+} // namespace detail
+} // namespace sems
+} // namespace gr

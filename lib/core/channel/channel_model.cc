@@ -1,0 +1,593 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the channel model (see channel_model.h for the equations). */
+#include "core/kernels/complex_kernels.h"
+#include "core/kernels/gaussian_generator.h"
+#include "core/scene/micro_motion_params.h"
+#include "core/kernels/rng.h"
+#include "core/channel/scatterer_moments.h"
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/array/steering.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+namespace {
+
+constexpr double two_pi = 2.0 * M_PI;
+
+inline double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
+
+// Peak instantaneous Doppler of a target: 2/λ · (|v| + 2π f_md A).
+double peak_doppler_hz(const frame_settings& fs, double speed, double md_rate, double md_amp)
+{
+    return 2.0 / fs.wavelength_m() * (std::fabs(speed) + two_pi * md_rate * md_amp);
+}
+
+void check_inside_frame(const frame_settings& fs, double range_m, double peak_doppler, const std::string& what)
+{
+    const double delay = fs.delay_from_range(range_m);
+    if (!(delay < fs.max_delay_s()))
+        throw std::invalid_argument(what + ": range " + std::to_string(range_m) +
+                                    " m is beyond the unambiguous range " + std::to_string(fs.max_range_m()) +
+                                    " m of the frame (1/Δf)");
+    // Inclusive bound (±1/(2T) is representable); the slack absorbs rounding in 2v/λ.
+    if (peak_doppler > fs.max_doppler_hz() * (1.0 + 1e-12))
+        throw std::invalid_argument(what + ": peak Doppler " + std::to_string(peak_doppler) +
+                                    " Hz exceeds the unambiguous ±" + std::to_string(fs.max_doppler_hz()) +
+                                    " Hz of the frame (1/(2T))");
+}
+
+// A target of a moving fixed scene at time t (the frame's first symbol): R(t) = R_0 − v t
+// inside the track; at an end it starts the pass again (restart) or turns around (reflect).
+void move_along_track(target_spec& t, const track_spec& track, double t_s)
+{
+    const double v = t.velocity_mps;
+    if (v == 0.0)
+        return;
+    const double lo = track.range_min_m, hi = track.range_max_m;
+    if (track.at_bound == track_bound::restart) {
+        const double pass_s = (v > 0.0 ? t.range_m - lo : hi - t.range_m) / std::fabs(v);
+        if (!(pass_s > 0.0)) // starts at the end it moves towards: it stays there
+            return;
+        const double tau = std::fmod(t_s, pass_s);
+        t.range_m -= v * tau;
+        return;
+    }
+    // reflect: unfold onto a line of period 2(hi − lo), fold back into [lo, hi]
+    const double len = hi - lo;
+    double x = std::fmod(t.range_m - lo - v * t_s, 2.0 * len);
+    if (x < 0.0)
+        x += 2.0 * len;
+    const bool returning = x > len;
+    t.range_m = lo + (returning ? 2.0 * len - x : x);
+    if (returning) { // on the way back: the radial velocity and the heading turn around
+        t.velocity_mps = -v;
+        if (!std::isnan(t.speed_mps))
+            t.heading_rad += M_PI;
+    }
+}
+
+} // namespace
+
+// --- frame_channel --------------------------------------------------------------
+
+struct frame_channel::scratch {
+    std::vector<detail::expansion_plan> plans;        // per body
+    std::vector<size_t> g_offset;                     // per body: its moments in g
+    std::vector<std::complex<double>> g;              // per body: N x S x (P+1), scaled by δk_max^p
+    std::vector<double> dk_scale;                     // per body: δk_max of its sub-bands
+    std::vector<detail::body_model> models;           // per body, kept while its parameters stay
+    detail::body_snapshot snap;
+    std::vector<double> times;                        // the frame's symbol times
+    struct block {                                    // a scatterer body's path in the rows
+        int row;                                      // its first row: its delay phasor e, then u (twice)
+        detail::expansion_plan plan;
+    };
+    std::vector<block> blocks; // after the point paths' rows: evaluated by Horner's rule in δk
+    int point_rows = 0;        // rows 0 .. point_rows − 1: one per point path, summed as they are
+};
+
+
+frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel_path>& paths, uint64_t first_symbol)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
+{
+    update(paths, nullptr, first_symbol);
+}
+
+frame_channel::frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol)
+    : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
+{
+    update(r.paths, &r.bodies, first_symbol);
+}
+
+frame_channel::~frame_channel() = default;
+frame_channel::frame_channel(frame_channel&&) noexcept = default;
+frame_channel& frame_channel::operator=(frame_channel&&) noexcept = default;
+frame_channel::frame_channel(const frame_channel& o)
+    : d_fs(o.d_fs),
+      d_n(o.d_n),
+      d_m(o.d_m),
+      d_l(o.d_l),
+      d_slow(o.d_slow),
+      d_delay(o.d_delay),
+      d_delay_key(o.d_delay_key),
+      d_scratch(std::make_unique<scratch>()) // working memory, but for the rows' layout
+{
+    d_scratch->blocks = o.d_scratch->blocks;
+    d_scratch->point_rows = o.d_scratch->point_rows;
+}
+frame_channel& frame_channel::operator=(const frame_channel& o)
+{
+    if (this != &o)
+        *this = frame_channel(o);
+    return *this;
+}
+
+void frame_channel::update(const std::vector<channel_path>& paths, uint64_t first_symbol)
+{
+    update(paths, nullptr, first_symbol);
+}
+
+void frame_channel::update(const frame_realization& r, uint64_t first_symbol)
+{
+    update(r.paths, &r.bodies, first_symbol);
+}
+
+void frame_channel::update(const std::vector<channel_path>& paths,
+                           const std::vector<scatterer_body>* bodies,
+                           uint64_t first_symbol)
+{
+    const frame_settings& fs = d_fs;
+    const double T = fs.symbol_interval_s;
+    auto& sc = *d_scratch;
+
+    // Scatterer bodies: each one's expansion (scatterer_moments.h) and its moments per symbol.
+    const size_t n_bodies = bodies ? bodies->size() : 0;
+    sc.plans.resize(n_bodies);
+    sc.g_offset.resize(n_bodies);
+    sc.dk_scale.resize(n_bodies);
+    size_t g_size = 0;
+    const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
+    if (sc.models.size() > n_bodies)
+        sc.models.erase(sc.models.begin() + n_bodies, sc.models.end());
+    for (size_t b = 0; b < n_bodies; ++b) {
+        // A fixed scene's bodies are the same every frame: set up once (a walker's takes ~0.1 ms).
+        if (b >= sc.models.size())
+            sc.models.emplace_back((*bodies)[b], fs);
+        else if (!detail::same_body(sc.models[b].body(), (*bodies)[b]))
+            sc.models[b] = detail::body_model((*bodies)[b], fs);
+        const detail::body_model& model = sc.models[b];
+        // The frame's scatterers, every symbol in one pass; the expansion's order from their own
+        // amplitudes and reaches (the same bound); per symbol the body's terms G_p δk_max^p.
+        sc.times.resize(size_t(d_n));
+        for (int n = 0; n < d_n; ++n)
+            sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
+        model.snapshots(sc.times.data(), d_n, sc.snap);
+        const auto plan = detail::plan_expansion(fs, sc.snap);
+        sc.plans[b] = plan;
+        sc.g_offset[b] = g_size;
+        sc.dk_scale[b] = detail::band_scale(fs, plan);
+        g_size += size_t(d_n) * plan.terms();
+        sc.g.resize(g_size);
+        detail::snapshot_terms(sc.snap, plan, fs, sc.g.data() + sc.g_offset[b]);
+    }
+
+    // Rows: one per point path, then plan.terms() per scatterer-body path (its terms side by
+    // side in d_slow; in d_delay its delay phasor and the subcarriers' (δk/δk_max)).
+    int rows = 0, body_rows = 0;
+    for (const auto& p : paths) {
+        if (p.body < 0) {
+            ++rows;
+            continue;
+        }
+        if (static_cast<size_t>(p.body) >= n_bodies)
+            throw std::invalid_argument("frame_channel: a path refers to scatterer body " + std::to_string(p.body) +
+                                        " but the frame has " + std::to_string(n_bodies));
+        body_rows += sc.plans[p.body].terms();
+    }
+    sc.point_rows = rows;
+    sc.blocks.clear();
+    // resize() keeps the capacity: once grown to the scene's row count, no allocation.
+    d_l = rows + body_rows;
+    d_slow.resize(size_t(d_l) * d_n);
+    d_delay.resize(size_t(d_l) * d_m);
+    // A row is recomputed only when its key (path delay, term) changed: a fixed scene's
+    // delay rows are the same every frame (the same values, not an approximation of them).
+    d_delay_key.resize(size_t(d_l) * 3, std::numeric_limits<double>::quiet_NaN());
+    const double md_scale = 4.0 * M_PI / fs.wavelength_m();
+    int row = 0, body_row = rows;
+    for (const auto& p : paths) {
+        const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
+        // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
+        // instead of N + M. The frame's first phase is anchored to the absolute symbol
+        // index, so the rounding of 32 or 64 products (~1e-14) never accumulates across frames.
+        std::complex<double> v = p.gain * doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, T);
+        const std::complex<double> doppler_step = doppler_phasor(1.0, p.doppler_hz, T);
+        if (p.body >= 0) {
+            const auto& plan = sc.plans[p.body];
+            const int terms = plan.terms();
+            for (int n = 0; n < d_n; ++n, v *= doppler_step) {
+                const std::complex<double>* g = sc.g.data() + sc.g_offset[p.body] + size_t(n) * terms;
+                for (int k = 0; k < terms; ++k)
+                    d_slow[size_t(n) * d_l + body_row + k] = gr_complex(v * g[k]);
+            }
+            fill_body_rows(body_row, p.delay_s, plan, sc.dk_scale[p.body], dk);
+            sc.blocks.push_back({ body_row, plan });
+            body_row += terms;
+            continue;
+        }
+        for (int n = 0; n < d_n; ++n, v *= doppler_step) {
+            std::complex<double> slow = v;
+            if (has_md) { // only paths that have micro-Doppler pay for its sine
+                const double s = static_cast<double>(first_symbol + static_cast<uint64_t>(n));
+                const double wt = p.md_rate_hz * T * s;
+                const double arg = two_pi * (wt - std::floor(wt)) + p.md_phase_rad;
+                const double phase = md_scale * p.md_amplitude_m * std::sin(arg);
+                slow *= std::complex<double>(std::cos(phase), std::sin(phase));
+            }
+            d_slow[size_t(n) * d_l + row] = gr_complex(slow);
+        }
+        fill_delay_row(row, p.delay_s);
+        ++row;
+    }
+}
+
+void frame_channel::fill_delay_row(int row, double delay_s)
+{
+    // exp(-j2π m Δf τ), m < M, by recurrence in double.
+    double* key = d_delay_key.data() + size_t(row) * 3;
+    if (key[0] == delay_s && key[1] == -1.0)
+        return;
+    key[0] = delay_s;
+    key[1] = -1.0;
+    key[2] = 0.0;
+    std::complex<double> d(1.0, 0.0);
+    const std::complex<double> delay_step = delay_phasor(1.0, d_fs.delay_index(delay_s), d_m);
+    for (int m = 0; m < d_m; ++m, d *= delay_step)
+        d_delay[size_t(row) * d_m + m] = gr_complex(d);
+}
+
+void frame_channel::fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk)
+{
+    // Row `row`: the path's delay phasor; row + 1 (when the plan has more than one term): each
+    // subcarrier's u = δk_m/δk_max ∈ [−1, 1] in its sub-band, twice (the Horner kernel's layout).
+    fill_delay_row(row, delay_s);
+    if (plan.terms() < 2)
+        return;
+    double* key = d_delay_key.data() + size_t(row + 1) * 3;
+    const double plan_key = 1000.0 * plan.order + 1e6 * plan.band_len;
+    if (key[0] == -2.0 && key[1] == plan_key && key[2] == dk_scale)
+        return;
+    key[0] = -2.0;
+    key[1] = plan_key;
+    key[2] = dk_scale;
+    auto* u2 = reinterpret_cast<float*>(d_delay.data() + size_t(row + 1) * d_m);
+    for (int band = 0; band < plan.sub_bands; ++band) {
+        const int m0 = band * plan.band_len;
+        const int len = std::min(plan.band_len, d_m - m0);
+        const double centre = m0 + 0.5 * (len - 1);
+        for (int m = m0; m < m0 + len; ++m)
+            u2[2 * m] = u2[2 * m + 1] = static_cast<float>((m - centre) * dk / dk_scale);
+    }
+}
+
+namespace {
+
+// Row n of H without the scatterer bodies from `count` on: the point paths' rows, then each
+// body's polynomial on its sub-bands (Σ_p δk_m^p G_p in u = δk_m/δk_max, times its delay).
+// `Block` is frame_channel's scratch::block (deduced: the type is private).
+template <class Block>
+void partial_row(gr_complex* h, const gr_complex* delay, int m, const gr_complex* slow, int point_rows,
+                 const Block* blocks, size_t count)
+{
+    detail::row_sum(h, delay, m, slow, point_rows, m);
+    for (size_t i = 0; i < count; ++i) {
+        const Block& b = blocks[i];
+        const gr_complex* e = delay + size_t(b.row) * m;
+        const auto* u2 = reinterpret_cast<const float*>(e + m); // unused when P = 0
+        const int terms = b.plan.order + 1;
+        for (int band = 0; band < b.plan.sub_bands; ++band) {
+            const int m0 = band * b.plan.band_len;
+            detail::add_horner(h, e, u2, slow + b.row + band * terms, b.plan.order, m0, std::min(m0 + b.plan.band_len, m));
+        }
+    }
+}
+
+} // namespace
+
+void frame_channel::row(int n, gr_complex* h) const
+{
+    const auto& sc = *d_scratch;
+    partial_row(h, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, sc.point_rows, sc.blocks.data(),
+                sc.blocks.size());
+}
+
+void frame_channel::apply_row(int n, const gr_complex* x, gr_complex* y) const
+{
+    if (d_scratch->blocks.empty()) {
+        // One pass: each subcarrier's H[n,m] summed over the paths in registers, times x.
+        detail::apply_row_sum(y, x, d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_l, d_m);
+        return;
+    }
+    thread_local std::vector<gr_complex> h; // per thread: apply_row stays const and reentrant
+    const auto& blocks = d_scratch->blocks;
+    const auto& last = blocks.back();
+    if (last.plan.sub_bands > 1) {
+        h.resize(size_t(d_m));
+        row(n, h.data());
+        detail::multiply(y, x, h.data(), d_m);
+        return;
+    }
+    // The last body's path has one sub-band, the whole row: the rest of the row first (point
+    // paths, other bodies; nothing at all when it is the only path), then its polynomial, the
+    // sum and the product with x in one pass, with the same operations as row() and multiply()
+    // (one pass over the row instead of three for a target alone).
+    const gr_complex* rest = nullptr;
+    if (d_scratch->point_rows > 0 || blocks.size() > 1) {
+        h.resize(size_t(d_m));
+        partial_row(h.data(), d_delay.data(), d_m, d_slow.data() + size_t(n) * d_l, d_scratch->point_rows,
+                    blocks.data(), blocks.size() - 1);
+        rest = h.data();
+    }
+    const gr_complex* e = d_delay.data() + size_t(last.row) * d_m;
+    const auto* u2 = reinterpret_cast<const float*>(e + d_m); // unused when P = 0
+    detail::apply_horner(y, x, rest, e, u2, d_slow.data() + size_t(n) * d_l + last.row, last.plan.order, d_m);
+}
+
+void frame_channel::fill(gr_complex* grid) const
+{
+    for (int n = 0; n < d_n; ++n)
+        row(n, grid + size_t(n) * d_m);
+}
+
+// --- channel_model --------------------------------------------------------------
+
+struct channel_model::rngs {
+    rng draws;                // scene parameters and path gains
+    gaussian_generator noise; // only noise: the same seed gives the same frames at every SNR
+    std::vector<target_spec> drawn; // a random scene's targets of the frame, reused
+    std::vector<target_class> every_class; // a random scene without a class list draws from these
+    const std::vector<target_class>& all_classes(const class_library& lib)
+    {
+        if (every_class.size() != static_cast<size_t>(lib.size())) {
+            every_class.clear();
+            for (int i = 0; i < lib.size(); ++i)
+                every_class.push_back(static_cast<target_class>(i));
+        }
+        return every_class;
+    }
+    double noise_snr_db = std::numeric_limits<double>::quiet_NaN(); // add_noise's last SNR
+    float noise_sigma = 0.0f;                                          // and its σ
+    explicit rngs(uint64_t seed) : draws(seed), noise(seed ^ 0x6e6f697365ULL) {}
+    void reseed(uint64_t seed)
+    {
+        draws.reseed(seed);
+        noise.reseed(seed ^ 0x6e6f697365ULL);
+    }
+};
+
+channel_model::channel_model(const frame_settings& fs, const scene& sc, uint64_t seed)
+    : d_fs(fs), d_scene(sc), d_rng(std::make_unique<rngs>(seed))
+{
+    d_fs.validate();
+    d_scene.validate();
+    const auto& c = d_scene.clutter();
+    if (c) {
+        if (c->ranges_m.empty())
+            check_inside_frame(d_fs, c->range_max_m, 0.0, "clutter");
+        for (double r : c->ranges_m)
+            check_inside_frame(d_fs, r, 0.0, "clutter");
+    }
+    // The sinusoid is narrowband and must stay unambiguous as a whole (the paper's model); a
+    // scatterer model's bulk Doppler must, its micro-motion may fold as in a real receiver.
+    const auto& lib = d_scene.library();
+    if (const auto& r = d_scene.random_settings()) {
+        for (auto cls : d_scene.label_classes()) {
+            const auto& spec = lib.at(static_cast<int>(cls));
+            const bool sinusoid = r->micro_doppler && spec.motion_model() == "sinusoid";
+            const double max_range = spec.range_max_m + (r->paths_per_target > 1 ? r->excess_range_max_m : 0.0) +
+                                     (r->micro_doppler ? spec.max_extent_m() : 0.0);
+            const double peak = 2.0 / d_fs.wavelength_m() *
+                                (spec.speed_max_mps + (sinusoid ? spec.max_sinusoid_speed_mps() : 0.0));
+            check_inside_frame(d_fs, max_range, peak, "random scene, class " + spec.name + " (class library " + lib.name() + ")");
+        }
+    } else {
+        const auto& targets = d_scene.targets();
+        const auto& track = d_scene.track();
+        for (size_t i = 0; i < targets.size(); ++i) {
+            const auto& t = targets[i];
+            double max_excess = 0.0;
+            for (const auto& p : t.paths)
+                max_excess = std::max(max_excess, p.excess_range_m);
+            if (t.motion)
+                max_excess += micro_motion_extent_m(*t.motion);
+            const double peak = peak_doppler_hz(
+                d_fs, t.velocity_mps, t.md ? t.md->rate_hz : 0.0, t.md ? t.md->amplitude_m : 0.0);
+            check_inside_frame(d_fs, (track ? track->range_max_m : t.range_m) + max_excess, peak,
+                               "scene target " + std::to_string(i));
+        }
+    }
+}
+
+channel_model::~channel_model() = default;
+channel_model::channel_model(channel_model&&) noexcept = default;
+channel_model& channel_model::operator=(channel_model&&) noexcept = default;
+
+void channel_model::reseed(uint64_t seed) { d_rng->reseed(seed); }
+
+double channel_model::noise_variance(double snr_db)
+{
+    if (std::isnan(snr_db))
+        throw std::invalid_argument("SNR must not be NaN");
+    if (snr_db == std::numeric_limits<double>::infinity())
+        return 0.0;
+    return std::pow(10.0, -snr_db / 10.0);
+}
+
+frame_realization channel_model::draw(uint64_t frame_index)
+{
+    frame_realization out;
+    draw(frame_index, out);
+    return out;
+}
+
+void channel_model::draw(uint64_t frame_index, frame_realization& out)
+{
+    rng& g = d_rng->draws;
+    out.paths.clear(); // keeps the capacity
+    size_t n_bodies = 0; // out.bodies keeps its elements: a body assigned in place keeps its buffers
+    const double clutter_share = d_scene.clutter() ? db_to_linear(d_scene.clutter()->csr_db) : 0.0;
+    const double target_total = 1.0 / (1.0 + clutter_share);
+
+    // Concrete targets of this frame: a fixed scene's are read in place (a moving one's are
+    // copied to their frame's ranges); a random scene's are drawn into reused scratch (path
+    // lists keep their capacity).
+    const std::vector<target_spec>* targets_of_frame = &d_scene.targets();
+    const auto& lib = d_scene.library();
+    if (const auto& r = d_scene.random_settings()) {
+        auto& drawn = d_rng->drawn;
+        drawn.resize(static_cast<size_t>(r->n_targets));
+        const auto& classes = r->classes.empty() ? d_rng->all_classes(lib) : r->classes;
+        for (auto& t : drawn) {
+            t.cls = classes[g.below(classes.size())];
+            const auto& spec = lib.at(static_cast<int>(t.cls));
+            t.range_m = g.uniform(spec.range_min_m, spec.range_max_m);
+            t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
+            t.power = target_spec{}.power;
+            t.md.reset();
+            t.motion.reset();
+            t.speed_mps = t.velocity_mps;
+            t.heading_rad = 0.0;
+            // "any" heading: radial velocity speed·cos θ, θ ~ U[0, 2π). Drawn after the speed,
+            // and only for this heading, so approaching scenes keep their exact frames.
+            if (r->heading == heading_kind::any) {
+                t.heading_rad = g.uniform(0.0, two_pi);
+                t.velocity_mps *= std::cos(t.heading_rad);
+            }
+            if (r->micro_doppler && spec.motion) {
+                if (spec.motion->model == "sinusoid")
+                    t.md = detail::draw_sinusoid(*spec.motion, &g);
+                else
+                    t.motion = detail::draw_motion(*spec.motion, &g);
+            }
+            t.paths.clear();
+            t.paths.push_back({ 0.0, 1.0 });
+            for (int k = 1; k < r->paths_per_target; ++k)
+                t.paths.push_back({ g.uniform(r->excess_range_min_m, r->excess_range_max_m),
+                                    db_to_linear(-k * r->path_power_decay_db) });
+        }
+        targets_of_frame = &drawn;
+    } else if (const auto& track = d_scene.track()) {
+        auto& moved = d_rng->drawn;
+        moved = d_scene.targets();
+        const double t_s = static_cast<double>(frame_index) * d_fs.n_symbols * d_fs.symbol_interval_s;
+        for (auto& t : moved)
+            move_along_track(t, *track, t_s);
+        targets_of_frame = &moved;
+    }
+    const auto& targets = *targets_of_frame;
+    double weight_sum = 0.0;
+    for (const auto& t : targets)
+        weight_sum += t.power;
+    for (const auto& t : targets) {
+        double path_sum = 0.0;
+        for (const auto& p : t.paths)
+            path_sum += p.power;
+        const double doppler = d_fs.doppler_from_velocity(t.velocity_mps);
+        int body = -1;
+        if (t.motion) {
+            const auto sh = target_speed_heading(t);
+            body = static_cast<int>(n_bodies);
+            if (out.bodies.size() <= n_bodies)
+                out.bodies.emplace_back();
+            auto& b = out.bodies[n_bodies++];
+            b.motion = *t.motion; // the same model's assignment reuses its lists' capacity
+            b.speed_mps = sh.first;
+            b.heading_rad = sh.second;
+        }
+        for (const auto& p : t.paths) {
+            channel_path cp;
+            cp.body = body;
+            cp.delay_s = d_fs.delay_from_range(t.range_m + p.excess_range_m);
+            cp.doppler_hz = doppler;
+            if (t.md) {
+                cp.md_rate_hz = t.md->rate_hz;
+                cp.md_amplitude_m = t.md->amplitude_m;
+                cp.md_phase_rad = t.md->phase_rad;
+            }
+            cp.mean_power = target_total * (t.power / weight_sum) * (p.power / path_sum);
+            out.paths.push_back(cp);
+        }
+    }
+    out.bodies.resize(n_bodies);
+    if (const auto& c = d_scene.clutter()) {
+        const int n = c->ranges_m.empty() ? c->n_paths : static_cast<int>(c->ranges_m.size());
+        for (int k = 0; k < n; ++k) {
+            channel_path cp; // static scatterer: zero Doppler, no micro-Doppler
+            const double range = c->ranges_m.empty() ? g.uniform(c->range_min_m, c->range_max_m) : c->ranges_m[k];
+            cp.delay_s = d_fs.delay_from_range(range);
+            cp.mean_power = (1.0 - target_total) / n;
+            out.paths.push_back(cp);
+        }
+    }
+    for (auto& p : out.paths)
+        p.gain = d_scene.fading() == fading_kind::rayleigh ? g.complex_normal(p.mean_power)
+                                                           : std::complex<double>(std::sqrt(p.mean_power), 0.0);
+
+    const auto& toi = targets[d_scene.is_random() ? 0 : d_scene.target_of_interest()];
+    auto& truth = out.truth;
+    truth.frame = frame_index;
+    truth.class_id = static_cast<int>(toi.cls);
+    truth.class_name = lib.at(truth.class_id).name;
+    truth.micro_motion = toi.motion ? micro_motion_model(*toi.motion) : toi.md ? "sinusoid" : "none";
+    truth.range_m = toi.range_m;
+    truth.delay_s = d_fs.delay_from_range(toi.range_m);
+    truth.delay_index = d_fs.delay_index(truth.delay_s);
+    truth.velocity_mps = toi.velocity_mps;
+    truth.snr_db = std::numeric_limits<double>::infinity();
+    truth.n_paths = static_cast<int>(out.paths.size());
+    out.truth_body = toi.motion ? static_cast<int>(std::count_if(targets.data(), &toi, [](const target_spec& t) { return t.motion.has_value(); })) : -1;
+}
+
+frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const
+{
+    return frame_channel(d_fs, r, first_symbol);
+}
+
+void channel_model::add_noise(gr_complex* y, size_t count, double snr_db)
+{
+    auto& st = *d_rng;
+    if (!(snr_db == st.noise_snr_db)) { // called per OFDM symbol: σ is computed once per SNR
+        const double var = noise_variance(snr_db);
+        const float sigma = static_cast<float>(std::sqrt(var));
+        if (!std::isfinite(sigma))
+            throw std::invalid_argument("add_noise: SNR " + std::to_string(snr_db) +
+                                        " dB gives a noise amplitude beyond single precision");
+        st.noise_snr_db = snr_db;
+        st.noise_sigma = sigma;
+    }
+    if (st.noise_sigma == 0.0f)
+        return; // noiseless: no draw at all
+    st.noise.add(y, count, st.noise_sigma);
+}
+
+std::vector<frame_truth> channel_model::generate(size_t count, gr_complex* h_out, uint64_t first_frame)
+{
+    std::vector<frame_truth> truths;
+    truths.reserve(count);
+    const size_t grid = static_cast<size_t>(d_fs.grid_size());
+    for (size_t f = 0; f < count; ++f) {
+        const uint64_t frame = first_frame + f;
+        auto r = draw(frame);
+        factors(r, frame * static_cast<uint64_t>(d_fs.n_symbols)).fill(h_out + f * grid);
+        truths.push_back(r.truth);
+    }
+    return truths;
+}
+
+} // namespace sems
+} // namespace gr

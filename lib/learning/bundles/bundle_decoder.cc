@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: inference on a model bundle (LibTorch behind the pimpl of bundle_decoder.h). */
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include "learning/networks/delay_decoder.h"
+#include "learning/memory/malloc_tuning.h"
+#include "learning/networks/spectral_classifier_decoder.h"
+#include "learning/networks/task_decoder.h"
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace gr {
+namespace sems {
+
+struct bundle_decoder::impl {
+    model_bundle bundle;
+    nn::task_decoder net;
+    std::vector<int64_t> indices;
+    torch::Tensor index; // the same as a kLong tensor, built once
+    int threads = 0; // intra-op threads of this decoder's inference; 0 = LibTorch's own
+
+    // LibTorch's intra-op thread count is per calling thread with its OpenMP backend
+    // (at::set_num_threads -> omp_set_num_threads, an ICV of the calling thread), so it
+    // is set where inference runs: each sink's work thread keeps its own count, instead
+    // of the last decoder constructed setting it for everyone.
+    void use_threads() const
+    {
+        if (threads > 0 && at::get_num_threads() != threads)
+            at::set_num_threads(threads);
+    }
+    torch::Tensor mask; // N x M, 1 at the pilots (N x M' for a compact grid, see below)
+    // The spectral classifier reads only the subcarriers that carry pilots: its input grid
+    // is built with those M' columns alone (no dense N x M grid per frame).
+    int grid_columns = 0; // M, or M' for the spectral classifier
+
+    torch::Tensor grid(const gr_complex* obs, int batch) const
+    {
+        if (batch < 0)
+            throw std::invalid_argument("bundle_decoder: batch must be >= 0");
+        const int np = bundle.mask.size();
+        // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
+        auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
+        return nn::scatter_pilots(o, index, bundle.frame.n_symbols, grid_columns);
+    }
+
+    // The rule of bundle_decoder.h: a batch with a NaN or Inf anywhere is refused, naming
+    // the first such frame (a network would answer it with NaN, or worse, a number).
+    void check_finite(const gr_complex* obs, int batch, const char* what) const
+    {
+        const size_t np = static_cast<size_t>(bundle.mask.size());
+        for (int b = 0; b < batch; ++b) {
+            const gr_complex* frame = obs + static_cast<size_t>(b) * np;
+            for (size_t k = 0; k < np; ++k)
+                if (!std::isfinite(frame[k].real()) || !std::isfinite(frame[k].imag()))
+                    throw std::invalid_argument(
+                        std::string("bundle_decoder::") + what + ": frame " + std::to_string(b) + " of the batch of " +
+                        std::to_string(batch) + " holds a non-finite observation (pilot " + std::to_string(k) +
+                        "): frames with NaN or Inf are not decoded; leave them out of the batch");
+        }
+    }
+
+    nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
+    {
+        if (bundle.task != need)
+            throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
+                                        " is a \"" + task_name(bundle.task) + "\" model");
+        check_finite(obs, batch, what);
+        use_threads();
+        // Inference mode: no autograd bookkeeping at all (no version counters or view
+        // tracking), cheaper per op than NoGradGuard; the outputs are copied out below.
+        c10::InferenceMode im;
+        return net->forward(grid(obs, batch), mask);
+    }
+};
+
+bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl(std::make_unique<impl>())
+{
+    tune_malloc_for_tensors(); // decoding allocates and frees every intermediate tensor
+    d_impl->threads = threads;
+    d_impl->use_threads(); // the constructing thread too (single-threaded callers)
+    d_impl->bundle = bundle;
+    const std::string source = bundle.directory + "/" + model_bundle::bundle_file;
+    d_impl->net = nn::make_decoder(bundle.decoder, bundle.frame.n_symbols, bundle.frame.n_subcarriers,
+                                   bundle.mask.size(), source);
+    nn::load_module(d_impl->net, bundle.weights_path()); // the weights file bundle.json names
+    d_impl->net->eval();
+    const int n = bundle.frame.n_symbols, msub = bundle.frame.n_subcarriers;
+    for (int i : bundle.mask.flat_indices())
+        d_impl->indices.push_back(i);
+    // Grid columns: all M, or for the spectral classifier only the occupied subcarriers
+    // (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
+    std::vector<int64_t> grid_indices = d_impl->indices;
+    d_impl->grid_columns = msub;
+    if (bundle.decoder.value("kind", std::string()) == "classifier_spectral") {
+        std::vector<int> column(msub, -1);
+        for (int64_t i : d_impl->indices)
+            column[i % msub] = 0;
+        int next = 0;
+        for (auto& c : column)
+            if (c == 0)
+                c = next++;
+        d_impl->grid_columns = next;
+        for (auto& i : grid_indices)
+            i = (i / msub) * next + column[i % msub];
+        std::vector<int64_t> occupied; // the subcarrier of each compact column (the range gate's phases)
+        for (int m = 0; m < msub; ++m)
+            if (column[m] >= 0)
+                occupied.push_back(m);
+        if (auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net))
+            sc->set_compact_columns(occupied);
+    }
+    d_impl->index = torch::tensor(grid_indices, torch::kLong);
+    auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });
+    m.index_fill_(0, d_impl->index, 1.0f);
+    d_impl->mask = m.view({ n, d_impl->grid_columns });
+    // The delay decoder's refinement stage fits the pilots where the mask put them.
+    if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
+        dd->set_pilot_positions(bundle.frame, d_impl->indices);
+}
+
+bundle_decoder::~bundle_decoder() = default;
+
+const model_bundle& bundle_decoder::bundle() const { return d_impl->bundle; }
+int bundle_decoder::n_pilots() const { return d_impl->bundle.mask.size(); }
+
+std::vector<float> bundle_decoder::classify(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::classify, "classify");
+    auto p = torch::softmax(out.logits, -1).contiguous();
+    return std::vector<float>(p.data_ptr<float>(), p.data_ptr<float>() + p.numel());
+}
+
+std::vector<double> bundle_decoder::estimate_delay_index(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::delay, "estimate_delay");
+    auto d = out.delay_index.to(torch::kDouble).contiguous();
+    return std::vector<double>(d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
+}
+
+std::vector<double> bundle_decoder::estimate_delay(const gr_complex* obs, int batch) const
+{
+    auto d = estimate_delay_index(obs, batch);
+    for (auto& x : d)
+        x /= d_impl->bundle.frame.bandwidth_hz; // index = τ·B
+    return d;
+}
+
+std::vector<float> bundle_decoder::features(const gr_complex* obs, int batch) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::classify, "features");
+    auto f = out.features.contiguous();
+    return std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel());
+}
+
+int bundle_decoder::feature_size() const
+{
+    if (d_impl->bundle.task != task_kind::classify)
+        return 0;
+    return d_impl->bundle.decoder.at("settings").value("features", 16);
+}
+
+} // namespace sems
+} // namespace gr

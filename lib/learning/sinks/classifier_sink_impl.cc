@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: classifier_sink implementation. */
+#include "learning/sinks/classifier_sink_impl.h"
+
+#include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/scene/class_library.h>
+#include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/core/scene/target_class.h>
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+namespace {
+constexpr const char* block_name = "classifier_sink";
+}
+
+// ---------------------------------------------------------------- classifier_task
+
+classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder)
+    : d_decoder(std::move(decoder)),
+      d_names(d_decoder->bundle().class_names),
+      d_library_key(pmt::intern(keys::class_library)),
+      d_accepted_library(pmt::PMT_NIL)
+{
+    reset_metrics();
+}
+
+std::vector<pmt::pmt_t> classifier_task::decode(const gr_complex* obs, int batch)
+{
+    const std::vector<float> probs = d_decoder->classify(obs, batch);
+    const size_t c = d_names.size();
+    if (probs.size() != static_cast<size_t>(batch) * c) // never step past the probability vector
+        throw std::logic_error("classifier_sink: the decoder returned " + std::to_string(probs.size()) +
+                               " probabilities for " + std::to_string(batch) + " frames of " + std::to_string(c) +
+                               " classes");
+    std::vector<pmt::pmt_t> out;
+    out.reserve(batch);
+    for (int i = 0; i < batch; i++) {
+        const float* p = probs.data() + i * c;
+        const int label = static_cast<int>(std::max_element(p, p + c) - p);
+        pmt::pmt_t d = pmt::make_dict();
+        d = pmt::dict_add(d, pmt::intern(keys::label), pmt::from_long(label));
+        d = pmt::dict_add(d, pmt::intern(keys::class_name), pmt::intern(d_names[label]));
+        d = pmt::dict_add(d, pmt::intern(keys::probs), pmt::init_f32vector(c, p));
+        out.push_back(d);
+    }
+    return out;
+}
+
+int classifier_task::class_of_truth(const pmt::pmt_t& truth) const
+{
+    // By name, so a bundle trained on a subset of classes (or in another order) scores right.
+    std::string name;
+    const pmt::pmt_t n = pmt::dict_ref(truth, pmt::intern(keys::class_name), pmt::PMT_NIL);
+    if (pmt::is_symbol(n)) {
+        name = pmt::symbol_to_string(n);
+    } else {
+        const pmt::pmt_t id = pmt::dict_ref(truth, pmt::intern(keys::class_id), pmt::PMT_NIL);
+        if (!pmt::is_integer(id))
+            return -2;
+        try {
+            // An id of the input's library, the bundle's (check_library refuses any other).
+            const auto& lib = d_decoder->bundle().library;
+            const int c = static_cast<int>(pmt::to_long(id));
+            name = lib ? lib->at(c).name : class_info(c).name;
+        } catch (const std::exception&) {
+            return -1;
+        }
+    }
+    const auto it = std::find(d_names.begin(), d_names.end(), name);
+    return it == d_names.end() ? -1 : static_cast<int>(it - d_names.begin());
+}
+
+void classifier_task::check_library(const pmt::pmt_t& truth)
+{
+    const pmt::pmt_t lib = pmt::dict_ref(truth, d_library_key, pmt::PMT_NIL);
+    if (!pmt::is_symbol(lib) || pmt::eq(lib, d_accepted_library)) // the common case: one pointer compare
+        return;
+    const std::string name = pmt::symbol_to_string(lib);
+    auto known = d_refusals.find(name);
+    if (known == d_refusals.end()) {
+        std::string why;
+        const auto& bundle = d_decoder->bundle();
+        try {
+            bundle.check_library(*class_library::find(name), block_name);
+        } catch (const std::runtime_error& e) {
+            why = e.what();
+        } catch (const std::invalid_argument& e) { // a library this machine cannot find
+            if (!bundle.library || bundle.library->name() != name)
+                why = std::string(block_name) + ": the bundle " + bundle.directory + " was trained on class library \"" +
+                      (bundle.library ? bundle.library->name() : std::string("paper")) +
+                      "\" but its input's frames come from class library \"" + name + "\", which cannot be read: " +
+                      e.what();
+        }
+        known = d_refusals.emplace(name, why).first;
+    }
+    if (!known->second.empty())
+        throw std::runtime_error(known->second);
+    d_accepted_library = lib;
+}
+
+bool classifier_task::score(pmt::pmt_t& result, const pmt::pmt_t& truth)
+{
+    const int t = class_of_truth(truth);
+    if (t == -2)
+        return false;
+    const int label = static_cast<int>(pmt::to_long(pmt::dict_ref(result, pmt::intern(keys::label), pmt::PMT_NIL)));
+    const bool correct = (t == label);
+    result = pmt::dict_add(result, pmt::intern(keys::correct), pmt::from_bool(correct));
+    d_scored++;
+    d_correct += correct ? 1 : 0;
+    if (t >= 0)
+        d_confusion[t][label]++;
+    return true;
+}
+
+double classifier_task::accuracy() const
+{
+    return d_scored ? static_cast<double>(d_correct) / d_scored : std::numeric_limits<double>::quiet_NaN();
+}
+
+pmt::pmt_t classifier_task::add_metrics(pmt::pmt_t dict) const
+{
+    dict = pmt::dict_add(dict, pmt::intern(keys::accuracy), pmt::from_double(accuracy()));
+    // confusion: a vector of rows (truth), each a vector of uint64 counts over the predicted
+    // classes; plain PMT vectors because pmt.to_python cannot convert a u64vector.
+    pmt::pmt_t rows = pmt::make_vector(d_confusion.size(), pmt::PMT_NIL);
+    for (size_t i = 0; i < d_confusion.size(); i++) {
+        pmt::pmt_t row = pmt::make_vector(d_confusion[i].size(), pmt::PMT_NIL);
+        for (size_t j = 0; j < d_confusion[i].size(); j++)
+            pmt::vector_set(row, j, pmt::from_uint64(d_confusion[i][j]));
+        pmt::vector_set(rows, i, row);
+    }
+    return pmt::dict_add(dict, pmt::intern(keys::confusion), rows);
+}
+
+void classifier_task::reset_metrics()
+{
+    d_scored = d_correct = 0;
+    d_confusion.assign(d_names.size(), std::vector<uint64_t>(d_names.size(), 0));
+}
+
+// ---------------------------------------------------------------- classifier_sink
+
+classifier_sink::sptr classifier_sink::make(const std::string& bundle_dir,
+                                            int n_pilots,
+                                            int batch_size,
+                                            int threads,
+                                            int metrics_period,
+                                            int n_symbols,
+                                            int n_subcarriers,
+                                            const std::string& frame)
+{
+    return gnuradio::make_block_sptr<classifier_sink_impl>(
+        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame);
+}
+
+classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
+                                           int n_pilots,
+                                           int batch_size,
+                                           int threads,
+                                           int metrics_period,
+                                           int n_symbols,
+                                           int n_subcarriers,
+                                           const std::string& frame)
+    : gr::sync_block(block_name,
+                     detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
+                     gr::io_signature::make(0, 0, 0)),
+      sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
+                 n_symbols, n_subcarriers, frame)
+{
+}
+
+int classifier_sink_impl::work(int noutput_items,
+                               gr_vector_const_void_star& input_items,
+                               gr_vector_void_star& output_items)
+{
+    if (d_refused)
+        return WORK_DONE;
+    static const pmt::pmt_t truth_key = pmt::intern(keys::truth_tag);
+    const uint64_t first = nitems_read(0);
+    get_tags_in_range(d_truth_tags, 0, first, first + static_cast<uint64_t>(noutput_items), truth_key);
+    try {
+        for (const auto& t : d_truth_tags)
+            if (detail::is_truth(t.value))
+                d_task.check_library(t.value); // block thread only
+    } catch (const std::runtime_error& e) {
+        d_logger->error("{} (refusing the stream)", e.what());
+        d_refused = true;
+        return WORK_DONE;
+    }
+    return sink_block::work(noutput_items, input_items, output_items);
+}
+
+double classifier_sink_impl::accuracy() const
+{
+    return d_core.locked([this] { return d_task.accuracy(); });
+}
+
+std::vector<std::vector<uint64_t>> classifier_sink_impl::confusion() const
+{
+    return d_core.locked([this] { return d_task.confusion(); });
+}
+
+} // namespace sems
+} // namespace gr
