@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: micro-motion models against their physics — Chen's rotor closed form, the
  * sinusoid's narrowband bound, rolling wheels' Doppler span, the expansion against a direct
- * per-scatterer sum, the paper scenes' bits, extremes and bad input. */
+ * per-scatterer sum, the paper and kinematic scenes' bits, extremes and bad input. */
 #include "core/channel/scatterer_moments.h"
 #include "core/kernels/vector_math.h"
 #include "qa/qa_assert.h"
