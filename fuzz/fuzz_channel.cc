@@ -8,7 +8,8 @@
  * 256 frames of a Rayleigh scene, H at one resource element is Σ_l α_l·b_l with independent
  * α_l ~ CN(0, p_l) and b_l the path's own factor there (unit modulus for a point target; a
  * scatterer body's return, whose power swings with its motion: a long rotor blade flashes
- * hundreds of times its mean). Given the b_l, Σ|H|² / Σ p_l|b_l|² is a weighted mean of
+ * hundreds of times its mean; a tracked scene's frames come from 256 tracks, one frame each,
+ * since a track's gains may be kept or correlated). Given the b_l, Σ|H|² / Σ p_l|b_l|² is a weighted mean of
  * unit exponentials whose largest weight is 1/k; its Chernoff bounds are those of a
  * Gamma(k)/k draw (the log-MGF is convex in each weight), so it must lie within the bounds
  * that put a false alarm below 1e-11 per input: [0.62, 1.51] at k = 256 (one point path),
@@ -48,11 +49,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const size_t grid = static_cast<size_t>(fs.grid_size());
         std::vector<gr_complex> h(grid);
 
-        // Three frames in full (their grid, the noise on it).
-        frame_realization r;
+        // Three frames in full (their grid, the noise on it), and their track bookkeeping.
+        frame_realization r, prev;
         for (uint64_t f = 0; f < 3; ++f) {
             model.draw(f, r);
             check_realization(fs, sc, r, f);
+            check_track_step(fs, sc, f ? &prev : nullptr, r);
+            prev = r;
             // float sums over L paths: allow L float roundings of the bound
             // (a scatterer body's return is a sum of its scatterers: only finiteness is checked there)
             const double bound = r.bodies.empty() ? gain_sum(r.paths) * (1.0 + 1e-6 + 2.4e-7 * r.paths.size())
@@ -90,6 +93,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             frame_realization one;
             for (int f = 0; f < frames; ++f) {
                 const uint64_t first = (3 + f) * static_cast<uint64_t>(n);
+                if (tracked(sc)) // a track's gains may be coherent: the first frame of another track each time
+                    model.begin_track(1000 + static_cast<uint64_t>(f));
                 model.draw(3 + f, r);
                 model.factors(r, first).row(rn, row.data());
                 sum += std::norm(std::complex<double>(row[rm]));

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* libFuzzer harness: the pilot mask reader. Any input either loads or is refused with
+/* libFuzzer harness: the pilot mask readers, one frame's (pilot_mask) and a super-frame's
+ * (super_frame_mask, which reads both forms). Any input either loads or is refused with
  * std::invalid_argument; anything else (another exception, a crash, a sanitizer report)
- * is a finding. A mask that loads must survive its own round trip. */
+ * is a finding. A mask that loads must survive its own round trip; a one-frame file must
+ * read the same through both readers, and a super-frame's every set has one count. */
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
@@ -11,14 +14,31 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
     const std::string text(reinterpret_cast<const char*>(data), size);
+    bool one_frame = false;
+    gr::sems::pilot_mask one(1, 1, { { 0, 0 } });
     try {
-        const auto m = gr::sems::pilot_mask::parse(text, "fuzz");
-        const auto back = gr::sems::pilot_mask::parse(m.to_json_string(), "round trip");
-        if (!(back == m))
+        one = gr::sems::pilot_mask::parse(text, "fuzz");
+        one_frame = true;
+        const auto back = gr::sems::pilot_mask::parse(one.to_json_string(), "round trip");
+        if (!(back == one))
             std::abort();
-        (void)m.dense();
-        (void)m.carrier_lists();
+        (void)one.dense();
+        (void)one.carrier_lists();
     } catch (const std::invalid_argument&) {
+    }
+    try {
+        const auto sf = gr::sems::super_frame_mask::parse(text, "fuzz");
+        const auto back = gr::sems::super_frame_mask::parse(sf.to_json_string(), "round trip");
+        if (!(back == sf) || back.to_json() != sf.to_json())
+            std::abort();
+        for (const auto& set : sf.sets())
+            if (set.size() != sf.pilots_per_frame() || set.n_symbols() != sf.n_symbols())
+                std::abort();
+        if (one_frame && (sf.n_frames() != 1 || !(sf.set(0) == one) || sf.to_json() != one.to_json()))
+            std::abort(); // a one-frame file reads the same through both
+    } catch (const std::invalid_argument&) {
+        if (one_frame)
+            std::abort(); // the super-frame reader takes every one-frame file
     }
     return 0;
 }

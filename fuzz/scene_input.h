@@ -194,6 +194,49 @@ inline void check_realization(const frame_settings& fs, const scene& sc, const f
     }
 }
 
+//! Whether a scene follows its targets over tracks (random_spec::tracks).
+inline bool tracked(const scene& sc) { return sc.is_random() && sc.random_settings()->tracks.has_value(); }
+
+//! The track bookkeeping of consecutive frames `prev` (frame f − 1; null for the first) and
+//! `cur` (frame f): a tracked scene goes on with its track (the next frame of it, the same
+//! class and velocity, the range moved on by v·N·T) or starts the next one at its frame 0;
+//! a per-frame random scene's frame is its own track; a fixed scene is track 0.
+inline void check_track_step(const frame_settings& fs, const scene& sc, const frame_realization* prev,
+                             const frame_realization& cur)
+{
+    const auto& t = cur.truth;
+    if (!tracked(sc)) {
+        const uint64_t id = sc.is_random() ? t.frame : 0, in = sc.is_random() ? 0 : t.frame;
+        if (t.track_id != id || t.frame_in_track != in || cur.clock_symbol)
+            fail("no tracks: frame %llu is track %llu, frame %llu of it%s (want %llu, %llu, no clock)",
+                 (unsigned long long)t.frame, (unsigned long long)t.track_id, (unsigned long long)t.frame_in_track,
+                 cur.clock_symbol ? ", with a clock" : "", (unsigned long long)id, (unsigned long long)in);
+        return;
+    }
+    if (!cur.clock_symbol || *cur.clock_symbol != t.frame_in_track * static_cast<uint64_t>(fs.n_symbols))
+        fail("track %llu, frame %llu of it: clock symbol is not frame_in_track x N", (unsigned long long)t.track_id,
+             (unsigned long long)t.frame_in_track);
+    if (!prev) {
+        if (t.track_id != 0 || t.frame_in_track != 0)
+            fail("the first frame is track %llu, frame %llu of it", (unsigned long long)t.track_id,
+                 (unsigned long long)t.frame_in_track);
+        return;
+    }
+    const auto& p = prev->truth;
+    if (t.track_id != p.track_id) {
+        if (t.track_id != p.track_id + 1 || t.frame_in_track != 0)
+            fail("after track %llu comes track %llu at its frame %llu", (unsigned long long)p.track_id,
+                 (unsigned long long)t.track_id, (unsigned long long)t.frame_in_track);
+        return;
+    }
+    const double step = t.velocity_mps * fs.n_symbols * fs.symbol_interval_s;
+    if (t.frame_in_track != p.frame_in_track + 1 || t.class_id != p.class_id || t.velocity_mps != p.velocity_mps ||
+        !near(p.range_m - t.range_m, step, 1e-6, 1e-9 * (1.0 + std::fabs(p.range_m))))
+        fail("track %llu: frame %llu (class %d, %.17g m, %g m/s) does not follow frame %llu (class %d, %.17g m, %g m/s)",
+             (unsigned long long)t.track_id, (unsigned long long)t.frame_in_track, t.class_id, t.range_m,
+             t.velocity_mps, (unsigned long long)p.frame_in_track, p.class_id, p.range_m, p.velocity_mps);
+}
+
 //! Bounds on the work one input may cost (libFuzzer's -timeout is 20 s, under ASan).
 constexpr double max_work = 2e7;
 

@@ -24,7 +24,7 @@ frame_sync::sptr frame_sync::make(const std::string& mask_file,
                                   double threshold,
                                   bool noncoherent)
 {
-    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     try {
         return gnuradio::make_block_sptr<frame_sync_impl>(
             frame_search(mask, cp_len, pilot_power, search_frames, threshold, noncoherent), mask.n_symbols(),

@@ -22,26 +22,31 @@ pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
     return gnuradio::make_block_sptr<pilot_extractor_impl>(mask);
 }
 
-pilot_extractor_impl::pilot_extractor_impl(const pilot_mask& mask)
+pilot_extractor_impl::pilot_extractor_impl(const super_frame_mask& mask)
     : gr::block(who,
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.n_subcarriers()),
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.size())),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.pilots_per_frame())),
       d_mask(mask),
       d_n(mask.n_symbols()),
       d_m(mask.n_subcarriers()),
-      d_np(mask.size()),
-      d_first_of_row(d_n + 1, 0),
+      d_np(mask.pilots_per_frame()),
       d_obs(d_np),
       d_frame_key(pmt::intern(keys::frame_tag))
 {
-    for (int k = 0; k < d_np; ++k) // Y/(sqrt(p_k)·s_p) = H + noise/sqrt(p_k)
-        d_pilot_values.push_back(d_mask.transmitted_pilot(k));
-    for (const auto& p : d_mask.positions()) { // mask order: sorted by (n, m)
-        d_cols.push_back(p.m);
-        ++d_first_of_row[p.n + 1];
+    for (const auto& set : d_mask.sets()) {
+        pilot_set s;
+        s.first_of_row.assign(d_n + 1, 0);
+        for (int k = 0; k < d_np; ++k) // Y/(sqrt(p_k)·s_p) = H + noise/sqrt(p_k)
+            s.values.push_back(set.transmitted_pilot(k));
+        for (const auto& p : set.positions()) { // mask order: sorted by (n, m)
+            s.cols.push_back(p.m);
+            ++s.first_of_row[p.n + 1];
+        }
+        for (int n = 0; n < d_n; ++n)
+            s.first_of_row[n + 1] += s.first_of_row[n];
+        d_sets.push_back(std::move(s));
     }
-    for (int n = 0; n < d_n; ++n)
-        d_first_of_row[n + 1] += d_first_of_row[n];
+    d_set = &d_sets.front();
     set_relative_rate(1, static_cast<uint64_t>(d_n));
     set_tag_propagation_policy(TPP_DONT); // tags are carried by hand, frame by frame
     d_frame_tags.reserve(16);
@@ -70,6 +75,7 @@ void pilot_extractor_impl::begin_frame(bool tagged, uint64_t frame)
     d_tagged = tagged;
     d_nonfinite = false;
     d_frame = frame;
+    d_set = &d_sets[frame % d_sets.size()]; // the super-frame's set of this frame
     d_started = true;
     d_frame_tags.clear();
 }
@@ -115,8 +121,9 @@ int pilot_extractor_impl::general_work(int noutput_items,
 
         const gr_complex* y = in + static_cast<size_t>(consumed) * d_m;
         d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
-        for (int k = d_first_of_row[d_row]; k < d_first_of_row[d_row + 1]; ++k)
-            d_obs[k] = y[d_cols[k]] / d_pilot_values[k];
+        const pilot_set& set = *d_set;
+        for (int k = set.first_of_row[d_row]; k < set.first_of_row[d_row + 1]; ++k)
+            d_obs[k] = y[set.cols[k]] / set.values[k];
         ++consumed;
 
         if (++d_row < d_n)

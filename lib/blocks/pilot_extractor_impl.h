@@ -13,10 +13,11 @@ namespace sems {
 class pilot_extractor_impl : public pilot_extractor
 {
 public:
-    explicit pilot_extractor_impl(const pilot_mask& mask);
+    explicit pilot_extractor_impl(const super_frame_mask& mask);
 
-    const pilot_mask& mask() const override { return d_mask; }
-    int n_pilots() const override { return d_mask.size(); }
+    const pilot_mask& mask() const override { return d_mask.set(0); }
+    const super_frame_mask& super_frame() const override { return d_mask; }
+    int n_pilots() const override { return d_np; }
     uint64_t frames_out() const override { return d_frames_out; }
     uint64_t frames_dropped_partial() const override { return d_dropped_partial; }
     uint64_t frames_skipped_nonfinite() const override { return d_skipped_nonfinite; }
@@ -31,11 +32,17 @@ public:
 private:
     void begin_frame(bool tagged, uint64_t frame);
 
-    const pilot_mask d_mask;
+    // One frame's pilot set, laid out for the row loop.
+    struct pilot_set {
+        std::vector<gr_complex> values; // the transmitted pilot sqrt(p_k)·s_p, mask order
+        std::vector<int> cols;          // subcarrier of each pilot, mask order
+        std::vector<int> first_of_row;  // pilots of row n: [first_of_row[n], first_of_row[n+1])
+    };
+
+    const super_frame_mask d_mask;
     const int d_n, d_m, d_np;
-    std::vector<gr_complex> d_pilot_values; // the transmitted pilot sqrt(p_k)·s_p, mask order
-    std::vector<int> d_cols;          // subcarrier of each pilot, mask order
-    std::vector<int> d_first_of_row;  // pilots of row n: [d_first_of_row[n], d_first_of_row[n+1])
+    std::vector<pilot_set> d_sets; // per frame of the super-frame
+    const pilot_set* d_set;        // the current frame's
 
     // The frame being collected.
     std::vector<gr_complex> d_obs; // N_p

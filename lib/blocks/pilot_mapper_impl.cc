@@ -38,7 +38,7 @@ pilot_mapper::sptr pilot_mapper::make(const std::string& mask_file,
     return gnuradio::make_block_sptr<pilot_mapper_impl>(mask, pilot_power, data_power, fs.guard_subcarriers);
 }
 
-pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask,
+pilot_mapper_impl::pilot_mapper_impl(const super_frame_mask& mask,
                                      double pilot_power,
                                      double data_power,
                                      const std::vector<int>& guard_subcarriers)
@@ -49,33 +49,37 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask,
       d_mask(mask),
       d_n(mask.n_symbols()),
       d_m(mask.n_subcarriers()),
-      d_pilot_cols(d_n),
-      d_data_cols(d_n),
-      d_data_before_row(d_n + 1, 0),
       d_guard_cols(guard_subcarriers),
-      d_pilot_values(mask.size()),
-      d_pilots_before_row(d_n + 1, 0),
+      d_pilot_values(mask.pilots_per_frame()),
       d_frame_key(pmt::intern(keys::frame_tag))
 {
     check_power(who, "pilot_power", pilot_power);
     check_power(who, "data_power", data_power);
     d_pilot_power = pilot_power;
     d_data_power = data_power;
-    latch_pilot_values(pilot_power);
-    d_data_amp = static_cast<float>(std::sqrt(data_power));
-
-    const auto dense = d_mask.dense();
     std::vector<char> guard(static_cast<size_t>(d_m), 0);
     for (int m : d_guard_cols)
         guard[static_cast<size_t>(m)] = 1;
-    for (int n = 0; n < d_n; ++n) {
-        for (int m = 0; m < d_m; ++m)
-            if (!guard[static_cast<size_t>(m)])
-                (dense[size_t(n) * d_m + m] ? d_pilot_cols : d_data_cols)[n].push_back(m);
-        d_data_before_row[n + 1] = d_data_before_row[n] + static_cast<long>(d_data_cols[n].size());
-        d_pilots_before_row[n + 1] = d_pilots_before_row[n] + static_cast<int>(d_pilot_cols[n].size());
+    for (const auto& mask_of_set : d_mask.sets()) {
+        pilot_set s;
+        s.pilot_cols.resize(d_n);
+        s.data_cols.resize(d_n);
+        s.data_before_row.assign(d_n + 1, 0);
+        s.pilots_before_row.assign(d_n + 1, 0);
+        const auto dense = mask_of_set.dense();
+        for (int n = 0; n < d_n; ++n) {
+            for (int m = 0; m < d_m; ++m)
+                if (!guard[static_cast<size_t>(m)])
+                    (dense[size_t(n) * d_m + m] ? s.pilot_cols : s.data_cols)[n].push_back(m);
+            s.data_before_row[n + 1] = s.data_before_row[n] + static_cast<long>(s.data_cols[n].size());
+            s.pilots_before_row[n + 1] = s.pilots_before_row[n] + static_cast<int>(s.pilot_cols[n].size());
+        }
+        d_sets.push_back(std::move(s));
     }
-    d_data_per_frame = static_cast<int>(d_data_before_row[d_n]);
+    // Every set has the same count on the same guards, so the same data per frame.
+    d_data_per_frame = static_cast<int>(d_sets.front().data_before_row[d_n]);
+    latch_pilot_values(pilot_power);
+    d_data_amp = static_cast<float>(std::sqrt(data_power));
     if (d_data_per_frame > 0)
         set_relative_rate(static_cast<uint64_t>(d_n), static_cast<uint64_t>(d_data_per_frame));
     // Data-symbol tags are moved by hand onto the OFDM symbol that carries them.
@@ -85,9 +89,10 @@ pilot_mapper_impl::pilot_mapper_impl(const pilot_mask& mask,
 
 void pilot_mapper_impl::latch_pilot_values(double energy)
 {
-    // Pilot k carries sqrt(E_p)·sqrt(p_k)·s_p (pilot_mask::transmitted_pilot).
-    for (int k = 0; k < d_mask.size(); ++k)
-        d_pilot_values[k] = gr_complex(std::sqrt(energy)) * d_mask.transmitted_pilot(k);
+    // Pilot k of the frame's set carries sqrt(E_p)·sqrt(p_k)·s_p (pilot_mask::transmitted_pilot).
+    const auto& set = d_mask.for_frame(d_frame);
+    for (int k = 0; k < set.size(); ++k)
+        d_pilot_values[k] = gr_complex(std::sqrt(energy)) * set.transmitted_pilot(k);
 }
 
 void pilot_mapper_impl::set_pilot_power(double energy)
@@ -118,9 +123,16 @@ void pilot_mapper_impl::forecast(int noutput_items, gr_vector_int& ninput_items_
 {
     if (ninput_items_required.empty())
         return;
-    // Exactly the data the next noutput_items rows take, starting at the current row.
-    const long end = d_row + static_cast<long>(noutput_items);
-    const long need = (end / d_n) * d_data_per_frame + d_data_before_row[end % d_n] - d_data_before_row[d_row];
+    // Exactly the data the next noutput_items rows take, starting at the current row: the rest
+    // of this frame (its set's layout), whole frames, then the first rows of the last one.
+    long rows = noutput_items;
+    const long here = std::min<long>(rows, d_n - d_row);
+    const auto& now = set_of(d_frame);
+    long need = now.data_before_row[d_row + here] - now.data_before_row[d_row];
+    rows -= here;
+    need += (rows / d_n) * d_data_per_frame;
+    const uint64_t last = d_frame + 1 + static_cast<uint64_t>(rows / d_n);
+    need += set_of(last).data_before_row[rows % d_n];
     ninput_items_required[0] = static_cast<int>(need);
 }
 
@@ -142,7 +154,8 @@ int pilot_mapper_impl::general_work(int noutput_items,
 
     int consumed = 0, produced = 0;
     while (produced < noutput_items) {
-        const auto& data_cols = d_data_cols[d_row];
+        const pilot_set& set = set_of(d_frame);
+        const auto& data_cols = set.data_cols[d_row];
         const int need = static_cast<int>(data_cols.size());
         if (consumed + need > avail)
             break;
@@ -157,8 +170,8 @@ int pilot_mapper_impl::general_work(int noutput_items,
         gr_complex* row = out + static_cast<size_t>(produced) * d_m;
         for (int m : d_guard_cols)
             row[m] = gr_complex(0.0f, 0.0f);
-        const auto& pilot_cols = d_pilot_cols[d_row];
-        const gr_complex* values = d_pilot_values.data() + d_pilots_before_row[d_row];
+        const auto& pilot_cols = set.pilot_cols[d_row];
+        const gr_complex* values = d_pilot_values.data() + set.pilots_before_row[d_row];
         for (size_t j = 0; j < pilot_cols.size(); ++j)
             row[pilot_cols[j]] = values[j];
         const gr_complex* data = in + consumed;

@@ -13,7 +13,7 @@ namespace sems {
 class pilot_mapper_impl : public pilot_mapper
 {
 public:
-    pilot_mapper_impl(const pilot_mask& mask,
+    pilot_mapper_impl(const super_frame_mask& mask,
                       double pilot_power,
                       double data_power,
                       const std::vector<int>& guard_subcarriers);
@@ -23,8 +23,9 @@ public:
     void set_data_power(double energy) override;
     double data_power() const override;
 
-    const pilot_mask& mask() const override { return d_mask; }
-    int n_pilots() const override { return d_mask.size(); }
+    const pilot_mask& mask() const override { return d_mask.set(0); }
+    const super_frame_mask& super_frame() const override { return d_mask; }
+    int n_pilots() const override { return d_mask.pilots_per_frame(); }
     int data_per_frame() const override { return d_data_per_frame; }
     uint64_t frames() const override { return d_frames; }
 
@@ -39,19 +40,26 @@ private:
     // The pilots' values of a frame at pilot energy `energy` (E_p).
     void latch_pilot_values(double energy);
 
-    const pilot_mask d_mask;
+    // One frame's pilot set, laid out for the row loop.
+    struct pilot_set {
+        // Per row n: which subcarriers carry pilots and which carry data (ascending).
+        std::vector<std::vector<int>> pilot_cols, data_cols;
+        std::vector<long> data_before_row;  // data symbols in rows [0, n), n = 0..N
+        std::vector<int> pilots_before_row; // pilots in rows [0, n), n = 0..N
+    };
+    // The set of frame f (f mod F).
+    const pilot_set& set_of(uint64_t frame) const { return d_sets[frame % d_sets.size()]; }
+
+    const super_frame_mask d_mask;
     const int d_n, d_m;
-    // Per row n: which subcarriers carry pilots and which carry data (ascending).
-    std::vector<std::vector<int>> d_pilot_cols, d_data_cols;
-    std::vector<long> d_data_before_row; // data symbols in rows [0, n), n = 0..N
+    std::vector<pilot_set> d_sets;       // per frame of the super-frame
     std::vector<int> d_guard_cols;       // zero in every symbol
-    int d_data_per_frame;
+    int d_data_per_frame;                // the same for every set: N·(M − G) − N_p
 
     // Requested energies (setters and getters run on other threads than work) and the
     // amplitudes of the current frame.
     std::atomic<double> d_pilot_power, d_data_power;
-    std::vector<gr_complex> d_pilot_values; // sqrt(E_p·p_k)·s_p per pilot, mask order
-    std::vector<int> d_pilots_before_row;   // pilots in rows [0, n), n = 0..N
+    std::vector<gr_complex> d_pilot_values; // sqrt(E_p·p_k)·s_p per pilot of the frame's set, mask order
     float d_data_amp;         // sqrt(E_d)
 
     int d_row = 0;          // next row of the current frame

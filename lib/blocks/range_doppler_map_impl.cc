@@ -17,7 +17,7 @@ range_doppler_map::sptr range_doppler_map::make(const std::string& mask_file,
                                                 int n_subcarriers,
                                                 const std::string& window)
 {
-    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, gr_complex(1.0f, 0.0f));
+    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, gr_complex(1.0f, 0.0f));
     return gnuradio::make_block_sptr<range_doppler_map_impl>(mask, window);
 }
 

@@ -30,7 +30,10 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           double bandwidth_hz,
                                           double carrier_hz,
                                           double symbol_interval_s,
-                                          const std::string& class_library)
+                                          const std::string& class_library,
+                                          int track_frames,
+                                          const std::string& track_gains,
+                                          double track_coherence_time_s)
 {
     detail::check_snr(who, snr_db);
     frame_settings fs;
@@ -42,7 +45,8 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.cp_len = 0; // the frequency-domain emulator has no cyclic prefix (ofdm_tx/rx add it)
     fs.validate();
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
-                                          heading, clutter_paths, clutter_csr_db, class_library);
+                                          heading, clutter_paths, clutter_csr_db, class_library,
+                                          { track_frames, track_gains, track_coherence_time_s });
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db);
 }
 

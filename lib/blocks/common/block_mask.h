@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: how the mapper and the extractor turn their block parameters into a
- * pilot_mask (internal to the library). One place, so both ends of the chain read
- * the same parameters the same way: a mask file OR explicit flat positions n·M+m.
+ * super_frame_mask (internal to the library). One place, so both ends of the chain read
+ * the same parameters the same way: a mask file (one frame's mask, or a super-frame of F
+ * sets) OR explicit flat positions n·M+m (one frame's).
  */
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 #define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
@@ -9,6 +10,7 @@
 #include "core/common/checks.h"
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -26,7 +28,7 @@ inline std::string complex_text(gr_complex z)
 }
 
 // `who` names the block in errors. Throws std::invalid_argument naming the parameter.
-inline pilot_mask block_mask(const std::string& who,
+inline super_frame_mask block_mask(const std::string& who,
                              int n_symbols,
                              int n_subcarriers,
                              const std::string& mask_file,
@@ -45,9 +47,9 @@ inline pilot_mask block_mask(const std::string& who,
         throw std::invalid_argument(who + ": no pilots: give mask_file or pilot_positions");
 
     if (!mask_file.empty()) {
-        pilot_mask mask = [&] {
+        super_frame_mask mask = [&] {
             try {
-                return pilot_mask::load(mask_file);
+                return super_frame_mask::load(mask_file);
             } catch (const std::invalid_argument& e) { // the reader names the file and the problem
                 throw std::invalid_argument(who + ": mask_file: " + e.what());
             }
@@ -75,8 +77,8 @@ inline pilot_mask block_mask(const std::string& who,
                                         std::to_string(grid - 1) + "])");
         pos.push_back({ p / n_subcarriers, p % n_subcarriers });
     }
-    return pilot_mask(n_symbols, n_subcarriers, std::move(pos), pilot_symbol, { { "kind", "explicit" } },
-                      who + " pilot_positions");
+    return super_frame_mask(pilot_mask(n_symbols, n_subcarriers, std::move(pos), pilot_symbol,
+                                       { { "kind", "explicit" } }, who + " pilot_positions"));
 }
 
 // Power parameters are energies per symbol: finite and >= 0.
@@ -84,6 +86,23 @@ inline void check_power(const std::string& who, const std::string& name, double 
 {
     if (!checks::non_negative(value))
         throw std::invalid_argument(who + ": " + name + " must be finite and >= 0, got " + std::to_string(value));
+}
+
+// The same for a block that reads one frame's pilots (a frame search template, a
+// range–Doppler map): a super-frame mask is refused, naming its F.
+inline pilot_mask block_mask_one_frame(const std::string& who,
+                                       int n_symbols,
+                                       int n_subcarriers,
+                                       const std::string& mask_file,
+                                       const std::vector<int>& pilot_positions,
+                                       gr_complex pilot_symbol)
+{
+    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    if (mask.n_frames() != 1)
+        throw std::invalid_argument(who + ": mask_file '" + mask_file + "' spans a super-frame of F = " +
+                                    std::to_string(mask.n_frames()) + " frames, but " + who +
+                                    " takes one frame's mask (F = 1)");
+    return mask.set(0);
 }
 
 } // namespace sems

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: what the two target channel blocks share (see channel_block_common.h). */
 #include "blocks/common/channel_block_common.h"
+#include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/common/tags.h>
 #include <cmath>
 #include <cstring>
@@ -28,17 +29,22 @@ scene channel_block_scene(const char* who,
                           const std::string& heading,
                           int clutter_paths,
                           double clutter_csr_db,
-                          const std::string& class_library_name)
+                          const std::string& class_library_name,
+                          const track_options& tracks)
 {
+    const track_options no_tracks;
+    const bool track_defaults = tracks.frames == no_tracks.frames && tracks.gains == no_tracks.gains &&
+                                tracks.coherence_time_s == no_tracks.coherence_time_s;
     const auto first = text.find_first_not_of(" \t\r\n");
     if (first != std::string::npos) { // a fixed scene: file or JSON text
         const random_spec defaults;
         if (!classes.empty() || n_targets != defaults.n_targets ||
             paths_per_target != defaults.paths_per_target || micro_doppler != defaults.micro_doppler ||
-            heading != heading_name(defaults.heading) || clutter_paths != 0 || clutter_csr_db != 0.0)
+            heading != heading_name(defaults.heading) || clutter_paths != 0 || clutter_csr_db != 0.0 ||
+            !track_defaults)
             throw std::invalid_argument(std::string(who) +
-                                        ": classes, n_targets, paths_per_target, micro_doppler, heading and "
-                                        "clutter_* "
+                                        ": classes, n_targets, paths_per_target, micro_doppler, heading, "
+                                        "track_* and clutter_* "
                                         "describe random scenes; a fixed scene (scene = file or JSON) carries "
                                         "its own, so leave them at their defaults");
         if (class_library_name != default_class_library)
@@ -75,6 +81,31 @@ scene channel_block_scene(const char* who,
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(who) + ": heading: " + e.what());
     }
+    if (tracks.frames < 0 || tracks.frames > limits::max_track_frames)
+        throw std::invalid_argument(std::string(who) + ": track_frames must be in [0, " +
+                                    std::to_string(limits::max_track_frames) +
+                                    "] (0: every frame drawn afresh), got " + std::to_string(tracks.frames));
+    if (tracks.frames == 0 && !track_defaults)
+        throw std::invalid_argument(std::string(who) + ": track_gains and track_coherence_time_s describe tracks, "
+                                    "which track_frames = 0 turns off: set track_frames > 0, or leave them at "
+                                    "their defaults");
+    if (tracks.frames > 0) {
+        track_draw_spec t;
+        t.frames_min = t.frames_max = tracks.frames;
+        try {
+            t.gains = gain_coherence_from_name(tracks.gains);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string(who) + ": track_gains: " + e.what());
+        }
+        if (t.gains != gain_coherence::gauss_markov && tracks.coherence_time_s != no_tracks.coherence_time_s)
+            throw std::invalid_argument(std::string(who) + ": track_coherence_time_s applies to track_gains = "
+                                        "\"gauss_markov\" only, got track_gains = \"" + tracks.gains + "\"");
+        if (!(std::isfinite(tracks.coherence_time_s) && tracks.coherence_time_s > 0.0))
+            throw std::invalid_argument(std::string(who) + ": track_coherence_time_s must be a finite time > 0 s, got " +
+                                        std::to_string(tracks.coherence_time_s));
+        t.coherence_time_s = tracks.coherence_time_s;
+        r.tracks = t;
+    }
     std::optional<clutter_spec> clutter;
     if (clutter_paths < 0)
         throw std::invalid_argument(std::string(who) + ": clutter_paths must be >= 0, got " +
@@ -108,6 +139,8 @@ truth_dict::truth_dict(const std::string& library)
       d_micro_motion(pmt::intern(keys::micro_motion)),
       d_micro_motion_params(pmt::intern(keys::micro_motion_params)),
       d_class_library(pmt::intern(keys::class_library)),
+      d_track_id(pmt::intern(keys::track_id)),
+      d_frame_in_track(pmt::intern(keys::frame_in_track)),
       d_library_symbol(pmt::string_to_symbol(library)),
       d_no_params(pmt::PMT_NIL)
 {
@@ -210,7 +243,10 @@ pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double s
         d_tail_snr_db = snr_db;
         d_tail_valid = true;
     }
-    return pmt::acons(d_frame, pmt::from_uint64(frame), d_tail);
+    // Per frame: the frame and its place in its track; the rest is shared while it stays.
+    pmt::pmt_t head = pmt::acons(d_frame_in_track, pmt::from_uint64(t.frame_in_track), d_tail);
+    head = pmt::acons(d_track_id, pmt::from_uint64(t.track_id), head);
+    return pmt::acons(d_frame, pmt::from_uint64(frame), head);
 }
 
 } // namespace detail

@@ -21,6 +21,13 @@ namespace detail {
 // Throws std::invalid_argument (prefixed by `who`) for NaN or -inf.
 void check_snr(const char* who, double snr_db);
 
+// A random scene's tracks as block parameters: frames = 0 draws every frame afresh.
+struct track_options {
+    int frames = 0;
+    std::string gains = gain_coherence_name(track_draw_spec{}.gains);
+    double coherence_time_s = track_draw_spec{}.coherence_time_s;
+};
+
 // The scene of a channel block's parameters: a scene file path or JSON text (starts with
 // '{'), or "" for a random scene from the random options, which must then keep their
 // defaults with a fixed scene. A random scene draws its classes (given by name) from
@@ -35,7 +42,8 @@ scene channel_block_scene(const char* who,
                           const std::string& heading, // "approaching" | "any" (heading_kind)
                           int clutter_paths,
                           double clutter_csr_db,
-                          const std::string& class_library);
+                          const std::string& class_library,
+                          const track_options& tracks = {});
 
 // The channel blocks' default class library (the paper's table).
 constexpr const char* default_class_library = "paper";
@@ -59,7 +67,8 @@ public:
 
 private:
     const pmt::pmt_t d_truth_key, d_frame, d_class, d_class_name, d_delay_s, d_delay_index, d_range_m,
-        d_velocity_mps, d_snr_db, d_n_paths, d_micro_motion, d_micro_motion_params, d_class_library;
+        d_velocity_mps, d_snr_db, d_n_paths, d_micro_motion, d_micro_motion_params, d_class_library, d_track_id,
+        d_frame_in_track;
     pmt::pmt_t d_library_symbol; // the scene's library name, interned once
     std::vector<pmt::pmt_t> d_class_symbols; // by class id
     std::map<std::string, pmt::pmt_t> d_motion_symbols; // by micro-motion model name

@@ -71,6 +71,42 @@ void move_along_track(target_spec& t, const track_spec& track, double t_s)
     }
 }
 
+// One random target: class, range, speed, heading, micro-motion and extra paths, drawn in
+// this order from g (the paper scenes' frames depend on it).
+void draw_target(target_spec& t,
+                 const random_spec& r,
+                 const std::vector<target_class>& classes,
+                 const class_library& lib,
+                 rng& g)
+{
+    t.cls = classes[g.below(classes.size())];
+    const auto& spec = lib.at(static_cast<int>(t.cls));
+    t.range_m = g.uniform(spec.range_min_m, spec.range_max_m);
+    t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
+    t.power = target_spec{}.power;
+    t.md.reset();
+    t.motion.reset();
+    t.speed_mps = t.velocity_mps;
+    t.heading_rad = 0.0;
+    // "any" heading: radial velocity speed·cos θ, θ ~ U[0, 2π). Drawn after the speed,
+    // and only for this heading, so approaching scenes keep their exact frames.
+    if (r.heading == heading_kind::any) {
+        t.heading_rad = g.uniform(0.0, two_pi);
+        t.velocity_mps *= std::cos(t.heading_rad);
+    }
+    if (r.micro_doppler && spec.motion) {
+        if (spec.motion->model == "sinusoid")
+            t.md = detail::draw_sinusoid(*spec.motion, &g);
+        else
+            t.motion = detail::draw_motion(*spec.motion, &g);
+    }
+    t.paths.clear();
+    t.paths.push_back({ 0.0, 1.0 });
+    for (int k = 1; k < r.paths_per_target; ++k)
+        t.paths.push_back({ g.uniform(r.excess_range_min_m, r.excess_range_max_m),
+                            db_to_linear(-k * r.path_power_decay_db) });
+}
+
 } // namespace
 
 // --- frame_channel --------------------------------------------------------------
@@ -101,7 +137,7 @@ frame_channel::frame_channel(const frame_settings& fs, const std::vector<channel
 frame_channel::frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol)
     : d_fs(fs), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0), d_scratch(std::make_unique<scratch>())
 {
-    update(r.paths, &r.bodies, first_symbol);
+    update(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
 }
 
 frame_channel::~frame_channel() = default;
@@ -134,7 +170,7 @@ void frame_channel::update(const std::vector<channel_path>& paths, uint64_t firs
 
 void frame_channel::update(const frame_realization& r, uint64_t first_symbol)
 {
-    update(r.paths, &r.bodies, first_symbol);
+    update(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
 }
 
 void frame_channel::update(const std::vector<channel_path>& paths,
@@ -362,11 +398,29 @@ struct channel_model::rngs {
     }
     double noise_snr_db = std::numeric_limits<double>::quiet_NaN(); // add_noise's last SNR
     float noise_sigma = 0.0f;                                          // and its σ
-    explicit rngs(uint64_t seed) : draws(seed), noise(seed ^ 0x6e6f697365ULL) {}
-    void reseed(uint64_t seed)
+
+    // A tracked random scene's current track: its targets at its first frame, its clutter
+    // ranges, its paths' current gains, and its own generator (seeded from the seed and the
+    // track index: any track is drawn without the ones before it).
+    struct track_state {
+        bool active = false;
+        uint64_t index = 0;
+        int length = 0;
+        int next = 0; // its next frame
+        rng draws;
+        std::vector<target_spec> start;
+        std::vector<double> clutter_ranges;
+        std::vector<std::complex<double>> gains;
+    } track;
+    uint64_t seed;
+
+    explicit rngs(uint64_t s) : draws(s), noise(s ^ 0x6e6f697365ULL), seed(s) {}
+    void reseed(uint64_t s)
     {
-        draws.reseed(seed);
-        noise.reseed(seed ^ 0x6e6f697365ULL);
+        draws.reseed(s);
+        noise.reseed(s ^ 0x6e6f697365ULL);
+        seed = s;
+        track.active = false;
     }
 };
 
@@ -419,6 +473,79 @@ channel_model& channel_model::operator=(channel_model&&) noexcept = default;
 
 void channel_model::reseed(uint64_t seed) { d_rng->reseed(seed); }
 
+namespace {
+// Track k's generator seed: splitmix64's finaliser over (seed, k), so neighbouring seeds and
+// tracks give unrelated streams (rng::reseed expands it again).
+uint64_t track_seed(uint64_t seed, uint64_t k)
+{
+    uint64_t z = (seed ^ 0x747261636b73ULL) + 0x9e3779b97f4a7c15ULL * (k + 1);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+// Frames a target stays inside [lo, hi] moving at radial velocity v from R_0, at most `cap`:
+// the largest L with R_0 − v·j·Δ inside for every j < L (Δ: one frame's duration), checked
+// with the very expression the frames use.
+int frames_inside(double r0, double v, double frame_s, double lo, double hi, int cap)
+{
+    if (v == 0.0)
+        return cap;
+    const double room = v > 0.0 ? r0 - lo : hi - r0;
+    const double guess = std::floor(room / (std::fabs(v) * frame_s)) + 1.0;
+    int len = guess >= double(cap) ? cap : std::max(1, static_cast<int>(guess));
+    auto inside = [&](int j) {
+        const double r = r0 - v * (static_cast<double>(j) * frame_s);
+        return r >= lo && r <= hi;
+    };
+    while (len > 1 && !inside(len - 1))
+        --len;
+    while (len < cap && inside(len))
+        ++len;
+    return len;
+}
+} // namespace
+
+int channel_model::begin_track(uint64_t track_index)
+{
+    const auto& r = d_scene.random_settings();
+    if (!r || !r->tracks)
+        throw std::logic_error("begin_track: the scene draws every frame afresh (it has no random.tracks)");
+    const auto& spec = *r->tracks;
+    auto& tr = d_rng->track;
+    tr.draws.reseed(track_seed(d_rng->seed, track_index));
+    rng& g = tr.draws;
+    const auto& lib = d_scene.library();
+    const auto& classes = r->classes.empty() ? d_rng->all_classes(lib) : r->classes;
+    // The targets, in the order and with the draws of a per-frame scene's frame, then the
+    // planned length.
+    tr.start.resize(static_cast<size_t>(r->n_targets));
+    for (auto& t : tr.start)
+        draw_target(t, *r, classes, lib, g);
+    tr.clutter_ranges.clear();
+    if (const auto& c = d_scene.clutter()) {
+        if (c->ranges_m.empty())
+            for (int k = 0; k < c->n_paths; ++k)
+                tr.clutter_ranges.push_back(g.uniform(c->range_min_m, c->range_max_m));
+        else
+            tr.clutter_ranges = c->ranges_m;
+    }
+    const int planned =
+        spec.frames_min + static_cast<int>(g.below(static_cast<uint64_t>(spec.frames_max - spec.frames_min) + 1));
+    const double frame_s = d_fs.n_symbols * d_fs.symbol_interval_s;
+    int length = planned;
+    for (const auto& t : tr.start) {
+        const auto& cs = lib.at(static_cast<int>(t.cls));
+        length = std::min(length, frames_inside(t.range_m, t.velocity_mps, frame_s, cs.range_min_m, cs.range_max_m, planned));
+    }
+    tr.gains.clear();
+    tr.active = true;
+    tr.index = track_index;
+    tr.length = length;
+    tr.next = 0;
+    return length;
+}
+
 double channel_model::noise_variance(double snr_db)
 {
     if (std::isnan(snr_db))
@@ -437,7 +564,14 @@ frame_realization channel_model::draw(uint64_t frame_index)
 
 void channel_model::draw(uint64_t frame_index, frame_realization& out)
 {
-    rng& g = d_rng->draws;
+    const auto& random = d_scene.random_settings();
+    auto& tr = d_rng->track;
+    const bool tracked = random && random->tracks;
+    if (tracked && (!tr.active || tr.next >= tr.length))
+        begin_track(tr.active ? tr.index + 1 : 0);
+    // A track's frames draw from its own generator (its gains); other scenes from the model's.
+    rng& g = tracked ? tr.draws : d_rng->draws;
+    const int in_track = tracked ? tr.next++ : 0;
     out.paths.clear(); // keeps the capacity
     size_t n_bodies = 0; // out.bodies keeps its elements: a body assigned in place keeps its buffers
     const double clutter_share = d_scene.clutter() ? db_to_linear(d_scene.clutter()->csr_db) : 0.0;
@@ -448,38 +582,20 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     // lists keep their capacity).
     const std::vector<target_spec>* targets_of_frame = &d_scene.targets();
     const auto& lib = d_scene.library();
-    if (const auto& r = d_scene.random_settings()) {
+    if (tracked) { // the track's targets moved on to this frame: R_f = R_0 − v·f·N·T
+        auto& moved = d_rng->drawn;
+        moved = tr.start;
+        const double t_s = static_cast<double>(in_track) * (d_fs.n_symbols * d_fs.symbol_interval_s);
+        for (auto& t : moved)
+            t.range_m -= t.velocity_mps * t_s;
+        targets_of_frame = &moved;
+    } else if (random) {
+        const auto& r = random;
         auto& drawn = d_rng->drawn;
         drawn.resize(static_cast<size_t>(r->n_targets));
         const auto& classes = r->classes.empty() ? d_rng->all_classes(lib) : r->classes;
-        for (auto& t : drawn) {
-            t.cls = classes[g.below(classes.size())];
-            const auto& spec = lib.at(static_cast<int>(t.cls));
-            t.range_m = g.uniform(spec.range_min_m, spec.range_max_m);
-            t.velocity_mps = g.uniform(spec.speed_min_mps, spec.speed_max_mps);
-            t.power = target_spec{}.power;
-            t.md.reset();
-            t.motion.reset();
-            t.speed_mps = t.velocity_mps;
-            t.heading_rad = 0.0;
-            // "any" heading: radial velocity speed·cos θ, θ ~ U[0, 2π). Drawn after the speed,
-            // and only for this heading, so approaching scenes keep their exact frames.
-            if (r->heading == heading_kind::any) {
-                t.heading_rad = g.uniform(0.0, two_pi);
-                t.velocity_mps *= std::cos(t.heading_rad);
-            }
-            if (r->micro_doppler && spec.motion) {
-                if (spec.motion->model == "sinusoid")
-                    t.md = detail::draw_sinusoid(*spec.motion, &g);
-                else
-                    t.motion = detail::draw_motion(*spec.motion, &g);
-            }
-            t.paths.clear();
-            t.paths.push_back({ 0.0, 1.0 });
-            for (int k = 1; k < r->paths_per_target; ++k)
-                t.paths.push_back({ g.uniform(r->excess_range_min_m, r->excess_range_max_m),
-                                    db_to_linear(-k * r->path_power_decay_db) });
-        }
+        for (auto& t : drawn)
+            draw_target(t, *r, classes, lib, g);
         targets_of_frame = &drawn;
     } else if (const auto& track = d_scene.track()) {
         auto& moved = d_rng->drawn;
@@ -525,18 +641,40 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     }
     out.bodies.resize(n_bodies);
     if (const auto& c = d_scene.clutter()) {
-        const int n = c->ranges_m.empty() ? c->n_paths : static_cast<int>(c->ranges_m.size());
+        // A track's clutter ranges were drawn with its targets; a per-frame scene's are drawn here.
+        const auto* fixed_ranges = tracked ? &tr.clutter_ranges : c->ranges_m.empty() ? nullptr : &c->ranges_m;
+        const int n = fixed_ranges ? static_cast<int>(fixed_ranges->size()) : c->n_paths;
         for (int k = 0; k < n; ++k) {
             channel_path cp; // static scatterer: zero Doppler, no micro-Doppler
-            const double range = c->ranges_m.empty() ? g.uniform(c->range_min_m, c->range_max_m) : c->ranges_m[k];
+            const double range = fixed_ranges ? (*fixed_ranges)[k] : g.uniform(c->range_min_m, c->range_max_m);
             cp.delay_s = d_fs.delay_from_range(range);
             cp.mean_power = (1.0 - target_total) / n;
             out.paths.push_back(cp);
         }
     }
-    for (auto& p : out.paths)
-        p.gain = d_scene.fading() == fading_kind::rayleigh ? g.complex_normal(p.mean_power)
-                                                           : std::complex<double>(std::sqrt(p.mean_power), 0.0);
+    const auto coherence = tracked ? random->tracks->gains : gain_coherence::frame;
+    if (d_scene.fading() == fading_kind::none) {
+        for (auto& p : out.paths)
+            p.gain = std::complex<double>(std::sqrt(p.mean_power), 0.0);
+    } else if (coherence == gain_coherence::frame || in_track == 0) {
+        for (auto& p : out.paths)
+            p.gain = g.complex_normal(p.mean_power);
+    } else if (coherence == gain_coherence::track) {
+        for (size_t l = 0; l < out.paths.size(); ++l)
+            out.paths[l].gain = tr.gains[l];
+    } else { // Gauss–Markov: stationary CN(0, p_l) with correlation ρ^k between frames k apart
+        const double rho = std::exp(-(d_fs.n_symbols * d_fs.symbol_interval_s) / random->tracks->coherence_time_s);
+        const double innovation = 1.0 - rho * rho;
+        for (size_t l = 0; l < out.paths.size(); ++l) {
+            auto& p = out.paths[l];
+            p.gain = rho * tr.gains[l] + g.complex_normal(innovation * p.mean_power);
+        }
+    }
+    if (tracked) {
+        tr.gains.resize(out.paths.size());
+        for (size_t l = 0; l < out.paths.size(); ++l)
+            tr.gains[l] = out.paths[l].gain;
+    }
 
     const auto& toi = targets[d_scene.is_random() ? 0 : d_scene.target_of_interest()];
     auto& truth = out.truth;
@@ -550,6 +688,15 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     truth.velocity_mps = toi.velocity_mps;
     truth.snr_db = std::numeric_limits<double>::infinity();
     truth.n_paths = static_cast<int>(out.paths.size());
+    if (tracked) {
+        truth.track_id = tr.index;
+        truth.frame_in_track = static_cast<uint64_t>(in_track);
+        out.clock_symbol = static_cast<uint64_t>(in_track) * static_cast<uint64_t>(d_fs.n_symbols);
+    } else {
+        truth.track_id = random ? frame_index : 0; // a per-frame scene: every frame its own track
+        truth.frame_in_track = random ? 0 : frame_index;
+        out.clock_symbol.reset();
+    }
     out.truth_body = toi.motion ? static_cast<int>(std::count_if(targets.data(), &toi, [](const target_spec& t) { return t.motion.has_value(); })) : -1;
 }
 

@@ -398,7 +398,7 @@ void td_channel::set_paths(const std::vector<channel_path>& paths, uint64_t firs
 
 void td_channel::set_frame(const frame_realization& r, uint64_t first_symbol)
 {
-    set_paths(r.paths, &r.bodies, first_symbol);
+    set_paths(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
 }
 
 void td_channel::set_paths(const std::vector<channel_path>& paths,

@@ -378,6 +378,10 @@ pilot_mask pilot_mask::from_json(const nlohmann::json& j, const std::string& sou
 {
     using namespace json_read;
     check_format(j, format_name, format_version, source);
+    if (j.contains("frames"))
+        fail(source, "frames",
+             "a super-frame mask (a pilot set per frame) where one frame's mask is read: give a mask of one "
+             "frame, or read the file as a super-frame mask (super_frame_mask)");
     object_reader r(j, source);
     r.allow("format");
     r.allow("version");

@@ -9,7 +9,9 @@
  *                 "paths": [{"excess_range_m": 0, "power": 1}, {"excess_range_m": 12, "power": 0.3}]}],
  *    "random": {"classes": ["pedestrian", "car", "drone"], "targets": 1, "paths_per_target": 1,
  *               "excess_range_m": [2, 30], "path_power_decay_db": 3, "micro_doppler": true,
- *               "heading": "approaching" | "any"},
+ *               "heading": "approaching" | "any",
+ *               "tracks": {"frames": 64 | [16, 64], "gains": "frame" | "track" | "gauss_markov",
+ *                          "coherence_time_s": 0.1}},
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]}}
  */
 #include "core/common/checks.h"
@@ -93,6 +95,30 @@ heading_kind heading_from_name(const std::string& name)
     if (name == "any")
         return heading_kind::any;
     throw std::invalid_argument("unknown heading \"" + name + "\" (known: approaching, any)");
+}
+
+std::string gain_coherence_name(gain_coherence c)
+{
+    switch (c) {
+    case gain_coherence::frame:
+        return "frame";
+    case gain_coherence::track:
+        return "track";
+    case gain_coherence::gauss_markov:
+        return "gauss_markov";
+    }
+    throw std::invalid_argument("unknown gain coherence " + std::to_string(static_cast<int>(c)));
+}
+
+gain_coherence gain_coherence_from_name(const std::string& name)
+{
+    if (name == "frame")
+        return gain_coherence::frame;
+    if (name == "track")
+        return gain_coherence::track;
+    if (name == "gauss_markov")
+        return gain_coherence::gauss_markov;
+    throw std::invalid_argument("unknown gain coherence \"" + name + "\" (known: frame, track, gauss_markov)");
 }
 
 namespace {
@@ -187,7 +213,7 @@ void scene::validate(const std::string& source) const
         validate_clutter(*d_clutter, source);
     if (d_track) {
         if (d_random)
-            fail(source, "track", "applies to fixed scenes only (a random scene draws its ranges per frame)");
+            fail(source, "track", "applies to fixed scenes only (a random scene follows its targets with random.tracks)");
         check_finite_nonneg(d_track->range_min_m, source, "track.range_m[0]");
         check_finite_nonneg(d_track->range_max_m, source, "track.range_m[1]");
         if (!(d_track->range_min_m < d_track->range_max_m))
@@ -224,6 +250,29 @@ void scene::validate(const std::string& source) const
         check_finite_nonneg(r.path_power_decay_db, source, "random.path_power_decay_db");
         if (r.heading != heading_kind::approaching && r.heading != heading_kind::any)
             fail(source, "random.heading", "unknown heading kind " + std::to_string(static_cast<int>(r.heading)));
+        if (r.tracks) {
+            const auto& t = *r.tracks;
+            const std::string bound = "[1, " + std::to_string(limits::max_track_frames) + "]";
+            if (t.frames_min < 1 || t.frames_min > limits::max_track_frames)
+                fail(source, "random.tracks.frames", "the track length must be in " + bound + " frames, got " +
+                                                         std::to_string(t.frames_min));
+            if (t.frames_max < 1 || t.frames_max > limits::max_track_frames)
+                fail(source, "random.tracks.frames", "the track length must be in " + bound + " frames, got " +
+                                                         std::to_string(t.frames_max));
+            if (t.frames_min > t.frames_max)
+                fail(source, "random.tracks.frames", "min " + std::to_string(t.frames_min) + " exceeds max " +
+                                                         std::to_string(t.frames_max));
+            if (t.gains != gain_coherence::frame && t.gains != gain_coherence::track &&
+                t.gains != gain_coherence::gauss_markov)
+                fail(source, "random.tracks.gains", "unknown gain coherence " + std::to_string(static_cast<int>(t.gains)));
+            if (!(checks::finite(t.coherence_time_s) && t.coherence_time_s > 0.0))
+                fail(source, "random.tracks.coherence_time_s", "must be a finite time > 0 s, got " +
+                                                                   std::to_string(t.coherence_time_s));
+            if (d_fading == fading_kind::none && t.gains != gain_coherence::frame)
+                fail(source, "random.tracks.gains", "\"" + gain_coherence_name(t.gains) +
+                                                        "\" describes fading gains, but the scene's fading is "
+                                                        "\"none\" (fixed gains): leave gains at \"frame\"");
+        }
         return;
     }
     if (d_targets.empty())
@@ -297,6 +346,15 @@ json scene::to_json() const
                         { "path_power_decay_db", r.path_power_decay_db },
                         { "micro_doppler", r.micro_doppler },
                         { "heading", heading_name(r.heading) } };
+        if (r.tracks) {
+            const auto& t = *r.tracks;
+            json jt = { { "frames", t.frames_min == t.frames_max ? json(t.frames_min)
+                                                               : json::array({ t.frames_min, t.frames_max }) },
+                        { "gains", gain_coherence_name(t.gains) } };
+            if (t.gains == gain_coherence::gauss_markov)
+                jt["coherence_time_s"] = t.coherence_time_s;
+            j["random"]["tracks"] = jt;
+        }
     } else {
         j["target_of_interest"] = d_toi;
         json targets = json::array();
@@ -412,6 +470,35 @@ scene scene::from_json(const json& j, const std::string& source)
             } catch (const std::invalid_argument& e) {
                 fail(source, "random.heading", e.what());
             }
+        }
+        if (r.has("tracks")) {
+            object_reader rt = r.object("tracks");
+            track_draw_spec t;
+            const auto& frames = rt.require("frames");
+            const int top_frames = limits::max_track_frames;
+            if (frames.is_array()) {
+                object_reader::checked_array(frames, "random.tracks.frames", source, 2, 2);
+                t.frames_min = int_in(frames[0], "random.tracks.frames[0]", source, 1, top_frames);
+                t.frames_max = int_in(frames[1], "random.tracks.frames[1]", source, 1, top_frames);
+            } else {
+                t.frames_min = t.frames_max = int_in(frames, "random.tracks.frames", source, 1, top_frames);
+            }
+            if (rt.has("gains")) {
+                try {
+                    t.gains = gain_coherence_from_name(rt.string("gains"));
+                } catch (const std::invalid_argument& e) {
+                    fail(source, "random.tracks.gains", e.what());
+                }
+            }
+            if (rt.has("coherence_time_s")) {
+                if (t.gains != gain_coherence::gauss_markov)
+                    fail(source, "random.tracks.coherence_time_s",
+                         "applies to \"gains\": \"gauss_markov\" only, the gains here are \"" +
+                             gain_coherence_name(t.gains) + "\"");
+                t.coherence_time_s = rt.number("coherence_time_s");
+            }
+            rt.finish();
+            spec.tracks = t;
         }
         r.finish();
         if (top.has("target_of_interest"))

@@ -59,6 +59,11 @@ def cxx_defaults():
         "seed": bound_default(sems.target_channel, "seed"),
         "clutter_csr_db": bound_default(sems.target_channel, "clutter_csr_db"),
         "class_library": bound_default(sems.target_channel, "class_library"),
+        # tracks: off by default (the scene has none); their settings' defaults are the
+        # core's track_draw_spec, which the bindings take.
+        "track_frames": spec.get("tracks", {}).get("frames", 0),
+        "track_gains": sems.gain_coherence_name(sems.track_draw_spec().gains),
+        "track_coherence_time_s": sems.track_draw_spec().coherence_time_s,
     })
     # pilot_mapper / pilot_extractor: built with one pilot, every other argument defaulted.
     mapper = sems.pilot_mapper(pilot_positions=[0])

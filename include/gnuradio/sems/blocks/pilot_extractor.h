@@ -10,6 +10,7 @@
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,7 +34,10 @@ namespace sems {
  * a keys::frame_tag (the input's value, or the counted index on an untagged stream)
  * and the tags of its frame's symbols (keys::truth_tag among them).
  *
- * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m.
+ * The mask is given as in pilot_mapper: a mask file or flat positions n·M+m. A mask file
+ * may span a super-frame of F frames (super_frame_mask): frame f is read at the pilots of
+ * set f mod F, f the frame's index (its keys::frame_tag, or the count), so the output is
+ * N_p observations in that set's mask order, as the mapper placed them.
  *
  * Frame check: a mask file carries only its grid, refused unless it is n_symbols x n_subcarriers
  * (pilot_mask::check_frame names the field and both values); the block has no guard, bandwidth,
@@ -61,8 +65,10 @@ public:
                      int n_subcarriers = frame_settings{}.n_subcarriers,
                      gr_complex pilot_symbol = gr_complex(1.0f, 0.0f));
 
-    /*! \brief The pilot mask. \return the mask. */
+    /*! \brief The pilot mask of frame 0 (the only one unless the mask spans a super-frame). \return the mask. */
     virtual const pilot_mask& mask() const = 0;
+    /*! \brief The pilot sets of every frame of the super-frame (F = 1 for one frame's mask). \return the masks. */
+    virtual const super_frame_mask& super_frame() const = 0;
     /*! \brief N_p. \return the output vector length. */
     virtual int n_pilots() const = 0;
 

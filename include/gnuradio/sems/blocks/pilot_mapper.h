@@ -10,6 +10,7 @@
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,8 +36,10 @@ namespace sems {
  * Tag keys::frame_tag (uint64 frame index, counting from 0) on the first symbol of
  * every frame. Tags on data symbols move to the output symbol that carries them.
  *
- * The mask comes from a mask file (pilot_mask::load) or from explicit flat positions
- * n·M+m: exactly one of the two. With a file, pilot_symbol must equal the file's.
+ * The mask comes from a mask file (super_frame_mask::load) or from explicit flat positions
+ * n·M+m: exactly one of the two. With a file, pilot_symbol must equal the file's. A file may
+ * span a super-frame of F frames, each with its own pilots and the same count: frame f (the
+ * index of its keys::frame_tag) carries set f mod F, so the pattern repeats every F frames.
  *
  * Frame check: the mask must be n_symbols x n_subcarriers with no pilot on guard_subcarriers
  * (pilot_mask::check_frame names the field and both values, or the pilot and its guard); a mask
@@ -95,8 +98,10 @@ public:
     /*! \brief E_d. \return the data energy per symbol. */
     virtual double data_power() const = 0;
 
-    /*! \brief The pilot mask. \return the mask. */
+    /*! \brief The pilot mask of frame 0 (the only one unless the mask spans a super-frame). \return the mask. */
     virtual const pilot_mask& mask() const = 0;
+    /*! \brief The pilot sets of every frame of the super-frame (F = 1 for one frame's mask). \return the masks. */
+    virtual const super_frame_mask& super_frame() const = 0;
     /*! \brief N_p. \return the pilots per frame. */
     virtual int n_pilots() const = 0;
     /*! \brief Data symbols consumed per frame. \return N·M − N_p. */

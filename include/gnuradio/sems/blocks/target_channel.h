@@ -8,6 +8,7 @@
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
 #include <limits>
@@ -30,11 +31,13 @@ namespace sems {
  * draws the next realization of the model, so the same seed gives the same frames as
  * channel_model::generate and, with any SNR, the same channels (noise has its own
  * generator). keys::truth_tag (a PMT dict: class, class_name, delay_s, delay_index,
- * range_m, velocity_mps, snr_db, n_paths, frame) goes on the first symbol of every frame.
+ * range_m, velocity_mps, snr_db, n_paths, frame, track_id, frame_in_track) goes on the
+ * first symbol of every frame.
  *
  * The scene: `scene` is a scene file path or scene JSON text (starts with '{'),
- * or "" for random scenes drawn per frame from `classes` (empty = every class) with
- * the random options (n_targets, paths_per_target, micro_doppler, heading, clutter_*).
+ * or "" for random scenes drawn per frame (or per track of track_frames frames) from
+ * `classes` (empty = every class) with the random options (n_targets, paths_per_target,
+ * micro_doppler, heading, clutter_*, track_*).
  * The random options must keep their defaults with a fixed scene (a fixed scene
  * carries its own targets and clutter), so nothing is silently ignored.
  *
@@ -69,6 +72,12 @@ public:
      * \param class_library    random scenes: the class library `classes` names classes of, by
      *                         name ("paper", "kinematic") or file (class_library::find); a fixed
      *                         scene names its own in its "classes" key
+     * \param track_frames     random scenes: 0 draws every frame afresh (the paper); K > 0 follows
+     *                         each target for K frames (random_spec::tracks): it moves, its phases
+     *                         go on, and the truth tag's track_id and frame_in_track say where it is
+     * \param track_gains      tracks: how the gains evolve, "frame" (independent per frame),
+     *                         "track" (constant) or "gauss_markov" (gain_coherence)
+     * \param track_coherence_time_s tracks with "gauss_markov" gains: the coherence time τ_c in s
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -87,7 +96,10 @@ public:
                      double bandwidth_hz = frame_settings{}.bandwidth_hz,
                      double carrier_hz = frame_settings{}.carrier_hz,
                      double symbol_interval_s = frame_settings{}.symbol_interval_s,
-                     const std::string& class_library = "paper");
+                     const std::string& class_library = "paper",
+                     int track_frames = 0,
+                     const std::string& track_gains = "frame",
+                     double track_coherence_time_s = track_draw_spec{}.coherence_time_s);
 
     /*!
      * \brief Sets the SNR from the next frame.

@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sems/core/common/tags.h>
 #include <gnuradio/sems/core/scene/target_class.h>
@@ -35,6 +36,8 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::snr_db] = t.snr_db;
     d[keys::n_paths] = t.n_paths;
     d[keys::micro_motion] = t.micro_motion;
+    d[keys::track_id] = t.track_id;
+    d[keys::frame_in_track] = t.frame_in_track;
     return d;
 }
 
@@ -55,6 +58,8 @@ void bind_keys(py::module& m)
     k.attr("micro_motion") = keys::micro_motion;
     k.attr("micro_motion_params") = keys::micro_motion_params;
     k.attr("class_library") = keys::class_library;
+    k.attr("track_id") = keys::track_id;
+    k.attr("frame_in_track") = keys::frame_in_track;
     k.attr("label") = keys::label;
     k.attr("probs") = keys::probs;
     k.attr("truth") = keys::truth;
@@ -213,6 +218,35 @@ void bind_pilot_mask(py::module& m)
         .def("carrier_lists", &pilot_mask::carrier_lists)
         .def("pilot_symbol_lists", &pilot_mask::pilot_symbol_lists)
         .def("__eq__", &pilot_mask::operator==);
+
+    py::class_<super_frame_mask>(m, "super_frame_mask", D(super_frame_mask))
+        .def(py::init<pilot_mask>(), py::arg("mask"))
+        .def(py::init([](std::vector<pilot_mask> sets, const std::string& origin_json, const std::string& source) {
+                 return super_frame_mask(std::move(sets), nlohmann::json::parse(origin_json), source);
+             }),
+             py::arg("sets"), py::arg("origin_json") = R"({"kind": "explicit"})",
+             py::arg("source") = "super-frame mask")
+        .def_static("repeated", &super_frame_mask::repeated, D(super_frame_mask, repeated), py::arg("mask"),
+                    py::arg("n_frames"))
+        .def_static("load", &super_frame_mask::load, D(super_frame_mask, load), py::arg("path"))
+        .def_static("parse", &super_frame_mask::parse, D(super_frame_mask, parse), py::arg("json_text"),
+                    py::arg("source") = "pilot mask text")
+        .def("save", &super_frame_mask::save, D(super_frame_mask, save), py::arg("path"))
+        .def("to_json_string", &super_frame_mask::to_json_string, D(super_frame_mask, to_json_string))
+        .def("n_frames", &super_frame_mask::n_frames, D(super_frame_mask, n_frames))
+        .def("n_symbols", &super_frame_mask::n_symbols, D(super_frame_mask, n_symbols))
+        .def("n_subcarriers", &super_frame_mask::n_subcarriers, D(super_frame_mask, n_subcarriers))
+        .def("pilots_per_frame", &super_frame_mask::pilots_per_frame, D(super_frame_mask, pilots_per_frame))
+        .def("sets", &super_frame_mask::sets, D(super_frame_mask, sets))
+        .def("set", &super_frame_mask::set, D(super_frame_mask, set), py::arg("f"), py::return_value_policy::copy)
+        .def("for_frame", &super_frame_mask::for_frame, D(super_frame_mask, for_frame), py::arg("frame_index"),
+             py::return_value_policy::copy)
+        .def("check_frame", &super_frame_mask::check_frame, D(super_frame_mask, check_frame), py::arg("frame"),
+             py::arg("who") = "super-frame mask")
+        .def("check_shape", &super_frame_mask::check_shape, D(super_frame_mask, check_shape), py::arg("n_frames"),
+             py::arg("pilots_per_frame"), py::arg("who"), py::arg("expected"))
+        .def("__len__", &super_frame_mask::n_frames)
+        .def("__eq__", &super_frame_mask::operator==);
 }
 
 void bind_scene(py::module& m)
@@ -294,11 +328,31 @@ void bind_scene(py::module& m)
     m.def("heading_name", &heading_name, py::arg("heading"));
     m.def("heading_from_name", &heading_from_name, py::arg("name"));
 
+    py::enum_<gain_coherence>(m, "gain_coherence", D(gain_coherence))
+        .value("frame", gain_coherence::frame)
+        .value("track", gain_coherence::track)
+        .value("gauss_markov", gain_coherence::gauss_markov);
+    m.def("gain_coherence_name", &gain_coherence_name, D(gain_coherence_name), py::arg("c"));
+    m.def("gain_coherence_from_name", &gain_coherence_from_name, D(gain_coherence_from_name), py::arg("name"));
+
+    py::class_<track_draw_spec>(m, "track_draw_spec", D(track_draw_spec))
+        .def(py::init([](int frames_min, int frames_max, gain_coherence gains, double coherence_time_s) {
+                 return track_draw_spec{ frames_min, frames_max, gains, coherence_time_s };
+             }),
+             py::arg("frames_min") = track_draw_spec{}.frames_min, py::arg("frames_max") = track_draw_spec{}.frames_max,
+             py::arg("gains") = track_draw_spec{}.gains,
+             py::arg("coherence_time_s") = track_draw_spec{}.coherence_time_s)
+        .def_readwrite("frames_min", &track_draw_spec::frames_min, D(track_draw_spec, frames_min))
+        .def_readwrite("frames_max", &track_draw_spec::frames_max, D(track_draw_spec, frames_max))
+        .def_readwrite("gains", &track_draw_spec::gains, D(track_draw_spec, gains))
+        .def_readwrite("coherence_time_s", &track_draw_spec::coherence_time_s, D(track_draw_spec, coherence_time_s));
+
     py::class_<random_spec>(m, "random_spec", D(random_spec))
         .def(py::init([](std::vector<target_class> classes, int n_targets, int paths_per_target,
-                         double excess_min, double excess_max, double decay_db, bool md, heading_kind heading) {
+                         double excess_min, double excess_max, double decay_db, bool md, heading_kind heading,
+                         std::optional<track_draw_spec> tracks) {
                  return random_spec{ classes, n_targets, paths_per_target, excess_min, excess_max, decay_db, md,
-                                     heading };
+                                     heading, tracks };
              }),
              py::arg("classes") = random_spec{}.classes, py::arg("n_targets") = random_spec{}.n_targets,
              py::arg("paths_per_target") = random_spec{}.paths_per_target,
@@ -306,12 +360,13 @@ void bind_scene(py::module& m)
              py::arg("excess_range_max_m") = random_spec{}.excess_range_max_m,
              py::arg("path_power_decay_db") = random_spec{}.path_power_decay_db,
              py::arg("micro_doppler") = random_spec{}.micro_doppler,
-             py::arg("heading") = random_spec{}.heading)
+             py::arg("heading") = random_spec{}.heading, py::arg("tracks") = py::none())
         .def_readwrite("classes", &random_spec::classes)
         .def_readwrite("n_targets", &random_spec::n_targets)
         .def_readwrite("paths_per_target", &random_spec::paths_per_target)
         .def_readwrite("micro_doppler", &random_spec::micro_doppler)
-        .def_readwrite("heading", &random_spec::heading);
+        .def_readwrite("heading", &random_spec::heading)
+        .def_readwrite("tracks", &random_spec::tracks, D(random_spec, tracks));
 
     py::class_<scene>(m, "scene", D(scene))
         .def_static(
@@ -369,6 +424,7 @@ void bind_channel_model(py::module& m)
         .def_readonly("paths", &frame_realization::paths)
         .def_readonly("bodies", &frame_realization::bodies, D(frame_realization, bodies))
         .def_readonly("truth_body", &frame_realization::truth_body, D(frame_realization, truth_body))
+        .def_readonly("clock_symbol", &frame_realization::clock_symbol, D(frame_realization, clock_symbol))
         .def_property_readonly("truth", [](const frame_realization& r) { return truth_dict(r.truth); });
 
     py::class_<channel_model>(m, "channel_model", D(channel_model))
@@ -410,6 +466,7 @@ void bind_channel_model(py::module& m)
                 cm.add_noise(y.mutable_data(), static_cast<size_t>(y.size()), snr_db);
             },
             py::arg("y"), py::arg("snr_db"), "Adds CN(0, σ²) in place to a complex64 array")
+        .def("begin_track", &channel_model::begin_track, D(channel_model, begin_track), py::arg("track_index"))
         .def("reseed", &channel_model::reseed, py::arg("seed"));
 }
 

@@ -31,6 +31,7 @@ void bind_pilot_mapper(py::module& m)
         .def("set_data_power", &pilot_mapper::set_data_power, D(pilot_mapper, set_data_power), py::arg("energy"))
         .def("data_power", &pilot_mapper::data_power, D(pilot_mapper, data_power))
         .def("mask", &pilot_mapper::mask, D(pilot_mapper, mask), py::return_value_policy::copy)
+        .def("super_frame", &pilot_mapper::super_frame, D(pilot_mapper, super_frame), py::return_value_policy::copy)
         .def("n_pilots", &pilot_mapper::n_pilots, D(pilot_mapper, n_pilots))
         .def("data_per_frame", &pilot_mapper::data_per_frame, D(pilot_mapper, data_per_frame))
         .def("frames", &pilot_mapper::frames, D(pilot_mapper, frames));

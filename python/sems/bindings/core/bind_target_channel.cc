@@ -33,6 +33,9 @@ void bind_target_channel(py::module& m)
              py::arg("carrier_hz") = defaults.carrier_hz,
              py::arg("symbol_interval_s") = defaults.symbol_interval_s,
              py::arg("class_library") = "paper",
+             py::arg("track_frames") = 0,
+             py::arg("track_gains") = "frame",
+             py::arg("track_coherence_time_s") = gr::sems::track_draw_spec{}.coherence_time_s,
              D(target_channel, make))
         .def("set_snr_db", &target_channel::set_snr_db, D(target_channel, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel::snr_db, D(target_channel, snr_db))

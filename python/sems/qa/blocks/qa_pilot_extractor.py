@@ -415,6 +415,56 @@ class qa_pilot_extractor(gr_unittest.TestCase):
             np.testing.assert_allclose(obs, np.sqrt(EP) * h.reshape(frames, -1)[:, sorted(POS)] * rot,
                                        rtol=1e-5, atol=1e-6)
 
+    def test_016_super_frame_masks(self):
+        # A mask over a super-frame of 3 frames, each set its own 5 pilots (one with energies):
+        # frame f carries set f mod 3 at the mapper and is read at the same set by the
+        # extractor, for any chunk size; F = 1 of the same file format is the plain mask.
+        frames = 7
+        sets = [[0, 3, 9, 17, 31], [1, 2, 12, 20, 30], [5, 8, 16, 24, 27]]
+        power = [0.5, 1.5, 1.0, 1.75, 0.25]
+        masks = [sems.pilot_mask(N, M, [(p // M, p % M) for p in sets[0]], SP),
+                 sems.pilot_mask(N, M, [(p // M, p % M) for p in sets[1]], SP, power),
+                 sems.pilot_mask(N, M, [(p // M, p % M) for p in sets[2]], SP).with_phases("newman")]
+        h, truths = expected_h(frames)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "super.json")
+            sems.super_frame_mask(masks).save(path)
+            self.assertEqual(sems.super_frame_mask.load(path).n_frames(), 3)
+            for chunk in (None, 1, N + 1):
+                with self.subTest(chunk=chunk):
+                    obs, tags, ex, _ = self.chain(frames, chunk=chunk, pos=sets[0], mask_file=path)
+                    want = np.array([np.sqrt(EP) * h[f].ravel()[sets[f % 3]] for f in range(frames)])
+                    np.testing.assert_allclose(obs, want, rtol=1e-5, atol=1e-6)
+                    self.assertEqual(tags[sems.keys.frame_tag], [(f, f) for f in range(frames)])
+                    self.assertEqual(ex.super_frame().n_frames(), 3)
+                    self.assertEqual(ex.n_pilots(), 5)
+            # The extractor picks the set by the frame tag's index: frames 7 and 8 are sets 1 and 2.
+            x = random_data(2 * N * M, seed=3).reshape(2 * N, M)
+            key = pmt.intern(sems.keys.frame_tag)
+            tags = [gr.tag_utils.python_to_tag((0, key, pmt.from_uint64(7))),
+                    gr.tag_utils.python_to_tag((N, key, pmt.from_uint64(8)))]
+            ex = sems.pilot_extractor(mask_file=path, n_symbols=N, n_subcarriers=M, pilot_symbol=SP)
+            sink = blocks.vector_sink_c(5)
+            tb = gr.top_block()
+            tb.connect(blocks.vector_source_c(x.ravel().tolist(), vlen=M, tags=tags), ex, sink)
+            tb.run()
+            obs = np.array(sink.data()).reshape(2, 5)
+            for row, f in enumerate((7, 8)):
+                mask = masks[f % 3]
+                sent = np.array([mask.transmitted_pilot(k) for k in range(5)])
+                np.testing.assert_allclose(obs[row], x[row * N:(row + 1) * N].ravel()[sets[f % 3]] / sent, rtol=1e-6)
+            # Blocks that read one frame's pilots refuse a super-frame, naming its F.
+            plain = os.path.join(d, "plain_symbol.json")
+            sems.super_frame_mask([sems.pilot_mask(N, M, [(p // M, p % M) for p in s]) for s in sets]).save(plain)
+            for make in (sems.frame_sync, sems.range_doppler_map):
+                with self.assertRaises(ValueError) as cm:
+                    make(mask_file=plain, n_symbols=N, n_subcarriers=M)
+                self.assertIn("super-frame of F = 3", str(cm.exception))
+            # The plain mask reader names what the file is.
+            with self.assertRaises(ValueError) as cm:
+                sems.pilot_mask.load(path)
+            self.assertIn("super_frame_mask", str(cm.exception))
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_pilot_extractor)

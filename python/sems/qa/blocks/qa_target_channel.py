@@ -213,6 +213,35 @@ class qa_target_channel(gr_unittest.TestCase):
         refuses("snr_db", snr_db=-math.inf)
         refuses("n_symbols", n_symbols=0)
         refuses("range", classes=["car"], bandwidth_hz=8 * 3.75e6)  # 40 m unambiguous range
+        refuses("track_frames", track_frames=-1)
+        refuses("track_frames", track_frames=2**20 + 1)
+        refuses("track_gains", track_frames=4, track_gains="swerling")
+        refuses("track_frames = 0", track_gains="track")
+        refuses("track_coherence_time_s applies to track_gains = \"gauss_markov\"", track_frames=4,
+                track_coherence_time_s=0.5)
+        refuses("track_coherence_time_s must be", track_frames=4, track_gains="gauss_markov",
+                track_coherence_time_s=0.0)
+        refuses("track_*", fixed_scene().to_json_string(), track_frames=4)
+
+    def test_011_tracks(self):
+        # Tracks of 5 frames (drones move < 2 m in 0.16 s, so most run whole): the model's
+        # frames and truths, and every truth tag names its track and its place in it.
+        frames = 23
+        x = random_symbols(frames * N)
+        y, tags = run(channel(classes=["drone"], track_frames=5, track_gains="gauss_markov",
+                              track_coherence_time_s=0.02), x)
+        track = sems.track_draw_spec(frames_min=5, frames_max=5, gains=sems.gain_coherence.gauss_markov,
+                                     coherence_time_s=0.02)
+        spec = sems.random_spec(classes=[sems.target_class.drone], tracks=track)
+        h, truths = sems.channel_model(settings(), sems.scene.random(spec), SEED).generate(frames)
+        np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+        got = [(d[sems.keys.track_id], d[sems.keys.frame_in_track]) for _, d in truth_tags(tags)]
+        self.assertEqual(got, [(t[sems.keys.track_id], t[sems.keys.frame_in_track]) for t in truths])
+        self.assertEqual(got[:7], [(0, 0), (0, 1), (0, 2), (0, 3), (0, 4), (1, 0), (1, 1)])
+        # Without tracks every frame is its own track.
+        _, tags = run(channel(classes=["drone"]), random_symbols(3 * N))
+        self.assertEqual([(d[sems.keys.track_id], d[sems.keys.frame_in_track]) for _, d in truth_tags(tags)],
+                         [(0, 0), (1, 0), (2, 0)])
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@
 #include <complex>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,12 @@ struct SEMS_API frame_truth {
     double snr_db = 0.0;      ///< +inf when noiseless
     int n_paths = 0;          ///< all paths of the realization, clutter included
     std::string micro_motion = "none"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", ...)
+    /*!
+     * \brief The track the frame belongs to: a tracked random scene's track index; a per-frame
+     *        random scene's frame index (every frame its own track); 0 for a fixed scene.
+     */
+    uint64_t track_id = 0;
+    uint64_t frame_in_track = 0; ///< frames of the track before this one (0: its first; a fixed scene: the frame index)
 };
 
 /*! \brief One drawn frame: its paths and its truth. */
@@ -84,6 +91,12 @@ struct SEMS_API frame_realization {
     std::vector<scatterer_body> bodies;  ///< the scatterer bodies the paths refer to (channel_path::body)
     int truth_body = -1;                 ///< the target of interest's body (-1: none)
     frame_truth truth;                   ///< the target of interest
+    /*!
+     * \brief The frame's own slow-time clock, when it has one: a track's row 0 is at symbol
+     *        frame_in_track·N of the track. Empty: row 0 is at the absolute index the caller
+     *        passes (frame·N in a stream). frame_channel and td_channel use this when set.
+     */
+    std::optional<uint64_t> clock_symbol;
 };
 
 /*! \brief The separable factors of one frame: H[n,m] = Σ_l slow_l[n] · delay_l[m]. */
@@ -108,12 +121,12 @@ public:
     /*!
      * \brief The factors of a drawn frame, its scatterer bodies included.
      * \param r the frame (paths and bodies).
-     * \param first_symbol the absolute slow-time index of row 0.
+     * \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
      */
     void update(const frame_realization& r, uint64_t first_symbol);
     /*!
      * \brief A drawn frame's factors.
-     * \param fs the frame settings. \param r the frame. \param first_symbol the absolute slow-time index of row 0.
+     * \param fs the frame settings. \param r the frame. \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
      */
     frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol);
     ~frame_channel(); ///< Destructor.
@@ -193,6 +206,9 @@ public:
 
     /*!
      * \brief Draws the next frame's paths (scene parameters for random scenes, and gains).
+     * \details A tracked random scene (random_spec::tracks) goes on with its current track and
+     * starts the next one (track index + 1; track 0 first) after the current one's last frame;
+     * the frame index only names the frame in the truth.
      * \param frame_index the frame index written into the truth.
      * \return the frame's paths and truth.
      */
@@ -207,7 +223,7 @@ public:
     /*!
      * \brief The frame's separable factors.
      * \param r a drawn frame.
-     * \param first_symbol the absolute slow-time index of row 0.
+     * \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
      * \return the factors.
      */
     frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
@@ -232,7 +248,17 @@ public:
      */
     std::vector<frame_truth> generate(size_t count, gr_complex* h_out, uint64_t first_frame = 0);
 
-    /*! \brief Restarts both generators. \param seed the new seed. */
+    /*!
+     * \brief Starts track `track_index` of a tracked random scene: the next draw() gives its
+     *        first frame. Its targets, gains and length are a function of (seed, track index)
+     *        alone, so any track is drawn without the ones before it.
+     * \param track_index the track.
+     * \return its length in frames: its planned K, cut at its last frame inside the range bounds.
+     * \throws std::logic_error when the scene has no tracks.
+     */
+    int begin_track(uint64_t track_index);
+
+    /*! \brief Restarts both generators (and a tracked scene at track 0). \param seed the new seed. */
     void reseed(uint64_t seed);
 
 private:

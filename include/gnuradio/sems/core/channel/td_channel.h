@@ -129,7 +129,7 @@ public:
      * \details A body's models are kept while its parameters stay (fixed scenes set them up
      * once); allocation-free per symbol once the buffers have grown to the scene's terms.
      * \param r a drawn frame (channel_model::draw); delays must lie in [0, 1/Δf)
-     * \param first_symbol absolute slow-time index of the frame's first symbol
+     * \param first_symbol absolute slow-time index of the frame's first symbol (a frame with its own clock, frame_realization::clock_symbol, uses that)
      * \throws std::invalid_argument when a path refers to a body the frame does not have
      */
     void set_frame(const frame_realization& r, uint64_t first_symbol);

@@ -34,6 +34,8 @@ constexpr const char* micro_motion = "micro_motion"; ///< the target of interest
  *         PMT_NIL (None in Python) without a body. */
 constexpr const char* micro_motion_params = "micro_motion_params";
 constexpr const char* class_library = "class_library"; ///< the scene's class library name (class_library::name)
+constexpr const char* track_id = "track_id";             ///< the frame's track (uint64; frame_truth::track_id)
+constexpr const char* frame_in_track = "frame_in_track"; ///< frames of its track before it (uint64; 0: the track's first)
 constexpr const char* label = "label";               ///< predicted class id
 constexpr const char* probs = "probs";               ///< class probabilities (f32vector)
 constexpr const char* truth = "truth";               ///< the frame's truth dict, when tagged

@@ -94,6 +94,42 @@ struct SEMS_API track_spec {
     track_bound at_bound = track_bound::restart; ///< what a target does at an end
 };
 
+/// How a tracked target's complex gains evolve from frame to frame.
+enum class gain_coherence {
+    frame,       ///< drawn afresh every frame (the per-frame scenes' gains; Swerling II-like)
+    track,       ///< drawn once and kept over the track (Swerling I-like)
+    gauss_markov ///< α_f = ρ·α_{f−1} + √(1−ρ²)·w_f, ρ = exp(−N·T/τ_c), w_f ~ CN(0, p): first-order Gauss–Markov
+};
+/*! \brief The name of a coherence. \param c the coherence. \return "frame", "track" or "gauss_markov". */
+SEMS_API std::string gain_coherence_name(gain_coherence c);
+/*!
+ * \brief The coherence of a name.
+ * \param name "frame", "track" or "gauss_markov".
+ * \return the coherence.
+ * \throws std::invalid_argument listing the known names.
+ */
+SEMS_API gain_coherence gain_coherence_from_name(const std::string& name);
+
+/*!
+ * \brief How a random scene follows its targets across frames (docs/design.md §1, tracks).
+ *
+ * \details A track draws its targets once (class, parameters, range, speed, heading, extra
+ * paths, clutter ranges) and keeps them for K frames, K ~ U{frames_min, ..., frames_max}. The
+ * bodies move: range follows the radial velocity from frame to frame, R_f = R_0 − v·f·N·T at
+ * the frame's first symbol (straight at a constant radial velocity and heading; no migration
+ * within a frame). Slow time is the track's own clock, t = (f·N + n)·T from its first frame, so
+ * micro-motion and Doppler phases continue across its frames and the same (seed, track index)
+ * gives the same frames in a stream and in training. A track ends early at its last frame whose
+ * ranges all lie inside their classes' range intervals (a body never leaves them); the next
+ * frame starts the next track.
+ */
+struct SEMS_API track_draw_spec {
+    int frames_min = 64; ///< shortest planned track, in frames (≥ 1)
+    int frames_max = 64; ///< longest planned track, in frames (≤ limits::max_track_frames)
+    gain_coherence gains = gain_coherence::frame; ///< how the gains evolve over a track
+    double coherence_time_s = 0.1;                ///< τ_c for gauss_markov (> 0); unused otherwise
+};
+
 /// How a random scene draws a frame.
 struct SEMS_API random_spec {
     /*! \brief Class ids (in the scene's class library) the target of interest is drawn from; empty: every class. */
@@ -105,6 +141,8 @@ struct SEMS_API random_spec {
     double path_power_decay_db = 3.0;  ///< path k has mean power 10^(-k·decay/10) relative to path 0
     bool micro_doppler = true;         ///< false: the micro-Doppler-free experiment
     heading_kind heading = heading_kind::approaching; ///< see heading_kind
+    /*! \brief Tracks: targets kept over several frames; empty: drawn afresh every frame (the paper). */
+    std::optional<track_draw_spec> tracks;
 };
 
 /*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */
