@@ -9,6 +9,8 @@
  *   sems_train ... --world-size 2 --rank R --store-file /tmp/rdzv   (one of 2 ranks, one machine)
  *   sems_train --from models/classifier --out retrained   (again, from the bundle's recorded settings)
  *   sems_train --task classify --frame sdr_2g4_20mhz --out sdr_classifier   (another radio's frame)
+ *   sems_train --frame-bundle models/classifier_kinematic --track-frames 32 --out track_bundle
+ *       (a decision over a track on a trained per-frame classifier: learning/temporal/track_trainer.h)
  *
  * See include/gnuradio/sems/learning/training/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
@@ -17,6 +19,7 @@
 #include <gnuradio/sems/core/radio/front_end.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sems/core/scene/target_class.h>
+#include <gnuradio/sems/learning/temporal/track_trainer.h>
 #include <gnuradio/sems/learning/training/trainer.h>
 #include <boost/program_options.hpp>
 #include <iostream>
@@ -48,6 +51,89 @@ double parse_snr(const std::string& s)
     if (used != s.size())
         throw std::invalid_argument("not a number: " + s);
     return v;
+}
+
+// The command as typed, the program by its name (not where this machine keeps it).
+std::string command_of(int argc, char** argv)
+{
+    std::ostringstream cmd;
+    const std::string program = argv[0];
+    cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
+    for (int i = 1; i < argc; ++i)
+        cmd << " " << argv[i];
+    return cmd.str();
+}
+
+// --frame-bundle: a decision over a track on a trained per-frame classifier. Only the flags
+// that mean something for it may be given; the track trainer's own defaults apply to the rest.
+int train_tracks(const po::variables_map& vm, const std::string& command_line)
+{
+    static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
+                                                    "track-no-profile",
+                                                    "track-eval-frames", "scene", "snr", "snr-min", "snr-max",
+                                                    "epochs", "batch", "lr", "patience", "seed", "threads",
+                                                    "eval-snr", "out", "quiet" };
+    for (const auto& [name, value] : vm)
+        if (!value.defaulted() && !allowed.count(name))
+            throw std::invalid_argument("--" + name + " does not apply to --frame-bundle (a decision over a track "
+                                        "on a trained per-frame bundle: its mask, frame and classes are the bundle's)");
+    track_training_settings t;
+    t.frame_bundle = vm["frame-bundle"].as<std::string>();
+    t.out_dir = vm["out"].as<std::string>();
+    auto given = [&](const char* flag) { return vm.count(flag) && !vm[flag].defaulted(); };
+    if (given("track-frames"))
+        t.track_frames = vm["track-frames"].as<int>();
+    if (given("tracks"))
+        t.tracks = vm["tracks"].as<int>();
+    if (given("track-hidden"))
+        t.temporal.hidden = vm["track-hidden"].as<int>();
+    if (vm.count("track-no-profile") && vm["track-no-profile"].as<bool>())
+        t.temporal.doppler_profile = false;
+    if (given("epochs"))
+        t.epochs = vm["epochs"].as<int>();
+    if (given("batch"))
+        t.batch = vm["batch"].as<int>();
+    if (given("lr"))
+        t.lr = vm["lr"].as<double>();
+    if (given("patience"))
+        t.patience = vm["patience"].as<int>();
+    if (given("seed"))
+        t.seed = vm["seed"].as<uint64_t>();
+    t.threads = vm["threads"].as<int>();
+    if (given("snr")) {
+        if (given("snr-min") || given("snr-max"))
+            throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
+        t.snr_min_db = t.snr_max_db = parse_snr(vm["snr"].as<std::string>());
+    } else if (given("snr-min") || given("snr-max")) {
+        if (!given("snr-min") || !given("snr-max"))
+            throw std::invalid_argument("--snr-min and --snr-max go together");
+        t.snr_min_db = parse_snr(vm["snr-min"].as<std::string>());
+        t.snr_max_db = parse_snr(vm["snr-max"].as<std::string>());
+    }
+    if (given("eval-snr")) {
+        t.eval_snr_db.clear();
+        for (const auto& v : split_list(vm["eval-snr"].as<std::string>()))
+            t.eval_snr_db.push_back(parse_snr(v));
+    }
+    if (given("track-eval-frames")) {
+        t.eval_frames.clear();
+        for (const auto& v : split_list(vm["track-eval-frames"].as<std::string>()))
+            t.eval_frames.push_back(std::stoi(v));
+    } else { // 1, 2, 4, ... up to the track length, and the track length itself
+        t.eval_frames.clear();
+        for (int f = 1; f < t.track_frames; f *= 2)
+            t.eval_frames.push_back(f);
+        t.eval_frames.push_back(t.track_frames);
+    }
+    if (given("scene")) {
+        t.scene_spec = scene::load(vm["scene"].as<std::string>());
+        t.scene_source = vm["scene"].as<std::string>();
+    }
+    t.verbose = !vm.count("quiet");
+    t.command_line = command_line;
+    const auto r = train_track(t, &std::cout);
+    std::cout << "track bundle written to " << t.out_dir << " (" << r.seconds << " s)" << std::endl;
+    return 0;
 }
 } // namespace
 
@@ -140,6 +226,14 @@ int main(int argc, char** argv)
         ("conv-slope", po::value(&s.classifier.conv_slope)->default_value(s.classifier.conv_slope), "spectral classifier: leaky-ReLU slope of the convolutions (0 = ReLU, as bundles trained before this setting)")
         ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
+        ("frame-bundle", po::value<std::string>(), "train a decision over a track on this trained per-frame classifier bundle "
+            "(a directory or name): a GRU over its per-frame evidence, started from the fusion of independent frames; "
+            "the track flags below and --scene, --snr*, --epochs, --batch, --lr, --patience, --seed, --threads, --eval-snr, --out apply")
+        ("track-frames", po::value<int>()->default_value(track_training_settings{}.track_frames), "--frame-bundle: frames of a training track (K)")
+        ("tracks", po::value<int>()->default_value(track_training_settings{}.tracks), "--frame-bundle: tracks drawn, split 8:1:1")
+        ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size")
+        ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only)")
+        ("track-eval-frames", po::value<std::string>(), "--frame-bundle: observation times scored, in frames, comma-separated (default 1, 2, 4, ... and the track length)")
         ("quiet", "no per-epoch progress")
         ("dry-run", "print the resolved settings (JSON: training record, decoder settings, frame) and exit without training")
         // Distributed training (docs/reference/distributed_training.md); the flags override
@@ -163,6 +257,8 @@ int main(int argc, char** argv)
         }
         po::notify(vm);
         s.verbose = !vm.count("quiet");
+        if (vm.count("frame-bundle"))
+            return train_tracks(vm, command_of(argc, argv));
         frame_file frame; // the frame trained on, printed before training
         if (!from.empty()) {
             // The bundle's own settings; only sizes, output and where it runs may change.
@@ -289,13 +385,7 @@ int main(int argc, char** argv)
                 s.scene_source = src.str();
             }
         }
-        // The command as typed, the program by its name (not where this machine keeps it).
-        std::ostringstream cmd;
-        const std::string program = argv[0];
-        cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
-        for (int i = 1; i < argc; ++i)
-            cmd << " " << argv[i];
-        s.command_line = cmd.str();
+        s.command_line = command_of(argc, argv);
 
         if (vm.count("dry-run")) {
             s.validate();

@@ -158,6 +158,47 @@ std::vector<float> bundle_decoder::features(const gr_complex* obs, int batch) co
     return std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel());
 }
 
+namespace {
+std::shared_ptr<nn::spectral_classifier_decoder_module> profile_decoder(const nn::task_decoder& net,
+                                                                        const model_bundle& b)
+{
+    auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(net);
+    if (!sc)
+        throw std::invalid_argument("bundle_decoder::evidence: bundle " + b.directory + " has a \"" +
+                                    b.decoder.value("kind", std::string()) +
+                                    "\" decoder, which has no Doppler profile (classifier_spectral has)");
+    return sc;
+}
+} // namespace
+
+std::vector<float> bundle_decoder::evidence(const gr_complex* obs, int batch, bool doppler_profile) const
+{
+    if (batch == 0)
+        return {};
+    auto out = d_impl->run(obs, batch, task_kind::classify, "evidence");
+    std::vector<torch::Tensor> parts{ out.features };
+    if (doppler_profile) {
+        auto sc = profile_decoder(d_impl->net, d_impl->bundle);
+        c10::InferenceMode im;
+        parts.push_back(sc->profile(d_impl->grid(obs, batch), d_impl->mask).flatten(1));
+    }
+    parts.push_back(torch::log_softmax(out.logits, -1));
+    auto e = torch::cat(parts, 1).contiguous();
+    return std::vector<float>(e.data_ptr<float>(), e.data_ptr<float>() + e.numel());
+}
+
+int bundle_decoder::evidence_size(bool doppler_profile) const
+{
+    if (d_impl->bundle.task != task_kind::classify)
+        return 0;
+    int n = feature_size() + static_cast<int>(d_impl->bundle.class_names.size());
+    if (doppler_profile) {
+        const auto& s = profile_decoder(d_impl->net, d_impl->bundle)->settings();
+        n += s.doppler_bins * (s.mti == "both" ? 2 : 1);
+    }
+    return n;
+}
+
 int bundle_decoder::feature_size() const
 {
     if (d_impl->bundle.task != task_kind::classify)

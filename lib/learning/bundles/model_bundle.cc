@@ -106,6 +106,8 @@ nlohmann::json model_bundle::to_json() const
                          { "metrics", metrics.is_null() ? nlohmann::json::object() : metrics } };
     if (task == task_kind::classify && library)
         j["class_library"] = library->to_json();
+    if (!track.is_null())
+        j["track"] = track;
     return j;
 }
 
@@ -265,6 +267,13 @@ model_bundle model_bundle::load(const std::string& name)
     // Free-form records of how the bundle was made and what it measured.
     r.allow("training");
     r.allow("metrics");
+    if (const auto* track = r.find("track")) { // checked in full by track_classifier
+        if (b.task != task_kind::classify)
+            json_read::fail(path, "track", "decisions over a track are a classifier's");
+        if (!track->is_object())
+            json_read::fail(path, "track", "expected a JSON object, got " + json_read::object_reader::short_dump(*track));
+        b.track = *track;
+    }
     r.finish();
     b.training = j.value("training", nlohmann::json::object());
     b.metrics = j.value("metrics", nlohmann::json::object());

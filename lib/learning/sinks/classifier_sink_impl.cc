@@ -7,6 +7,7 @@
 #include <gnuradio/sems/core/common/tags.h>
 #include <gnuradio/sems/core/scene/target_class.h>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -19,17 +20,35 @@ constexpr const char* block_name = "classifier_sink";
 
 // ---------------------------------------------------------------- classifier_task
 
-classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder)
-    : d_decoder(std::move(decoder)),
-      d_names(d_decoder->bundle().class_names),
-      d_library_key(pmt::intern(keys::class_library)),
-      d_accepted_library(pmt::PMT_NIL)
+classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s)
+    : d_library_key(pmt::intern(keys::class_library)), d_accepted_library(pmt::PMT_NIL), d_idle_s(track_idle_s)
 {
+    if (!(std::isfinite(track_idle_s) && track_idle_s >= 0.0))
+        throw std::invalid_argument(std::string(block_name) + ": track_idle_s must be a finite time >= 0 s (0: no idle "
+                                    "limit), got " + std::to_string(track_idle_s));
+    if (track_classifier::is_track_bundle(decoder->bundle()))
+        d_track = std::make_unique<track_classifier>(std::move(decoder));
+    else
+        d_decoder = std::move(decoder);
+    d_names = bundle().class_names;
     reset_metrics();
 }
 
-std::vector<pmt::pmt_t> classifier_task::decode(const gr_complex* obs, int batch)
+pmt::pmt_t classifier_task::answer(const float* p) const
 {
+    const size_t c = d_names.size();
+    const int label = static_cast<int>(std::max_element(p, p + c) - p);
+    pmt::pmt_t d = pmt::make_dict();
+    d = pmt::dict_add(d, pmt::intern(keys::label), pmt::from_long(label));
+    d = pmt::dict_add(d, pmt::intern(keys::class_name), pmt::intern(d_names[label]));
+    return pmt::dict_add(d, pmt::intern(keys::probs), pmt::init_f32vector(c, p));
+}
+
+std::vector<pmt::pmt_t>
+classifier_task::decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta)
+{
+    if (d_track)
+        return decode_tracks(obs, batch, meta);
     const std::vector<float> probs = d_decoder->classify(obs, batch);
     const size_t c = d_names.size();
     if (probs.size() != static_cast<size_t>(batch) * c) // never step past the probability vector
@@ -38,13 +57,59 @@ std::vector<pmt::pmt_t> classifier_task::decode(const gr_complex* obs, int batch
                                " classes");
     std::vector<pmt::pmt_t> out;
     out.reserve(batch);
-    for (int i = 0; i < batch; i++) {
-        const float* p = probs.data() + i * c;
-        const int label = static_cast<int>(std::max_element(p, p + c) - p);
-        pmt::pmt_t d = pmt::make_dict();
-        d = pmt::dict_add(d, pmt::intern(keys::label), pmt::from_long(label));
-        d = pmt::dict_add(d, pmt::intern(keys::class_name), pmt::intern(d_names[label]));
-        d = pmt::dict_add(d, pmt::intern(keys::probs), pmt::init_f32vector(c, p));
+    for (int i = 0; i < batch; i++)
+        out.push_back(answer(probs.data() + i * c));
+    return out;
+}
+
+// Track mode: the frame decoder over the batch, then one step per frame on the track it
+// belongs to. A track starts again (its state from zero) at the first frame, at a new
+// track_id, at a frame that does not follow the track's last one (a gap: frames lost,
+// skipped or out of order), and after track_idle_s of wall time without a frame.
+std::vector<pmt::pmt_t>
+classifier_task::decode_tracks(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta)
+{
+    if (static_cast<int>(meta.size()) != batch)
+        throw std::logic_error("classifier_sink: " + std::to_string(meta.size()) + " frames described for a batch of " +
+                               std::to_string(batch));
+    const std::vector<float> ev = d_track->evidence(obs, batch);
+    const size_t e = static_cast<size_t>(d_track->evidence_size());
+    if (ev.size() != static_cast<size_t>(batch) * e)
+        throw std::logic_error("classifier_sink: the frame decoder returned " + std::to_string(ev.size()) +
+                               " evidence values for " + std::to_string(batch) + " frames of " + std::to_string(e));
+    static const pmt::pmt_t track_key = pmt::intern(keys::track_id);
+    const auto now = std::chrono::steady_clock::now();
+    d_probs.resize(d_names.size());
+    std::vector<pmt::pmt_t> out;
+    out.reserve(batch);
+    for (int i = 0; i < batch; ++i) {
+        const auto& m = meta[static_cast<size_t>(i)];
+        const pmt::pmt_t id = detail::is_truth(m.truth) ? pmt::dict_ref(m.truth, track_key, pmt::PMT_NIL) : pmt::PMT_NIL;
+        const bool known = pmt::is_integer(id) || pmt::is_uint64(id);
+        const uint64_t track = known ? pmt::to_uint64(id) : 0;
+        bool fresh = !d_in_track || known != d_track_known || (known && track != d_track_id);
+        if (!fresh && m.index != d_last_index + 1) {
+            fresh = true;
+            ++d_track_gaps;
+        }
+        if (!fresh && d_idle_s > 0.0 && std::chrono::duration<double>(now - d_last_seen).count() > d_idle_s) {
+            fresh = true;
+            ++d_track_idle;
+        }
+        if (fresh) {
+            d_state = d_track->begin();
+            d_in_track = true;
+            d_track_known = known;
+            d_track_id = track;
+            ++d_tracks_started;
+        }
+        d_last_index = m.index;
+        d_last_seen = now;
+        d_track->step(d_state, ev.data() + static_cast<size_t>(i) * e, d_probs.data());
+        pmt::pmt_t d = answer(d_probs.data());
+        d = pmt::dict_add(d, pmt::intern(keys::track_frames), pmt::from_uint64(d_state.frames));
+        if (known)
+            d = pmt::dict_add(d, track_key, pmt::from_uint64(track));
         out.push_back(d);
     }
     return out;
@@ -63,7 +128,7 @@ int classifier_task::class_of_truth(const pmt::pmt_t& truth) const
             return -2;
         try {
             // An id of the input's library, the bundle's (check_library refuses any other).
-            const auto& lib = d_decoder->bundle().library;
+            const auto& lib = bundle().library;
             const int c = static_cast<int>(pmt::to_long(id));
             name = lib ? lib->at(c).name : class_info(c).name;
         } catch (const std::exception&) {
@@ -83,7 +148,7 @@ void classifier_task::check_library(const pmt::pmt_t& truth)
     auto known = d_refusals.find(name);
     if (known == d_refusals.end()) {
         std::string why;
-        const auto& bundle = d_decoder->bundle();
+        const auto& bundle = this->bundle();
         try {
             bundle.check_library(*class_library::find(name), block_name);
         } catch (const std::runtime_error& e) {
@@ -125,6 +190,11 @@ double classifier_task::accuracy() const
 pmt::pmt_t classifier_task::add_metrics(pmt::pmt_t dict) const
 {
     dict = pmt::dict_add(dict, pmt::intern(keys::accuracy), pmt::from_double(accuracy()));
+    if (d_track) {
+        dict = pmt::dict_add(dict, pmt::intern(keys::tracks_started), pmt::from_uint64(d_tracks_started));
+        dict = pmt::dict_add(dict, pmt::intern(keys::track_gaps), pmt::from_uint64(d_track_gaps));
+        dict = pmt::dict_add(dict, pmt::intern(keys::track_idle_resets), pmt::from_uint64(d_track_idle));
+    }
     // confusion: a vector of rows (truth), each a vector of uint64 counts over the predicted
     // classes; plain PMT vectors because pmt.to_python cannot convert a u64vector.
     pmt::pmt_t rows = pmt::make_vector(d_confusion.size(), pmt::PMT_NIL);
@@ -152,10 +222,11 @@ classifier_sink::sptr classifier_sink::make(const std::string& bundle_dir,
                                             int metrics_period,
                                             int n_symbols,
                                             int n_subcarriers,
-                                            const std::string& frame)
+                                            const std::string& frame,
+                                            double track_idle_s)
 {
     return gnuradio::make_block_sptr<classifier_sink_impl>(
-        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame);
+        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame, track_idle_s);
 }
 
 classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
@@ -165,13 +236,24 @@ classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
                                            int metrics_period,
                                            int n_symbols,
                                            int n_subcarriers,
-                                           const std::string& frame)
+                                           const std::string& frame,
+                                           double track_idle_s)
     : gr::sync_block(block_name,
                      detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
-                 n_symbols, n_subcarriers, frame)
+                 n_symbols, n_subcarriers, frame, track_idle_s)
 {
+}
+
+uint64_t classifier_sink_impl::tracks_started() const
+{
+    return d_core.locked([this] { return d_task.tracks_started(); });
+}
+
+uint64_t classifier_sink_impl::track_gaps() const
+{
+    return d_core.locked([this] { return d_task.track_gaps(); });
 }
 
 int classifier_sink_impl::work(int noutput_items,

@@ -7,19 +7,25 @@
 #include "learning/sinks/sink_block.h"
 #include "learning/sinks/sink_core.h"
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
+#include <gnuradio/sems/learning/temporal/track_classifier.h>
+#include <atomic>
+#include <chrono>
 #include <map>
 #include <string>
 
 namespace gr {
 namespace sems {
 
-// Classification: argmax of the class probabilities; accuracy and confusion matrix.
+// Classification: argmax of the class probabilities; accuracy and confusion matrix. With a
+// track bundle, the decision over the frame's track so far (track mode, classifier_sink.h).
 class classifier_task : public detail::sink_task
 {
 public:
-    explicit classifier_task(std::unique_ptr<bundle_decoder> decoder);
+    // track_idle_s: track mode, the wall time after which a track's next frame starts it
+    // again (0: never).
+    classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s);
 
-    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch) override;
+    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta) override;
     bool score(pmt::pmt_t& result, const pmt::pmt_t& truth) override;
     pmt::pmt_t add_metrics(pmt::pmt_t dict) const override;
     void reset_metrics() override;
@@ -32,10 +38,30 @@ public:
     // looked up (class_library::find) and compared once. A truth without the key passes.
     void check_library(const pmt::pmt_t& truth);
 
+    bool track_mode() const { return static_cast<bool>(d_track); }
+    uint64_t tracks_started() const { return d_tracks_started; }
+    uint64_t track_gaps() const { return d_track_gaps; }
+    uint64_t track_idle_resets() const { return d_track_idle; }
+
 private:
     int class_of_truth(const pmt::pmt_t& truth) const; // -1: not one of the bundle's, -2: no class in truth
+    const model_bundle& bundle() const { return d_track ? d_track->bundle() : d_decoder->bundle(); }
+    std::vector<pmt::pmt_t> decode_tracks(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta);
+    pmt::pmt_t answer(const float* probs) const; // label, class_name, probs
 
-    std::unique_ptr<bundle_decoder> d_decoder;
+    std::unique_ptr<bundle_decoder> d_decoder; // per-frame bundles
+    std::unique_ptr<track_classifier> d_track; // track bundles
+    // Track mode: the one track followed, and why tracks started.
+    track_classifier::state d_state;
+    bool d_in_track = false;
+    bool d_track_known = false;   // the track's frames carry a track_id
+    uint64_t d_track_id = 0;
+    uint64_t d_last_index = 0;    // the track's last frame
+    std::chrono::steady_clock::time_point d_last_seen;
+    double d_idle_s = 0.0;
+    // Written in decode() (block thread, without the core's lock), read by the getters.
+    std::atomic<uint64_t> d_tracks_started{ 0 }, d_track_gaps{ 0 }, d_track_idle{ 0 };
+    std::vector<float> d_probs;
     std::vector<std::string> d_names;
     uint64_t d_scored = 0;
     uint64_t d_correct = 0;
@@ -55,11 +81,15 @@ public:
                          int metrics_period,
                          int n_symbols,
                          int n_subcarriers,
-                         const std::string& frame);
+                         const std::string& frame,
+                         double track_idle_s);
 
     double accuracy() const override;
     std::vector<std::vector<uint64_t>> confusion() const override;
     std::vector<std::string> class_names() const override { return d_task.class_names(); }
+    bool track_mode() const override { return d_task.track_mode(); }
+    uint64_t tracks_started() const override;
+    uint64_t track_gaps() const override;
 
     // Checks the class library of every truth tag before the frames go to the core: a
     // library other than the bundle's is a wrong flowgraph, not a bad frame. The refusal

@@ -22,7 +22,7 @@ delay_task::delay_task(std::unique_ptr<bundle_decoder> decoder)
 {
 }
 
-std::vector<pmt::pmt_t> delay_task::decode(const gr_complex* obs, int batch)
+std::vector<pmt::pmt_t> delay_task::decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>&)
 {
     const std::vector<double> delays = d_decoder->estimate_delay(obs, batch);
     std::vector<pmt::pmt_t> out;

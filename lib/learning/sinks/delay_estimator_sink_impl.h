@@ -17,7 +17,7 @@ class delay_task : public detail::sink_task
 public:
     explicit delay_task(std::unique_ptr<bundle_decoder> decoder);
 
-    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch) override;
+    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta) override;
     bool score(pmt::pmt_t& result, const pmt::pmt_t& truth) override;
     pmt::pmt_t add_metrics(pmt::pmt_t dict) const override;
     void reset_metrics() override;

@@ -24,9 +24,16 @@ public:
     std::vector<int> batches;
     uint64_t correct = 0;
 
-    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch) override
+    std::vector<uint64_t> indices; // of every decoded frame, in order
+
+    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta) override
     {
         batches.push_back(batch);
+        if (static_cast<int>(meta.size()) != batch)
+            throw std::logic_error("fake_task: " + std::to_string(meta.size()) + " frames described for a batch of " +
+                                   std::to_string(batch));
+        for (const auto& m : meta)
+            indices.push_back(m.index);
         std::vector<pmt::pmt_t> out;
         for (int i = 0; i < batch; i++)
             out.push_back(pmt::dict_add(pmt::make_dict(), pmt::intern(keys::label),
@@ -165,6 +172,8 @@ public:
                                                 "m5/2", "r105", "m6/2", "r106", "m7/2", "r107", "m8/2",
                                                 "m9/3" };
         CPPUNIT_ASSERT(order == want);
+        // The task is told each decoded frame's index, the skipped ones left out.
+        CPPUNIT_ASSERT(task.indices == std::vector<uint64_t>({ 101, 102, 103, 105, 106, 107 }));
     }
 
     void metrics_every_k_and_at_the_end()

@@ -67,6 +67,8 @@ public:
     void set_metrics_period(int k) override { d_core.set_metrics_period(k); }
 
 protected:
+    // task_args: what the task takes after its decoder.
+    template <typename... TaskArgs>
     sink_block(const char* name,
                task_kind kind,
                const std::string& bundle_dir,
@@ -76,8 +78,10 @@ protected:
                int metrics_period,
                int n_symbols,
                int n_subcarriers,
-               const std::string& frame)
-        : d_task(load_decoder(name, bundle_dir, kind, n_pilots, n_symbols, n_subcarriers, frame, threads)),
+               const std::string& frame,
+               TaskArgs&&... task_args)
+        : d_task(load_decoder(name, bundle_dir, kind, n_pilots, n_symbols, n_subcarriers, frame, threads),
+                 std::forward<TaskArgs>(task_args)...),
           d_core(n_pilots, batch_size, metrics_period, d_task, [this](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
               this->message_port_pub(port, msg);
           })

@@ -170,7 +170,11 @@ void sink_core::decode_pending()
     try {
         if (d_inject)
             d_inject(d_n_obs);
-        answers = d_task.decode(d_obs.data(), d_n_obs);
+        d_meta.clear();
+        for (const auto& f : d_pending)
+            if (!f.skipped)
+                d_meta.push_back({ f.index, f.truth });
+        answers = d_task.decode(d_obs.data(), d_n_obs, d_meta);
         if (static_cast<int>(answers.size()) != d_n_obs)
             throw std::logic_error("sink_core: the decoder returned " + std::to_string(answers.size()) +
                                    " answers for " + std::to_string(d_n_obs) + " frames");

@@ -60,13 +60,21 @@ std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
 gr::io_signature::sptr
 sink_input_signature(const std::string& block, int n_pilots, int batch_size, int threads, int metrics_period);
 
+// What the core knows of a frame besides its observations: its index and its truth.
+struct frame_meta {
+    uint64_t index;
+    pmt::pmt_t truth; // PMT_NIL without a truth tag
+};
+
 // The task-specific half of a sink. Called with the core's lock held, except decode().
 class sink_task
 {
 public:
     virtual ~sink_task() = default;
-    // obs: batch x N_p, row-major, all finite. Returns one dict per frame holding the answer.
-    virtual std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch) = 0;
+    // obs: batch x N_p, row-major, all finite; meta: the same frames' indices and truths, in
+    // stream order (a frame skipped between two of them is not there: its index is). Returns
+    // one dict per frame holding the answer.
+    virtual std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<frame_meta>& meta) = 0;
     // Scores the answer in `result` against `truth` (a dict); adds the score keys to
     // `result` and folds them into the running metrics. Returns false, changing nothing,
     // when the truth lacks what this task needs.
@@ -146,6 +154,7 @@ private:
     // Block thread only.
     std::deque<pending_frame> d_pending;
     std::vector<gr_complex> d_obs; // the valid pending frames, batch x N_p
+    std::vector<frame_meta> d_meta; // their indices and truths
     int d_n_obs = 0;
     uint64_t d_next_index = 0;
     uint64_t d_entered = 0;          // frames handed to push(), ever (block thread only)

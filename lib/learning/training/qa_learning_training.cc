@@ -7,6 +7,7 @@
 #include "learning/training/mask_settle_rule.h"
 #include "learning/training/trainer_data.h"
 #include "qa/qa_assert.h"
+#include "qa/qa_files.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>
@@ -24,12 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string temp_dir(const std::string& name)
-{
-    auto d = fs::temp_directory_path() / ("sems_qa_learning_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(d);
-    return d.string();
-}
+std::string temp_dir(const std::string& name) { return qa::temp_dir("learning", name); }
 
 // Tiny: pedestrian vs car, learned mask, seconds on two cores.
 training_settings tiny(const std::string& out)
@@ -83,13 +79,7 @@ std::string file_bytes(const std::string& path)
     return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
-void edit_json(const std::string& path, const std::function<void(nlohmann::json&)>& f)
-{
-    nlohmann::json j;
-    std::ifstream(path) >> j;
-    f(j);
-    std::ofstream(path) << j.dump(2);
-}
+using qa::edit_json;
 } // namespace
 
 class qa_learning_training : public CppUnit::TestFixture

@@ -120,7 +120,7 @@ def cxx_defaults():
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
         "sems_pilot_extractor": extractor_d,
-        "sems_classifier_sink": sink,
+        "sems_classifier_sink": dict(sink, track_idle_s=bound_default(sems.classifier_sink, "track_idle_s")),
         "sems_delay_estimator_sink": sink,
         "sems_ofdm_tx": ofdm,
         "sems_ofdm_rx": ofdm,

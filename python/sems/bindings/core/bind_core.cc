@@ -60,6 +60,10 @@ void bind_keys(py::module& m)
     k.attr("class_library") = keys::class_library;
     k.attr("track_id") = keys::track_id;
     k.attr("frame_in_track") = keys::frame_in_track;
+    k.attr("track_frames") = keys::track_frames;
+    k.attr("tracks_started") = keys::tracks_started;
+    k.attr("track_gaps") = keys::track_gaps;
+    k.attr("track_idle_resets") = keys::track_idle_resets;
     k.attr("label") = keys::label;
     k.attr("probs") = keys::probs;
     k.attr("truth") = keys::truth;

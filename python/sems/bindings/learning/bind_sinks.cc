@@ -14,23 +14,32 @@ using gr::sems::sink_defaults;
 
 namespace {
 
-// The constructor and the getters both sinks share; each adds its own metrics.
-template <typename Sink>
-py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>
-bind_sink(py::module& m, const char* name, const char* doc, const char* make_doc)
+// The constructor's arguments both sinks share, then the sink's own (`extra`, maybe none).
+template <typename Sink, typename... Extra>
+void bind_make(py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>& c,
+               const char* make_doc,
+               Extra... extra)
 {
     const gr::sems::frame_settings frame;
+    c.def(py::init(&Sink::make),
+          py::arg("bundle_dir"),
+          py::arg("n_pilots"),
+          py::arg("batch_size") = sink_defaults::batch_size,
+          py::arg("threads") = sink_defaults::threads,
+          py::arg("metrics_period") = sink_defaults::metrics_period,
+          py::arg("n_symbols") = frame.n_symbols,
+          py::arg("n_subcarriers") = frame.n_subcarriers,
+          py::arg("frame") = std::string(),
+          extra...,
+          make_doc);
+}
+
+// The getters both sinks share; each adds its constructor and its own metrics.
+template <typename Sink>
+py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>
+bind_sink(py::module& m, const char* name, const char* doc)
+{
     return py::class_<Sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<Sink>>(m, name, doc)
-        .def(py::init(&Sink::make),
-             py::arg("bundle_dir"),
-             py::arg("n_pilots"),
-             py::arg("batch_size") = sink_defaults::batch_size,
-             py::arg("threads") = sink_defaults::threads,
-             py::arg("metrics_period") = sink_defaults::metrics_period,
-             py::arg("n_symbols") = frame.n_symbols,
-             py::arg("n_subcarriers") = frame.n_subcarriers,
-             py::arg("frame") = std::string(),
-             make_doc)
         // Both sink headers document these getters with the same text.
         .def("frames", &Sink::frames, D(classifier_sink, frames))
         .def("frames_scored", &Sink::frames_scored, D(classifier_sink, frames_scored))
@@ -55,12 +64,17 @@ void bind_sinks(py::module& m)
         .def_readonly_static("threads", &sink_defaults::threads, D(sink_defaults, threads))
         .def_readonly_static("metrics_period", &sink_defaults::metrics_period, D(sink_defaults, metrics_period));
 
-    bind_sink<classifier_sink>(m, "classifier_sink", D(classifier_sink), D(classifier_sink, make))
-        .def("accuracy", &classifier_sink::accuracy, D(classifier_sink, accuracy))
+    auto classifier = bind_sink<classifier_sink>(m, "classifier_sink", D(classifier_sink));
+    bind_make(classifier, D(classifier_sink, make), py::arg("track_idle_s") = 0.0);
+    classifier.def("accuracy", &classifier_sink::accuracy, D(classifier_sink, accuracy))
         .def("confusion", &classifier_sink::confusion, D(classifier_sink, confusion))
-        .def("class_names", &classifier_sink::class_names, D(classifier_sink, class_names));
+        .def("class_names", &classifier_sink::class_names, D(classifier_sink, class_names))
+        .def("track_mode", &classifier_sink::track_mode, D(classifier_sink, track_mode))
+        .def("tracks_started", &classifier_sink::tracks_started, D(classifier_sink, tracks_started))
+        .def("track_gaps", &classifier_sink::track_gaps, D(classifier_sink, track_gaps));
 
-    bind_sink<delay_estimator_sink>(m, "delay_estimator_sink", D(delay_estimator_sink), D(delay_estimator_sink, make))
-        .def("mae_index", &delay_estimator_sink::mae_index, D(delay_estimator_sink, mae_index))
+    auto delay = bind_sink<delay_estimator_sink>(m, "delay_estimator_sink", D(delay_estimator_sink));
+    bind_make(delay, D(delay_estimator_sink, make));
+    delay.def("mae_index", &delay_estimator_sink::mae_index, D(delay_estimator_sink, mae_index))
         .def("mae_m", &delay_estimator_sink::mae_m, D(delay_estimator_sink, mae_m));
 }

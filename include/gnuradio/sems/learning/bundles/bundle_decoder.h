@@ -77,6 +77,26 @@ public:
     std::vector<float> features(const gr_complex* obs, int batch) const;
     /*! \brief The embedding size. \return the features per frame. */
     int feature_size() const;
+    /*!
+     * \brief Classifier only: what one frame tells a decision over a track: the embedding,
+     *        optionally the frame's log Doppler profile, and the class log-probabilities.
+     * \param obs batch x N_p observations. \param batch the number of frames.
+     * \param doppler_profile add the spectral classifier's log Doppler profile (its
+     *        doppler_bins values per channel, before its BatchNorm: what the network sees of the
+     *        frame's slow time); refused for other decoders.
+     * \return batch x evidence_size(doppler_profile) values, row-major: features, the profile
+     *         when asked, then log p(c | frame) last.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), a delay bundle,
+     *         or a profile asked of a decoder without one.
+     */
+    std::vector<float> evidence(const gr_complex* obs, int batch, bool doppler_profile = false) const;
+    /*!
+     * \brief The values per frame evidence() gives.
+     * \param doppler_profile with the Doppler profile.
+     * \return feature_size() + the profile's values (when asked) + C.
+     * \throws std::invalid_argument when a profile is asked of a decoder without one.
+     */
+    int evidence_size(bool doppler_profile = false) const;
 
 private:
     struct impl;

@@ -58,6 +58,12 @@ struct SEMS_LEARNING_API model_bundle {
     nlohmann::json training; ///< objective, SNR range, frames, epochs, seed, command
     nlohmann::json metrics;  ///< measured test metrics
     /*!
+     * \brief A track bundle's decision over a track (bundle.json's `track`; null for a
+     *        per-frame bundle): the temporal model, its weights file and how it was trained,
+     *        read and checked by track_classifier (learning/temporal/track_classifier.h).
+     */
+    nlohmann::json track;
+    /*!
      * \brief The pilot mask's file name, as bundle.json records it (`mask_file`; relative to
      *        directory, no folders). load() reads this file, save() writes it.
      */

@@ -29,6 +29,17 @@ namespace sems {
  * readable through the getters and sent on port `metrics` every `metrics_period` frames
  * and once when the stream ends.
  *
+ * Track mode (a track bundle: a classifier bundle with a `track` record, trained by
+ * `sems_train --frame-bundle`): each frame is decided from every frame of its track so far,
+ * one causal step per frame on the track's kept state (track_classifier.h), and its result
+ * also holds track_frames (the frames the decision rests on) and the track_id when known.
+ * A frame's track is the `track_id` of its sems_truth tag (the channel emulators' tracks; a
+ * tracker upstream sets the same key); frames without one form one track. The state starts
+ * again at a new track_id, at a frame whose index does not follow the track's last one (frames
+ * lost, skipped as non-finite, or out of order: counted in track_gaps), and after
+ * `track_idle_s` seconds without a frame (counted too); one track is followed at a time, so two
+ * tracks are never mixed. The metrics add tracks_started, track_gaps and track_idle_resets.
+ *
  * Frames are decoded `batch_size` at a time; the partial last batch is decoded in stop().
  * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still
  * running; read the getters after wait() for the final numbers.
@@ -51,6 +62,8 @@ public:
      *                       file (`"format": "sems.frame"`); its N and M must equal n_symbols and
      *                       n_subcarriers. Empty: the paper's frame with n_symbols x n_subcarriers.
      *                       The bundle's frame must equal it in every field (N, M, B, f_c, T, CP, guards).
+     * \param track_idle_s   track mode: seconds of wall time without a frame after which the next
+     *                       frame starts its track again (0: no limit; >= 0)
      * \return the block.
      * \throws std::invalid_argument naming the bundle and the mismatch.
      */
@@ -61,7 +74,8 @@ public:
                      int metrics_period = sink_defaults::metrics_period,
                      int n_symbols = frame_settings().n_symbols,
                      int n_subcarriers = frame_settings().n_subcarriers,
-                     const std::string& frame = "");
+                     const std::string& frame = "",
+                     double track_idle_s = 0.0);
 
     /*! \brief Frames handled: answered or skipped. \return the count. */
     virtual uint64_t frames() const = 0;
@@ -87,6 +101,12 @@ public:
     virtual std::vector<std::string> class_names() const = 0;
     /*! \brief Restarts the running metrics (counters and sums) from zero. */
     virtual void reset_metrics() = 0;
+    /*! \brief Whether the bundle decides over tracks. \return true for a track bundle. */
+    virtual bool track_mode() const = 0;
+    /*! \brief Track mode: tracks begun (first frame, new track_id, gap or idle time). \return the count. */
+    virtual uint64_t tracks_started() const = 0;
+    /*! \brief Track mode: tracks begun again because frames were missing or out of order. \return the count. */
+    virtual uint64_t track_gaps() const = 0;
 
     /*! \brief Frames per inference call. \return the batch size. */
     virtual int batch_size() const = 0;

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief Training a decision over a track (docs/design.md §5): the temporal model over a
+ *        trained per-frame classifier bundle, on tracks drawn from (seed, track index).
+ *
+ * \details Torch-free header (the training app and the bindings call it). The frame bundle
+ * gives the mask, the frame decoder (kept as it is) and the classes; the scene gives the
+ * tracks (random_spec::tracks; by default the frame bundle's own training scene followed
+ * over tracks of `track_frames` frames with gains new every frame). Tracks 0 .. 0.8·tracks−1
+ * train, the next tenth validates, the last tenth tests, each drawn alone from its index
+ * (channel_model::begin_track), so no track depends on the ones before it and the data are
+ * the track's pilots only (N_p values per frame, never the whole frames). Each epoch draws
+ * new noise (a track keeps one SNR, uniform in [snr_min_db, snr_max_db]) and runs the frame
+ * decoder once over every frame; the temporal model trains on the cross-entropy of its
+ * decision after every frame. The best validation epoch is kept. The test tracks are scored at
+ * each eval SNR after each number of frames in eval_frames, for the temporal model and for
+ * the fusion of independent frames (the product of per-frame posteriors), on the same frames.
+ */
+#ifndef INCLUDED_SEMS_LEARNING_TRACK_TRAINER_H
+#define INCLUDED_SEMS_LEARNING_TRACK_TRAINER_H
+
+#include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/core/scene/scene.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/sems/learning/temporal/temporal_settings.h>
+#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*! \brief Everything train_track() needs. */
+struct SEMS_LEARNING_API track_training_settings {
+    std::string frame_bundle;        ///< the per-frame classifier bundle (a name or directory)
+    std::optional<scene> scene_spec; ///< a scene with random.tracks; empty: the frame bundle's training scene, tracked
+    std::string scene_source = "the frame bundle's training scene"; ///< names the scene in errors and bundle.json
+    int track_frames = 32;           ///< K: frames of a training track (longer scene tracks are cut to K)
+    int tracks = 4000;               ///< tracks drawn, split 8:1:1
+    double snr_min_db = -10.0;       ///< training SNR range (one SNR per track): lower end in dB
+    double snr_max_db = 30.0;        ///< its upper end
+    int epochs = 12;                 ///< epochs of the temporal model
+    int batch = 64;                  ///< tracks per step
+    double lr = 3e-3;                ///< Adam
+    int patience = 4;                ///< early stop after this many epochs without a better validation
+    uint64_t seed = 1;               ///< seed of the tracks, the noise and the weights
+    int threads = 0;                 ///< <= 0: leave LibTorch's default
+    std::vector<double> eval_snr_db{ -10.0, 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
+    std::vector<int> eval_frames{ 1, 2, 4, 8, 16, 32 };             ///< observation times scored, in frames
+    nn::temporal_settings temporal;  ///< the temporal model
+    std::string out_dir;             ///< empty: do not write a bundle
+    std::string command_line;        ///< recorded in bundle.json
+    bool verbose = true;             ///< per-epoch progress on the log
+
+    /*! \brief Checks every setting. \throws std::invalid_argument naming the setting. */
+    void validate() const;
+    /*! \brief What bundle.json records under track.training. \return the JSON object. */
+    nlohmann::json to_json() const;
+};
+
+/*! \brief What train_track() returns. */
+struct SEMS_LEARNING_API track_training_result {
+    model_bundle bundle;    ///< the track bundle (directory set when written)
+    nlohmann::json history; ///< one object per epoch
+    nlohmann::json metrics; ///< the test scores (bundle.json's track.metrics)
+    double seconds = 0.0;   ///< wall time
+};
+
+/*!
+ * \brief Trains the temporal model, scores the test tracks and (if out_dir is set) writes the
+ *        track bundle: the frame bundle's files and a `track` record with temporal.pt.
+ * \param settings the settings (validated first). \param log where progress goes (nullptr: silent).
+ * \return the bundle, history and test scores.
+ * \throws std::invalid_argument naming a bad setting, the scene or the bundle.
+ */
+SEMS_LEARNING_API track_training_result train_track(const track_training_settings& settings, std::ostream* log);
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_TRACK_TRAINER_H */

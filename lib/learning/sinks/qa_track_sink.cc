@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the classifier sink in track mode, in a real flowgraph — each frame's decision is
+ * the track classifier's after every frame of its track so far; a new track_id, a lost,
+ * non-finite or out-of-order frame, and frames without a track each start the track again
+ * (counted), two tracks are never mixed, and nothing crashes whatever the batch size. The
+ * track bundle is trained here in seconds on the shipped paper classifier. */
+#include <gnuradio/blocks/message_debug.h>
+#include <gnuradio/blocks/vector_source.h>
+#include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/learning/bundles/model_bundle.h>
+#include <gnuradio/sems/learning/sinks/classifier_sink.h>
+#include <gnuradio/sems/learning/temporal/track_classifier.h>
+#include <gnuradio/sems/learning/temporal/track_trainer.h>
+#include <gnuradio/top_block.h>
+#include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <unistd.h>
+#include <vector>
+
+using namespace gr::sems;
+namespace fsys = std::filesystem;
+
+namespace {
+
+// A tiny track bundle on the shipped paper classifier (its own training scene, tracked).
+const std::string& track_bundle()
+{
+    static std::string dir;
+    if (dir.empty()) {
+        const char* src = std::getenv("SEMS_SOURCE_DIR");
+        dir = (fsys::temp_directory_path() / ("sems_qa_track_sink_" + std::to_string(::getpid()))).string();
+        fsys::remove_all(dir);
+        track_training_settings s;
+        s.frame_bundle = std::string(src ? src : ".") + "/models/classifier";
+        s.track_frames = 4;
+        s.tracks = 60;
+        s.epochs = 1;
+        s.threads = 1;
+        s.eval_snr_db = { 10.0 };
+        s.eval_frames = { 1, 4 };
+        s.temporal.hidden = 8;
+        s.out_dir = dir;
+        s.verbose = false;
+        train_track(s, nullptr);
+    }
+    return dir;
+}
+
+// One frame of the stream: its index (the sems_frame tag), its track (none: no track_id in
+// its truth) and whether a pilot is NaN.
+struct frame_spec {
+    uint64_t index;
+    int64_t track; // -1: the truth has no track_id
+    bool nan = false;
+};
+
+struct answer {
+    uint64_t frame, track_frames;
+    std::vector<float> probs;
+};
+
+struct run_result {
+    std::vector<answer> answers;
+    uint64_t tracks_started, track_gaps, skipped;
+};
+
+std::vector<gr_complex> observation(uint64_t seed, int np)
+{
+    std::vector<gr_complex> o(static_cast<size_t>(np));
+    for (int i = 0; i < np; ++i)
+        o[static_cast<size_t>(i)] = gr_complex(std::cos(0.37f * float(seed * 7 + i)), std::sin(0.91f * float(seed + 3 * i)));
+    return o;
+}
+
+run_result stream(const std::vector<frame_spec>& frames, int batch)
+{
+    const auto b = model_bundle::load(track_bundle());
+    const int np = b.mask.size();
+    auto sink = classifier_sink::make(track_bundle(), np, batch, 1, 0);
+    std::vector<gr_complex> data;
+    std::vector<gr::tag_t> tags;
+    for (size_t f = 0; f < frames.size(); ++f) {
+        auto o = observation(frames[f].index, np);
+        if (frames[f].nan)
+            o[1] = gr_complex(std::numeric_limits<float>::quiet_NaN(), 0.0f);
+        data.insert(data.end(), o.begin(), o.end());
+        gr::tag_t t;
+        t.offset = f;
+        t.key = pmt::intern(keys::frame_tag);
+        t.value = pmt::from_uint64(frames[f].index);
+        tags.push_back(t);
+        pmt::pmt_t d = pmt::make_dict();
+        d = pmt::dict_add(d, pmt::intern(keys::class_name), pmt::intern(b.class_names[f % b.class_names.size()]));
+        if (frames[f].track >= 0)
+            d = pmt::dict_add(d, pmt::intern(keys::track_id), pmt::from_uint64(uint64_t(frames[f].track)));
+        t.key = pmt::intern(keys::truth_tag);
+        t.value = d;
+        tags.push_back(t);
+    }
+    auto tb = gr::make_top_block("track sink");
+    auto src = gr::blocks::vector_source_c::make(data, false, np, tags);
+    auto dbg = gr::blocks::message_debug::make();
+    tb->connect(src, 0, sink, 0);
+    tb->msg_connect(sink, keys::result_port, dbg, "store");
+    tb->run();
+    run_result r{ {}, sink->tracks_started(), sink->track_gaps(), sink->frames_skipped() };
+    for (int i = 0; i < dbg->num_messages(); ++i) {
+        const auto m = dbg->get_message(i);
+        answer a;
+        a.frame = pmt::to_uint64(pmt::dict_ref(m, pmt::intern(keys::frame), pmt::PMT_NIL));
+        a.track_frames = pmt::to_uint64(pmt::dict_ref(m, pmt::intern(keys::track_frames), pmt::PMT_NIL));
+        const auto p = pmt::dict_ref(m, pmt::intern(keys::probs), pmt::PMT_NIL);
+        a.probs = pmt::f32vector_elements(p);
+        r.answers.push_back(a);
+    }
+    return r;
+}
+
+std::vector<uint64_t> evidence_times(const run_result& r)
+{
+    std::vector<uint64_t> t;
+    for (const auto& a : r.answers)
+        t.push_back(a.track_frames);
+    return t;
+}
+} // namespace
+
+class qa_track_sink : public CppUnit::TestFixture
+{
+    CPPUNIT_TEST_SUITE(qa_track_sink);
+    CPPUNIT_TEST(decisions_follow_the_track_classifier);
+    CPPUNIT_TEST(new_tracks_gaps_and_order_start_again);
+    CPPUNIT_TEST(per_frame_bundles_are_not_in_track_mode);
+    CPPUNIT_TEST_SUITE_END();
+
+public:
+    // Two tracks of 3 and 5 frames: every answer is the track classifier's after the frames
+    // of its track so far, for any batch size (the batches never cut a track's state; the
+    // frame count is a multiple of each, so no result is left to stop(), classifier_sink.h).
+    void decisions_follow_the_track_classifier()
+    {
+        std::vector<frame_spec> frames;
+        for (uint64_t i = 0; i < 8; ++i)
+            frames.push_back({ 100 + i, i < 3 ? 5 : 6 });
+        const auto b = model_bundle::load(track_bundle());
+        track_classifier tc(b, 1);
+        std::vector<std::vector<float>> want;
+        auto st = tc.begin();
+        for (size_t f = 0; f < frames.size(); ++f) {
+            if (f == 3)
+                st = tc.begin();
+            const auto o = observation(frames[f].index, b.mask.size());
+            const auto ev = tc.evidence(o.data(), 1);
+            std::vector<float> p(static_cast<size_t>(tc.n_classes()));
+            tc.step(st, ev.data(), p.data());
+            want.push_back(p);
+        }
+        for (int batch : { 1, 2, 4, 8 }) {
+            const auto r = stream(frames, batch);
+            CPPUNIT_ASSERT_EQUAL(size_t(8), r.answers.size());
+            CPPUNIT_ASSERT(evidence_times(r) == std::vector<uint64_t>({ 1, 2, 3, 1, 2, 3, 4, 5 }));
+            CPPUNIT_ASSERT_EQUAL(uint64_t(2), r.tracks_started);
+            CPPUNIT_ASSERT_EQUAL(uint64_t(0), r.track_gaps);
+            for (size_t f = 0; f < 8; ++f)
+                for (size_t c = 0; c < want[f].size(); ++c)
+                    CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][c], r.answers[f].probs[c], 1e-5);
+        }
+    }
+
+    // A lost frame (index 3 missing), a non-finite one (skipped, so its successor follows a
+    // gap), an out-of-order one (index 2 after 9), a new track_id, and frames without a
+    // track_id (one track of their own): each starts the decision again, and is counted.
+    void new_tracks_gaps_and_order_start_again()
+    {
+        const std::vector<frame_spec> frames = {
+            { 0, 1 }, { 1, 1 }, { 2, 1 },       // track 1
+            { 4, 1 }, { 5, 1 },                  // frame 3 lost: a gap
+            { 6, 1, true }, { 7, 1 }, { 8, 1 },  // frame 6 non-finite: skipped, then a gap
+            { 9, 1 }, { 2, 1 }, { 3, 1 },        // out of order: a gap
+            { 10, 2 }, { 11, 2 },                // a new track
+            { 12, -1 }, { 13, -1 }, { 14, -1 },  // no track_id: a track of their own
+        };
+        const auto r = stream(frames, 3);
+        CPPUNIT_ASSERT_EQUAL(uint64_t(1), r.skipped);
+        CPPUNIT_ASSERT(evidence_times(r) ==
+                       std::vector<uint64_t>({ 1, 2, 3, 1, 2, 1, 2, 3, 1, 2, 1, 2, 1, 2, 3 }));
+        CPPUNIT_ASSERT_EQUAL(uint64_t(3), r.track_gaps);
+        CPPUNIT_ASSERT_EQUAL(uint64_t(6), r.tracks_started);
+    }
+
+    void per_frame_bundles_are_not_in_track_mode()
+    {
+        const char* src = std::getenv("SEMS_SOURCE_DIR");
+        const auto b = model_bundle::load(std::string(src ? src : ".") + "/models/classifier");
+        auto sink = classifier_sink::make(b.directory, b.mask.size(), 8, 1, 0);
+        CPPUNIT_ASSERT(!sink->track_mode());
+        CPPUNIT_ASSERT(classifier_sink::make(track_bundle(), b.mask.size(), 8, 1, 0)->track_mode());
+        CPPUNIT_ASSERT_THROW(classifier_sink::make(track_bundle(), b.mask.size(), 8, 1, 0, 32, 64, "", -1.0),
+                             std::invalid_argument);
+        CPPUNIT_ASSERT_THROW(classifier_sink::make(track_bundle(), b.mask.size(), 8, 1, 0, 32, 64, "",
+                                                   std::numeric_limits<double>::quiet_NaN()),
+                             std::invalid_argument);
+    }
+};
+
+CPPUNIT_TEST_SUITE_REGISTRATION(qa_track_sink);

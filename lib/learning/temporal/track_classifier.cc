@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: decisions over a track from a track bundle (see track_classifier.h). */
+#include <gnuradio/sems/learning/temporal/track_classifier.h>
+#include "core/common/json_object.h"
+#include "learning/networks/task_decoder.h"
+#include "learning/temporal/temporal_model.h"
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+struct track_classifier::impl {
+    std::unique_ptr<bundle_decoder> frames;
+    nn::temporal_model model{ nullptr };
+    // The model's weights as plain arrays: one streamed step is a few thousand multiply-adds,
+    // far below what building LibTorch tensors for it would cost per frame.
+    int e = 0, c = 0, h = 0;
+    std::vector<float> norm_w, norm_b;       // LayerNorm γ, β (E)
+    std::vector<float> w_ih, w_hh, b_ih, b_hh; // GRU: 3H x E, 3H x H, 3H, 3H (gates r, z, n)
+    std::vector<float> head_w, head_b;       // C x H, C
+    float fusion_weight = 1.0f;              // λ
+    double norm_eps = 1e-5;
+
+    static std::vector<float> values(const torch::Tensor& t)
+    {
+        auto c = t.detach().to(torch::kFloat).contiguous();
+        return std::vector<float>(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+    }
+    void copy_weights()
+    {
+        auto p = model->named_parameters();
+        norm_w = values(p["norm.weight"]);
+        norm_b = values(p["norm.bias"]);
+        w_ih = values(p["cell.weight_ih"]);
+        w_hh = values(p["cell.weight_hh"]);
+        b_ih = values(p["cell.bias_ih"]);
+        b_hh = values(p["cell.bias_hh"]);
+        head_w = values(p["head.weight"]);
+        head_b = values(p["head.bias"]);
+        fusion_weight = values(p["fusion_weight"]).at(0);
+    }
+    static float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
+    // torch::nn::GRUCell and LayerNorm, one frame: h <- GRU(LN(x), h); fused += x's log-probabilities.
+    void step(const float* x, float* hidden, float* fused, float* logits, std::vector<float>& scratch) const
+    {
+        scratch.resize(static_cast<size_t>(e + 6 * h));
+        float* y = scratch.data();      // LN(x), E
+        float* gi = y + e;              // W_ih y + b_ih, 3H
+        float* gh = gi + 3 * h;         // W_hh h + b_hh, 3H
+        double mean = 0.0, var = 0.0;
+        for (int i = 0; i < e; ++i)
+            mean += x[i];
+        mean /= e;
+        for (int i = 0; i < e; ++i)
+            var += (x[i] - mean) * (x[i] - mean);
+        var /= e;
+        const double inv = 1.0 / std::sqrt(var + norm_eps);
+        for (int i = 0; i < e; ++i)
+            y[i] = static_cast<float>((x[i] - mean) * inv) * norm_w[i] + norm_b[i];
+        for (int r = 0; r < 3 * h; ++r) {
+            float a = b_ih[r], b = b_hh[r];
+            const float* wi = w_ih.data() + static_cast<size_t>(r) * e;
+            const float* wh = w_hh.data() + static_cast<size_t>(r) * h;
+            for (int i = 0; i < e; ++i)
+                a += wi[i] * y[i];
+            for (int i = 0; i < h; ++i)
+                b += wh[i] * hidden[i];
+            gi[r] = a;
+            gh[r] = b;
+        }
+        for (int i = 0; i < h; ++i) {
+            const float rg = sigmoid(gi[i] + gh[i]);
+            const float zg = sigmoid(gi[h + i] + gh[h + i]);
+            const float ng = std::tanh(gi[2 * h + i] + rg * gh[2 * h + i]);
+            hidden[i] = (1.0f - zg) * ng + zg * hidden[i];
+        }
+        for (int k = 0; k < c; ++k) {
+            fused[k] += x[e - c + k];
+            float a = head_b[k];
+            const float* w = head_w.data() + static_cast<size_t>(k) * h;
+            for (int i = 0; i < h; ++i)
+                a += w[i] * hidden[i];
+            logits[k] = a + fusion_weight * fused[k];
+        }
+    }
+};
+
+// Named, not anonymous: the unity build puts this file beside others with helpers of their own.
+namespace track_classifier_detail {
+void softmax(const float* z, int c, float* p)
+{
+    const float top = *std::max_element(z, z + c);
+    double sum = 0.0;
+    for (int k = 0; k < c; ++k)
+        sum += std::exp(double(z[k] - top));
+    for (int k = 0; k < c; ++k)
+        p[k] = static_cast<float>(std::exp(double(z[k] - top)) / sum);
+}
+
+const model_bundle& track_bundle(const model_bundle& bundle)
+{
+    if (!track_classifier::is_track_bundle(bundle))
+        throw std::invalid_argument(bundle.directory + "/" + model_bundle::bundle_file +
+                                    ": no \"track\" record: a per-frame bundle, not a track bundle (train one with "
+                                    "sems_train --frame-bundle)");
+    return bundle;
+}
+} // namespace track_classifier_detail
+using namespace track_classifier_detail;
+
+track_classifier::track_classifier(const model_bundle& bundle, int threads)
+    : track_classifier(std::make_unique<bundle_decoder>(track_bundle(bundle), threads))
+{
+}
+
+track_classifier::track_classifier(std::unique_ptr<bundle_decoder> frames) : d_impl(std::make_unique<impl>())
+{
+    const model_bundle& bundle = track_bundle(frames->bundle());
+    const std::string path = bundle.directory + "/" + model_bundle::bundle_file;
+    d_impl->frames = std::move(frames);
+    json_read::object_reader r(bundle.track, path, "track");
+    const auto& temporal = r.require("temporal");
+    json_read::object_reader rt(temporal, path, "track.temporal");
+    const auto kind = rt.string("kind");
+    const auto* settings = rt.find("settings");
+    rt.finish();
+    auto s = nn::temporal_settings::from_json(settings ? *settings : nlohmann::json::object(),
+                                              path + ": track.temporal.settings");
+    if (kind != s.kind)
+        json_read::fail(path, "track.temporal.kind", "\"" + kind + "\" but its settings say \"" + s.kind + "\"");
+    const std::string weights = r.string_or("weights_file", weights_file);
+    if (weights.empty() || weights.find('/') != std::string::npos)
+        json_read::fail(path, "track.weights_file", "must be a file name inside the bundle, got \"" + weights + "\"");
+    r.allow("frames");   // the track length it was trained on (a record)
+    r.allow("training"); // how (a record)
+    r.allow("metrics");  // what it measured (a record)
+    r.finish();
+    const int c = static_cast<int>(bundle.class_names.size());
+    d_impl->model = nn::temporal_model(d_impl->frames->evidence_size(s.doppler_profile), c, s);
+    nn::load_module(d_impl->model.ptr(), bundle.directory + "/" + weights);
+    d_impl->model->eval();
+    d_impl->e = d_impl->model->evidence_size();
+    d_impl->c = c;
+    d_impl->h = d_impl->model->hidden_size();
+    d_impl->copy_weights();
+}
+
+track_classifier::~track_classifier() = default;
+
+const model_bundle& track_classifier::bundle() const { return d_impl->frames->bundle(); }
+int track_classifier::n_pilots() const { return d_impl->frames->n_pilots(); }
+int track_classifier::n_classes() const { return d_impl->model->n_classes(); }
+int track_classifier::evidence_size() const { return d_impl->model->evidence_size(); }
+const nn::temporal_settings& track_classifier::settings() const { return d_impl->model->settings(); }
+
+track_classifier::state track_classifier::begin() const
+{
+    state s;
+    s.hidden.assign(static_cast<size_t>(d_impl->model->hidden_size()), 0.0f);
+    s.fused.assign(static_cast<size_t>(n_classes()), 0.0f);
+    return s;
+}
+
+std::vector<float> track_classifier::evidence(const gr_complex* obs, int batch) const
+{
+    return d_impl->frames->evidence(obs, batch, d_impl->model->settings().doppler_profile);
+}
+
+void track_classifier::step(state& s, const float* evidence, float* probs, float* fusion_probs) const
+{
+    const auto& m = *d_impl;
+    if (s.hidden.size() != static_cast<size_t>(m.h) || s.fused.size() != static_cast<size_t>(m.c))
+        throw std::invalid_argument("track_classifier::step: a state of another model (begin() makes one)");
+    thread_local std::vector<float> scratch, logits;
+    logits.resize(static_cast<size_t>(m.c));
+    m.step(evidence, s.hidden.data(), s.fused.data(), logits.data(), scratch);
+    ++s.frames;
+    softmax(logits.data(), m.c, probs);
+    if (fusion_probs)
+        softmax(s.fused.data(), m.c, fusion_probs);
+}
+
+} // namespace sems
+} // namespace gr
