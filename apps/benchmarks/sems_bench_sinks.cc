@@ -13,12 +13,19 @@
  * With both bundles it then runs the two decoders at once, each in its own thread with
  * its own intra-op thread count (--together-threads), as two sinks in one flowgraph do.
  *
+ * With a track bundle (--track) it measures what deciding over a track costs, in the same
+ * run: its frame decoder alone (bundle_decoder::classify, batch by batch) against the track
+ * classifier (the frame decoder's evidence, batch by batch, then one step per frame on one
+ * track's state), and the sink in track mode in a flowgraph; the ratio is the anchor's.
+ *
  *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
+ *   sems_bench_sinks --track models/classifier_kinematic_track --batches 1,256
  */
 #include <gnuradio/blocks/vector_source.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/temporal/track_classifier.h>
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/top_block.h>
 #include <boost/program_options.hpp>
@@ -109,6 +116,25 @@ rate sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t 
     return rate_of(frames, w);
 }
 
+// The track classifier on one track of `frames` frames: evidence batch by batch, then a step
+// per frame.
+rate track_fps(const track_classifier& tc, const std::vector<gr_complex>& obs, size_t frames, int batch)
+{
+    const int np = tc.n_pilots(), e = tc.evidence_size();
+    std::vector<float> probs(static_cast<size_t>(tc.n_classes()));
+    auto st = tc.begin();
+    auto run_batch = [&](size_t first) {
+        const auto ev = tc.evidence(obs.data() + first * np, batch);
+        for (int i = 0; i < batch; ++i)
+            tc.step(st, ev.data() + static_cast<size_t>(i) * e, probs.data());
+    };
+    run_batch(0); // warm-up
+    const stopwatch w;
+    for (size_t f = 0; f < frames; f += batch)
+        run_batch(f);
+    return rate_of(frames, w);
+}
+
 // Wall-clock frames/s of one decoder in a thread of its own (CPU time is per process, so
 // only wall time separates two decoders that run at once).
 double decoder_wall_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, size_t frames, int batch)
@@ -162,7 +188,7 @@ std::vector<int> parse_counts(const std::string& s, const std::string& option)
 
 int main(int argc, char** argv)
 {
-    std::string classifier_dir, delay_dir, batches_text;
+    std::string classifier_dir, delay_dir, track_dir, batches_text;
     size_t min_frames = 0;
     int threads = 1;
     std::string together_text;
@@ -170,6 +196,7 @@ int main(int argc, char** argv)
     opts.add_options()("help,h", "this help")(
         "classifier", po::value(&classifier_dir), "classifier bundle directory (e.g. models/classifier)")(
         "delay", po::value(&delay_dir), "delay bundle directory (e.g. models/delay_single)")(
+        "track", po::value(&track_dir), "track bundle directory: the cost of deciding over a track against its frame decoder")(
         "batches", po::value(&batches_text)->default_value("1,32,256"), "comma-separated batch sizes")(
         "frames", po::value(&min_frames)->default_value(1024), "frames timed per measurement (at least)")(
         "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads")(
@@ -183,8 +210,8 @@ int main(int argc, char** argv)
             return 0;
         }
         po::notify(vm);
-        if (classifier_dir.empty() && delay_dir.empty())
-            throw std::invalid_argument("give --classifier and/or --delay bundle directories");
+        if (classifier_dir.empty() && delay_dir.empty() && track_dir.empty())
+            throw std::invalid_argument("give --classifier, --delay and/or --track bundle directories");
         if (min_frames < 1)
             throw std::invalid_argument("--frames must be >= 1");
         if (threads < 1)
@@ -207,6 +234,27 @@ int main(int argc, char** argv)
                 const rate s = sink_fps(b, obs, frames, batch, threads);
                 std::printf("%-28s %6d %7zu %12.0f %12.0f %12.0f %12.0f\n", dir.c_str(), batch, frames, d.wall_fps,
                             s.wall_fps, d.cpu_fps, s.cpu_fps);
+                std::fflush(stdout);
+            }
+        }
+        if (!track_dir.empty()) {
+            const model_bundle b = model_bundle::load(track_dir);
+            const bundle_decoder dec(b, threads); // its frame decoder, per frame
+            const track_classifier tc(b, threads);
+            const int np = b.mask.size();
+            const size_t max_frames = frames_for(*std::max_element(batches.begin(), batches.end()), min_frames);
+            const std::vector<gr_complex> obs = gaussian_frames(max_frames, np, 4);
+            std::printf("\ndeciding over a track, %s (frames/s; ratio = frame decoder / track, CPU time):\n",
+                        track_dir.c_str());
+            std::printf("%6s %7s %12s %12s %12s %12s %12s %8s\n", "batch", "frames", "decoder fps", "track fps",
+                        "sink fps", "decoder/cpu", "track/cpu", "ratio");
+            for (int batch : batches) {
+                const size_t frames = frames_for(batch, min_frames);
+                const rate d = decoder_fps(dec, obs, frames, batch);
+                const rate t = track_fps(tc, obs, frames, batch);
+                const rate s = sink_fps(b, obs, frames, batch, threads);
+                std::printf("%6d %7zu %12.0f %12.0f %12.0f %12.0f %12.0f %8.2f\n", batch, frames, d.wall_fps,
+                            t.wall_fps, s.wall_fps, d.cpu_fps, t.cpu_fps, t.cpu_fps > 0 ? d.cpu_fps / t.cpu_fps : 0.0);
                 std::fflush(stdout);
             }
         }

@@ -69,7 +69,7 @@ std::string command_of(int argc, char** argv)
 int train_tracks(const po::variables_map& vm, const std::string& command_line)
 {
     static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
-                                                    "track-no-profile",
+                                                    "track-no-profile", "track-dropout", "track-weight-decay",
                                                     "track-eval-frames", "scene", "snr", "snr-min", "snr-max",
                                                     "epochs", "batch", "lr", "patience", "seed", "threads",
                                                     "eval-snr", "out", "quiet" };
@@ -89,6 +89,10 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
         t.temporal.hidden = vm["track-hidden"].as<int>();
     if (vm.count("track-no-profile") && vm["track-no-profile"].as<bool>())
         t.temporal.doppler_profile = false;
+    if (given("track-dropout"))
+        t.temporal.dropout = vm["track-dropout"].as<double>();
+    if (given("track-weight-decay"))
+        t.weight_decay = vm["track-weight-decay"].as<double>();
     if (given("epochs"))
         t.epochs = vm["epochs"].as<int>();
     if (given("batch"))
@@ -233,6 +237,8 @@ int main(int argc, char** argv)
         ("tracks", po::value<int>()->default_value(track_training_settings{}.tracks), "--frame-bundle: tracks drawn, split 8:1:1")
         ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size")
         ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only)")
+        ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share of each frame's evidence dropped in training")
+        ("track-weight-decay", po::value<double>()->default_value(track_training_settings{}.weight_decay), "--frame-bundle: AdamW weight decay")
         ("track-eval-frames", po::value<std::string>(), "--frame-bundle: observation times scored, in frames, comma-separated (default 1, 2, 4, ... and the track length)")
         ("quiet", "no per-epoch progress")
         ("dry-run", "print the resolved settings (JSON: training record, decoder settings, frame) and exit without training")

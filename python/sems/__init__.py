@@ -30,6 +30,7 @@ _LAZY_MODULES = {
         "task_kind", "task_name", "task_from_name", "model_bundle", "bundle_decoder",
         "training_settings", "training_result", "train", "classifier_sink",
         "delay_estimator_sink", "sink_defaults", "classifier_chirp_rates",
+        "track_training_settings", "track_training_result", "train_track", "track_state", "track_classifier",
     ),
     "baselines_python": (
         "delay_search", "slow_time_model", "periodogram_delay_estimator",

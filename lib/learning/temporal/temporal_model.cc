@@ -11,7 +11,7 @@ namespace nn {
 
 nlohmann::json temporal_settings::to_json() const
 {
-    return { { "kind", kind }, { "hidden", hidden }, { "doppler_profile", doppler_profile } };
+    return { { "kind", kind }, { "hidden", hidden }, { "doppler_profile", doppler_profile }, { "dropout", dropout } };
 }
 
 temporal_settings temporal_settings::from_json(const nlohmann::json& j, const std::string& source)
@@ -25,6 +25,9 @@ temporal_settings temporal_settings::from_json(const nlohmann::json& j, const st
         json_read::fail(source, "kind", "unknown temporal model \"" + s.kind + "\" (known: gru_fusion)");
     s.hidden = r.int_or("hidden", s.hidden, 1, limits::max_network_size);
     s.doppler_profile = r.boolean_or("doppler_profile", s.doppler_profile);
+    s.dropout = r.number_or("dropout", s.dropout);
+    if (!(s.dropout >= 0.0 && s.dropout < 1.0))
+        json_read::fail(source, "dropout", "must be in [0, 1), got " + std::to_string(s.dropout));
     r.finish();
     return s;
 }
@@ -36,6 +39,7 @@ temporal_model_module::temporal_model_module(int evidence_size, int n_classes, t
         throw std::invalid_argument("temporal model: evidence of " + std::to_string(d_e) + " values for " +
                                     std::to_string(d_c) + " classes (it ends with the C log-probabilities)");
     d_norm = register_module("norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({ d_e })));
+    d_drop = register_module("drop", torch::nn::Dropout(d_s.dropout));
     d_cell = register_module("cell", torch::nn::GRUCell(torch::nn::GRUCellOptions(d_e, d_s.hidden)));
     d_head = register_module("head", torch::nn::Linear(d_s.hidden, d_c));
     // Start as the fusion of independent frames: no learned term, λ = 1.
@@ -47,7 +51,7 @@ temporal_model_module::temporal_model_module(int evidence_size, int n_classes, t
 
 torch::Tensor temporal_model_module::step(const torch::Tensor& evidence, torch::Tensor& hidden, torch::Tensor& fused)
 {
-    hidden = d_cell->forward(d_norm->forward(evidence), hidden);
+    hidden = d_cell->forward(d_drop->forward(d_norm->forward(evidence)), hidden); // dropout: training only
     fused = fused + evidence.slice(1, d_e - d_c, d_e);
     return d_head->forward(hidden) + d_fusion_weight * fused;
 }

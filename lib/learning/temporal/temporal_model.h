@@ -40,6 +40,7 @@ private:
     int d_e, d_c;
     temporal_settings d_s;
     torch::nn::LayerNorm d_norm{ nullptr }; // the evidence on one scale (embeddings and log-probabilities differ)
+    torch::nn::Dropout d_drop{ nullptr };   // training only (identity in eval mode and in the streamed step)
     torch::nn::GRUCell d_cell{ nullptr };
     torch::nn::Linear d_head{ nullptr };
     torch::Tensor d_fusion_weight; // λ

@@ -133,6 +133,10 @@ void track_training_settings::validate() const
         bad("batch", "must be >= 1");
     if (!(lr > 0.0 && std::isfinite(lr)))
         bad("lr", "must be a finite number > 0");
+    if (!(weight_decay >= 0.0 && std::isfinite(weight_decay)))
+        bad("weight_decay", "must be a finite number >= 0");
+    if (!(temporal.dropout >= 0.0 && temporal.dropout < 1.0))
+        bad("temporal.dropout", "must be in [0, 1)");
     if (patience < 1)
         bad("patience", "must be >= 1");
     for (double x : eval_snr_db)
@@ -158,6 +162,7 @@ nlohmann::json track_training_settings::to_json() const
              { "epochs", epochs },
              { "batch", batch },
              { "lr", lr },
+             { "weight_decay", weight_decay },
              { "patience", patience },
              { "seed", seed },
              { "threads", threads },
@@ -202,7 +207,7 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         std::to_string(std::chrono::duration<double>(clock::now() - td0).count()) + " s to draw)");
 
     nn::temporal_model model(e, c, s.temporal);
-    torch::optim::Adam opt(model->parameters(), torch::optim::AdamOptions(s.lr));
+    torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(s.lr).weight_decay(s.weight_decay));
     auto gen = at::detail::createCPUGenerator(s.seed ^ 0x747261636b6e6f69ULL);
     const auto val_obs = temporal::observe_tracks(val, frame.mask, s.snr_min_db, s.snr_max_db, gen);
     const bool profile = s.temporal.doppler_profile;
@@ -306,7 +311,22 @@ track_training_result train_track(const track_training_settings& s, std::ostream
             line << " " << t << " frames " << std::setprecision(3) << a.first << " (fusion " << f.first << ")";
         }
         say(line.str());
-        by_snr.push_back({ { "snr_db", snr }, { "by_frames", rows } });
+        // Confusion after the longest observation time scored, for both (rows: truth).
+        const int t_max = *std::max_element(s.eval_frames.begin(), s.eval_frames.end());
+        auto keep = (test.length >= t_max).nonzero().flatten();
+        auto confusion = [&](const torch::Tensor& p) {
+            std::vector<std::vector<int64_t>> m(c, std::vector<int64_t>(c, 0));
+            auto pp = p.select(1, t_max - 1).index_select(0, keep).contiguous();
+            auto ll = test.label.index_select(0, keep).contiguous();
+            for (int64_t j = 0; j < keep.size(0); ++j)
+                ++m[ll[j].item<int64_t>()][pp[j].item<int64_t>()];
+            return m;
+        };
+        by_snr.push_back({ { "snr_db", snr },
+                           { "by_frames", rows },
+                           { "confusion_frames", t_max },
+                           { "confusion", confusion(pred) },
+                           { "fusion_confusion", confusion(fused) } });
     }
     result.metrics = { { "test_tracks", sp.test }, { "by_snr", by_snr } };
 

@@ -117,6 +117,48 @@ class qa_learning(gr_unittest.TestCase):
             with self.assertRaisesRegex(ValueError, name):
                 t.validate()
 
+    def test_tiny_track_training(self):
+        # A decision over a track on the shipped classifier, from Python: train_track writes a
+        # track bundle; track_classifier gives its evidence and steps through a track, the
+        # fusion beside it being the softmax of the summed frame log-probabilities.
+        with tempfile.TemporaryDirectory() as d:
+            s = sems.track_training_settings()
+            s.frame_bundle = os.path.join(SRC, "models", "classifier")
+            s.track_frames = 3
+            s.tracks = 40
+            s.epochs = 1
+            s.threads = 1
+            s.eval_snr_db = [10.0]
+            s.eval_frames = [1, 3]
+            s.temporal_json = json.dumps({"hidden": 8})
+            s.out_dir = os.path.join(d, "track")
+            s.verbose = False
+            r = sems.train_track(s)
+            metrics = json.loads(r.metrics_json)
+            self.assertEqual([row["frames"] for row in metrics["by_snr"][0]["by_frames"]], [1, 3])
+            b = sems.model_bundle.load(s.out_dir)
+            self.assertTrue(sems.track_classifier.is_track_bundle(b))
+            self.assertEqual(json.loads(b.track_json)["frames"], 3)
+            tc = sems.track_classifier(s.out_dir)
+            obs, _ = fresh_obs(b, 4, 10.0)
+            ev = tc.evidence(obs)
+            self.assertEqual(ev.shape, (4, tc.evidence_size()))
+            st = tc.begin()
+            for f in range(4):
+                p, q = tc.step(st, ev[f])
+                self.assertAlmostEqual(float(p.sum()), 1.0, places=5)
+                fused = ev[:f + 1, -tc.n_classes():].sum(axis=0)
+                want = np.exp(fused - fused.max()) / np.exp(fused - fused.max()).sum()
+                np.testing.assert_allclose(q, want, rtol=1e-4, atol=1e-6)
+            self.assertEqual(st.frames, 4)
+            with self.assertRaises(ValueError):
+                tc.step(st, ev[0][:-1])
+            with self.assertRaises(ValueError):
+                sems.track_classifier(os.path.join(SRC, "models", "classifier"))
+            s.track_frames = 0
+            with self.assertRaises(ValueError):
+                s.validate()
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_learning)

@@ -75,6 +75,7 @@ void bind_learning(py::module& m)
         .def_property_readonly("decoder_json", [](const model_bundle& b) { return b.decoder.dump(); })
         .def_property_readonly("training_json", [](const model_bundle& b) { return b.training.dump(); })
         .def_property_readonly("metrics_json", [](const model_bundle& b) { return b.metrics.dump(); })
+        .def_property_readonly("track_json", [](const model_bundle& b) { return b.track.dump(); }, D(model_bundle, track))
         .def("to_json_string", [](const model_bundle& b) { return b.to_json().dump(2); })
         .def("check_compatible", &model_bundle::check_compatible, py::arg("frame"), py::arg("n_pilots"),
              py::arg("expected"), py::arg("who"));

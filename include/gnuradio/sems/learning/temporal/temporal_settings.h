@@ -39,6 +39,7 @@ struct SEMS_LEARNING_API temporal_settings {
      *        (a gait's cadence spans many 32 ms frames), not only the frame's 16-d summary.
      */
     bool doppler_profile = true;
+    double dropout = 0.2; ///< training only: the share of the normalised evidence dropped (0 = none; [0, 1))
 
     /*! \brief The settings as JSON. \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;

@@ -45,7 +45,8 @@ struct SEMS_LEARNING_API track_training_settings {
     double snr_max_db = 30.0;        ///< its upper end
     int epochs = 12;                 ///< epochs of the temporal model
     int batch = 64;                  ///< tracks per step
-    double lr = 3e-3;                ///< Adam
+    double lr = 3e-3;                ///< AdamW
+    double weight_decay = 1e-3;      ///< AdamW's decoupled weight decay (0 = none)
     int patience = 4;                ///< early stop after this many epochs without a better validation
     uint64_t seed = 1;               ///< seed of the tracks, the noise and the weights
     int threads = 0;                 ///< <= 0: leave LibTorch's default
