@@ -116,6 +116,7 @@ public:
     {
         torch::manual_seed(3);
         nn::temporal_model m(10, 3, nn::temporal_settings{});
+        m->eval();
         auto ev = torch::randn({ 4, 6, 10 });
         ev.slice(2, 7, 10).copy_(torch::log_softmax(ev.slice(2, 7, 10), -1));
         torch::NoGradGuard ng;
@@ -136,6 +137,7 @@ public:
             for (auto& p : m->parameters())
                 p.normal_(0.0, 0.3); // any weights, the head and λ included
         }
+        m->eval(); // dropout is for training only
         auto ev = torch::randn({ 3, 7, 9 });
         torch::NoGradGuard ng;
         auto whole = m->forward(ev);
@@ -233,8 +235,12 @@ public:
                 float p[2], q[2];
                 tc.step(st, ev.data() + f * tc.evidence_size(), p, q);
                 CPPUNIT_ASSERT_EQUAL(uint64_t(f + 1), st.frames);
-                CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][0].item<float>(), p[0], 1e-5);
-                CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][1].item<float>(), p[1], 1e-5);
+                if (f < tc.settings().fusion_frames) { // the fusion decides the first frames
+                    CPPUNIT_ASSERT_EQUAL(q[0], p[0]);
+                } else {
+                    CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][0].item<float>(), p[0], 1e-5);
+                    CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][1].item<float>(), p[1], 1e-5);
+                }
                 for (int c = 0; c < 2; ++c)
                     sum[c] += ev[f * tc.evidence_size() + tc.evidence_size() - 2 + c];
                 const double q0 = 1.0 / (1.0 + std::exp(double(sum[1]) - double(sum[0])));

@@ -11,7 +11,11 @@ namespace nn {
 
 nlohmann::json temporal_settings::to_json() const
 {
-    return { { "kind", kind }, { "hidden", hidden }, { "doppler_profile", doppler_profile }, { "dropout", dropout } };
+    return { { "kind", kind },
+             { "hidden", hidden },
+             { "doppler_profile", doppler_profile },
+             { "dropout", dropout },
+             { "fusion_frames", fusion_frames } };
 }
 
 temporal_settings temporal_settings::from_json(const nlohmann::json& j, const std::string& source)
@@ -28,6 +32,7 @@ temporal_settings temporal_settings::from_json(const nlohmann::json& j, const st
     s.dropout = r.number_or("dropout", s.dropout);
     if (!(s.dropout >= 0.0 && s.dropout < 1.0))
         json_read::fail(source, "dropout", "must be in [0, 1), got " + std::to_string(s.dropout));
+    s.fusion_frames = r.int_or("fusion_frames", s.fusion_frames, 0, limits::max_track_frames);
     r.finish();
     return s;
 }
@@ -66,6 +71,16 @@ torch::Tensor temporal_model_module::forward(const torch::Tensor& evidence)
     for (int64_t i = 0; i < t; ++i)
         out.push_back(step(evidence.select(1, i), hidden, fused));
     return torch::stack(out, 1);
+}
+
+torch::Tensor temporal_model_module::decide(const torch::Tensor& logits, const torch::Tensor& evidence) const
+{
+    auto gru = logits.argmax(-1);
+    if (d_s.fusion_frames <= 0)
+        return gru;
+    auto fused = evidence.slice(2, d_e - d_c, d_e).cumsum(1).argmax(-1);
+    auto early = torch::arange(logits.size(1), torch::kLong).view({ 1, -1 }) < d_s.fusion_frames;
+    return torch::where(early, fused, gru);
 }
 
 nlohmann::json temporal_model_module::describe() const

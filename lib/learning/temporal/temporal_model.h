@@ -33,6 +33,11 @@ public:
     int n_classes() const { return d_c; }
     int hidden_size() const { return d_s.hidden; }
     const temporal_settings& settings() const { return d_s; }
+    // The trainer's choice of temporal_settings::fusion_frames (from its validation tracks).
+    void set_fusion_frames(int frames) { d_s.fusion_frames = frames; }
+    // The decisions over tracks (B x T, long): the fusion's for the first fusion_frames frames
+    // (the argmax of the summed log-probabilities in `evidence`), the GRU's `logits` after them.
+    torch::Tensor decide(const torch::Tensor& logits, const torch::Tensor& evidence) const;
     // {"kind", "settings"} as bundle.json's track.temporal records it.
     nlohmann::json describe() const;
 

@@ -22,6 +22,7 @@ struct track_classifier::impl {
     std::vector<float> w_ih, w_hh, b_ih, b_hh; // GRU: 3H x E, 3H x H, 3H, 3H (gates r, z, n)
     std::vector<float> head_w, head_b;       // C x H, C
     float fusion_weight = 1.0f;              // λ
+    int fusion_frames = 0;                   // temporal_settings::fusion_frames
     double norm_eps = 1e-5;
 
     static std::vector<float> values(const torch::Tensor& t)
@@ -146,6 +147,7 @@ track_classifier::track_classifier(std::unique_ptr<bundle_decoder> frames) : d_i
     d_impl->c = c;
     d_impl->h = d_impl->model->hidden_size();
     d_impl->copy_weights();
+    d_impl->fusion_frames = s.fusion_frames;
 }
 
 track_classifier::~track_classifier() = default;
@@ -178,7 +180,11 @@ void track_classifier::step(state& s, const float* evidence, float* probs, float
     logits.resize(static_cast<size_t>(m.c));
     m.step(evidence, s.hidden.data(), s.fused.data(), logits.data(), scratch);
     ++s.frames;
-    softmax(logits.data(), m.c, probs);
+    // The first fusion_frames frames of a track: the fusion decides (temporal_settings).
+    if (s.frames <= static_cast<uint64_t>(m.fusion_frames))
+        softmax(s.fused.data(), m.c, probs);
+    else
+        softmax(logits.data(), m.c, probs);
     if (fusion_probs)
         softmax(s.fused.data(), m.c, fusion_probs);
 }

@@ -40,6 +40,13 @@ struct SEMS_LEARNING_API temporal_settings {
      */
     bool doppler_profile = true;
     double dropout = 0.2; ///< training only: the share of the normalised evidence dropped (0 = none; [0, 1))
+    /*!
+     * \brief The first fusion_frames frames of a track are decided by the fusion alone, the
+     *        later ones by the GRU: the trainer sets it to the leading frames over which the
+     *        fusion decided better on the validation tracks (one frame is what the frame
+     *        decoder was trained for; the GRU's learned term pays off as frames add up).
+     */
+    int fusion_frames = 0;
 
     /*! \brief The settings as JSON. \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
