@@ -76,6 +76,7 @@ GENERATED = {
     "docs/results/scaling_tables.md",     # apps/benchmarks/sems_bench_scaling.py --table
     "docs/results/radio_sweep_table.md",  # apps/evaluation/sems_radio_sweep.py --table
     "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
+    "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py

@@ -244,10 +244,10 @@ int main(int argc, char** argv)
             const int np = b.mask.size();
             const size_t max_frames = frames_for(*std::max_element(batches.begin(), batches.end()), min_frames);
             const std::vector<gr_complex> obs = gaussian_frames(max_frames, np, 4);
-            std::printf("\ndeciding over a track, %s (frames/s; ratio = frame decoder / track, CPU time):\n",
+            std::printf("\ndeciding over a track, %s (frames/s; cost = the track classifier's CPU time per frame over the frame decoder's):\n",
                         track_dir.c_str());
             std::printf("%6s %7s %12s %12s %12s %12s %12s %8s\n", "batch", "frames", "decoder fps", "track fps",
-                        "sink fps", "decoder/cpu", "track/cpu", "ratio");
+                        "sink fps", "decoder/cpu", "track/cpu", "cost");
             for (int batch : batches) {
                 const size_t frames = frames_for(batch, min_frames);
                 const rate d = decoder_fps(dec, obs, frames, batch);

@@ -178,9 +178,8 @@ std::vector<float> bundle_decoder::evidence(const gr_complex* obs, int batch, bo
     auto out = d_impl->run(obs, batch, task_kind::classify, "evidence");
     std::vector<torch::Tensor> parts{ out.features };
     if (doppler_profile) {
-        auto sc = profile_decoder(d_impl->net, d_impl->bundle);
-        c10::InferenceMode im;
-        parts.push_back(sc->profile(d_impl->grid(obs, batch), d_impl->mask).flatten(1));
+        profile_decoder(d_impl->net, d_impl->bundle); // refuses a decoder without one
+        parts.push_back(out.profile.flatten(1));      // the profile the forward pass computed
     }
     parts.push_back(torch::log_softmax(out.logits, -1));
     auto e = torch::cat(parts, 1).contiguous();

@@ -448,6 +448,7 @@ decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& 
     if (tone.defined())
         x = torch::cat({ x, torch::leaky_relu(d_tone_fc->forward(d_tone_bn->forward(tone)), 0.1) }, 1);
     decoder_output out;
+    out.profile = prof;
     out.features = d_fc2->forward(x);
     out.logits = d_out->forward(torch::leaky_relu(out.features, 0.1));
     if (d_templates && d_templates->ready())

@@ -26,6 +26,7 @@ namespace nn {
 struct decoder_output {
     torch::Tensor logits;      // classifier: B x C; delay: B x Q (dictionary scores)
     torch::Tensor features;    // classifier: B x 16 embedding; otherwise undefined
+    torch::Tensor profile;     // spectral classifier: B x channels x K log Doppler profile (its input); otherwise undefined
     torch::Tensor delay_index; // delay: B, τ̂·B (soft-argmax); otherwise undefined
     torch::Tensor channel;     // reconstruction: B x 2 x N x M; otherwise undefined
 };

@@ -5,6 +5,7 @@
 #include "learning/networks/task_decoder.h"
 #include "learning/temporal/temporal_model.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -15,77 +16,61 @@ namespace sems {
 struct track_classifier::impl {
     std::unique_ptr<bundle_decoder> frames;
     nn::temporal_model model{ nullptr };
-    // The model's weights as plain arrays: one streamed step is a few thousand multiply-adds,
-    // far below what building LibTorch tensors for it would cost per frame.
+    // The model's weights as Eigen arrays: one streamed step is a few matrix-vector products
+    // (3H x E, 3H x H, C x H), far below what building LibTorch tensors for it would cost
+    // per frame, and vectorised.
+    using matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    using vector = Eigen::VectorXf;
     int e = 0, c = 0, h = 0;
-    std::vector<float> norm_w, norm_b;       // LayerNorm γ, β (E)
-    std::vector<float> w_ih, w_hh, b_ih, b_hh; // GRU: 3H x E, 3H x H, 3H, 3H (gates r, z, n)
-    std::vector<float> head_w, head_b;       // C x H, C
-    float fusion_weight = 1.0f;              // λ
-    int fusion_frames = 0;                   // temporal_settings::fusion_frames
-    double norm_eps = 1e-5;
+    vector norm_w, norm_b;   // LayerNorm γ, β (E)
+    matrix w_ih, w_hh;       // GRU: 3H x E, 3H x H (gates r, z, n)
+    vector b_ih, b_hh;       // 3H each
+    matrix head_w;           // C x H
+    vector head_b;           // C
+    float fusion_weight = 1.0f; // λ
+    int fusion_frames = 0;      // temporal_settings::fusion_frames
+    float norm_eps = 1e-5f;
 
-    static std::vector<float> values(const torch::Tensor& t)
+    static matrix values(const torch::Tensor& t, int64_t rows, int64_t cols)
     {
-        auto c = t.detach().to(torch::kFloat).contiguous();
-        return std::vector<float>(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+        auto v = t.detach().to(torch::kFloat).contiguous();
+        return Eigen::Map<const matrix>(v.data_ptr<float>(), rows, cols);
+    }
+    static vector values(const torch::Tensor& t)
+    {
+        auto v = t.detach().to(torch::kFloat).contiguous();
+        return Eigen::Map<const vector>(v.data_ptr<float>(), v.numel());
     }
     void copy_weights()
     {
         auto p = model->named_parameters();
         norm_w = values(p["norm.weight"]);
         norm_b = values(p["norm.bias"]);
-        w_ih = values(p["cell.weight_ih"]);
-        w_hh = values(p["cell.weight_hh"]);
+        w_ih = values(p["cell.weight_ih"], 3 * h, e);
+        w_hh = values(p["cell.weight_hh"], 3 * h, h);
         b_ih = values(p["cell.bias_ih"]);
         b_hh = values(p["cell.bias_hh"]);
-        head_w = values(p["head.weight"]);
+        head_w = values(p["head.weight"], c, h);
         head_b = values(p["head.bias"]);
-        fusion_weight = values(p["fusion_weight"]).at(0);
+        fusion_weight = values(p["fusion_weight"])(0);
     }
-    static float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
     // torch::nn::GRUCell and LayerNorm, one frame: h <- GRU(LN(x), h); fused += x's log-probabilities.
-    void step(const float* x, float* hidden, float* fused, float* logits, std::vector<float>& scratch) const
+    void step(const float* x, float* hidden, float* fused, float* logits) const
     {
-        scratch.resize(static_cast<size_t>(e + 6 * h));
-        float* y = scratch.data();      // LN(x), E
-        float* gi = y + e;              // W_ih y + b_ih, 3H
-        float* gh = gi + 3 * h;         // W_hh h + b_hh, 3H
-        double mean = 0.0, var = 0.0;
-        for (int i = 0; i < e; ++i)
-            mean += x[i];
-        mean /= e;
-        for (int i = 0; i < e; ++i)
-            var += (x[i] - mean) * (x[i] - mean);
-        var /= e;
-        const double inv = 1.0 / std::sqrt(var + norm_eps);
-        for (int i = 0; i < e; ++i)
-            y[i] = static_cast<float>((x[i] - mean) * inv) * norm_w[i] + norm_b[i];
-        for (int r = 0; r < 3 * h; ++r) {
-            float a = b_ih[r], b = b_hh[r];
-            const float* wi = w_ih.data() + static_cast<size_t>(r) * e;
-            const float* wh = w_hh.data() + static_cast<size_t>(r) * h;
-            for (int i = 0; i < e; ++i)
-                a += wi[i] * y[i];
-            for (int i = 0; i < h; ++i)
-                b += wh[i] * hidden[i];
-            gi[r] = a;
-            gh[r] = b;
-        }
-        for (int i = 0; i < h; ++i) {
-            const float rg = sigmoid(gi[i] + gh[i]);
-            const float zg = sigmoid(gi[h + i] + gh[h + i]);
-            const float ng = std::tanh(gi[2 * h + i] + rg * gh[2 * h + i]);
-            hidden[i] = (1.0f - zg) * ng + zg * hidden[i];
-        }
-        for (int k = 0; k < c; ++k) {
-            fused[k] += x[e - c + k];
-            float a = head_b[k];
-            const float* w = head_w.data() + static_cast<size_t>(k) * h;
-            for (int i = 0; i < h; ++i)
-                a += w[i] * hidden[i];
-            logits[k] = a + fusion_weight * fused[k];
-        }
+        const Eigen::Map<const vector> in(x, e);
+        Eigen::Map<vector> hv(hidden, h), fv(fused, c);
+        const float mean = in.mean();
+        const float var = (in.array() - mean).square().mean();
+        const vector y = ((in.array() - mean) / std::sqrt(var + norm_eps)) * norm_w.array() + norm_b.array();
+        const vector gi = w_ih * y + b_ih;
+        const vector gh = w_hh * hv + b_hh;
+        const auto sigmoid = [](const auto& a) { return (1.0f + (-a).exp()).inverse(); };
+        const Eigen::ArrayXf r = sigmoid(gi.head(h).array() + gh.head(h).array());
+        const Eigen::ArrayXf z = sigmoid(gi.segment(h, h).array() + gh.segment(h, h).array());
+        const Eigen::ArrayXf n = (gi.tail(h).array() + r * gh.tail(h).array()).tanh();
+        hv = ((1.0f - z) * n + z * hv.array()).matrix();
+        fv += in.tail(c);
+        Eigen::Map<vector>(logits, c) = head_w * hv + head_b + fusion_weight * fv;
     }
 };
 
@@ -176,9 +161,9 @@ void track_classifier::step(state& s, const float* evidence, float* probs, float
     const auto& m = *d_impl;
     if (s.hidden.size() != static_cast<size_t>(m.h) || s.fused.size() != static_cast<size_t>(m.c))
         throw std::invalid_argument("track_classifier::step: a state of another model (begin() makes one)");
-    thread_local std::vector<float> scratch, logits;
+    thread_local std::vector<float> logits;
     logits.resize(static_cast<size_t>(m.c));
-    m.step(evidence, s.hidden.data(), s.fused.data(), logits.data(), scratch);
+    m.step(evidence, s.hidden.data(), s.fused.data(), logits.data());
     ++s.frames;
     // The first fusion_frames frames of a track: the fusion decides (temporal_settings).
     if (s.frames <= static_cast<uint64_t>(m.fusion_frames))
