@@ -77,6 +77,7 @@ GENERATED = {
     "docs/results/radio_sweep_table.md",  # apps/evaluation/sems_radio_sweep.py --table
     "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
+    "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py

@@ -90,6 +90,16 @@ def main():
                       "| | " + " | ".join(classes) + " |", "|---" * (len(classes) + 1) + "|"]
             for c, r in zip(classes, conf):
                 lines.append("| %s | " % c + " | ".join(str(v) for v in r) + " |")
+            # The pair confused most, on its own: its 2 x 2 block's accuracy.
+            k = len(classes)
+            i, j = max(((i, j) for i in range(k) for j in range(i + 1, k)),
+                       key=lambda ij: conf[ij[0]][ij[1]] + conf[ij[1]][ij[0]])
+            block = conf[i][i] + conf[i][j] + conf[j][i] + conf[j][j]
+            if block:
+                lines += ["", "The pair confused most, %s against %s: %.3f of its %d tracks decided right between "
+                          "the two%s." % (classes[i], classes[j], (conf[i][i] + conf[j][j]) / block, block,
+                                          " (the bound of the walker's observables: [walker_pair_bound](walker_pair_bound.md))"
+                                          if {classes[i], classes[j]} == {"adult", "child"} else "")]
         lines.append("")
     with open(os.path.join(args.out, name + ".md"), "w") as f:
         f.write("\n".join(lines))
