@@ -474,14 +474,12 @@ channel_model& channel_model::operator=(channel_model&&) noexcept = default;
 void channel_model::reseed(uint64_t seed) { d_rng->reseed(seed); }
 
 namespace {
-// Track k's generator seed: splitmix64's finaliser over (seed, k), so neighbouring seeds and
-// tracks give unrelated streams (rng::reseed expands it again).
+// Track k's generator seed: splitmix64 at step k of a stream started from the seed, so
+// neighbouring seeds and tracks give unrelated streams (rng::reseed expands it again).
 uint64_t track_seed(uint64_t seed, uint64_t k)
 {
-    uint64_t z = (seed ^ 0x747261636b73ULL) + 0x9e3779b97f4a7c15ULL * (k + 1);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    uint64_t x = (seed ^ 0x747261636b73ULL) + 0x9e3779b97f4a7c15ULL * k;
+    return rng::splitmix64(x);
 }
 
 // Frames a target stays inside [lo, hi] moving at radial velocity v from R_0, at most `cap`:

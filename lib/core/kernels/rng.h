@@ -67,8 +67,8 @@ public:
         return { s * re, s * normal() };
     }
 
-private:
-    static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+    // splitmix64: advances x by the golden ratio and returns its mixed value (the seeding
+    // step; also how a seed is derived from several numbers, e.g. a seed and a track index).
     static uint64_t splitmix64(uint64_t& x)
     {
         uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
@@ -76,6 +76,9 @@ private:
         z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
         return z ^ (z >> 31);
     }
+
+private:
+    static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
     uint64_t d_s[4];
     boost::random::normal_distribution<double> d_normal; // stateless ziggurat
 };

@@ -21,8 +21,15 @@ constexpr const char* block_name = "classifier_sink";
 // ---------------------------------------------------------------- classifier_task
 
 classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s)
-    : d_library_key(pmt::intern(keys::class_library)), d_accepted_library(pmt::PMT_NIL), d_idle_s(track_idle_s)
+    : d_label_key(pmt::intern(keys::label)),
+      d_class_name_key(pmt::intern(keys::class_name)),
+      d_probs_key(pmt::intern(keys::probs)),
+      d_track_frames_key(pmt::intern(keys::track_frames)),
+      d_track_id_key(pmt::intern(keys::track_id)),
+      d_library_key(pmt::intern(keys::class_library)),
+      d_accepted_library(pmt::PMT_NIL)
 {
+    d_idle_s = track_idle_s;
     if (!(std::isfinite(track_idle_s) && track_idle_s >= 0.0))
         throw std::invalid_argument(std::string(block_name) + ": track_idle_s must be a finite time >= 0 s (0: no idle "
                                     "limit), got " + std::to_string(track_idle_s));
@@ -31,6 +38,8 @@ classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double
     else
         d_decoder = std::move(decoder);
     d_names = bundle().class_names;
+    for (const auto& n : d_names)
+        d_name_symbols.push_back(pmt::intern(n));
     reset_metrics();
 }
 
@@ -39,9 +48,9 @@ pmt::pmt_t classifier_task::answer(const float* p) const
     const size_t c = d_names.size();
     const int label = static_cast<int>(std::max_element(p, p + c) - p);
     pmt::pmt_t d = pmt::make_dict();
-    d = pmt::dict_add(d, pmt::intern(keys::label), pmt::from_long(label));
-    d = pmt::dict_add(d, pmt::intern(keys::class_name), pmt::intern(d_names[label]));
-    return pmt::dict_add(d, pmt::intern(keys::probs), pmt::init_f32vector(c, p));
+    d = pmt::dict_add(d, d_label_key, pmt::from_long(label));
+    d = pmt::dict_add(d, d_class_name_key, d_name_symbols[static_cast<size_t>(label)]);
+    return pmt::dict_add(d, d_probs_key, pmt::init_f32vector(c, p));
 }
 
 std::vector<pmt::pmt_t>
@@ -77,14 +86,13 @@ classifier_task::decode_tracks(const gr_complex* obs, int batch, const std::vect
     if (ev.size() != static_cast<size_t>(batch) * e)
         throw std::logic_error("classifier_sink: the frame decoder returned " + std::to_string(ev.size()) +
                                " evidence values for " + std::to_string(batch) + " frames of " + std::to_string(e));
-    static const pmt::pmt_t track_key = pmt::intern(keys::track_id);
-    const auto now = std::chrono::steady_clock::now();
     d_probs.resize(d_names.size());
     std::vector<pmt::pmt_t> out;
     out.reserve(batch);
     for (int i = 0; i < batch; ++i) {
         const auto& m = meta[static_cast<size_t>(i)];
-        const pmt::pmt_t id = detail::is_truth(m.truth) ? pmt::dict_ref(m.truth, track_key, pmt::PMT_NIL) : pmt::PMT_NIL;
+        const pmt::pmt_t id =
+            detail::is_truth(m.truth) ? pmt::dict_ref(m.truth, d_track_id_key, pmt::PMT_NIL) : pmt::PMT_NIL;
         const bool known = pmt::is_integer(id) || pmt::is_uint64(id);
         const uint64_t track = known ? pmt::to_uint64(id) : 0;
         bool fresh = !d_in_track || known != d_track_known || (known && track != d_track_id);
@@ -92,7 +100,7 @@ classifier_task::decode_tracks(const gr_complex* obs, int batch, const std::vect
             fresh = true;
             ++d_track_gaps;
         }
-        if (!fresh && d_idle_s > 0.0 && std::chrono::duration<double>(now - d_last_seen).count() > d_idle_s) {
+        if (!fresh && d_idle_s > 0.0 && std::chrono::duration<double>(m.arrived - d_last_seen).count() > d_idle_s) {
             fresh = true;
             ++d_track_idle;
         }
@@ -104,12 +112,12 @@ classifier_task::decode_tracks(const gr_complex* obs, int batch, const std::vect
             ++d_tracks_started;
         }
         d_last_index = m.index;
-        d_last_seen = now;
+        d_last_seen = m.arrived;
         d_track->step(d_state, ev.data() + static_cast<size_t>(i) * e, d_probs.data());
         pmt::pmt_t d = answer(d_probs.data());
-        d = pmt::dict_add(d, pmt::intern(keys::track_frames), pmt::from_uint64(d_state.frames));
+        d = pmt::dict_add(d, d_track_frames_key, pmt::from_uint64(d_state.frames));
         if (known)
-            d = pmt::dict_add(d, track_key, pmt::from_uint64(track));
+            d = pmt::dict_add(d, d_track_id_key, pmt::from_uint64(track));
         out.push_back(d);
     }
     return out;

@@ -57,12 +57,15 @@ private:
     bool d_track_known = false;   // the track's frames carry a track_id
     uint64_t d_track_id = 0;
     uint64_t d_last_index = 0;    // the track's last frame
-    std::chrono::steady_clock::time_point d_last_seen;
+    std::chrono::steady_clock::time_point d_last_seen; // the track's last frame's arrival
     double d_idle_s = 0.0;
     // Written in decode() (block thread, without the core's lock), read by the getters.
     std::atomic<uint64_t> d_tracks_started{ 0 }, d_track_gaps{ 0 }, d_track_idle{ 0 };
     std::vector<float> d_probs;
     std::vector<std::string> d_names;
+    // Interned once (interning hashes and locks): the answer's keys and each class's name.
+    const pmt::pmt_t d_label_key, d_class_name_key, d_probs_key, d_track_frames_key, d_track_id_key;
+    std::vector<pmt::pmt_t> d_name_symbols;
     uint64_t d_scored = 0;
     uint64_t d_correct = 0;
     std::vector<std::vector<uint64_t>> d_confusion;

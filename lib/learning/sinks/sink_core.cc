@@ -127,9 +127,11 @@ void sink_core::push(const gr_complex* frames,
             truth[i] = t.value;
     }
 
+    const auto now = std::chrono::steady_clock::now(); // once per call: the frames' arrival
     for (int i = 0; i < count; i++) {
         const gr_complex* frame = frames + static_cast<size_t>(i) * d_np;
         pending_frame f;
+        f.arrived = now;
         f.index = index[i] >= 0 ? static_cast<uint64_t>(index[i]) : d_next_index;
         d_next_index = f.index + 1;
         f.truth = truth[i];
@@ -173,7 +175,7 @@ void sink_core::decode_pending()
         d_meta.clear();
         for (const auto& f : d_pending)
             if (!f.skipped)
-                d_meta.push_back({ f.index, f.truth });
+                d_meta.push_back({ f.index, f.truth, f.arrived });
         answers = d_task.decode(d_obs.data(), d_n_obs, d_meta);
         if (static_cast<int>(answers.size()) != d_n_obs)
             throw std::logic_error("sink_core: the decoder returned " + std::to_string(answers.size()) +

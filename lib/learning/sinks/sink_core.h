@@ -30,6 +30,7 @@
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/tags.h>
 #include <pmt/pmt.h>
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -64,6 +65,7 @@ sink_input_signature(const std::string& block, int n_pilots, int batch_size, int
 struct frame_meta {
     uint64_t index;
     pmt::pmt_t truth; // PMT_NIL without a truth tag
+    std::chrono::steady_clock::time_point arrived; // when work() handed it over (not when its batch is decoded)
 };
 
 // The task-specific half of a sink. Called with the core's lock held, except decode().
@@ -135,6 +137,7 @@ private:
         uint64_t index;
         pmt::pmt_t truth; // PMT_NIL without a truth tag
         bool skipped;     // non-finite: no slot in d_obs
+        std::chrono::steady_clock::time_point arrived;
     };
 
     void decode_pending();          // decodes the valid pending frames, then emits them

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: tracks drawn alone from (seed, track index), kept as their pilots (see track_data.h). */
 #include "learning/temporal/track_data.h"
+#include "learning/training/trainer_data.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <ATen/Parallel.h>
 #include <algorithm>
@@ -69,11 +70,7 @@ torch::Tensor observe_tracks(const track_set& t,
                              at::Generator gen)
 {
     const int64_t count = t.size(), frames = t.obs.size(1), np = t.obs.size(2);
-    auto u = torch::rand({ count }, gen, torch::kDouble);
-    auto var = torch::empty({ count }, torch::kFloat);
-    auto pu = u.accessor<double, 1>();
-    for (int64_t i = 0; i < count; ++i)
-        var[i] = static_cast<float>(channel_model::noise_variance(snr_min_db + (snr_max_db - snr_min_db) * pu[i]));
+    const auto var = training::draw_noise_variance(count, snr_min_db, snr_max_db, gen); // the trainer's rule
     auto scale = torch::empty({ np }, torch::kFloat);
     for (int64_t k = 0; k < np; ++k)
         scale[k] = static_cast<float>(mask.noise_scale(static_cast<int>(k)));
