@@ -18,6 +18,14 @@
  *     exp7_confusion.csv     every method's confusion matrix at --confusion-snr;
  *     exp7_pilot_budget.csv  SemS against the Doppler and staggered patterns at each N_p
  *     exp7_pilot_power.csv   SemS with learned pilot energies (same total) at N_p 32 and 128
+ *   8 exp8_tracks.csv        decisions over a track (kinematic library, any heading): accuracy /
+ *                            macro-F1 against observation time (frames) and SNR for SemS-track,
+ *                            the hand patterns under the same temporal decoder, the fusion of
+ *                            independent frames, the SVM over the track and the Perfect-CSI
+ *                            spectrogram CNN, on the same test tracks;
+ *     exp8_predictions.csv   every method's decision on every test track (paired statistics);
+ *     exp8_truth.csv         the test tracks' classes and lengths
+ *   (experiment 8 runs only when asked: --experiments 8)
  * Test frames: one channel_model seed per scene (scene/gain and noise generators are
  * separate), noise drawn once with unit variance and scaled, so every SNR point and
  * every method sees exactly the same frames. Decoders are trained with the project's
@@ -27,6 +35,8 @@
  */
 #include "frame_options.h"
 #include "sems_eval/eval.h"
+#include <gnuradio/sems/core/common/limits.h>
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <filesystem>
 #include <iostream>
@@ -91,7 +101,7 @@ void apply_size(config& c)
         c.delay_snrs = { 0, 30 };
         c.np_sweep = { 2, 8 };
         c.exp7_np_sweep = { 8 };
-        c.classic_oversample = 4;
+        c.classic_oversample = 4; // experiment 8: eval.h's defaults are its test size
     } else if (c.size == "full") {
         // 3 + 3 epochs: what the documented run used (docs/RESULTS.md: experiments 1, 3 and 4
         // in about 75 minutes on 2 cores, split over processes). The data budget below is
@@ -121,6 +131,16 @@ void apply_size(config& c)
         c.exp7_bank_np = { 16, 64 };
         c.exp7_burst_np = { 8, 16 };
         c.classic_oversample = 16;
+        // Experiment 8: 300 test tracks of 64 frames (2 s); each temporal decoder and the
+        // spectrogram CNN on 2 000 tracks of their own, the SVM on 600.
+        c.exp8_test_tracks = 300;
+        c.exp8_track_frames = 64;
+        c.exp8_frames = { 1, 2, 4, 8, 16, 32, 64 };
+        c.exp8_train_tracks = 2000;
+        c.exp8_track_epochs = 10;
+        c.exp8_cnn_epochs = 15;
+        c.exp8_svm_tracks = 600;
+        c.exp8_np_sweep = { 8, 128 };
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
     }
@@ -132,6 +152,7 @@ int main(int argc, char** argv)
 {
     config c;
     std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank,burst",
+                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
     apps::frame_options frame_flags;
@@ -140,9 +161,11 @@ int main(int argc, char** argv)
         ("help,h", "this help")
         ("size", po::value(&c.size)->default_value(c.size), "test (seconds, CI) | full (the documented run)")
         ("out", po::value(&c.out_dir)->required(), "output directory (CSVs, masks, cached bundles)")
-        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..7")
+        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..8 (8 only when named)")
         ("seed", po::value(&c.seed)->default_value(c.seed), "seed of the test frames and the first training seed")
         ("seeds", po::value<int>(), "override: training seeds per learned method (seed, seed + 1, ...; test 1, full 3)")
+        ("first-seed", po::value(&c.first_seed)->default_value(c.first_seed),
+         "train with seeds seed + first-seed, ... (the test frames stay those of --seed): one seed per process")
         ("threads", po::value(&c.threads)->default_value(c.threads), "LibTorch threads (training and inference)")
         ("test-frames", po::value<int>(), "override: test frames per operating point")
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
@@ -164,6 +187,16 @@ int main(int argc, char** argv)
          "experiment 7: comma-separated subset of main (N_p 32, every method), budget (the N_p sweep), power (SemS with "
          "learned pilot energies), bank (SemS and the Doppler pattern's decoder, each with a template bank, at N_p 16 and 64), "
          "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes")
+        ("exp8-parts", po::value(&exp8_parts)->default_value(exp8_parts),
+         "experiment 8: comma-separated subset of main (N_p 32, every method), budget (SemS-track against the track "
+         "hand patterns at each --exp8-np-sweep budget), to split a run over processes")
+        ("exp8-np-sweep", po::value(&exp8_np_sweep), "override: experiment 8's pilot budgets besides 32 (test 8; full 8,128)")
+        ("exp8-frames", po::value(&exp8_frames), "override: experiment 8's observation times in frames (test 1,2,4,8; full 1,2,4,...,64); the largest is K")
+        ("exp8-test-tracks", po::value<int>(), "override: experiment 8's test tracks (test 12, full 300)")
+        ("exp8-train-tracks", po::value<int>(), "override: tracks of each temporal decoder and of the spectrogram CNN (test 40, full 2000)")
+        ("exp8-track-epochs", po::value<int>(), "override: epochs of each temporal decoder (test 1, full 10)")
+        ("exp8-cnn-epochs", po::value<int>(), "override: epochs of the spectrogram CNN (test 1, full 15)")
+        ("exp8-svm-tracks", po::value<int>(), "override: training tracks of the SVM over the track (test 12, full 600)")
         ("confusion-snr", po::value(&c.confusion_snr_db)->default_value(c.confusion_snr_db), "experiment 7: SNR (dB) of the confusion matrices")
         ("multipath-paths", po::value(&c.multipath_paths)->default_value(c.multipath_paths), "paths per target in the multipath scene")
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
@@ -193,6 +226,39 @@ int main(int argc, char** argv)
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst" }, "--exp7-parts");
+        c.exp8_parts = parse_names(exp8_parts, { "main", "budget" }, "--exp8-parts");
+        for (const auto& [flag, field] : { std::pair<const char*, int*>{ "exp8-test-tracks", &c.exp8_test_tracks },
+                                           { "exp8-train-tracks", &c.exp8_train_tracks },
+                                           { "exp8-track-epochs", &c.exp8_track_epochs },
+                                           { "exp8-cnn-epochs", &c.exp8_cnn_epochs },
+                                           { "exp8-svm-tracks", &c.exp8_svm_tracks } })
+            if (vm.count(flag))
+                *field = vm[flag].as<int>();
+        if (!exp8_np_sweep.empty()) {
+            c.exp8_np_sweep.clear();
+            for (double v : parse_list(exp8_np_sweep))
+                c.exp8_np_sweep.push_back(static_cast<int>(v));
+        }
+        if (!exp8_frames.empty()) {
+            c.exp8_frames.clear();
+            for (double v : parse_list(exp8_frames)) {
+                if (v < 1 || v != static_cast<int>(v) || v > limits::max_track_frames)
+                    throw std::invalid_argument("--exp8-frames: " + std::to_string(v) + " is not a frame count in [1, " +
+                                                std::to_string(limits::max_track_frames) + "]");
+                c.exp8_frames.push_back(static_cast<int>(v));
+            }
+            std::sort(c.exp8_frames.begin(), c.exp8_frames.end());
+            c.exp8_frames.erase(std::unique(c.exp8_frames.begin(), c.exp8_frames.end()), c.exp8_frames.end());
+        }
+        c.exp8_track_frames = c.exp8_frames.back();
+        if (c.exp8_test_tracks < 2 || c.exp8_train_tracks < 10 || c.exp8_svm_tracks < 2 || c.exp8_track_epochs < 1 ||
+            c.exp8_cnn_epochs < 1)
+            throw std::invalid_argument("experiment 8: --exp8-test-tracks >= 2, --exp8-train-tracks >= 10, "
+                                        "--exp8-svm-tracks >= 2, --exp8-track-epochs >= 1, --exp8-cnn-epochs >= 1");
+        for (int np : c.exp8_np_sweep)
+            if (np < 1 || np > c.fs.usable_elements())
+                throw std::invalid_argument("--exp8-np-sweep: " + std::to_string(np) + " is outside [1, N*(M - guards) = " +
+                                            std::to_string(c.fs.usable_elements()) + "]");
         if (vm.count("test-frames"))
             c.test_frames = vm["test-frames"].as<int>();
         if (vm.count("train-frames"))
@@ -213,6 +279,8 @@ int main(int argc, char** argv)
                 throw std::invalid_argument("--seeds must be >= 1 (training seeds per learned method), got " +
                                             std::to_string(c.seeds));
         }
+        if (c.first_seed < 0)
+            throw std::invalid_argument("--first-seed must be >= 0, got " + std::to_string(c.first_seed));
         if (!snrs.empty())
             c.snrs = parse_list(snrs);
         if (!delay_snrs.empty())
@@ -229,8 +297,8 @@ int main(int argc, char** argv)
         }
         c.experiments.clear();
         for (double e : parse_list(experiments)) {
-            if (e < 1 || e > 7 || e != static_cast<int>(e))
-                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..7");
+            if (e < 1 || e > 8 || e != static_cast<int>(e))
+                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..8");
             c.experiments.insert(static_cast<int>(e));
         }
         if (c.test_frames < 2 || c.train_frames < 10 || c.svm_train_frames < 6 || c.tsne_frames < 2)
@@ -265,7 +333,7 @@ int main(int argc, char** argv)
         std::cout << "[" << now_utc() << "] sems_eval --size " << c.size << ": " << c.test_frames
                   << " test frames per point, " << c.train_frames << " training frames, " << c.epochs << "+"
                   << c.decoder_epochs << " epochs (classifiers " << c.classifier_epochs << "+" << c.decoder_epochs << "), batch " << c.batch << ", test seed base " << c.seed << ", "
-                  << c.seeds << " training seed(s) " << c.seed << ".." << c.seed + uint64_t(c.seeds - 1) << ", out "
+                  << c.seeds << " training seed(s) " << c.seed + uint64_t(c.first_seed) << ".." << c.seed + uint64_t(c.first_seed + c.seeds - 1) << ", out "
                   << c.out_dir << std::endl;
         // Cheapest-to-most-expensive is not the order: the headline experiments come first,
         // and the cost table is rewritten after each, so a stopped run still leaves results.
@@ -284,6 +352,7 @@ int main(int argc, char** argv)
         write_cost(c, std::cout);
         run_recognition(rest, std::cout);
         write_cost(c, std::cout);
+        run_tracks(c, std::cout);
         std::cout << "[" << now_utc() << "] done" << std::endl;
         return 0;
     } catch (const po::error& e) {

@@ -222,7 +222,7 @@ std::vector<uint64_t> training_seeds(const config& c)
 {
     std::vector<uint64_t> out;
     for (int k = 0; k < c.seeds; ++k)
-        out.push_back(c.seed + uint64_t(k));
+        out.push_back(c.seed + uint64_t(c.first_seed + k));
     return out;
 }
 
@@ -298,6 +298,29 @@ nlohmann::json cache_key(const training_settings& s)
 
 } // namespace
 
+nlohmann::json read_eval_key(const std::string& dir)
+{
+    std::ifstream in(fsys::path(dir) / "eval_key.json");
+    nlohmann::json stored = nlohmann::json::object();
+    if (!in)
+        return stored;
+    try {
+        in >> stored;
+    } catch (const std::exception&) { // a run stopped while writing it: train again
+        stored = nlohmann::json::object();
+    }
+    return stored;
+}
+
+std::vector<int> output_classes(const model_bundle& b, const scene& sc)
+{
+    b.check_library(sc.library(), "sems_eval");
+    std::vector<int> ids;
+    for (const auto& n : b.class_names)
+        ids.push_back(sc.library().id_of(n));
+    return ids;
+}
+
 decoder_source train_or_load(const config& c, const std::string& name, training_settings s, std::ostream& log)
 {
     decoder_source out;
@@ -307,12 +330,7 @@ decoder_source train_or_load(const config& c, const std::string& name, training_
     const auto key = cache_key(s);
     const auto key_file = dir / "eval_key.json";
     if (fsys::exists(key_file) && fsys::exists(dir / model_bundle::bundle_file)) {
-        std::ifstream in(key_file);
-        nlohmann::json stored;
-        try {
-            in >> stored;
-        } catch (const std::exception&) {
-        }
+        const auto stored = read_eval_key(dir.string());
         // --reuse-bundles trusts the cache even when the trainer's settings schema changed
         // since it was written (re-measuring times on the same networks).
         if (c.reuse_bundles || stored.value("key", nlohmann::json()) == key) {

@@ -10,6 +10,7 @@
 #include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sems/learning/training/trainer.h>
+#include <nlohmann/json.hpp>
 #include <chrono>
 #include <cstdint>
 #include <fstream>
@@ -28,6 +29,7 @@ struct config {
     std::string out_dir;
     uint64_t seed = 2026;         // test frames: seed + a per-scene constant; training: see training_seeds
     int seeds = 1;                // training seeds per learned method: seed, seed + 1, ..., seed + seeds - 1
+    int first_seed = 0;           // the first of them is seed + first_seed (one seed per process shares a run)
     int threads = 2;
     int test_frames = 60;         // per operating point (the same frames at every SNR)
     int train_frames = 600;       // DL training frames (the trainer splits 8:1:1)
@@ -55,6 +57,16 @@ struct config {
     std::vector<int> exp7_burst_np{ 8 };         // experiment 7: N_p of the burst pattern (below N: else the Doppler one)
     std::set<std::string> exp7_parts{ "main", "budget", "power", "bank", "burst" }; // one per process lets cores share a run
     double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
+    int exp8_test_tracks = 12;                    // experiment 8: test tracks (every method, every SNR)
+    int exp8_track_frames = 8;                    // experiment 8: K, frames of a track (test and training)
+    std::vector<int> exp8_frames{ 1, 2, 4, 8 };   // experiment 8: observation times scored, in frames (<= K)
+    int exp8_train_tracks = 40;                   // experiment 8: tracks of each temporal decoder (split 8:1:1)
+                                                  // and of the spectrogram CNN (9:1)
+    int exp8_track_epochs = 1;                    // experiment 8: epochs of each temporal decoder
+    int exp8_cnn_epochs = 1;                      // experiment 8: epochs of the spectrogram CNN
+    int exp8_svm_tracks = 12;                     // experiment 8: training tracks of the SVM over the track
+    std::vector<int> exp8_np_sweep{ 8 };          // experiment 8's pilot budgets besides 32 (budget part)
+    std::set<std::string> exp8_parts{ "main", "budget" };
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -163,6 +175,12 @@ std::vector<uint64_t> training_seeds(const config& c);
 std::string seeded_name(const std::string& name, uint64_t train_seed);
 // The CSVs' train_seed value: the seed, or "none" for a method without training.
 std::string train_seed_label(std::optional<uint64_t> train_seed);
+// <dir>/eval_key.json as written beside a cached bundle (the settings it was trained with and
+// its training time), or an empty object when it is missing or unreadable.
+nlohmann::json read_eval_key(const std::string& dir);
+// Class ids (in the scene's library) of a classifier bundle's outputs; a bundle trained on
+// another class library is refused with the reason (model_bundle::check_library).
+std::vector<int> output_classes(const model_bundle& b, const scene& sc);
 // Writes a mask file under <out>/masks and returns its path.
 std::string write_mask(const config& c, const pilot_mask& mask, const std::string& name);
 pilot_mask full_grid_mask(const frame_settings& fs);
@@ -173,6 +191,7 @@ void run_tsne(const config& c, std::ostream& log);          // 2
 void run_delay(const config& c, std::ostream& log);         // 4
 void run_pilot_budget(const config& c, std::ostream& log);  // 5
 void write_cost(const config& c, std::ostream& log);        // 6
+void run_tracks(const config& c, std::ostream& log);        // 8
 
 } // namespace sems_eval
 

@@ -29,17 +29,6 @@ std::vector<int> truth_labels(const test_set& ts)
     return y;
 }
 
-// Class ids (in the scene's library) of a classifier bundle's outputs; a bundle trained on
-// another class library is refused with the reason (model_bundle::check_library).
-std::vector<int> output_classes(const model_bundle& b, const scene& sc)
-{
-    b.check_library(sc.library(), "sems_eval");
-    std::vector<int> ids;
-    for (const auto& n : b.class_names)
-        ids.push_back(sc.library().id_of(n));
-    return ids;
-}
-
 // Runs the decoder on count x N_p observations in batches; returns class ids.
 std::vector<int> classify_all(const bundle_decoder& dec,
                               const std::vector<gr_complex>& obs,

@@ -262,7 +262,9 @@ class qa_sems_eval(gr_unittest.TestCase):
 
     def test_002_bad_options_fail_clearly(self):
         with tempfile.TemporaryDirectory() as out:
-            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "8"], "--experiments"),
+            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "9"], "--experiments"),
+                              (["--exp8-frames", "0"], "--exp8-frames"), (["--exp8-np-sweep", "5000"], "--exp8-np-sweep"),
+                              (["--exp8-parts", "all"], "--exp8-parts"), (["--first-seed", "-1"], "--first-seed"),
                               (["--exp7-parts", "all"], "--exp7-parts"), (["--exp7-np-sweep", "0"], "--exp7-np-sweep"),
                                (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds")):
                 r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
@@ -385,6 +387,86 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertIn("model cls_default_sems_s2026 (--reuse-bundles", r.stderr)
             self.assertIn("frame field bandwidth_hz differs: the cached bundle's frame has 30000000, "
                           "the run's frame has 20000000", r.stderr)
+
+    def test_006_experiment_8_tracks_paired_predictions(self):
+        """Experiment 8 at its test size with two training seeds and both parts: every method's
+        scores at every SNR and observation time, per training seed; each score recomputed from
+        the saved per-track decisions and the truth (tracks shorter than an observation time
+        left out); the noiseless CNN's decisions the same at every SNR; plot_tracks.py draws
+        the figures and the paired tables."""
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "8", "--seeds", "2", "--out", out,
+                                "--threads", "1"], capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
+            scores = rows(os.path.join(out, "exp8_tracks.csv"))
+            truth = rows(os.path.join(out, "exp8_truth.csv"))
+            preds = rows(os.path.join(out, "exp8_predictions.csv"))
+            self.assertEqual(len(truth), 12)
+            self.assertEqual({t["class"] for t in truth} - set(KINEMATIC), set())
+            length = [int(t["frames"]) for t in truth]
+            label = [int(t["class_id"]) for t in truth]
+            self.assertTrue(all(1 <= n <= 8 for n in length), length)
+            main = ["SemS-track", "SemS fusion", "MSE-DL fusion", "SVM over the track (doppler pilots)",
+                    "Perfect-CSI spectrogram CNN (noiseless)"] + [
+                "SemS decoder (%s pilots) %s" % (p, k) for p in ("doppler", "staggered") for k in ("+ track", "fusion")]
+            budget = ["SemS-track", "SemS fusion"] + [
+                "SemS decoder (%s pilots) %s" % (p, k) for p in ("doppler", "staggered", "burst")
+                for k in ("+ track", "fusion")]
+            got = {}
+            for s in scores:
+                got.setdefault((s["method"], s["n_pilots"], s["snr_db"], s["frames"]), []).append(s["train_seed"])
+            for methods, np_ in ((main, "32"), (budget, "8")):
+                for m in methods:
+                    n = np_ if "CNN" not in m else "2048"
+                    for snr in ("-10", "10", "30"):
+                        for f in ("1", "2", "4", "8"):
+                            if any(x >= int(f) for x in length):
+                                self.assertEqual(sorted(got.get((m, n, snr, f), [])), sorted(TRAIN_SEEDS), (m, n, snr, f))
+            self.assertFalse([k for k in got if k[0] not in main + budget], "unexpected methods")
+            by_key = {(p["method"], p["n_pilots"], p["snr_db"], p["train_seed"], p["frames"]): p for p in preds}
+            self.assertEqual(len(by_key), len(preds), "one decision row per method, budget, SNR, seed and time")
+            for s in scores:
+                p = by_key[(s["method"], s["n_pilots"], s["snr_db"], s["train_seed"], s["frames"])]
+                d = [int(v) for v in p["predicted"].split()]
+                self.assertEqual(len(d), 12)
+                f = int(s["frames"])
+                kept = [i for i in range(12) if length[i] >= f]
+                self.assertEqual([d[i] for i in range(12) if length[i] < f], [-1] * (12 - len(kept)))
+                self.assertEqual(int(s["n_tracks"]), len(kept))
+                self.assertAlmostEqual(float(s["accuracy"]), sum(d[i] == label[i] for i in kept) / len(kept), places=5)
+            for seed in TRAIN_SEEDS:
+                cnn = {p["snr_db"]: p["predicted"] for k, p in by_key.items()
+                       if k[0].startswith("Perfect-CSI") and k[3] == seed and k[4] == "8"}
+                self.assertEqual(len(set(cnn.values())), 1, "the noiseless CNN's decisions do not depend on the SNR")
+            r = subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "apps", "figures", "plot_tracks.py"), out,
+                                "--bootstrap", "200"], capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("exp8_tracks.png", "exp8_pilot_budget.png", "track_tables.md"):
+                self.assertGreater(os.path.getsize(os.path.join(out, name)), 1000, name)
+            with open(os.path.join(out, "track_tables.md")) as f:
+                text = f.read()
+            for heading in ("## Accuracy at 10 dB, N_p = 32", "### against SemS fusion", "## Time to 90",
+                            "## Pilot budget", "## The adult/child pair"):
+                self.assertIn(heading, text)
+
+    def test_007_holm_and_paired_bootstrap(self):
+        """plot_tracks.py's statistics against closed forms: Holm's step-down adjustment, and the
+        paired bootstrap's standard error of a mean difference of 0/1 correctness (sqrt(v/n))."""
+        sys.path.insert(0, os.path.join(SOURCE, "apps", "figures"))
+        import numpy as np
+        import plot_tracks
+        self.assertEqual(plot_tracks.holm([0.01, 0.04, 0.03, 0.5]), [0.04, 0.09, 0.09, 0.5])
+        n = 400
+        truth = [{"class_id": str(i % 2), "frames": "4"} for i in range(n)]
+        a = " ".join(str(i % 2) if i % 4 else str(1 - i % 2) for i in range(n))  # 3/4 right
+        b = " ".join(str(i % 2) if i % 2 else str(1 - i % 2) for i in range(n))  # 1/2 right
+        p = plot_tracks.predictions([{"method": m, "n_pilots": "32", "snr_db": "10", "frames": "4",
+                                      "train_seed": "1", "predicted": d} for m, d in (("A", a), ("B", b))], truth)
+        res = p.paired("A", "B", 32, 32, 10.0, 4, np.random.default_rng(1), 4000)
+        d = np.array([(i % 4 != 0) - (i % 2 != 0) for i in range(n)], dtype=float)
+        self.assertAlmostEqual(res["diff"], 0.25, places=9)
+        self.assertAlmostEqual(res["se"], d.std() / n ** 0.5, delta=0.1 * d.std() / n ** 0.5)
+        self.assertLess(res["p"], 0.01)
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)

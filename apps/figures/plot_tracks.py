@@ -1,0 +1,334 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Experiment 8's figures, tables and paired statistics (decisions over a track).
+
+    plot_tracks.py RESULTS [--tables FILE] [--bootstrap B] [--seed S]
+
+Reads RESULTS/exp8_tracks.csv (scores), exp8_predictions.csv (every method's decision on every
+test track) and exp8_truth.csv (the test tracks' classes and lengths), written by
+`sems_eval --experiments 8` (scripts/eval_tracks.sh), and writes
+
+  RESULTS/exp8_tracks.png        accuracy against observation time, one panel per SNR, N_p = 32
+                                 (mean over training seeds; the band spans the seeds)
+  RESULTS/exp8_pilot_budget.png  accuracy over the longest observation time against N_p
+  --tables FILE                  the tables (markdown): accuracy by observation time and SNR,
+                                 macro-F1, the time each method needs to reach 90 % and 95 % of
+                                 its accuracy over the longest time, the paired comparisons of
+                                 SemS-track with each reference, and the adult/child pair.
+
+Paired statistics: for two methods on the same test tracks, a track's difference is its
+correctness under one minus under the other, averaged over the training seeds both share; the
+mean difference's standard error and two-sided p-value come from a bootstrap over test tracks.
+Every comparison that covers several SNRs and observation times is one family, and its p-values
+get Holm's correction: a cell is "better" or "worse" only if it survives at level 0.05.
+"""
+import argparse
+import csv
+import math
+import os
+from collections import defaultdict
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+SEMS = "SemS-track"
+FRAME_MS = None  # set from the CSV's frame (N symbols x T): see main()
+ALPHA = 0.05
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def holm(pvalues):
+    """Holm-adjusted p-values (same order)."""
+    order = sorted(range(len(pvalues)), key=lambda i: pvalues[i])
+    adjusted = [0.0] * len(pvalues)
+    running = 0.0
+    m = len(pvalues)
+    for rank, i in enumerate(order):
+        running = max(running, min(1.0, (m - rank) * pvalues[i]))
+        adjusted[i] = running
+    return adjusted
+
+
+class predictions:
+    """Per-track decisions: (method, N_p, SNR, frames) -> {train seed: int array, -1 = too short}."""
+
+    def __init__(self, rows, truth):
+        self.truth = np.array([int(r["class_id"]) for r in truth])
+        self.length = np.array([int(r["frames"]) for r in truth])
+        self.by = defaultdict(dict)
+        for r in rows:
+            key = (r["method"], int(r["n_pilots"]), float(r["snr_db"]), int(r["frames"]))
+            self.by[key][r["train_seed"]] = np.array([int(v) for v in r["predicted"].split()])
+
+    def correct(self, method, np_, snr, frames):
+        """Seed -> 0/1 correctness of the tracks that last `frames` frames (and that mask)."""
+        seeds = self.by.get((method, np_, snr, frames))
+        if not seeds:
+            return None, None
+        keep = self.length >= frames
+        return {s: (p[keep] == self.truth[keep]).astype(float) for s, p in seeds.items()}, keep
+
+    def paired(self, a, b, np_a, np_b, snr, frames, rng, boots):
+        """Mean accuracy difference a - b over the shared seeds, its bootstrap SE and p (two-sided)."""
+        ca, _ = self.correct(a, np_a, snr, frames)
+        cb, _ = self.correct(b, np_b, snr, frames)
+        if ca is None or cb is None:
+            return None
+        # A method without training ("none") pairs with every seed of the other.
+        sa = set(ca) if "none" not in ca else set(cb)
+        sb = set(cb) if "none" not in cb else set(ca)
+        seeds = sorted(sa & sb)
+        if not seeds:
+            return None
+        d = np.mean([ca.get(s, ca.get("none")) - cb.get(s, cb.get("none")) for s in seeds], axis=0)
+        n = len(d)
+        idx = rng.integers(0, n, size=(boots, n))
+        means = d[idx].mean(axis=1)
+        se = float(means.std(ddof=1))
+        p = 2.0 * min((means <= 0).mean(), (means >= 0).mean())
+        return {"diff": float(d.mean()), "se": se, "p": min(1.0, max(p, 1.0 / boots)), "tracks": n,
+                "seeds": len(seeds)}
+
+
+def mean_over_seeds(rows, key):
+    """(method, N_p, SNR, frames) -> (mean, min, max, seeds) of column `key`."""
+    acc = defaultdict(list)
+    for r in rows:
+        acc[(r["method"], int(r["n_pilots"]), float(r["snr_db"]), int(r["frames"]))].append(float(r[key]))
+    return {k: (float(np.mean(v)), min(v), max(v), len(v)) for k, v in acc.items()}
+
+
+def method_order(methods):
+    first = [SEMS, "SemS fusion"]
+    rest = sorted(m for m in methods if m not in first)
+    key = lambda m: (0 if "+ track" in m else 1 if "fusion" in m else 2, m)  # noqa: E731
+    return [m for m in first if m in methods] + sorted(rest, key=key)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("results", help="folder with exp8_tracks.csv, exp8_predictions.csv and exp8_truth.csv")
+    ap.add_argument("--tables", default=None, help="markdown tables go here (default RESULTS/track_tables.md)")
+    ap.add_argument("--bootstrap", type=int, default=2000, help="bootstrap resamples (default 2000)")
+    ap.add_argument("--seed", type=int, default=8, help="seed of the bootstrap")
+    ap.add_argument("--frame-ms", type=float, default=32.0, help="one frame's duration in ms (N x T; default 32)")
+    args = ap.parse_args()
+    if args.bootstrap < 100:
+        raise SystemExit("plot_tracks.py: --bootstrap must be >= 100, got %d" % args.bootstrap)
+    rows = read_csv(os.path.join(args.results, "exp8_tracks.csv"))
+    if not rows:
+        raise SystemExit("plot_tracks.py: %s/exp8_tracks.csv has no rows" % args.results)
+    pred = predictions(read_csv(os.path.join(args.results, "exp8_predictions.csv")),
+                       read_csv(os.path.join(args.results, "exp8_truth.csv")))
+    class_names = {int(r["class_id"]): r["class"] for r in read_csv(os.path.join(args.results, "exp8_truth.csv"))}
+    tables = args.tables or os.path.join(args.results, "track_tables.md")
+    rng = np.random.default_rng(args.seed)
+    acc = mean_over_seeds(rows, "accuracy")
+    f1 = mean_over_seeds(rows, "macro_f1")
+    snrs = sorted({k[2] for k in acc})
+    frames = sorted({k[3] for k in acc})
+    t_max = frames[-1]
+    budgets = sorted({k[1] for k in acc if k[0] == SEMS})
+    main_np = 32 if 32 in budgets else budgets[0]
+    methods = method_order({k[0] for k in acc if k[1] == main_np or "CNN" in k[0]})
+    np_of = {m: (main_np if (m, main_np, snrs[0], frames[0]) in acc else
+                 next(k[1] for k in acc if k[0] == m)) for m in methods}
+    n_tracks = len(pred.truth)
+    seeds = sorted({r["train_seed"] for r in rows if r["method"] == SEMS})
+    secs = lambda f: f * args.frame_ms / 1e3  # noqa: E731
+
+    # Figure: accuracy against observation time, one panel per SNR.
+    cols = min(3, len(snrs))
+    rws = int(math.ceil(len(snrs) / cols))
+    fig, axes = plt.subplots(rws, cols, figsize=(5.0 * cols, 3.6 * rws), squeeze=False, sharey=True)
+    colours = dict(zip(methods, plt.cm.tab10(np.arange(len(methods)) % 10)))
+    for ax, snr in zip(axes.flat, snrs):
+        for m in methods:
+            pts = [(f, acc[(m, np_of[m], snr, f)]) for f in frames if (m, np_of[m], snr, f) in acc]
+            if not pts:
+                continue
+            t = [secs(f) for f, _ in pts]
+            style = "-o" if m == SEMS else ("--" if "fusion" in m else "-")
+            ax.plot(t, [v[0] for _, v in pts], style, color=colours[m], ms=3, lw=2 if m == SEMS else 1, label=m)
+            ax.fill_between(t, [v[1] for _, v in pts], [v[2] for _, v in pts], color=colours[m], alpha=0.12, lw=0)
+        ax.set_xscale("log")
+        ax.set_title("%g dB" % snr)
+        ax.set_xlabel("observation time (s)")
+        ax.set_ylim(0, 1)
+        ax.grid(alpha=0.3)
+    for ax in axes.flat[len(snrs):]:
+        ax.axis("off")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("accuracy")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.suptitle("Decisions over a track, kinematic library, N_p = %d (%d test tracks, %d training seed(s))"
+                 % (main_np, n_tracks, len(seeds)), fontsize=10)
+    fig.tight_layout(rect=(0, 0.04 + 0.03 * int(math.ceil(len(methods) / 3)), 1, 0.96))
+    fig.savefig(os.path.join(args.results, "exp8_tracks.png"), dpi=110)
+    plt.close(fig)
+
+    # Figure: the pilot budget at the longest observation time.
+    budget_methods = [m for m in method_order({k[0] for k in acc}) if len({k[1] for k in acc if k[0] == m}) > 1]
+    if len(budgets) > 1:
+        fig, axes = plt.subplots(1, len(snrs), figsize=(3.4 * len(snrs), 3.4), squeeze=False, sharey=True)
+        for ax, snr in zip(axes.flat, snrs):
+            for m in budget_methods:
+                pts = sorted((k[1], v) for k, v in acc.items() if k[0] == m and k[2] == snr and k[3] == t_max)
+                if pts:
+                    ax.plot([p for p, _ in pts], [v[0] for _, v in pts], "-o" if m == SEMS else "--", ms=3,
+                            color=colours.get(m), label=m)
+            ax.set_xscale("log", base=2)
+            ax.set_title("%g dB, %.3g s" % (snr, secs(t_max)))
+            ax.set_xlabel("pilots per frame")
+            ax.set_ylim(0, 1)
+            ax.grid(alpha=0.3)
+        axes.flat[0].set_ylabel("accuracy")
+        axes.flat[0].legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(args.results, "exp8_pilot_budget.png"), dpi=110)
+        plt.close(fig)
+
+    out = []
+    w = out.append
+    w("# Experiment 8: decisions over a track\n")
+    w("Generated by `/usr/bin/python3 apps/figures/plot_tracks.py %s` from `sems_eval --experiments 8` "
+      "(`scripts/eval_tracks.sh`). %d test tracks of the kinematic library (any heading, Rayleigh gains new every "
+      "frame), the same for every method; training seeds %s; a frame is %.3g ms. Accuracy is the mean over "
+      "training seeds; a track counts at an observation time if it lasts that long.\n"
+      % (args.results, n_tracks, ", ".join(seeds), args.frame_ms))
+    for snr in snrs:
+        w("\n## Accuracy at %g dB, N_p = %d\n" % (snr, main_np))
+        w("| method | " + " | ".join("%d (%.3g s)" % (f, secs(f)) for f in frames) + " |")
+        w("|---|" + "---:|" * len(frames))
+        for m in methods:
+            cells = []
+            for f in frames:
+                v = acc.get((m, np_of[m], snr, f))
+                cells.append("%.3f" % v[0] if v else "")
+            w("| %s | %s |" % (m, " | ".join(cells)))
+    w("\n## Macro-F1 over %.3g s (%d frames), N_p = %d\n" % (secs(t_max), t_max, main_np))
+    w("| method | " + " | ".join("%g dB" % s for s in snrs) + " |")
+    w("|---|" + "---:|" * len(snrs))
+    for m in methods:
+        w("| %s | %s |" % (m, " | ".join("%.3f" % f1[(m, np_of[m], s, t_max)][0]
+                                          if (m, np_of[m], s, t_max) in f1 else "" for s in snrs)))
+
+    w("\n## Time to 90 %% and 95 %% of the accuracy over %.3g s\n" % secs(t_max))
+    w("The shortest observation time scored whose accuracy reaches 90 % (95 %) of the method's own accuracy over "
+      "the longest time, in seconds: the speed/accuracy trade in time.\n")
+    w("| method | " + " | ".join("%g dB" % s for s in snrs) + " |")
+    w("|---|" + "---:|" * len(snrs))
+    for m in methods:
+        cells = []
+        for s in snrs:
+            final = acc.get((m, np_of[m], s, t_max))
+            if not final:
+                cells.append("")
+                continue
+            reach = []
+            for q in (0.90, 0.95):
+                hit = next((f for f in frames if (m, np_of[m], s, f) in acc and acc[(m, np_of[m], s, f)][0]
+                            >= q * final[0]), t_max)
+                reach.append("%.3g" % secs(hit))
+            cells.append(" / ".join(reach))
+        w("| %s | %s |" % (m, " | ".join(cells)))
+
+    # Paired comparisons: SemS-track against each reference, one Holm family per reference.
+    w("\n## SemS-track against each reference, paired\n")
+    w("Difference of accuracy (SemS-track minus the reference) on the same test tracks, averaged over the training "
+      "seeds both share, ± its bootstrap standard error over tracks (%d resamples). Each row is one family over "
+      "every SNR and observation time, Holm-corrected at %.2g: **+** SemS-track better, **−** worse, **=** no "
+      "difference that survives the correction.\n" % (args.bootstrap, ALPHA))
+    references = [m for m in methods if m != SEMS]
+    for ref in references:
+        cells, keys = [], []
+        for s in snrs:
+            for f in frames:
+                r = pred.paired(SEMS, ref, main_np, np_of[ref], s, f, rng, args.bootstrap)
+                if r:
+                    cells.append(r)
+                    keys.append((s, f))
+        if not cells:
+            continue
+        adj = holm([c["p"] for c in cells])
+        w("\n### against %s\n" % ref)
+        w("| SNR | " + " | ".join("%d fr" % f for f in frames) + " |")
+        w("|---|" + "---:|" * len(frames))
+        table = {k: (c, a) for k, c, a in zip(keys, cells, adj)}
+        wins = losses = 0
+        for s in snrs:
+            row = []
+            for f in frames:
+                if (s, f) not in table:
+                    row.append("")
+                    continue
+                c, a = table[(s, f)]
+                mark = "=" if a >= ALPHA else ("+" if c["diff"] > 0 else "−")
+                wins += mark == "+"
+                losses += mark == "−"
+                row.append("%+.3f ± %.3f %s" % (c["diff"], c["se"], mark))
+            w("| %g dB | %s |" % (s, " | ".join(row)))
+        w("\nBetter in %d, worse in %d of %d cells.\n" % (wins, losses, len(cells)))
+
+    # The budget: SemS-track against the best hand pattern under the temporal decoder at each N_p.
+    if len(budgets) > 1:
+        w("\n## Pilot budget: SemS-track against the best hand pattern under the temporal decoder\n")
+        w("At each N_p and SNR over %.3g s: the hand pattern (+ track) with the best mean accuracy there, and the "
+          "paired difference, Holm-corrected over the whole table.\n" % secs(t_max))
+        cells, keys = [], []
+        for b in budgets:
+            for s in snrs:
+                pats = [m for m in {k[0] for k in acc} if "+ track" in m and (m, b, s, t_max) in acc]
+                if not pats:
+                    continue
+                best = max(pats, key=lambda m: acc[(m, b, s, t_max)][0])
+                r = pred.paired(SEMS, best, b, b, s, t_max, rng, args.bootstrap)
+                if r:
+                    cells.append((best, r))
+                    keys.append((b, s))
+        adj = holm([r["p"] for _, r in cells])
+        w("| N_p | SNR | SemS-track | best pattern + track | difference |")
+        w("|---:|---:|---:|---|---:|")
+        for (b, s), (best, r), a in zip(keys, cells, adj):
+            mark = "=" if a >= ALPHA else ("+" if r["diff"] > 0 else "−")
+            w("| %d | %g dB | %.3f | %s %.3f | %+.3f ± %.3f %s |" % (
+                b, s, acc[(SEMS, b, s, t_max)][0], best.replace("SemS decoder ", "").replace(" + track", ""),
+                acc[(best, b, s, t_max)][0], r["diff"], r["se"], mark))
+
+    # The adult/child pair: the 2 x 2 accuracy among tracks of either class, after the longest time.
+    names = {v: k for k, v in class_names.items()}
+    if "adult" in names and "child" in names:
+        a_id, c_id = names["adult"], names["child"]
+        w("\n## The adult/child pair over %.3g s\n" % secs(t_max))
+        w("Among test tracks of an adult or a child, the fraction decided as the right one of the two (decisions "
+          "for another class count as wrong), mean over seeds; its bound from the walker's observables is in "
+          "[walker_pair_bound.md](walker_pair_bound.md).\n")
+        w("| method | " + " | ".join("%g dB" % s for s in snrs) + " |")
+        w("|---|" + "---:|" * len(snrs))
+        keep = ((pred.truth == a_id) | (pred.truth == c_id)) & (pred.length >= t_max)
+        for m in methods:
+            cells = []
+            for s in snrs:
+                seeds_m = pred.by.get((m, np_of[m], s, t_max))
+                if not seeds_m or keep.sum() == 0:
+                    cells.append("")
+                    continue
+                cells.append("%.3f" % np.mean([(p[keep] == pred.truth[keep]).mean() for p in seeds_m.values()]))
+            w("| %s | %s |" % (m, " | ".join(cells)))
+    with open(tables, "w") as f:
+        f.write("\n".join(out) + "\n")
+    print("plot_tracks.py: wrote %s, %s/exp8_tracks.png%s" % (
+        tables, args.results, ", exp8_pilot_budget.png" if len(budgets) > 1 else ""))
+
+
+if __name__ == "__main__":
+    main()
