@@ -43,8 +43,44 @@ scene tracked_scene(const scene& sc, int frames)
     return scene::random(r, sc.clutter(), sc.fading(), sc.library_ptr());
 }
 
-// Tracks drawn alone from (seed, index): their noiseless grids and, for the test tracks,
-// unit-variance noise (the same noise at every SNR, as test_set).
+// Visits tracks 0 .. count - 1 of `tsc`, each drawn alone from (seed, index) by c.threads
+// workers (one channel model each): visit(i, len, class id, grids, noise) gets the track's
+// first len <= frames noiseless grids (len x N x M) and unit-variance noise of the same shape,
+// drawn from (seed, i) too, so a track is the same whichever worker draws it. Only one track
+// per worker is in memory at a time.
+template <typename Visit>
+void for_each_track(const config& c, const scene& tsc, int count, int frames, uint64_t seed, Visit visit)
+{
+    const size_t grid = c.fs.grid_size();
+    const int workers = std::max(1, std::min(c.threads, count));
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w)
+        pool.emplace_back([&, w] {
+            channel_model cm(c.fs, tsc, seed);
+            frame_realization r;
+            std::vector<gr_complex> h(size_t(frames) * grid), noise(size_t(frames) * grid);
+            for (int i = w; i < count; i += workers) {
+                const int len = std::min(frames, cm.begin_track(static_cast<uint64_t>(i)));
+                std::mt19937_64 g(seed * 0x9e3779b97f4a7c15ULL + uint64_t(i) * 0xbf58476d1ce4e5b9ULL + 1);
+                std::normal_distribution<float> half(0.0f, std::sqrt(0.5f));
+                int label = -1;
+                for (int f = 0; f < len; ++f) {
+                    cm.draw(static_cast<uint64_t>(f), r);
+                    if (f == 0)
+                        label = r.truth.class_id;
+                    cm.factors(r, 0).fill(h.data() + size_t(f) * grid); // the track's own clock
+                }
+                for (size_t k = 0; k < size_t(len) * grid; ++k)
+                    noise[k] = gr_complex(half(g), half(g));
+                visit(i, len, label, h.data(), noise.data());
+            }
+        });
+    for (auto& th : pool)
+        th.join();
+}
+
+// The test tracks: their noiseless grids and unit-variance noise kept (the same noise at every
+// SNR and for every method, as test_set).
 struct track_grids {
     int count = 0, frames = 0;
     test_set grids;             // count * frames grids (track-major); zero past a track's end
@@ -53,7 +89,7 @@ struct track_grids {
     const gr_complex* h(int track) const { return grids.h.data() + size_t(track) * frames * grids.fs.grid_size(); }
 };
 
-track_grids draw_track_grids(const config& c, const scene& tsc, int count, int frames, uint64_t seed, bool noise)
+track_grids draw_track_grids(const config& c, const scene& tsc, int count, int frames, uint64_t seed)
 {
     track_grids t;
     t.count = count;
@@ -62,36 +98,17 @@ track_grids draw_track_grids(const config& c, const scene& tsc, int count, int f
     t.grids.count = count * frames;
     const size_t grid = c.fs.grid_size(), n = size_t(count) * frames * grid;
     t.grids.h.assign(n, gr_complex(0.0f, 0.0f));
-    t.grids.w.assign(noise ? n : 0, gr_complex(0.0f, 0.0f));
-    t.grids.truth.resize(size_t(count) * frames);
+    t.grids.w.assign(n, gr_complex(0.0f, 0.0f));
     t.length.assign(count, 0);
     t.label.assign(count, -1);
-    const int workers = std::max(1, std::min(c.threads, count));
-    std::vector<std::thread> pool;
-    for (int w = 0; w < workers; ++w)
-        pool.emplace_back([&, w] {
-            channel_model cm(c.fs, tsc, seed); // one per thread: track i depends on (seed, i) alone
-            frame_realization r;
-            for (int i = w; i < count; i += workers) {
-                const int len = std::min(frames, cm.begin_track(static_cast<uint64_t>(i)));
-                t.length[i] = len;
-                std::mt19937_64 g(seed * 0x9e3779b97f4a7c15ULL + uint64_t(i) * 0xbf58476d1ce4e5b9ULL + 1);
-                std::normal_distribution<float> half(0.0f, std::sqrt(0.5f));
-                for (int f = 0; f < len; ++f) {
-                    cm.draw(static_cast<uint64_t>(f), r);
-                    if (f == 0)
-                        t.label[i] = r.truth.class_id;
-                    const size_t at = (size_t(i) * frames + f) * grid;
-                    t.grids.truth[size_t(i) * frames + f] = r.truth;
-                    cm.factors(r, 0).fill(t.grids.h.data() + at); // the track's own clock
-                    if (noise)
-                        for (size_t k = 0; k < grid; ++k)
-                            t.grids.w[at + k] = gr_complex(half(g), half(g));
-                }
-            }
-        });
-    for (auto& th : pool)
-        th.join();
+    for_each_track(c, tsc, count, frames, seed,
+                   [&](int i, int len, int label, const gr_complex* h, const gr_complex* w) {
+                       t.length[i] = len;
+                       t.label[i] = label;
+                       const size_t at = size_t(i) * frames * grid;
+                       std::copy(h, h + size_t(len) * grid, t.grids.h.begin() + at);
+                       std::copy(w, w + size_t(len) * grid, t.grids.w.begin() + at);
+                   });
     return t;
 }
 
@@ -318,18 +335,27 @@ void score_svm(const config& c, track_scorer& out, int np, uint64_t train_seed, 
     const auto mask = pilot_mask::from_pattern("doppler", c.fs, np);
     const doppler_features fx(c.fs, mask);
     const auto t0 = std::chrono::steady_clock::now();
-    track_grids tr = draw_track_grids(c, tsc, c.exp8_svm_tracks, c.exp8_track_frames, train_seed + 303, true);
-    std::mt19937_64 g(train_seed ^ 0x5e7a11ULL);
-    std::uniform_real_distribution<double> u(c.train_snr_min_db, c.train_snr_max_db);
-    // One SNR per training track: scale its noise in place, then observe noiselessly.
-    for (int i = 0; i < tr.count; ++i) {
-        const float s = static_cast<float>(std::sqrt(channel_model::noise_variance(u(g))));
-        const size_t a = size_t(i) * tr.frames * c.fs.grid_size(), b = a + size_t(tr.frames) * c.fs.grid_size();
-        for (size_t q = a; q < b; ++q)
-            tr.grids.h[q] += s * tr.grids.w[q];
-    }
-    const auto train_obs = tr.grids.observe(mask, std::numeric_limits<double>::infinity());
-    const auto train_fx = frame_features(fx, train_obs, tr, np);
+    // The training tracks' per-frame features at one SNR per track (uniform over the training
+    // range, drawn from (seed, track)), from their pilots alone.
+    const auto idx = mask.flat_indices();
+    const int k = c.exp8_track_frames, n_tr = c.exp8_svm_tracks;
+    std::vector<std::vector<double>> train_fx(size_t(n_tr) * k);
+    std::vector<int> train_len(n_tr), train_label(n_tr);
+    for_each_track(c, tsc, n_tr, k, train_seed + 303,
+                   [&](int i, int len, int label, const gr_complex* h, const gr_complex* w) {
+                       std::mt19937_64 g(train_seed * 1000003ULL + uint64_t(i));
+                       std::uniform_real_distribution<double> u(c.train_snr_min_db, c.train_snr_max_db);
+                       const float sigma = static_cast<float>(std::sqrt(channel_model::noise_variance(u(g))));
+                       std::vector<gr_complex> obs(np);
+                       for (int f = 0; f < len; ++f) {
+                           const size_t at = size_t(f) * c.fs.grid_size();
+                           for (int q = 0; q < np; ++q)
+                               obs[q] = h[at + idx[q]] + sigma * w[at + idx[q]];
+                           train_fx[size_t(i) * k + f] = fx.extract(obs.data());
+                       }
+                       train_len[i] = len;
+                       train_label[i] = label;
+                   });
     auto track_feature = [](const std::vector<std::vector<double>>& per_frame, size_t first, int t_frames) {
         const size_t d = per_frame[first].size();
         std::vector<double> mean(d, 0.0), sq(d, 0.0);
@@ -348,11 +374,11 @@ void score_svm(const config& c, track_scorer& out, int np, uint64_t train_seed, 
     };
     std::vector<std::vector<double>> x;
     std::vector<int> y;
-    for (int i = 0; i < tr.count; ++i)
+    for (int i = 0; i < n_tr; ++i)
         for (int tf : c.exp8_frames)
-            if (tr.length[i] >= tf) {
-                x.push_back(track_feature(train_fx, size_t(i) * tr.frames, tf));
-                y.push_back(tr.label[i]);
+            if (train_len[i] >= tf) {
+                x.push_back(track_feature(train_fx, size_t(i) * k, tf));
+                y.push_back(train_label[i]);
             }
     const feature_svm svm(x, y);
     const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
@@ -395,10 +421,18 @@ void score_spectrogram_cnn(const config& c, track_scorer& out, uint64_t train_se
     const auto t0 = std::chrono::steady_clock::now();
     log << "[" << now_utc() << "] spectrogram CNN (Perfect CSI): drawing " << c.exp8_train_tracks
         << " noiseless training tracks, seed " << train_seed << std::endl;
-    const track_grids tr = draw_track_grids(c, tsc, c.exp8_train_tracks, c.exp8_track_frames, train_seed + 404, false);
-    const auto train_img = spectrograms(c, tr);
-    spectrogram_cnn cnn(c.fs.n_symbols, c.exp8_track_frames, nc, train_seed, c.threads);
-    cnn.train(train_img, tr.length, tr.label, c.exp8_cnn_epochs, log);
+    const int k = c.exp8_track_frames, n_tr = c.exp8_train_tracks;
+    const size_t img = size_t(c.fs.n_symbols) * k;
+    std::vector<float> train_img(size_t(n_tr) * img);
+    std::vector<int> train_len(n_tr), train_label(n_tr);
+    for_each_track(c, tsc, n_tr, k, train_seed + 404, [&](int i, int len, int label, const gr_complex* h, const gr_complex*) {
+        const auto s = track_spectrogram(c.fs, h, k, len);
+        std::copy(s.begin(), s.end(), train_img.begin() + size_t(i) * img);
+        train_len[i] = len;
+        train_label[i] = label;
+    });
+    spectrogram_cnn cnn(c.fs.n_symbols, k, nc, train_seed, c.threads);
+    cnn.train(train_img, train_len, train_label, c.exp8_cnn_epochs, log);
     const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
     const auto t1 = std::chrono::steady_clock::now();
     const auto test_img = spectrograms(c, t);
@@ -439,7 +473,7 @@ void run_tracks(const config& c, std::ostream& log)
     const uint64_t test_seed = c.seed + 808;
     log << "[" << now_utc() << "] exp 8 (kinematic tracks): " << c.exp8_test_tracks << " test tracks of "
         << c.exp8_track_frames << " frames, seed " << test_seed << std::endl;
-    const track_grids tests = draw_track_grids(c, tsc, c.exp8_test_tracks, c.exp8_track_frames, test_seed, true);
+    const track_grids tests = draw_track_grids(c, tsc, c.exp8_test_tracks, c.exp8_track_frames, test_seed);
     track_scorer out(c, tests, sc, test_seed, log);
     std::vector<int> budgets;
     if (c.exp8_parts.count("main"))
