@@ -70,6 +70,7 @@ struct config {
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
+    std::string shipped_track; // experiment 8: a shipped track bundle scored beside the methods trained here
     bool reuse_bundles = false; // load any cached bundle without comparing settings (timing re-runs)
     bool only_shipped = false; // evaluate only the shipped bundles (rows to add to a full run)
     bool exp1_any_heading = true;   // experiment 1 also on the "any" heading scene

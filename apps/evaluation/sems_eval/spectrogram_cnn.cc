@@ -14,17 +14,30 @@ namespace sems_eval {
 
 std::vector<float> track_spectrogram(const gr::sems::frame_settings& fs, const gr_complex* grids, int frames, int len)
 {
-    const int n = fs.n_symbols, m = fs.n_subcarriers;
-    std::vector<float> img(size_t(n) * frames, 0.0f);
+    const int n = fs.n_symbols, m = fs.n_subcarriers, rows = n + m;
+    std::vector<float> img(size_t(rows) * frames, 0.0f);
     std::vector<double> win(n);
     for (int i = 0; i < n; ++i)
         win[i] = 0.5 - 0.5 * std::cos(2.0 * M_PI * (i + 0.5) / n); // Hann sampled at mid-points: no zero end symbols
-    // Twiddles of Doppler bin q - N/2 (centred) at symbol s, with the window folded in.
-    std::vector<std::complex<double>> tw(size_t(n) * n);
+    // Twiddles of Doppler bin q - N/2 (centred) at symbol s, with the window folded in; and of
+    // range bin d at subcarrier k.
+    std::vector<std::complex<double>> tw(size_t(n) * n), tr(size_t(m) * m);
     for (int q = 0; q < n; ++q)
         for (int s = 0; s < n; ++s)
             tw[size_t(q) * n + s] = win[s] * std::polar(1.0, -2.0 * M_PI * (q - n / 2) * s / n);
-    std::vector<double> p(n);
+    for (int d = 0; d < m; ++d)
+        for (int k = 0; k < m; ++k)
+            tr[size_t(d) * m + k] = std::polar(1.0, 2.0 * M_PI * d * k / m);
+    std::vector<double> p(rows);
+    auto put = [&](int row0, int count, int f) { // normalised dB of p[row0 .. row0 + count) into column f
+        double total = 0.0;
+        for (int q = 0; q < count; ++q)
+            total += p[row0 + q];
+        for (int q = 0; q < count; ++q) {
+            const double db = total > 0.0 ? 10.0 * std::log10(std::max(p[row0 + q] / total, 1e-6)) : -60.0;
+            img[size_t(row0 + q) * frames + f] = static_cast<float>(1.0 + db / 60.0); // [0, 1]: -60 dB .. 0 dB
+        }
+    };
     for (int f = 0; f < len; ++f) {
         const gr_complex* g = grids + size_t(f) * n * m;
         std::fill(p.begin(), p.end(), 0.0);
@@ -36,13 +49,16 @@ std::vector<float> track_spectrogram(const gr::sems::frame_settings& fs, const g
                     acc += t[s] * std::complex<double>(g[size_t(s) * m + sc]);
                 p[q] += std::norm(acc);
             }
-        double total = 0.0;
-        for (double v : p)
-            total += v;
-        for (int q = 0; q < n; ++q) {
-            const double db = total > 0.0 ? 10.0 * std::log10(std::max(p[q] / total, 1e-6)) : -60.0;
-            img[size_t(q) * frames + f] = static_cast<float>(1.0 + db / 60.0); // [0, 1]: -60 dB .. 0 dB
-        }
+        for (int s = 0; s < n; ++s)
+            for (int d = 0; d < m; ++d) {
+                std::complex<double> acc = 0.0;
+                const std::complex<double>* t = tr.data() + size_t(d) * m;
+                for (int k = 0; k < m; ++k)
+                    acc += t[k] * std::complex<double>(g[size_t(s) * m + k]);
+                p[n + d] += std::norm(acc);
+            }
+        put(0, n, f);
+        put(n, m, f);
     }
     return img;
 }
@@ -54,8 +70,11 @@ struct spectrogram_netImpl : torch::nn::Module {
         : c1(register_module("c1", torch::nn::Conv2d(torch::nn::Conv2dOptions(1, 16, 3).padding(1)))),
           c2(register_module("c2", torch::nn::Conv2d(torch::nn::Conv2dOptions(16, 32, 3).padding(1)))),
           c3(register_module("c3", torch::nn::Conv2d(torch::nn::Conv2dOptions(32, 32, 3).padding(1)))),
-          fc1(register_module("fc1", torch::nn::Linear(32 * (bins / 4), 64))),
-          fc2(register_module("fc2", torch::nn::Linear(64, classes)))
+          b1(register_module("b1", torch::nn::BatchNorm2d(16))),
+          b2(register_module("b2", torch::nn::BatchNorm2d(32))),
+          b3(register_module("b3", torch::nn::BatchNorm2d(32))),
+          fc1(register_module("fc1", torch::nn::Linear(32 * (bins / 4), 128))),
+          fc2(register_module("fc2", torch::nn::Linear(128, classes)))
     {
     }
     // x: B x 1 x D x K with columns past t zero; valid: B x K (1 inside the first t).
@@ -63,15 +82,16 @@ struct spectrogram_netImpl : torch::nn::Module {
     {
         namespace F = torch::nn::functional;
         const auto pool = F::MaxPool2dFuncOptions({ 2, 1 }); // over Doppler only: time stays causal
-        x = F::max_pool2d(torch::relu(c1(x)), pool);
-        x = F::max_pool2d(torch::relu(c2(x)), pool);
-        x = torch::relu(c3(x));                                      // B x 32 x D/4 x K
+        x = F::max_pool2d(torch::relu(b1(c1(x))), pool);
+        x = F::max_pool2d(torch::relu(b2(c2(x))), pool);
+        x = torch::relu(b3(c3(x)));                                  // B x 32 x D/4 x K
         x = x.flatten(1, 2).transpose(1, 2);                         // B x K x (32 D/4)
         const auto v = valid.unsqueeze(-1).to(x.dtype());
         x = (x * v).sum(1) / v.sum(1).clamp_min(1.0);               // mean over the frames given
         return fc2(torch::relu(fc1(x)));
     }
     torch::nn::Conv2d c1, c2, c3;
+    torch::nn::BatchNorm2d b1, b2, b3;
     torch::nn::Linear fc1, fc2;
 };
 TORCH_MODULE(spectrogram_net);
@@ -101,18 +121,18 @@ struct spectrogram_cnn::impl {
     }
 };
 
-spectrogram_cnn::spectrogram_cnn(int doppler_bins, int frames, int classes, uint64_t seed, int threads)
+spectrogram_cnn::spectrogram_cnn(int rows, int frames, int classes, uint64_t seed, int threads)
     : d_impl(std::make_unique<impl>())
 {
-    if (doppler_bins < 4 || doppler_bins % 4 || frames < 1 || classes < 2)
-        throw std::invalid_argument("spectrogram CNN: needs Doppler bins (N) a multiple of 4, frames >= 1, classes >= 2");
-    d_impl->bins = doppler_bins;
+    if (rows < 4 || rows % 4 || frames < 1 || classes < 2)
+        throw std::invalid_argument("spectrogram CNN: needs image rows (N + M) a multiple of 4, frames >= 1, classes >= 2");
+    d_impl->bins = rows;
     d_impl->frames = frames;
     d_impl->classes = classes;
     d_impl->seed = seed;
     d_impl->threads = threads;
     torch::manual_seed(seed);
-    d_impl->model = spectrogram_net(doppler_bins, classes);
+    d_impl->model = spectrogram_net(rows, classes);
 }
 
 spectrogram_cnn::~spectrogram_cnn() = default;
@@ -140,7 +160,11 @@ void spectrogram_cnn::train(const std::vector<float>& images, const std::vector<
     std::vector<int64_t> order(n_train);
     for (int64_t i = 0; i < n_train; ++i)
         order[i] = i;
+    const double lr0 = 2e-3;
     for (int epoch = 1; epoch <= epochs; ++epoch) {
+        const double lr = lr0 * 0.5 * (1.0 + std::cos(M_PI * (epoch - 1) / epochs)); // cosine decay
+        for (auto& group : opt.param_groups())
+            static_cast<torch::optim::AdamWOptions&>(group.options()).lr(lr);
         d.model->train();
         std::shuffle(order.begin(), order.end(), gen);
         double loss_sum = 0.0;

@@ -403,7 +403,7 @@ void score_svm(const config& c, track_scorer& out, int np, uint64_t train_seed, 
 
 std::vector<float> spectrograms(const config& c, const track_grids& t)
 {
-    const size_t img = size_t(c.fs.n_symbols) * t.frames;
+    const size_t img = size_t(c.fs.n_symbols + c.fs.n_subcarriers) * t.frames;
     std::vector<float> out(size_t(t.count) * img);
     for (int i = 0; i < t.count; ++i) {
         const auto s = track_spectrogram(c.fs, t.h(i), t.frames, t.length[i]);
@@ -422,7 +422,7 @@ void score_spectrogram_cnn(const config& c, track_scorer& out, uint64_t train_se
     log << "[" << now_utc() << "] spectrogram CNN (Perfect CSI): drawing " << c.exp8_train_tracks
         << " noiseless training tracks, seed " << train_seed << std::endl;
     const int k = c.exp8_track_frames, n_tr = c.exp8_train_tracks;
-    const size_t img = size_t(c.fs.n_symbols) * k;
+    const size_t img = size_t(c.fs.n_symbols + c.fs.n_subcarriers) * k;
     std::vector<float> train_img(size_t(n_tr) * img);
     std::vector<int> train_len(n_tr), train_label(n_tr);
     for_each_track(c, tsc, n_tr, k, train_seed + 404, [&](int i, int len, int label, const gr_complex* h, const gr_complex*) {
@@ -431,7 +431,7 @@ void score_spectrogram_cnn(const config& c, track_scorer& out, uint64_t train_se
         train_len[i] = len;
         train_label[i] = label;
     });
-    spectrogram_cnn cnn(c.fs.n_symbols, k, nc, train_seed, c.threads);
+    spectrogram_cnn cnn(c.fs.n_symbols + c.fs.n_subcarriers, k, nc, train_seed, c.threads);
     cnn.train(train_img, train_len, train_label, c.exp8_cnn_epochs, log);
     const double train_s = seconds_between(t0, std::chrono::steady_clock::now());
     const auto t1 = std::chrono::steady_clock::now();
@@ -475,6 +475,16 @@ void run_tracks(const config& c, std::ostream& log)
         << c.exp8_track_frames << " frames, seed " << test_seed << std::endl;
     const track_grids tests = draw_track_grids(c, tsc, c.exp8_test_tracks, c.exp8_track_frames, test_seed);
     track_scorer out(c, tests, sc, test_seed, log);
+    if (!c.shipped_track.empty() && c.exp8_parts.count("main")) {
+        // A shipped track bundle on the same tracks: its decision and its frame decoder's fusion.
+        track_source shipped;
+        shipped.bundle = model_bundle::load(c.shipped_track);
+        shipped.origin = c.shipped_track;
+        score_track_bundle(c, out, shipped, "shipped track bundle", "shipped track bundle's fusion",
+                           "shipped", std::nullopt);
+    }
+    if (c.only_shipped)
+        return;
     std::vector<int> budgets;
     if (c.exp8_parts.count("main"))
         budgets.push_back(32);
