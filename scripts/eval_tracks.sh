@@ -11,6 +11,8 @@
 #   main_s0, main_s1, main_s2   N_p = 32, every method, training seed 2026, 2027, 2028
 #   budget8_s0, budget128_s0    SemS-track against the hand patterns under the temporal decoder
 #                               at N_p = 8 and 128, training seed 2026
+#   shipped                     the shipped track bundle (models/classifier_kinematic_track) and
+#                               its frame decoder's fusion on the same tracks (no training)
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. SEMS_EVAL_PARTS (space-separated) runs a subset;
 # the parts whose CSVs exist are merged. The results (exp8_*.csv, exp8_*.png and
@@ -28,8 +30,9 @@ declare -A part_args=(
   [main_s2]="--exp8-parts main --first-seed 2"
   [budget8_s0]="--exp8-parts budget --exp8-np-sweep 8 --first-seed 0"
   [budget128_s0]="--exp8-parts budget --exp8-np-sweep 128 --first-seed 0"
+  [shipped]="--exp8-parts main --only-shipped --shipped-track $root/models/classifier_kinematic_track"
 )
-parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 budget128_s0})
+parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 budget128_s0 shipped})
 stamp "sems_eval --size $size --experiments 8, parts ${parts[*]}, two at a time, logs in $out/*.log"
 status=0
 running=()
