@@ -70,15 +70,15 @@ PROCESS_TALK = [
 # Tables written by a script from a run's CSV or log: they own their numbers, and prose elsewhere
 # links to them. The numbers check reads only the hand-written documents.
 GENERATED = {
-    "docs/results/tables.md",             # apps/figures/plot_results.py (scripts/eval_full.sh)
-    "docs/results/kinematic_tables.md",   # apps/figures/plot_kinematic.py (scripts/eval_kinematic.sh)
+    "docs/results/tables.md",             # apps/figures/plot_results.py (scripts/evaluation/eval_full.sh)
+    "docs/results/kinematic_tables.md",   # apps/figures/plot_kinematic.py (scripts/evaluation/eval_kinematic.sh)
     "docs/results/td_accuracy.md",        # apps/evaluation/sems_td_accuracy.py
     "docs/results/scaling_tables.md",     # apps/benchmarks/sems_bench_scaling.py --table
     "docs/results/radio_sweep_table.md",  # apps/evaluation/sems_radio_sweep.py --table
     "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
-    "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/eval_tracks.sh)
+    "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py

@@ -7,13 +7,13 @@
 # mask, the noiseless nearest-draw classifier, and where the spectral decoder's errors sit at
 # 30 dB in the any scene, and the bound in the kinematic class library's scene (targets as
 # bodies of scatterers; writes bound_kinematic.csv, with the classifiers of 30 000 and 300 000
-# draws beside it). Needs the networks of scripts/eval_full.sh
+# draws beside it). Needs the networks of scripts/evaluation/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
 # of one core, and about 75 min for the kinematic scene's runs (on a busy machine).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
-nets="${EVAL_OUT:-out/eval_full}/full/bundles"  # the networks of scripts/eval_full.sh --out DIR: EVAL_OUT=DIR
+nets="${EVAL_OUT:-out/eval_full}/full/bundles"  # the networks of scripts/evaluation/eval_full.sh --out DIR: EVAL_OUT=DIR
 logs=docs/results/classifier_bayes
 mkdir -p "$logs"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 PYTHONPATH=build/python_pkg

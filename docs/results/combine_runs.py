@@ -4,7 +4,7 @@
 
     combine_runs.py RUNS_DIR RESULTS_DIR
 
-RUNS_DIR holds the processes' output folders as scripts/eval_full.sh runs them: full
+RUNS_DIR holds the processes' output folders as scripts/evaluation/eval_full.sh runs them: full
 (experiments 1 and 2, part of 5), full4 (experiment 4 single path, experiment 3, part of 5),
 full4b (experiment 4 multipath, the rest of 5), shipped (the --only-shipped rows); each of the
 first three also wrote the cost rows of its own experiments (experiment 6). Experiment 5's

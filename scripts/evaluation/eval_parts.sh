@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Shared by the evaluation scripts (eval_full.sh, eval_kinematic.sh), sourced after they set
+# Shared by the evaluation scripts (eval_full.sh, eval_kinematic.sh, eval_tracks.sh), sourced after they set
 # `script` (their name), `out` (default DIR) and `log` (their record's file name): reads
 # --out/--results/--size/--help, checks sems_eval, logs into RESULTS/$log, and defines
 # `stamp` and `run_part NAME ARGS...` (one sems_eval process of one LibTorch thread with its
 # own output folder and log under DIR).
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 results="$root/docs/results"
 size=full
 while [ $# -gt 0 ]; do
@@ -12,7 +12,7 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --results) results="$2"; shift 2 ;;
     --size) size="$2"; shift 2 ;;
-    -h|--help) sed -n '2,/^set -euo/p' "$root/scripts/$script" | sed '$d'; exit 0 ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$root/scripts/evaluation/$script" | sed '$d'; exit 0 ;;
     *) echo "$script: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done

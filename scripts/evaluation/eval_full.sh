@@ -4,7 +4,7 @@
 # full` at the paper's budget, split over three processes of one LibTorch thread each so both
 # cores stay busy, then the shipped bundles' rows, one set of CSVs and the figures.
 #
-#   bash scripts/eval_full.sh [--out DIR] [--results DIR] [--size full|test]
+#   bash scripts/evaluation/eval_full.sh [--out DIR] [--results DIR] [--size full|test]
 #
 # Processes (each its own output folder under DIR, default out/eval_full), balanced so that
 # they end together (the N_p sweep of experiment 5 is split over all three):
@@ -20,7 +20,7 @@
 # runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_full.sh
-out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_full"
+out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_full"
 log=eval_full.log
 source "$(dirname "$0")/eval_parts.sh"
 

@@ -4,7 +4,7 @@
 # tracks of 64 frames), every method on the same 300 test tracks, then its figures, tables and
 # paired statistics.
 #
-#   bash scripts/eval_tracks.sh [--out DIR] [--results DIR] [--size full|test]
+#   bash scripts/evaluation/eval_tracks.sh [--out DIR] [--results DIR] [--size full|test]
 #
 # Processes (one LibTorch thread each, two at a time; each its own folder and log under DIR,
 # default out/eval_tracks):
@@ -20,7 +20,7 @@
 # RESULTS/eval_tracks.log. --size test runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_tracks.sh
-out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_tracks"
+out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_tracks"
 log=eval_tracks.log
 source "$(dirname "$0")/eval_parts.sh"
 

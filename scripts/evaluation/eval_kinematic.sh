@@ -4,7 +4,7 @@
 # kinematic class library, any heading), at the paper's budget, split over three processes of one
 # LibTorch thread each (two more, short, beside them), then its CSVs, figures and tables.
 #
-#   bash scripts/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test]
+#   bash scripts/evaluation/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test]
 #
 # Processes (each its own output folder under DIR, default out/eval_kinematic):
 #   main    N_p = 32: SemS, the SemS decoder on the Doppler, uniform, random and staggered
@@ -21,7 +21,7 @@
 # /usr/bin/python3. --size test runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_kinematic.sh
-out="$(cd "$(dirname "$0")/.." && pwd)/out/eval_kinematic"
+out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_kinematic"
 log=eval_kinematic.log
 source "$(dirname "$0")/eval_parts.sh"
 
