@@ -152,7 +152,8 @@ def main():
     cols = min(3, len(snrs))
     rws = int(math.ceil(len(snrs) / cols))
     fig, axes = plt.subplots(rws, cols, figsize=(5.0 * cols, 3.6 * rws), squeeze=False, sharey=True)
-    colours = dict(zip(methods, plt.cm.tab10(np.arange(len(methods)) % 10)))
+    palette = plt.cm.tab10(np.arange(10)) if len(methods) <= 10 else plt.cm.tab20(np.arange(20))
+    colours = dict(zip(methods, palette[np.arange(len(methods)) % len(palette)]))
     for ax, snr in zip(axes.flat, snrs):
         for m in methods:
             pts = [(f, acc[(m, np_of[m], snr, f)]) for f in frames if (m, np_of[m], snr, f) in acc]
@@ -186,7 +187,7 @@ def main():
     # Figure: the pilot budget at the longest observation time.
     budget_methods = [m for m in method_order({k[0] for k in acc}) if len({k[1] for k in acc if k[0] == m}) > 1]
     if len(budgets) > 1:
-        fig, axes = plt.subplots(1, len(snrs), figsize=(3.4 * len(snrs), 3.4), squeeze=False, sharey=True)
+        fig, axes = plt.subplots(rws, cols, figsize=(4.2 * cols, 3.3 * rws), squeeze=False, sharey=True)
         for ax, snr in zip(axes.flat, snrs):
             for m in budget_methods:
                 pts = sorted((k[1], v) for k, v in acc.items() if k[0] == m and k[2] == snr and k[3] == t_max)
@@ -198,9 +199,13 @@ def main():
             ax.set_xlabel("pilots per frame")
             ax.set_ylim(0, 1)
             ax.grid(alpha=0.3)
-        axes.flat[0].set_ylabel("accuracy")
-        axes.flat[0].legend(fontsize=7)
-        fig.tight_layout()
+        for ax in axes.flat[len(snrs):]:
+            ax.axis("off")
+        for ax in axes[:, 0]:
+            ax.set_ylabel("accuracy")
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+        fig.tight_layout(rect=(0, 0.04 + 0.03 * int(math.ceil(len(budget_methods) / 3)), 1, 1))
         fig.savefig(os.path.join(args.results, "exp8_pilot_budget.png"), dpi=110)
         plt.close(fig)
 
@@ -211,7 +216,7 @@ def main():
       "(`scripts/evaluation/eval_tracks.sh`). %d test tracks of the kinematic library (any heading, Rayleigh gains new every "
       "frame), the same for every method; training seeds %s; a frame is %.3g ms. Accuracy is the mean over "
       "training seeds; a track counts at an observation time if it lasts that long.\n"
-      % (args.results, n_tracks, ", ".join(seeds), args.frame_ms))
+      % (os.path.relpath(args.results), n_tracks, ", ".join(seeds), args.frame_ms))
     for snr in snrs:
         w("\n## Accuracy at %g dB, N_p = %d\n" % (snr, main_np))
         w("| method | " + " | ".join("%d (%.3g s)" % (f, secs(f)) for f in frames) + " |")
