@@ -109,6 +109,20 @@ def mean_over_seeds(rows, key):
     return {k: (float(np.mean(v)), min(v), max(v), len(v)) for k, v in acc.items()}
 
 
+def save_grid(fig, axes, panels, entries, path, top=1.0):
+    """A grid of panels: unused ones hidden, accuracy on the left column, one legend (from the
+    first panel) below in three columns, written to `path`."""
+    for ax in axes.flat[panels:]:
+        ax.axis("off")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("accuracy")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.04 + 0.03 * int(math.ceil(entries / 3)), 1, top))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def method_order(methods):
     first = [SEMS, "SemS fusion"]
     rest = sorted(m for m in methods if m not in first)
@@ -172,17 +186,9 @@ def main():
         ax.set_xlabel("observation time (s)")
         ax.set_ylim(0, 1)
         ax.grid(alpha=0.3)
-    for ax in axes.flat[len(snrs):]:
-        ax.axis("off")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("accuracy")
-    handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
     fig.suptitle("Decisions over a track, kinematic library, N_p = %d (%d test tracks, %d training seed(s))"
                  % (main_np, n_tracks, len(seeds)), fontsize=10)
-    fig.tight_layout(rect=(0, 0.04 + 0.03 * int(math.ceil(len(methods) / 3)), 1, 0.96))
-    fig.savefig(os.path.join(args.results, "exp8_tracks.png"), dpi=110)
-    plt.close(fig)
+    save_grid(fig, axes, len(snrs), len(methods), os.path.join(args.results, "exp8_tracks.png"), top=0.96)
 
     # Figure: the pilot budget at the longest observation time.
     budget_methods = [m for m in method_order({k[0] for k in acc}) if len({k[1] for k in acc if k[0] == m}) > 1]
@@ -199,15 +205,7 @@ def main():
             ax.set_xlabel("pilots per frame")
             ax.set_ylim(0, 1)
             ax.grid(alpha=0.3)
-        for ax in axes.flat[len(snrs):]:
-            ax.axis("off")
-        for ax in axes[:, 0]:
-            ax.set_ylabel("accuracy")
-        handles, labels = axes.flat[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
-        fig.tight_layout(rect=(0, 0.04 + 0.03 * int(math.ceil(len(budget_methods) / 3)), 1, 1))
-        fig.savefig(os.path.join(args.results, "exp8_pilot_budget.png"), dpi=110)
-        plt.close(fig)
+        save_grid(fig, axes, len(snrs), len(budget_methods), os.path.join(args.results, "exp8_pilot_budget.png"))
 
     out = []
     w = out.append
@@ -300,7 +298,7 @@ def main():
         cells, keys = [], []
         for b in budgets:
             for s in snrs:
-                pats = [m for m in {k[0] for k in acc} if "+ track" in m and (m, b, s, t_max) in acc]
+                pats = [m for m in sorted({k[0] for k in acc}) if "+ track" in m and (m, b, s, t_max) in acc]
                 if not pats:
                     continue
                 best = max(pats, key=lambda m: acc[(m, b, s, t_max)][0])
