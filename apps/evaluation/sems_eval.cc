@@ -323,9 +323,16 @@ int main(int argc, char** argv)
                                          { "shipped-delay-single", c.shipped_delay_single },
                                          { "shipped-delay-multipath", c.shipped_delay_multi },
                                          { "shipped-track", c.shipped_track } })
-            if (!dir.empty())
-                model_bundle::load(dir).frame.require_same(
-                    c.fs, "--" + flag + " " + dir, "the bundle's frame", "the run's frame (--frame and its overrides)");
+            if (!dir.empty()) {
+                model_bundle b;
+                try {
+                    b = model_bundle::load(dir);
+                } catch (const std::exception& e) {
+                    throw std::invalid_argument("--" + flag + ": " + e.what());
+                }
+                b.frame.require_same(c.fs, "--" + flag + " " + dir, "the bundle's frame",
+                                     "the run's frame (--frame and its overrides)");
+            }
         std::ostringstream cmd;
         for (int i = 0; i < argc; ++i)
             cmd << (i ? " " : "") << argv[i];

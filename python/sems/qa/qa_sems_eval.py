@@ -449,6 +449,26 @@ class qa_sems_eval(gr_unittest.TestCase):
                             "## Pilot budget", "## The adult/child pair"):
                 self.assertIn(heading, text)
 
+    def test_008_experiment_8_scores_a_shipped_track_bundle(self):
+        """--shipped-track scores a shipped track bundle (its decision and its frame decoder's
+        fusion, no training: train seed none) on the experiment's test tracks; a missing bundle
+        is refused naming the option."""
+        bundle = os.path.join(SOURCE, "models", "classifier_kinematic_track")
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "8", "--exp8-parts", "main", "--only-shipped",
+                                "--shipped-track", bundle, "--out", out, "--threads", "1"],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
+            scores = rows(os.path.join(out, "exp8_tracks.csv"))
+            self.assertEqual({s["method"] for s in scores}, {"shipped track bundle", "shipped track bundle's fusion"})
+            self.assertEqual({s["train_seed"] for s in scores}, {"none"})
+            self.assertEqual({s["model"] for s in scores}, {bundle})
+            self.assertFalse(os.path.exists(os.path.join(out, "bundles")), "nothing is trained")
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "8", "--shipped-track", "/nonexistent/bundle",
+                                "--out", out], capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("shipped-track", r.stderr)
+
     def test_007_holm_and_paired_bootstrap(self):
         """plot_tracks.py's statistics against closed forms: Holm's step-down adjustment, and the
         paired bootstrap's standard error of a mean difference of 0/1 correctness (sqrt(v/n))."""
