@@ -46,10 +46,10 @@ scene tracked_scene(const scene& sc, int frames)
 // Visits tracks 0 .. count - 1 of `tsc`, each drawn alone from (seed, index) by c.threads
 // workers (one channel model each): visit(i, len, class id, grids, noise) gets the track's
 // first len <= frames noiseless grids (len x N x M) and unit-variance noise of the same shape,
-// drawn from (seed, i) too, so a track is the same whichever worker draws it. Only one track
-// per worker is in memory at a time.
+// drawn from (seed, i) too, so a track is the same whichever worker draws it (with_noise
+// false: no noise is drawn and visit gets nullptr). Only one track per worker is in memory.
 template <typename Visit>
-void for_each_track(const config& c, const scene& tsc, int count, int frames, uint64_t seed, Visit visit)
+void for_each_track(const config& c, const scene& tsc, int count, int frames, uint64_t seed, bool with_noise, Visit visit)
 {
     const size_t grid = c.fs.grid_size();
     const int workers = std::max(1, std::min(c.threads, count));
@@ -58,7 +58,7 @@ void for_each_track(const config& c, const scene& tsc, int count, int frames, ui
         pool.emplace_back([&, w] {
             channel_model cm(c.fs, tsc, seed);
             frame_realization r;
-            std::vector<gr_complex> h(size_t(frames) * grid), noise(size_t(frames) * grid);
+            std::vector<gr_complex> h(size_t(frames) * grid), noise(with_noise ? size_t(frames) * grid : 0);
             for (int i = w; i < count; i += workers) {
                 const int len = std::min(frames, cm.begin_track(static_cast<uint64_t>(i)));
                 std::mt19937_64 g(seed * 0x9e3779b97f4a7c15ULL + uint64_t(i) * 0xbf58476d1ce4e5b9ULL + 1);
@@ -70,9 +70,10 @@ void for_each_track(const config& c, const scene& tsc, int count, int frames, ui
                         label = r.truth.class_id;
                     cm.factors(r, 0).fill(h.data() + size_t(f) * grid); // the track's own clock
                 }
-                for (size_t k = 0; k < size_t(len) * grid; ++k)
-                    noise[k] = gr_complex(half(g), half(g));
-                visit(i, len, label, h.data(), noise.data());
+                if (with_noise)
+                    for (size_t k = 0; k < size_t(len) * grid; ++k)
+                        noise[k] = gr_complex(half(g), half(g));
+                visit(i, len, label, h.data(), with_noise ? noise.data() : nullptr);
             }
         });
     for (auto& th : pool)
@@ -101,7 +102,7 @@ track_grids draw_track_grids(const config& c, const scene& tsc, int count, int f
     t.grids.w.assign(n, gr_complex(0.0f, 0.0f));
     t.length.assign(count, 0);
     t.label.assign(count, -1);
-    for_each_track(c, tsc, count, frames, seed,
+    for_each_track(c, tsc, count, frames, seed, true,
                    [&](int i, int len, int label, const gr_complex* h, const gr_complex* w) {
                        t.length[i] = len;
                        t.label[i] = label;
@@ -341,7 +342,7 @@ void score_svm(const config& c, track_scorer& out, int np, uint64_t train_seed, 
     const int k = c.exp8_track_frames, n_tr = c.exp8_svm_tracks;
     std::vector<std::vector<double>> train_fx(size_t(n_tr) * k);
     std::vector<int> train_len(n_tr), train_label(n_tr);
-    for_each_track(c, tsc, n_tr, k, train_seed + 303,
+    for_each_track(c, tsc, n_tr, k, train_seed + 303, true,
                    [&](int i, int len, int label, const gr_complex* h, const gr_complex* w) {
                        std::mt19937_64 g(train_seed * 1000003ULL + uint64_t(i));
                        std::uniform_real_distribution<double> u(c.train_snr_min_db, c.train_snr_max_db);
@@ -425,7 +426,7 @@ void score_spectrogram_cnn(const config& c, track_scorer& out, uint64_t train_se
     const size_t img = size_t(c.fs.n_symbols + c.fs.n_subcarriers) * k;
     std::vector<float> train_img(size_t(n_tr) * img);
     std::vector<int> train_len(n_tr), train_label(n_tr);
-    for_each_track(c, tsc, n_tr, k, train_seed + 404, [&](int i, int len, int label, const gr_complex* h, const gr_complex*) {
+    for_each_track(c, tsc, n_tr, k, train_seed + 404, false, [&](int i, int len, int label, const gr_complex* h, const gr_complex*) {
         const auto s = track_spectrogram(c.fs, h, k, len);
         std::copy(s.begin(), s.end(), train_img.begin() + size_t(i) * img);
         train_len[i] = len;
