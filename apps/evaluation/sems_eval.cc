@@ -190,7 +190,9 @@ int main(int argc, char** argv)
          "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes")
         ("exp8-parts", po::value(&exp8_parts)->default_value(exp8_parts),
          "experiment 8: comma-separated subset of main (N_p 32, every method), budget (SemS-track against the track "
-         "hand patterns at each --exp8-np-sweep budget), to split a run over processes")
+         "hand patterns at each --exp8-np-sweep budget), superframe (learned super-frame masks of --exp8-super-frames "
+         "sets under the temporal decoder at each --exp8-np-sweep budget; only when named), to split a run over processes")
+        ("exp8-super-frames", po::value<int>(), "experiment 8's superframe part: F, the frames of its learned super-frame masks (default 4)")
         ("exp8-np-sweep", po::value(&exp8_np_sweep), "override: experiment 8's pilot budgets besides 32 (test 8; full 8,128)")
         ("exp8-frames", po::value(&exp8_frames), "override: experiment 8's observation times in frames (test 1,2,4,8; full 1,2,4,...,64); the largest is K")
         ("exp8-test-tracks", po::value<int>(), "override: experiment 8's test tracks (test 12, full 300)")
@@ -228,7 +230,14 @@ int main(int argc, char** argv)
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst" }, "--exp7-parts");
-        c.exp8_parts = parse_names(exp8_parts, { "main", "budget" }, "--exp8-parts");
+        c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
+        if (vm.count("exp8-super-frames")) {
+            c.exp8_super_frames = vm["exp8-super-frames"].as<int>();
+            if (c.exp8_super_frames < 2 || c.exp8_super_frames > limits::max_super_frames)
+                throw std::invalid_argument("--exp8-super-frames must be in [2, " + std::to_string(limits::max_super_frames) +
+                                            "] (1 is the budget part's repeated mask), got " +
+                                            std::to_string(c.exp8_super_frames));
+        }
         for (const auto& [flag, field] : { std::pair<const char*, int*>{ "exp8-test-tracks", &c.exp8_test_tracks },
                                            { "exp8-train-tracks", &c.exp8_train_tracks },
                                            { "exp8-track-epochs", &c.exp8_track_epochs },

@@ -11,6 +11,7 @@
  *   sems_train --task classify --frame sdr_2g4_20mhz --out sdr_classifier   (another radio's frame)
  *   sems_train --frame-bundle models/classifier_kinematic --track-frames 32 --out track_bundle
  *       (a decision over a track on a trained per-frame classifier: learning/temporal/track_trainer.h)
+ *   sems_train --frame-bundle b8 --super-frames 4 --out sf_bundle   (4 pilot sets learned across frames)
  *
  * See include/gnuradio/sems/learning/training/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
@@ -70,7 +71,8 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
 {
     static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
                                                     "track-no-profile", "track-dropout", "track-weight-decay",
-                                                    "track-eval-frames", "scene", "snr", "snr-min", "snr-max",
+                                                    "track-eval-frames", "super-frames", "super-frame-epochs",
+                                                    "super-frame-tracks", "scene", "snr", "snr-min", "snr-max",
                                                     "epochs", "batch", "lr", "patience", "seed", "threads",
                                                     "eval-snr", "out", "quiet" };
     for (const auto& [name, value] : vm)
@@ -89,6 +91,12 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
         t.temporal.hidden = vm["track-hidden"].as<int>();
     if (vm.count("track-no-profile") && vm["track-no-profile"].as<bool>())
         t.temporal.doppler_profile = false;
+    if (given("super-frames"))
+        t.super_frames = vm["super-frames"].as<int>();
+    if (given("super-frame-epochs"))
+        t.mask_epochs = vm["super-frame-epochs"].as<int>();
+    if (given("super-frame-tracks"))
+        t.mask_tracks = vm["super-frame-tracks"].as<int>();
     if (given("track-dropout"))
         t.temporal.dropout = vm["track-dropout"].as<double>();
     if (given("track-weight-decay"))
@@ -237,6 +245,9 @@ int main(int argc, char** argv)
         ("tracks", po::value<int>()->default_value(track_training_settings{}.tracks), "--frame-bundle: tracks drawn, split 8:1:1")
         ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size")
         ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only)")
+        ("super-frames", po::value<int>()->default_value(track_training_settings{}.super_frames), "--frame-bundle: F, the frames of a super-frame mask; F > 1 learns F sets of the bundle's N_p pilots (one per frame, set = frame index mod F) with its frame decoder before the temporal model")
+        ("super-frame-epochs", po::value<int>()->default_value(track_training_settings{}.mask_epochs), "--super-frames > 1: epochs of the sets' learner")
+        ("super-frame-tracks", po::value<int>()->default_value(track_training_settings{}.mask_tracks), "--super-frames > 1: training tracks it learns on (windows of 2F frames held whole: 8·N·M bytes a frame)")
         ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share of each frame's evidence dropped in training")
         ("track-weight-decay", po::value<double>()->default_value(track_training_settings{}.weight_decay), "--frame-bundle: AdamW weight decay")
         ("track-eval-frames", po::value<std::string>(), "--frame-bundle: observation times scored, in frames, comma-separated (default 1, 2, 4, ... and the track length)")

@@ -194,9 +194,11 @@ struct track_source {
 };
 
 track_source train_or_load_track(const config& c, const std::string& frame_name, const decoder_source& frame,
-                                 uint64_t train_seed, std::ostream& log)
+                                 uint64_t train_seed, std::ostream& log, int super_frames = 1)
 {
     track_training_settings s;
+    s.super_frames = super_frames;
+    s.mask_tracks = std::min(s.mask_tracks, c.exp8_train_tracks * 8 / 10); // the learner's share of the training tracks
     s.frame_bundle = frame.bundle.directory;
     s.track_frames = c.exp8_track_frames;
     s.tracks = c.exp8_train_tracks;
@@ -208,12 +210,15 @@ track_source train_or_load_track(const config& c, const std::string& frame_name,
     s.eval_snr_db = { 10.0 }; // its own test tenth: a progress line only (the experiment's tracks score it)
     s.eval_frames = { 1, c.exp8_track_frames };
     s.verbose = false;
-    const std::string name = frame_name + "_track";
+    const std::string name = frame_name + (super_frames > 1 ? "_sf" + std::to_string(super_frames) : "") + "_track";
     const auto dir = fsys::path(c.out_dir) / "bundles" / name;
     s.out_dir = dir.string();
     auto key = s.to_json();
     key.erase("command_line");
     key["temporal"] = s.temporal.to_json();
+    if (super_frames == 1) // one frame's mask: the keys of bundles cached before super-frames existed
+        for (const char* k : { "super_frames", "mask_epochs", "mask_tracks", "mask_lr", "mask_encoder_lr" })
+            key.erase(k);
     // A frame bundle trained anew (other settings) makes its temporal decoder stale too.
     key["frame_key"] = read_eval_key(frame.bundle.directory).value("key", nlohmann::json());
     key = nlohmann::json::parse(key.dump());
@@ -256,15 +261,28 @@ void score_track_bundle(const config& c, track_scorer& out, const track_source& 
     const int np = tc.n_pilots(), e = tc.evidence_size(), nc = tc.n_classes(), k = t.frames;
     const auto slot = eval_slot(c);
     const size_t ne = c.exp8_frames.size();
+    // A super-frame of F sets: frame f of test track i is read at set (i + f) mod F (the
+    // training's rule: a track starts at any phase of the super-frame).
+    const int n_sets = tc.super_frames();
+    std::vector<int> sets(size_t(t.count) * k);
+    for (int i = 0; i < t.count; ++i)
+        for (int f = 0; f < k; ++f)
+            sets[size_t(i) * k + f] = (i + f) % n_sets;
     for (double snr : c.snrs) {
-        const auto obs = t.grids.observe(src.bundle.mask, snr); // count*K x N_p, zero past a track's end
+        auto obs = t.grids.observe(src.bundle.mask_of_set(0), snr); // count*K x N_p, zero past a track's end
+        for (int set = 1; set < n_sets; ++set) {
+            const auto other = t.grids.observe(src.bundle.mask_of_set(set), snr); // the same noise draw per element
+            for (size_t r = 0; r < sets.size(); ++r)
+                if (sets[r] == set)
+                    std::copy(other.begin() + r * np, other.begin() + (r + 1) * np, obs.begin() + r * np);
+        }
         answers track(size_t(t.count) * ne, -1), fused(size_t(t.count) * ne, -1);
         std::vector<float> probs(nc), fprobs(nc);
         size_t frames_done = 0;
         const auto t0 = std::chrono::steady_clock::now();
         for (int i = 0; i < t.count; ++i) {
             const int len = t.length[i];
-            const auto ev = tc.evidence(obs.data() + size_t(i) * k * np, len);
+            const auto ev = tc.evidence(obs.data() + size_t(i) * k * np, len, sets.data() + size_t(i) * k);
             auto st = tc.begin();
             for (int f = 0; f < len; ++f) {
                 tc.step(st, ev.data() + size_t(f) * e, probs.data(), fprobs.data());
@@ -493,6 +511,21 @@ void run_tracks(const config& c, std::ostream& log)
         for (int np : c.exp8_np_sweep)
             if (np != 32 || !c.exp8_parts.count("main"))
                 budgets.push_back(np);
+    // Learned super-frame masks (F sets from the SemS frame bundle of each budget, with the
+    // same temporal decoder's budget); the repeated masks are the budget and main parts'.
+    if (c.exp8_parts.count("superframe"))
+        for (int np : c.exp8_np_sweep)
+            for (uint64_t seed : training_seeds(c)) {
+                const std::string prefix = "cls_kinematic" + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
+                auto sems_settings = base_training(c, task_kind::classify, sc, "sems_eval kinematic", seed);
+                sems_settings.n_pilots = np;
+                const std::string sems_name = seeded_name(prefix + "sems", seed);
+                const auto sems = train_or_load(c, sems_name, sems_settings, log);
+                const std::string f = std::to_string(c.exp8_super_frames);
+                score_track_bundle(c, out, train_or_load_track(c, sems_name, sems, seed, log, c.exp8_super_frames),
+                                   "SemS super-frame (F = " + f + ") + track",
+                                   "SemS super-frame (F = " + f + ") fusion", "learned super-frame (task)", seed);
+            }
     for (int np : budgets) {
         const bool main_part = np == 32 && c.exp8_parts.count("main");
         for (uint64_t seed : training_seeds(c)) {

@@ -30,17 +30,21 @@ struct bundle_decoder::impl {
     }
     torch::Tensor mask; // N x M, 1 at the pilots (N x M' for a compact grid, see below)
     // The spectral classifier reads only the subcarriers that carry pilots: its input grid
-    // is built with those M' columns alone (no dense N x M grid per frame).
+    // is built with those M' columns alone (no dense N x M grid per frame). With a super-frame
+    // the columns are those any set occupies, and each set has its own index and mask.
     int grid_columns = 0; // M, or M' for the spectral classifier
+    std::vector<torch::Tensor> set_index, set_mask; // super-frame only: per set f, as `index` and `mask`
 
-    torch::Tensor grid(const gr_complex* obs, int batch) const
+    int n_sets() const { return set_index.empty() ? 1 : static_cast<int>(set_index.size()); }
+
+    torch::Tensor grid(const gr_complex* obs, int batch, const torch::Tensor& idx) const
     {
         if (batch < 0)
             throw std::invalid_argument("bundle_decoder: batch must be >= 0");
         const int np = bundle.mask.size();
         // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
         auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
-        return nn::scatter_pilots(o, index, bundle.frame.n_symbols, grid_columns);
+        return nn::scatter_pilots(o, idx, bundle.frame.n_symbols, grid_columns);
     }
 
     // The rule of bundle_decoder.h: a batch with a NaN or Inf anywhere is refused, naming
@@ -59,17 +63,71 @@ struct bundle_decoder::impl {
         }
     }
 
-    nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what) const
+    // The set of every frame of a batch: all 0 for one frame's mask (`sets` may then be
+    // null); a super-frame needs them, each in [0, F).
+    void check_sets(const int* sets, int batch, const char* what) const
+    {
+        const int f = n_sets();
+        if (!sets) {
+            if (f > 1)
+                throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
+                                            " has a mask spanning a super-frame of " + std::to_string(f) +
+                                            " frames: give the set of each frame (its frame index mod " +
+                                            std::to_string(f) + ")");
+            return;
+        }
+        for (int b = 0; b < batch; ++b)
+            if (sets[b] < 0 || sets[b] >= f)
+                throw std::invalid_argument(std::string("bundle_decoder::") + what + ": frame " + std::to_string(b) +
+                                            " of the batch names set " + std::to_string(sets[b]) + ", but bundle " +
+                                            bundle.directory + "'s mask has " + std::to_string(f) + " set(s)");
+    }
+
+    nn::decoder_output run(const gr_complex* obs, int batch, task_kind need, const char* what, const int* sets) const
     {
         if (bundle.task != need)
             throw std::invalid_argument(std::string("bundle_decoder::") + what + ": bundle " + bundle.directory +
                                         " is a \"" + task_name(bundle.task) + "\" model");
         check_finite(obs, batch, what);
+        check_sets(sets, batch, what);
         use_threads();
         // Inference mode: no autograd bookkeeping at all (no version counters or view
         // tracking), cheaper per op than NoGradGuard; the outputs are copied out below.
         c10::InferenceMode im;
-        return net->forward(grid(obs, batch), mask);
+        if (n_sets() == 1)
+            return net->forward(grid(obs, batch, index), mask);
+        // A super-frame: the frames of each set in one pass with that set's mask, the
+        // answers put back in the batch's order.
+        const size_t np = static_cast<size_t>(bundle.mask.size());
+        nn::decoder_output all;
+        auto put = [&](torch::Tensor& dst, const torch::Tensor& part, const torch::Tensor& rows) {
+            if (!part.defined())
+                return;
+            if (!dst.defined()) {
+                auto shape = part.sizes().vec();
+                shape[0] = batch;
+                dst = torch::empty(shape, part.options());
+            }
+            dst.index_copy_(0, rows, part);
+        };
+        std::vector<gr_complex> picked;
+        for (int f = 0; f < n_sets(); ++f) {
+            std::vector<int64_t> rows;
+            for (int b = 0; b < batch; ++b)
+                if (sets[b] == f)
+                    rows.push_back(b);
+            if (rows.empty())
+                continue;
+            picked.resize(rows.size() * np);
+            for (size_t r = 0; r < rows.size(); ++r)
+                std::copy(obs + rows[r] * np, obs + (rows[r] + 1) * np, picked.begin() + r * np);
+            auto out = net->forward(grid(picked.data(), static_cast<int>(rows.size()), set_index[f]), set_mask[f]);
+            const auto at = torch::tensor(rows, torch::kLong);
+            put(all.logits, out.logits, at);
+            put(all.features, out.features, at);
+            put(all.profile, out.profile, at);
+        }
+        return all;
     }
 };
 
@@ -85,23 +143,29 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     nn::load_module(d_impl->net, bundle.weights_path()); // the weights file bundle.json names
     d_impl->net->eval();
     const int n = bundle.frame.n_symbols, msub = bundle.frame.n_subcarriers;
-    for (int i : bundle.mask.flat_indices())
-        d_impl->indices.push_back(i);
-    // Grid columns: all M, or for the spectral classifier only the occupied subcarriers
-    // (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
-    std::vector<int64_t> grid_indices = d_impl->indices;
+    const int n_sets = bundle.super_frames();
+    if (n_sets > 1 && bundle.task != task_kind::classify)
+        throw std::invalid_argument(source + ": a mask spanning a super-frame of " + std::to_string(n_sets) +
+                                    " frames is for classifiers; a \"" + task_name(bundle.task) + "\" bundle has one frame's mask");
+    std::vector<std::vector<int64_t>> flat(static_cast<size_t>(n_sets));
+    for (int f = 0; f < n_sets; ++f)
+        for (int i : bundle.mask_of_set(f).flat_indices())
+            flat[f].push_back(i);
+    d_impl->indices = flat[0];
+    // Grid columns: all M, or for the spectral classifier only the occupied subcarriers of
+    // any set (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
     d_impl->grid_columns = msub;
-    if (bundle.decoder.value("kind", std::string()) == "classifier_spectral") {
-        std::vector<int> column(msub, -1);
-        for (int64_t i : d_impl->indices)
-            column[i % msub] = 0;
+    std::vector<int> column(msub, -1);
+    const bool compact = bundle.decoder.value("kind", std::string()) == "classifier_spectral";
+    if (compact) {
+        for (const auto& set : flat)
+            for (int64_t i : set)
+                column[i % msub] = 0;
         int next = 0;
         for (auto& c : column)
             if (c == 0)
                 c = next++;
         d_impl->grid_columns = next;
-        for (auto& i : grid_indices)
-            i = (i / msub) * next + column[i % msub];
         std::vector<int64_t> occupied; // the subcarrier of each compact column (the range gate's phases)
         for (int m = 0; m < msub; ++m)
             if (column[m] >= 0)
@@ -109,10 +173,22 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
         if (auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net))
             sc->set_compact_columns(occupied);
     }
-    d_impl->index = torch::tensor(grid_indices, torch::kLong);
-    auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });
-    m.index_fill_(0, d_impl->index, 1.0f);
-    d_impl->mask = m.view({ n, d_impl->grid_columns });
+    auto grid_of = [&](std::vector<int64_t> idx, torch::Tensor& index, torch::Tensor& mask) {
+        if (compact)
+            for (auto& i : idx)
+                i = (i / msub) * d_impl->grid_columns + column[i % msub];
+        index = torch::tensor(idx, torch::kLong);
+        auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });
+        m.index_fill_(0, index, 1.0f);
+        mask = m.view({ n, d_impl->grid_columns });
+    };
+    grid_of(flat[0], d_impl->index, d_impl->mask);
+    if (n_sets > 1) {
+        d_impl->set_index.resize(n_sets);
+        d_impl->set_mask.resize(n_sets);
+        for (int f = 0; f < n_sets; ++f)
+            grid_of(flat[f], d_impl->set_index[f], d_impl->set_mask[f]);
+    }
     // The delay decoder's refinement stage fits the pilots where the mask put them.
     if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
         dd->set_pilot_positions(bundle.frame, d_impl->indices);
@@ -122,12 +198,13 @@ bundle_decoder::~bundle_decoder() = default;
 
 const model_bundle& bundle_decoder::bundle() const { return d_impl->bundle; }
 int bundle_decoder::n_pilots() const { return d_impl->bundle.mask.size(); }
+int bundle_decoder::super_frames() const { return d_impl->n_sets(); }
 
-std::vector<float> bundle_decoder::classify(const gr_complex* obs, int batch) const
+std::vector<float> bundle_decoder::classify(const gr_complex* obs, int batch, const int* sets) const
 {
     if (batch == 0)
         return {};
-    auto out = d_impl->run(obs, batch, task_kind::classify, "classify");
+    auto out = d_impl->run(obs, batch, task_kind::classify, "classify", sets);
     auto p = torch::softmax(out.logits, -1).contiguous();
     return std::vector<float>(p.data_ptr<float>(), p.data_ptr<float>() + p.numel());
 }
@@ -136,7 +213,7 @@ std::vector<double> bundle_decoder::estimate_delay_index(const gr_complex* obs, 
 {
     if (batch == 0)
         return {};
-    auto out = d_impl->run(obs, batch, task_kind::delay, "estimate_delay");
+    auto out = d_impl->run(obs, batch, task_kind::delay, "estimate_delay", nullptr);
     auto d = out.delay_index.to(torch::kDouble).contiguous();
     return std::vector<double>(d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
 }
@@ -149,11 +226,11 @@ std::vector<double> bundle_decoder::estimate_delay(const gr_complex* obs, int ba
     return d;
 }
 
-std::vector<float> bundle_decoder::features(const gr_complex* obs, int batch) const
+std::vector<float> bundle_decoder::features(const gr_complex* obs, int batch, const int* sets) const
 {
     if (batch == 0)
         return {};
-    auto out = d_impl->run(obs, batch, task_kind::classify, "features");
+    auto out = d_impl->run(obs, batch, task_kind::classify, "features", sets);
     auto f = out.features.contiguous();
     return std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel());
 }
@@ -171,11 +248,12 @@ std::shared_ptr<nn::spectral_classifier_decoder_module> profile_decoder(const nn
 }
 } // namespace
 
-std::vector<float> bundle_decoder::evidence(const gr_complex* obs, int batch, bool doppler_profile) const
+std::vector<float>
+bundle_decoder::evidence(const gr_complex* obs, int batch, bool doppler_profile, const int* sets) const
 {
     if (batch == 0)
         return {};
-    auto out = d_impl->run(obs, batch, task_kind::classify, "evidence");
+    auto out = d_impl->run(obs, batch, task_kind::classify, "evidence", sets);
     std::vector<torch::Tensor> parts{ out.features };
     if (doppler_profile) {
         profile_decoder(d_impl->net, d_impl->bundle); // refuses a decoder without one

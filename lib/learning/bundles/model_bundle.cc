@@ -117,7 +117,10 @@ void model_bundle::save(const std::string& dir) const
     std::filesystem::create_directories(dir, ec);
     if (!is_directory(dir))
         throw std::invalid_argument(dir + ": cannot create the bundle directory" + (ec ? " (" + ec.message() + ")" : ""));
-    mask.save(join(dir, mask_name));
+    if (super_frame)
+        super_frame->save(join(dir, mask_name)); // F sets; `mask` is its set 0
+    else
+        mask.save(join(dir, mask_name));
     json_read::write_file(join(dir, bundle_file), to_json());
 }
 
@@ -238,8 +241,15 @@ model_bundle model_bundle::load(const std::string& name)
     b.mask_name = bundle_file_name(j, "mask_file", mask_file, path);
     b.weights_name = bundle_file_name(j, "weights_file", weights_file, path);
     const auto& mask_name = b.mask_name;
-    b.mask = pilot_mask::load(join(dir, mask_name)); // names mask.json in its errors
+    {
+        auto sf = super_frame_mask::load(join(dir, mask_name)); // names mask.json in its errors; F = 1 for a frame's mask
+        b.mask = sf.set(0);
+        if (sf.n_frames() > 1)
+            b.super_frame = std::move(sf);
+    }
     try {
+        if (b.super_frame)
+            b.super_frame->check_frame(b.frame, path);
         b.mask.check_frame(b.frame, path);
     } catch (const std::invalid_argument& e) {
         json_read::fail(join(dir, mask_name), "", std::string("does not match bundle.json: ") + e.what());

@@ -43,6 +43,20 @@ classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double
     reset_metrics();
 }
 
+// Each frame's set of the bundle's super-frame mask: its frame index mod F, the rule the
+// pilot mapper and extractor pick their sets by (all 0 for one frame's mask).
+std::vector<int> classifier_task::sets_of(const std::vector<detail::frame_meta>& meta, int batch) const
+{
+    if (static_cast<int>(meta.size()) != batch)
+        throw std::logic_error("classifier_sink: " + std::to_string(meta.size()) + " frames described for a batch of " +
+                               std::to_string(batch));
+    const uint64_t f = static_cast<uint64_t>(bundle().super_frames());
+    std::vector<int> sets(meta.size());
+    for (size_t i = 0; i < meta.size(); ++i)
+        sets[i] = static_cast<int>(meta[i].index % f);
+    return sets;
+}
+
 pmt::pmt_t classifier_task::answer(const float* p) const
 {
     const size_t c = d_names.size();
@@ -58,7 +72,8 @@ classifier_task::decode(const gr_complex* obs, int batch, const std::vector<deta
 {
     if (d_track)
         return decode_tracks(obs, batch, meta);
-    const std::vector<float> probs = d_decoder->classify(obs, batch);
+    const std::vector<int> sets = sets_of(meta, batch);
+    const std::vector<float> probs = d_decoder->classify(obs, batch, sets.data());
     const size_t c = d_names.size();
     if (probs.size() != static_cast<size_t>(batch) * c) // never step past the probability vector
         throw std::logic_error("classifier_sink: the decoder returned " + std::to_string(probs.size()) +
@@ -81,7 +96,8 @@ classifier_task::decode_tracks(const gr_complex* obs, int batch, const std::vect
     if (static_cast<int>(meta.size()) != batch)
         throw std::logic_error("classifier_sink: " + std::to_string(meta.size()) + " frames described for a batch of " +
                                std::to_string(batch));
-    const std::vector<float> ev = d_track->evidence(obs, batch);
+    const std::vector<int> sets = sets_of(meta, batch);
+    const std::vector<float> ev = d_track->evidence(obs, batch, sets.data());
     const size_t e = static_cast<size_t>(d_track->evidence_size());
     if (ev.size() != static_cast<size_t>(batch) * e)
         throw std::logic_error("classifier_sink: the frame decoder returned " + std::to_string(ev.size()) +

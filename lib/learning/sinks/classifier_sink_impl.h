@@ -46,6 +46,7 @@ public:
 private:
     int class_of_truth(const pmt::pmt_t& truth) const; // -1: not one of the bundle's, -2: no class in truth
     const model_bundle& bundle() const { return d_track ? d_track->bundle() : d_decoder->bundle(); }
+    std::vector<int> sets_of(const std::vector<detail::frame_meta>& meta, int batch) const;
     std::vector<pmt::pmt_t> decode_tracks(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta);
     pmt::pmt_t answer(const float* probs) const; // label, class_name, probs
 

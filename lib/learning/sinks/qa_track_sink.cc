@@ -7,6 +7,7 @@
 #include <gnuradio/blocks/message_debug.h>
 #include <gnuradio/blocks/vector_source.h>
 #include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/temporal/track_classifier.h>
@@ -27,6 +28,23 @@ namespace fsys = std::filesystem;
 
 namespace {
 
+// Seconds of training: tracks of 4 frames, one epoch, a GRU of 8.
+track_training_settings tiny_settings(const std::string& frame_bundle, const std::string& out)
+{
+    track_training_settings s;
+    s.frame_bundle = frame_bundle;
+    s.track_frames = 4;
+    s.tracks = 60;
+    s.epochs = 1;
+    s.threads = 1;
+    s.eval_snr_db = { 10.0 };
+    s.eval_frames = { 1, 4 };
+    s.temporal.hidden = 8;
+    s.out_dir = out;
+    s.verbose = false;
+    return s;
+}
+
 // A tiny track bundle on the shipped paper classifier (its own training scene, tracked).
 const std::string& track_bundle()
 {
@@ -35,18 +53,30 @@ const std::string& track_bundle()
         const char* src = std::getenv("SEMS_SOURCE_DIR");
         dir = (fsys::temp_directory_path() / ("sems_qa_track_sink_" + std::to_string(::getpid()))).string();
         fsys::remove_all(dir);
-        track_training_settings s;
-        s.frame_bundle = std::string(src ? src : ".") + "/models/classifier";
-        s.track_frames = 4;
-        s.tracks = 60;
-        s.epochs = 1;
-        s.threads = 1;
-        s.eval_snr_db = { 10.0 };
-        s.eval_frames = { 1, 4 };
-        s.temporal.hidden = 8;
-        s.out_dir = dir;
-        s.verbose = false;
-        train_track(s, nullptr);
+        train_track(tiny_settings(std::string(src ? src : ".") + "/models/classifier", dir), nullptr);
+    }
+    return dir;
+}
+
+// A tiny track bundle whose pilots span a super-frame of two sets: the paper classifier's
+// mask and the staggered pattern, its frame decoder the paper classifier's.
+const std::string& super_frame_bundle()
+{
+    static std::string dir;
+    if (dir.empty()) {
+        const char* src = std::getenv("SEMS_SOURCE_DIR");
+        const auto tmp = fsys::temp_directory_path();
+        const std::string pid = std::to_string(::getpid());
+        dir = (tmp / ("sems_qa_track_sink_sf_" + pid)).string();
+        const auto frame_dir = (tmp / ("sems_qa_track_sink_sf_frame_" + pid)).string();
+        fsys::remove_all(dir);
+        fsys::remove_all(frame_dir);
+        auto frame = model_bundle::load(std::string(src ? src : ".") + "/models/classifier");
+        frame.super_frame = super_frame_mask(
+            { frame.mask, pilot_mask::from_pattern("staggered", frame.frame, frame.mask.size()) });
+        frame.save(frame_dir);
+        fsys::copy_file(frame.weights_path(), fsys::path(frame_dir) / frame.weights_name);
+        train_track(tiny_settings(frame_dir, dir), nullptr);
     }
     return dir;
 }
@@ -77,11 +107,11 @@ std::vector<gr_complex> observation(uint64_t seed, int np)
     return o;
 }
 
-run_result stream(const std::vector<frame_spec>& frames, int batch)
+run_result stream(const std::vector<frame_spec>& frames, int batch, const std::string& bundle_dir = track_bundle())
 {
-    const auto b = model_bundle::load(track_bundle());
+    const auto b = model_bundle::load(bundle_dir);
     const int np = b.mask.size();
-    auto sink = classifier_sink::make(track_bundle(), np, batch, 1, 0);
+    auto sink = classifier_sink::make(bundle_dir, np, batch, 1, 0);
     std::vector<gr_complex> data;
     std::vector<gr::tag_t> tags;
     for (size_t f = 0; f < frames.size(); ++f) {
@@ -113,7 +143,8 @@ run_result stream(const std::vector<frame_spec>& frames, int batch)
         const auto m = dbg->get_message(i);
         answer a;
         a.frame = pmt::to_uint64(pmt::dict_ref(m, pmt::intern(keys::frame), pmt::PMT_NIL));
-        a.track_frames = pmt::to_uint64(pmt::dict_ref(m, pmt::intern(keys::track_frames), pmt::PMT_NIL));
+        const auto tf = pmt::dict_ref(m, pmt::intern(keys::track_frames), pmt::PMT_NIL);
+        a.track_frames = pmt::is_null(tf) ? 0 : pmt::to_uint64(tf); // none from a per-frame bundle
         const auto p = pmt::dict_ref(m, pmt::intern(keys::probs), pmt::PMT_NIL);
         a.probs = pmt::f32vector_elements(p);
         r.answers.push_back(a);
@@ -136,6 +167,7 @@ class qa_track_sink : public CppUnit::TestFixture
     CPPUNIT_TEST(decisions_follow_the_track_classifier);
     CPPUNIT_TEST(new_tracks_gaps_and_order_start_again);
     CPPUNIT_TEST(per_frame_bundles_are_not_in_track_mode);
+    CPPUNIT_TEST(super_frame_sets_follow_the_frame_index);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -205,6 +237,65 @@ public:
         CPPUNIT_ASSERT_THROW(classifier_sink::make(track_bundle(), b.mask.size(), 8, 1, 0, 32, 64, "",
                                                    std::numeric_limits<double>::quiet_NaN()),
                              std::invalid_argument);
+    }
+
+    // A track bundle whose mask spans two frames (a hand-made pair of sets under a temporal
+    // decoder trained on them): the sink reads the frame of stream index i
+    // at set i mod 2 (the pilot mapper's and extractor's rule), for any batch size; reading
+    // every frame at set 0 would answer otherwise. Its frame decoder alone (the bundle without
+    // its track record) answers each frame at the same set.
+    void super_frame_sets_follow_the_frame_index()
+    {
+        std::vector<frame_spec> frames;
+        for (uint64_t i = 0; i < 6; ++i)
+            frames.push_back({ 101 + i, 4 });
+        const auto b = model_bundle::load(super_frame_bundle());
+        CPPUNIT_ASSERT_EQUAL(2, b.super_frames());
+        track_classifier tc(b, 1);
+        auto want_at = [&](bool by_index) {
+            std::vector<std::vector<float>> want;
+            auto st = tc.begin();
+            for (const auto& f : frames) {
+                const auto o = observation(f.index, b.mask.size());
+                const int set = by_index ? int(f.index % 2) : 0;
+                const auto ev = tc.evidence(o.data(), 1, &set);
+                std::vector<float> p(static_cast<size_t>(tc.n_classes()));
+                tc.step(st, ev.data(), p.data());
+                want.push_back(p);
+            }
+            return want;
+        };
+        const auto want = want_at(true), at_set0 = want_at(false);
+        double apart = 0.0;
+        for (size_t f = 0; f < want.size(); ++f)
+            for (size_t c = 0; c < want[f].size(); ++c)
+                apart = std::max(apart, double(std::abs(want[f][c] - at_set0[f][c])));
+        CPPUNIT_ASSERT(apart > 1e-4);
+        for (int batch : { 1, 3, 6 }) {
+            const auto r = stream(frames, batch, super_frame_bundle());
+            CPPUNIT_ASSERT_EQUAL(size_t(6), r.answers.size());
+            CPPUNIT_ASSERT_EQUAL(uint64_t(1), r.tracks_started);
+            for (size_t f = 0; f < 6; ++f)
+                for (size_t c = 0; c < want[f].size(); ++c)
+                    CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][c], r.answers[f].probs[c], 1e-5);
+        }
+        // The frame decoder alone, in a per-frame sink.
+        const auto frame_dir = (fsys::temp_directory_path() / ("sems_qa_track_sink_sf_alone_" + std::to_string(::getpid()))).string();
+        fsys::remove_all(frame_dir);
+        auto fb = b;
+        fb.track = nlohmann::json();
+        fb.save(frame_dir);
+        fsys::copy_file(b.weights_path(), fsys::path(frame_dir) / b.weights_name);
+        const bundle_decoder dec(model_bundle::load(frame_dir), 1);
+        const auto r = stream(frames, 2, frame_dir);
+        CPPUNIT_ASSERT_EQUAL(size_t(6), r.answers.size());
+        for (size_t f = 0; f < 6; ++f) {
+            const auto o = observation(frames[f].index, b.mask.size());
+            const int set = int(frames[f].index % 2);
+            const auto p = dec.classify(o.data(), 1, &set);
+            for (size_t c = 0; c < p.size(); ++c)
+                CPPUNIT_ASSERT_DOUBLES_EQUAL(p[c], r.answers[f].probs[c], 1e-5);
+        }
     }
 };
 

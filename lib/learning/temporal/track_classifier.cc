@@ -151,10 +151,12 @@ track_classifier::state track_classifier::begin() const
     return s;
 }
 
-std::vector<float> track_classifier::evidence(const gr_complex* obs, int batch) const
+std::vector<float> track_classifier::evidence(const gr_complex* obs, int batch, const int* sets) const
 {
-    return d_impl->frames->evidence(obs, batch, d_impl->model->settings().doppler_profile);
+    return d_impl->frames->evidence(obs, batch, d_impl->model->settings().doppler_profile, sets);
 }
+
+int track_classifier::super_frames() const { return d_impl->frames->super_frames(); }
 
 void track_classifier::step(state& s, const float* evidence, float* probs, float* fusion_probs) const
 {

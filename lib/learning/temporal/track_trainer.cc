@@ -3,6 +3,7 @@
 #include <gnuradio/sems/learning/temporal/track_trainer.h>
 #include "learning/networks/task_decoder.h"
 #include "learning/temporal/temporal_model.h"
+#include "learning/temporal/super_frame_learner.h"
 #include "learning/temporal/track_data.h"
 #include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
@@ -56,13 +57,19 @@ scene track_scene(const track_training_settings& s, const model_bundle& frame)
 
 // The frame decoder's evidence of every frame of `obs` (count x K x N_p x 2) inside its track
 // (`length`), as count x K x E (zero past a track's end).
-torch::Tensor evidence_of(const bundle_decoder& frames, const torch::Tensor& obs, const torch::Tensor& length, int64_t e,
+torch::Tensor evidence_of(const bundle_decoder& frames,
+                          const torch::Tensor& obs,
+                          const torch::Tensor& length,
+                          const torch::Tensor& set,
+                          int64_t e,
                           bool profile)
 {
     const int64_t count = obs.size(0), k = obs.size(1), np = obs.size(2);
     auto valid = (torch::arange(k, torch::kLong).view({ 1, k }) < length.view({ count, 1 })).flatten();
     auto rows = valid.nonzero().flatten();
     auto flat = obs.reshape({ count * k, np, 2 }).index_select(0, rows).contiguous();
+    auto sets = set.reshape({ count * k }).index_select(0, rows).to(torch::kInt).contiguous();
+    const int* ps = sets.data_ptr<int>();
     auto out = torch::zeros({ count * k, e }, torch::kFloat);
     constexpr int64_t step = 4096;
     const auto* p = reinterpret_cast<const gr_complex*>(flat.data_ptr<float>());
@@ -70,7 +77,7 @@ torch::Tensor evidence_of(const bundle_decoder& frames, const torch::Tensor& obs
     auto part = torch::empty({ 0 });
     for (int64_t a = 0; a < rows.size(0); a += step) {
         const int64_t b = std::min(rows.size(0), a + step);
-        ev = frames.evidence(p + a * np, static_cast<int>(b - a), profile);
+        ev = frames.evidence(p + a * np, static_cast<int>(b - a), profile, ps + a);
         out.index_copy_(0, rows.slice(0, a, b), torch::from_blob(ev.data(), { b - a, e }, torch::kFloat).clone());
     }
     return out.view({ count, k, e });
@@ -148,6 +155,23 @@ void track_training_settings::validate() const
                                    std::to_string(track_frames) + "]");
     if (temporal.hidden < 1)
         bad("temporal.hidden", "must be >= 1");
+    if (super_frames < 1 || super_frames > limits::max_super_frames)
+        bad("super_frames", "must be in [1, " + std::to_string(limits::max_super_frames) + "], got " +
+                                std::to_string(super_frames));
+    if (super_frames > 1) {
+        if (out_dir.empty())
+            bad("out_dir", "a super-frame of " + std::to_string(super_frames) +
+                               " sets is learned with its frame decoder, which is written there: give one");
+        if (mask_epochs < 1)
+            bad("mask_epochs", "must be >= 1");
+        if (mask_tracks < 1 || mask_tracks > tracks * 8 / 10)
+            bad("mask_tracks", "must be in [1, " + std::to_string(tracks * 8 / 10) + "] (the training tracks), got " +
+                                   std::to_string(mask_tracks));
+        if (!(mask_lr > 0.0 && std::isfinite(mask_lr)))
+            bad("mask_lr", "must be a finite number > 0");
+        if (!(mask_encoder_lr > 0.0 && std::isfinite(mask_encoder_lr)))
+            bad("mask_encoder_lr", "must be a finite number > 0");
+    }
 }
 
 nlohmann::json track_training_settings::to_json() const
@@ -168,6 +192,11 @@ nlohmann::json track_training_settings::to_json() const
              { "threads", threads },
              { "eval_snr_db", eval_snr_db },
              { "eval_frames", eval_frames },
+             { "super_frames", super_frames },
+             { "mask_epochs", mask_epochs },
+             { "mask_tracks", mask_tracks },
+             { "mask_lr", mask_lr },
+             { "mask_encoder_lr", mask_encoder_lr },
              { "command_line", command_line } };
 }
 
@@ -186,19 +215,41 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         bad("frame_bundle", frame.directory + " is already a track bundle: give its per-frame bundle");
     const scene sc = track_scene(s, frame);
     frame.check_library(sc.library(), "track training");
-    bundle_decoder frames(frame, s.threads);
-    const int64_t c = static_cast<int64_t>(frame.class_names.size());
-    const int64_t e = frames.evidence_size(s.temporal.doppler_profile); // features, profile, then C log-probabilities
-    const int64_t k = s.track_frames;
     const splits sp(s.tracks);
     auto say = [&](const std::string& line) {
         if (log && s.verbose)
             *log << line << std::endl;
     };
+    // A super-frame: its F sets and the frame decoder learned with them first, written into
+    // out_dir as the frame half of the track bundle (the frame bundle itself stays as it is).
+    nlohmann::json super_frame_history;
+    if (s.super_frames > 1) {
+        if (frame.super_frames() > 1)
+            bad("frame_bundle", frame.directory + "'s mask already spans " + std::to_string(frame.super_frames()) +
+                                    " frames: give a bundle of one frame's mask to learn a super-frame from");
+        namespace fsys = std::filesystem;
+        std::error_code ec;
+        if (fsys::equivalent(s.out_dir, frame.directory, ec))
+            bad("out_dir", s.out_dir + " is the frame bundle's own directory: write the track bundle elsewhere");
+        const int64_t val_tracks = std::min<int64_t>(sp.val, 400);
+        auto learned = temporal::learn_super_frame(frame, sc, s, sp.train, val_tracks, say);
+        super_frame_history = learned.history;
+        frame.super_frame = learned.masks;
+        frame.mask = learned.masks.set(0);
+        frame.weights_name = model_bundle::weights_file;
+        frame.save(s.out_dir);
+        nn::save_module(learned.decoder, (fsys::path(s.out_dir) / frame.weights_name).string());
+        frame.directory = s.out_dir;
+    }
+    bundle_decoder frames(frame, s.threads);
+    const int64_t c = static_cast<int64_t>(frame.class_names.size());
+    const int64_t e = frames.evidence_size(s.temporal.doppler_profile); // features, profile, then C log-probabilities
+    const int64_t k = s.track_frames;
+    const super_frame_mask masks = frame.super_frame ? *frame.super_frame : super_frame_mask(frame.mask);
 
     // The tracks: train, validation and test, each track from (seed, index) alone.
     auto draw = [&](int64_t first, int64_t count) {
-        return temporal::draw_tracks(frame.frame, sc, frame.mask, s.seed, first, count, s.track_frames, frame.class_names);
+        return temporal::draw_tracks(frame.frame, sc, masks, s.seed, first, count, s.track_frames, frame.class_names);
     };
     const auto td0 = clock::now();
     const auto train = draw(0, sp.train), val = draw(sp.train, sp.val), test = draw(sp.train + sp.val, sp.test);
@@ -209,9 +260,9 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     nn::temporal_model model(e, c, s.temporal);
     torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(s.lr).weight_decay(s.weight_decay));
     auto gen = at::detail::createCPUGenerator(s.seed ^ 0x747261636b6e6f69ULL);
-    const auto val_obs = temporal::observe_tracks(val, frame.mask, s.snr_min_db, s.snr_max_db, gen);
+    const auto val_obs = temporal::observe_tracks(val, masks, s.snr_min_db, s.snr_max_db, gen);
     const bool profile = s.temporal.doppler_profile;
-    const auto val_ev = evidence_of(frames, val_obs, val.length, e, profile);
+    const auto val_ev = evidence_of(frames, val_obs, val.length, val.set, e, profile);
     const auto val_valid = valid_frames(val.length, k);
 
     // Mean accuracy of the decision after every frame of every track (the validation score).
@@ -231,8 +282,8 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     for (int epoch = 1; epoch <= s.epochs; ++epoch) {
         const auto te = clock::now();
         // New noise each epoch, then the frame decoder once over every training frame.
-        const auto obs = temporal::observe_tracks(train, frame.mask, s.snr_min_db, s.snr_max_db, gen);
-        const auto ev = evidence_of(frames, obs, train.length, e, profile);
+        const auto obs = temporal::observe_tracks(train, masks, s.snr_min_db, s.snr_max_db, gen);
+        const auto ev = evidence_of(frames, obs, train.length, train.set, e, profile);
         const auto valid = valid_frames(train.length, k);
         model->train();
         auto order = torch::randperm(sp.train, gen, torch::kLong);
@@ -303,8 +354,8 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     for (size_t i = 0; i < s.eval_snr_db.size(); ++i) {
         const double snr = s.eval_snr_db[i];
         auto g = at::detail::createCPUGenerator(s.seed * 1000003ULL + 17 + i);
-        const auto obs = temporal::observe_tracks(test, frame.mask, snr, snr, g);
-        const auto ev = evidence_of(frames, obs, test.length, e, profile);
+        const auto obs = temporal::observe_tracks(test, masks, snr, snr, g);
+        const auto ev = evidence_of(frames, obs, test.length, test.set, e, profile);
         torch::Tensor pred, fused;
         {
             torch::NoGradGuard ng;
@@ -352,6 +403,8 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     auto training = s.to_json();
     training["history"] = result.history;
     training["scene"] = sc.to_json();
+    if (s.super_frames > 1)
+        training["super_frame_history"] = super_frame_history;
     result.bundle.track = { { "frames", s.track_frames },
                             { "temporal", model->describe() },
                             { "weights_file", track_classifier::weights_file },
@@ -360,11 +413,12 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     if (!s.out_dir.empty()) {
         namespace fsys = std::filesystem;
         std::error_code ec;
-        if (fsys::equivalent(s.out_dir, frame.directory, ec))
+        if (s.super_frames == 1 && fsys::equivalent(s.out_dir, frame.directory, ec))
             bad("out_dir", s.out_dir + " is the frame bundle's own directory: write the track bundle elsewhere");
         result.bundle.save(s.out_dir);
-        fsys::copy_file(frame.weights_path(), fsys::path(s.out_dir) / frame.weights_name,
-                        fsys::copy_options::overwrite_existing, ec);
+        if (s.super_frames == 1) // a super-frame's decoder is already there
+            fsys::copy_file(frame.weights_path(), fsys::path(s.out_dir) / frame.weights_name,
+                            fsys::copy_options::overwrite_existing, ec);
         if (ec)
             bad("out_dir", "cannot copy " + frame.weights_path() + " into " + s.out_dir + " (" + ec.message() + ")");
         nn::save_module(model.ptr(), (fsys::path(s.out_dir) / track_classifier::weights_file).string());

@@ -4,6 +4,7 @@
  * test frames it was scored on). JSON crosses the boundary as text.
  */
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
+#include <optional>
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/sems/learning/training/trainer.h>
 
@@ -31,6 +32,19 @@ int check_obs(const bundle_decoder& d, const obs_array& obs)
         throw std::invalid_argument("bundle_decoder: observations must have shape (batch, " +
                                     std::to_string(d.n_pilots()) + ")");
     return static_cast<int>(obs.shape(0));
+}
+
+using sets_array = py::array_t<int, py::array::c_style | py::array::forcecast>;
+
+// The set of each frame of a super-frame bundle (None: one frame's mask, every frame at set 0).
+const int* check_sets(const std::optional<sets_array>& sets, int batch)
+{
+    if (!sets)
+        return nullptr;
+    if (sets->ndim() != 1 || sets->shape(0) != batch)
+        throw std::invalid_argument("bundle_decoder: sets must have shape (" + std::to_string(batch) +
+                                    ",), one set per frame (its frame index mod F)");
+    return sets->data();
 }
 
 template <typename T>
@@ -71,6 +85,8 @@ void bind_learning(py::module& m)
             D(model_bundle, check_library), py::arg("input"), py::arg("who") = "model_bundle")
         .def_readonly("frame", &model_bundle::frame)
         .def_readonly("mask", &model_bundle::mask)
+        .def_property_readonly("super_frames", &model_bundle::super_frames, D(model_bundle, super_frames))
+        .def("mask_of_set", &model_bundle::mask_of_set, D(model_bundle, mask_of_set), py::arg("f"))
         .def_property_readonly("n_pilots", [](const model_bundle& b) { return b.mask.size(); })
         .def_property_readonly("decoder_json", [](const model_bundle& b) { return b.decoder.dump(); })
         .def_property_readonly("training_json", [](const model_bundle& b) { return b.training.dump(); })
@@ -90,33 +106,39 @@ void bind_learning(py::module& m)
              py::arg("bundle_dir"), py::arg("threads") = 1)
         .def("bundle", &bundle_decoder::bundle, py::return_value_policy::reference_internal)
         .def("n_pilots", &bundle_decoder::n_pilots)
+        .def("super_frames", &bundle_decoder::super_frames, D(bundle_decoder, super_frames))
         .def("feature_size", &bundle_decoder::feature_size)
         .def(
             "classify",
-            [](const bundle_decoder& d, const obs_array& obs) {
+            [](const bundle_decoder& d, const obs_array& obs, const std::optional<sets_array>& sets) {
                 const int b = check_obs(d, obs);
+                const int* s = check_sets(sets, b);
                 std::vector<float> p;
                 {
                     py::gil_scoped_release nogil;
-                    p = d.classify(obs.data(), b);
+                    p = d.classify(obs.data(), b, s);
                 }
                 const py::ssize_t c = b ? static_cast<py::ssize_t>(p.size() / b) : 0;
                 return to_array(p, { b, c });
             },
-            py::arg("obs"), "(batch, N_p) complex -> (batch, C) class probabilities")
+            py::arg("obs"), py::arg("sets") = py::none(),
+            "(batch, N_p) complex -> (batch, C) class probabilities; sets: each frame's set of a super-frame "
+            "mask (its frame index mod F), needed when the bundle's mask spans F > 1 frames")
         .def(
             "features",
-            [](const bundle_decoder& d, const obs_array& obs) {
+            [](const bundle_decoder& d, const obs_array& obs, const std::optional<sets_array>& sets) {
                 const int b = check_obs(d, obs);
+                const int* s = check_sets(sets, b);
                 std::vector<float> f;
                 {
                     py::gil_scoped_release nogil;
-                    f = d.features(obs.data(), b);
+                    f = d.features(obs.data(), b, s);
                 }
                 const py::ssize_t c = b ? static_cast<py::ssize_t>(f.size() / b) : 0;
                 return to_array(f, { b, c });
             },
-            py::arg("obs"), "(batch, N_p) complex -> (batch, 16) decoder features")
+            py::arg("obs"), py::arg("sets") = py::none(),
+            "(batch, N_p) complex -> (batch, 16) decoder features; sets as classify()")
         .def(
             "estimate_delay",
             [](const bundle_decoder& d, const obs_array& obs) {

@@ -9,6 +9,7 @@
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <iostream>
+#include <optional>
 
 namespace py = pybind11;
 using namespace gr::sems;
@@ -17,6 +18,7 @@ void bind_temporal(py::module& m)
 {
     using obs_array = py::array_t<gr_complex, py::array::c_style | py::array::forcecast>;
     using ev_array = py::array_t<float, py::array::c_style | py::array::forcecast>;
+    using sets_array = py::array_t<int, py::array::c_style | py::array::forcecast>;
 
     py::class_<track_training_settings>(m, "track_training_settings", D(track_training_settings))
         .def(py::init<>())
@@ -45,6 +47,12 @@ void bind_temporal(py::module& m)
                 s.temporal = nn::temporal_settings::from_json(nlohmann::json::parse(t), "temporal_json");
             },
             "the temporal model's settings as JSON text (keys as in bundle.json's track.temporal.settings)")
+        .def_readwrite("super_frames", &track_training_settings::super_frames, D(track_training_settings, super_frames))
+        .def_readwrite("mask_epochs", &track_training_settings::mask_epochs, D(track_training_settings, mask_epochs))
+        .def_readwrite("mask_tracks", &track_training_settings::mask_tracks, D(track_training_settings, mask_tracks))
+        .def_readwrite("mask_lr", &track_training_settings::mask_lr, D(track_training_settings, mask_lr))
+        .def_readwrite("mask_encoder_lr", &track_training_settings::mask_encoder_lr,
+                       D(track_training_settings, mask_encoder_lr))
         .def_readwrite("out_dir", &track_training_settings::out_dir, D(track_training_settings, out_dir))
         .def_readwrite("command_line", &track_training_settings::command_line, D(track_training_settings, command_line))
         .def_readwrite("verbose", &track_training_settings::verbose, D(track_training_settings, verbose))
@@ -77,25 +85,32 @@ void bind_temporal(py::module& m)
         .def("bundle", &track_classifier::bundle, py::return_value_policy::reference_internal)
         .def("n_pilots", &track_classifier::n_pilots, D(track_classifier, n_pilots))
         .def("n_classes", &track_classifier::n_classes, D(track_classifier, n_classes))
+        .def("super_frames", &track_classifier::super_frames, D(track_classifier, super_frames))
         .def("evidence_size", &track_classifier::evidence_size, D(track_classifier, evidence_size))
         .def("begin", &track_classifier::begin, D(track_classifier, begin))
         .def(
             "evidence",
-            [](const track_classifier& tc, const obs_array& obs) {
+            [](const track_classifier& tc, const obs_array& obs, const std::optional<sets_array>& sets) {
                 if (obs.ndim() != 2 || obs.shape(1) != tc.n_pilots())
                     throw std::invalid_argument("track_classifier: observations must have shape (frames, " +
                                                 std::to_string(tc.n_pilots()) + ")");
                 const int b = static_cast<int>(obs.shape(0));
+                if (sets && (sets->ndim() != 1 || sets->shape(0) != b))
+                    throw std::invalid_argument("track_classifier: sets must have shape (" + std::to_string(b) +
+                                                ",), one per frame (its frame index mod F)");
+                const int* ps = sets ? sets->data() : nullptr;
                 std::vector<float> e;
                 {
                     py::gil_scoped_release nogil;
-                    e = tc.evidence(obs.data(), b);
+                    e = tc.evidence(obs.data(), b, ps);
                 }
                 py::array_t<float> a({ static_cast<py::ssize_t>(b), static_cast<py::ssize_t>(tc.evidence_size()) });
                 std::copy(e.begin(), e.end(), a.mutable_data());
                 return a;
             },
-            py::arg("obs"), "(frames, N_p) complex -> (frames, evidence_size()) evidence")
+            py::arg("obs"), py::arg("sets") = py::none(),
+            "(frames, N_p) complex -> (frames, evidence_size()) evidence; sets: each frame's set of a super-frame "
+            "mask (its frame index mod F), needed when the bundle's mask spans F > 1 frames")
         .def(
             "step",
             [](const track_classifier& tc, track_classifier::state& s, const ev_array& ev) {

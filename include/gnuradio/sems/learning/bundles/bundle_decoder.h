@@ -26,6 +26,12 @@ namespace sems {
  * method, the index of the first such frame in the batch and its pilot, and answer no
  * frame of that batch: the caller leaves the frame out. The sinks do so: they count such
  * a frame in `frames_skipped` and never hand it to the decoder (docs/reference/sinks.md).
+ *
+ * Super-frame masks: a classifier bundle whose mask spans F > 1 frames (model_bundle::super_frame)
+ * decodes each frame at the pilots of its own set, frame index mod F, which classify(),
+ * features() and evidence() take per frame (`sets`); the frames of one set go through the
+ * network together. Without `sets` such a bundle refuses the batch, naming F. For F = 1
+ * `sets` may be left out, and the answers are those of a one-frame mask bit for bit.
  */
 class SEMS_LEARNING_API bundle_decoder
 {
@@ -46,14 +52,18 @@ public:
     const model_bundle& bundle() const;
     /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const;
+    /*! \brief F. \return the frames the bundle's mask spans (1 for one frame's mask). */
+    int super_frames() const;
 
     /*!
      * \brief Classifies frames.
      * \param obs batch x N_p observations, row-major. \param batch the number of frames.
+     * \param sets each frame's set of a super-frame mask, in [0, F) (may be null when F = 1).
      * \return batch x C class probabilities, row-major.
-     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
+     * \throws std::invalid_argument on a frame with NaN or Inf (see the class), a delay bundle,
+     *         or sets missing or out of range for a super-frame.
      */
-    std::vector<float> classify(const gr_complex* obs, int batch) const;
+    std::vector<float> classify(const gr_complex* obs, int batch, const int* sets = nullptr) const;
     /*!
      * \brief Estimates the delay of the target of interest.
      * \param obs batch x N_p observations. \param batch the number of frames.
@@ -71,10 +81,11 @@ public:
     /*!
      * \brief Classifier only: the embeddings (for t-SNE).
      * \param obs batch x N_p observations. \param batch the number of frames.
+     * \param sets each frame's set of a super-frame mask (as classify()).
      * \return batch x feature_size() values, row-major.
      * \throws std::invalid_argument on a frame with NaN or Inf (see the class), or a delay bundle.
      */
-    std::vector<float> features(const gr_complex* obs, int batch) const;
+    std::vector<float> features(const gr_complex* obs, int batch, const int* sets = nullptr) const;
     /*! \brief The embedding size. \return the features per frame. */
     int feature_size() const;
     /*!
@@ -84,12 +95,14 @@ public:
      * \param doppler_profile add the spectral classifier's log Doppler profile (its
      *        doppler_bins values per channel, before its BatchNorm: what the network sees of the
      *        frame's slow time); refused for other decoders.
+     * \param sets each frame's set of a super-frame mask (as classify()).
      * \return batch x evidence_size(doppler_profile) values, row-major: features, the profile
      *         when asked, then log p(c | frame) last.
      * \throws std::invalid_argument on a frame with NaN or Inf (see the class), a delay bundle,
      *         or a profile asked of a decoder without one.
      */
-    std::vector<float> evidence(const gr_complex* obs, int batch, bool doppler_profile = false) const;
+    std::vector<float>
+    evidence(const gr_complex* obs, int batch, bool doppler_profile = false, const int* sets = nullptr) const;
     /*!
      * \brief The values per frame evidence() gives.
      * \param doppler_profile with the Doppler profile.

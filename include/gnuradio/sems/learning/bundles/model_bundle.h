@@ -10,8 +10,10 @@
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
+#include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <nlohmann/json.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,7 +55,16 @@ struct SEMS_LEARNING_API model_bundle {
      */
     std::shared_ptr<const class_library> library;
     frame_settings frame;                 ///< the frame it was trained on
-    pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask
+    pilot_mask mask{ 1, 1, { { 0, 0 } } }; ///< the pilot mask (of frame 0 when the mask spans a super-frame)
+    /*!
+     * \brief A mask spanning a super-frame of F > 1 frames (mask.json a super-frame file): set
+     *        f mod F serves a stream's frame f, and `mask` is its set 0. Empty for one frame's mask.
+     */
+    std::optional<super_frame_mask> super_frame;
+    /*! \brief F. \return the frames the bundle's mask spans (1 without a super-frame). */
+    int super_frames() const { return super_frame ? super_frame->n_frames() : 1; }
+    /*! \brief The pilots of set f. \param f in [0, super_frames()). \return its mask. */
+    const pilot_mask& mask_of_set(int f) const { return super_frame ? super_frame->set(f) : mask; }
     nlohmann::json decoder;  ///< {"kind": ..., settings}
     nlohmann::json training; ///< objective, SNR range, frames, epochs, seed, command
     nlohmann::json metrics;  ///< measured test metrics

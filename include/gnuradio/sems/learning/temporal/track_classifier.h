@@ -69,6 +69,8 @@ public:
     const model_bundle& bundle() const;
     /*! \brief N_p. \return the observations per frame. */
     int n_pilots() const;
+    /*! \brief F. \return the frames the bundle's mask spans (1 for one frame's mask). */
+    int super_frames() const;
     /*! \brief C. \return the classes. */
     int n_classes() const;
     /*! \brief The evidence one frame gives. \return its values per frame (features + C). */
@@ -81,10 +83,11 @@ public:
     /*!
      * \brief The frame decoder's evidence for frames of any tracks (bundle_decoder::evidence).
      * \param obs batch x N_p observations. \param batch the number of frames.
+     * \param sets each frame's set of a super-frame mask, its frame index mod F (may be null when F = 1).
      * \return batch x evidence_size() values.
-     * \throws std::invalid_argument on a frame with NaN or Inf.
+     * \throws std::invalid_argument on a frame with NaN or Inf, or sets missing or out of range for a super-frame.
      */
-    std::vector<float> evidence(const gr_complex* obs, int batch) const;
+    std::vector<float> evidence(const gr_complex* obs, int batch, const int* sets = nullptr) const;
     /*!
      * \brief One frame of one track: folds its evidence into the state and answers.
      * \param s the track's state (updated). \param evidence evidence_size() values.

@@ -13,7 +13,9 @@
  * the track's pilots only (N_p values per frame, never the whole frames). Each epoch draws
  * new noise (a track keeps one SNR, uniform in [snr_min_db, snr_max_db]) and runs the frame
  * decoder once over every frame; the temporal model trains on the cross-entropy of its
- * decision after every frame. The best validation epoch is kept. The test tracks are scored at
+ * decision after every frame. The best validation epoch is kept. With super_frames F > 1 the
+ * pilots come first: F sets learned with the frame decoder (super_frame_learner), frame t of
+ * track j read at set (j + t) mod F. The test tracks are scored at
  * each eval SNR after each number of frames in eval_frames, for the temporal model and for
  * the fusion of independent frames (the product of per-frame posteriors), on the same frames.
  */
@@ -53,6 +55,18 @@ struct SEMS_LEARNING_API track_training_settings {
     std::vector<double> eval_snr_db{ -10.0, 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
     std::vector<int> eval_frames{ 1, 2, 4, 8, 16, 32 };             ///< observation times scored, in frames
     nn::temporal_settings temporal;  ///< the temporal model
+    /*!
+     * \brief F, the frames of a super-frame mask: 1 keeps the frame bundle's mask and decoder;
+     *        F > 1 first learns F sets of the frame bundle's N_p pilots, one per frame of the
+     *        super-frame, jointly with the frame decoder (trained on from the frame bundle's
+     *        weights) under the fused cross-entropy over frames (docs/design.md §5), then the
+     *        temporal model on them. Needs out_dir (the learned sets and decoder are written there).
+     */
+    int super_frames = 1;
+    int mask_epochs = 8;          ///< F > 1: epochs of the super-frame learner
+    int mask_tracks = 1600;       ///< F > 1: training tracks it learns on, windows of min(2F, track_frames) frames (8·N·M bytes a frame)
+    double mask_lr = 3e-4;        ///< F > 1: Adam's rate for the frame decoder
+    double mask_encoder_lr = 0.3; ///< F > 1: Adam's rate for the sets' scores (they must sharpen within a few epochs)
     std::string out_dir;             ///< empty: do not write a bundle
     std::string command_line;        ///< recorded in bundle.json
     bool verbose = true;             ///< per-epoch progress on the log
