@@ -193,6 +193,7 @@ int main(int argc, char** argv)
          "hand patterns at each --exp8-np-sweep budget), superframe (learned super-frame masks of --exp8-super-frames "
          "sets under the temporal decoder at each --exp8-np-sweep budget; only when named), to split a run over processes")
         ("exp8-super-frames", po::value<int>(), "experiment 8's superframe part: F, the frames of its learned super-frame masks (default 4)")
+        ("exp8-super-frame-start", po::value<std::string>(), "experiment 8's superframe part: where the sets start, frame (the SemS frame mask, repeated) or random (default frame)")
         ("exp8-np-sweep", po::value(&exp8_np_sweep), "override: experiment 8's pilot budgets besides 32 (test 8; full 8,128)")
         ("exp8-frames", po::value(&exp8_frames), "override: experiment 8's observation times in frames (test 1,2,4,8; full 1,2,4,...,64); the largest is K")
         ("exp8-test-tracks", po::value<int>(), "override: experiment 8's test tracks (test 12, full 300)")
@@ -231,6 +232,12 @@ int main(int argc, char** argv)
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst" }, "--exp7-parts");
         c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
+        if (vm.count("exp8-super-frame-start")) {
+            c.exp8_super_frame_start = vm["exp8-super-frame-start"].as<std::string>();
+            if (c.exp8_super_frame_start != "frame" && c.exp8_super_frame_start != "random")
+                throw std::invalid_argument("--exp8-super-frame-start must be frame or random, got \"" +
+                                            c.exp8_super_frame_start + "\"");
+        }
         if (vm.count("exp8-super-frames")) {
             c.exp8_super_frames = vm["exp8-super-frames"].as<int>();
             if (c.exp8_super_frames < 2 || c.exp8_super_frames > limits::max_super_frames)

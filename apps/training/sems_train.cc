@@ -72,7 +72,7 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
     static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
                                                     "track-no-profile", "track-dropout", "track-weight-decay",
                                                     "track-eval-frames", "super-frames", "super-frame-epochs",
-                                                    "super-frame-tracks", "scene", "snr", "snr-min", "snr-max",
+                                                    "super-frame-tracks", "super-frame-start", "scene", "snr", "snr-min", "snr-max",
                                                     "epochs", "batch", "lr", "patience", "seed", "threads",
                                                     "eval-snr", "out", "quiet" };
     for (const auto& [name, value] : vm)
@@ -97,6 +97,8 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
         t.mask_epochs = vm["super-frame-epochs"].as<int>();
     if (given("super-frame-tracks"))
         t.mask_tracks = vm["super-frame-tracks"].as<int>();
+    if (given("super-frame-start"))
+        t.mask_start = vm["super-frame-start"].as<std::string>();
     if (given("track-dropout"))
         t.temporal.dropout = vm["track-dropout"].as<double>();
     if (given("track-weight-decay"))
@@ -247,6 +249,7 @@ int main(int argc, char** argv)
         ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only)")
         ("super-frames", po::value<int>()->default_value(track_training_settings{}.super_frames), "--frame-bundle: F, the frames of a super-frame mask; F > 1 learns F sets of the bundle's N_p pilots (one per frame, set = frame index mod F) with its frame decoder before the temporal model")
         ("super-frame-epochs", po::value<int>()->default_value(track_training_settings{}.mask_epochs), "--super-frames > 1: epochs of the sets' learner")
+        ("super-frame-start", po::value<std::string>()->default_value(track_training_settings{}.mask_start), "--super-frames > 1: where the sets start, frame (the bundle's mask in every set, kept unless an epoch validates better) or random")
         ("super-frame-tracks", po::value<int>()->default_value(track_training_settings{}.mask_tracks), "--super-frames > 1: training tracks it learns on (windows of 2F frames held whole: 8·N·M bytes a frame)")
         ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share of each frame's evidence dropped in training")
         ("track-weight-decay", po::value<double>()->default_value(track_training_settings{}.weight_decay), "--frame-bundle: AdamW weight decay")

@@ -68,6 +68,7 @@ struct config {
     std::vector<int> exp8_np_sweep{ 8 };          // experiment 8's pilot budgets besides 32 (budget part)
     std::set<std::string> exp8_parts{ "main", "budget" }; // "superframe" only when named
     int exp8_super_frames = 4;                    // experiment 8, superframe part: F of the learned super-frame masks
+    std::string exp8_super_frame_start = "frame"; // experiment 8, superframe part: where its sets start (frame | random)
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;

@@ -194,10 +194,12 @@ struct track_source {
 };
 
 track_source train_or_load_track(const config& c, const std::string& frame_name, const decoder_source& frame,
-                                 uint64_t train_seed, std::ostream& log, int super_frames = 1)
+                                 uint64_t train_seed, std::ostream& log, int super_frames = 1,
+                                 const std::string& super_frame_start = "frame")
 {
     track_training_settings s;
     s.super_frames = super_frames;
+    s.mask_start = super_frame_start;
     s.mask_tracks = std::min(s.mask_tracks, c.exp8_train_tracks * 8 / 10); // the learner's share of the training tracks
     s.frame_bundle = frame.bundle.directory;
     s.track_frames = c.exp8_track_frames;
@@ -210,14 +212,18 @@ track_source train_or_load_track(const config& c, const std::string& frame_name,
     s.eval_snr_db = { 10.0 }; // its own test tenth: a progress line only (the experiment's tracks score it)
     s.eval_frames = { 1, c.exp8_track_frames };
     s.verbose = false;
-    const std::string name = frame_name + (super_frames > 1 ? "_sf" + std::to_string(super_frames) : "") + "_track";
+    const std::string name = frame_name +
+                             (super_frames > 1 ? "_sf" + std::to_string(super_frames) +
+                                                     (super_frame_start == "frame" ? "" : "_" + super_frame_start)
+                                               : "") +
+                             "_track";
     const auto dir = fsys::path(c.out_dir) / "bundles" / name;
     s.out_dir = dir.string();
     auto key = s.to_json();
     key.erase("command_line");
     key["temporal"] = s.temporal.to_json();
     if (super_frames == 1) // one frame's mask: the keys of bundles cached before super-frames existed
-        for (const char* k : { "super_frames", "mask_epochs", "mask_tracks", "mask_lr", "mask_encoder_lr" })
+        for (const char* k : { "super_frames", "mask_epochs", "mask_tracks", "mask_lr", "mask_encoder_lr", "mask_start" })
             key.erase(k);
     // A frame bundle trained anew (other settings) makes its temporal decoder stale too.
     key["frame_key"] = read_eval_key(frame.bundle.directory).value("key", nlohmann::json());
@@ -522,9 +528,12 @@ void run_tracks(const config& c, std::ostream& log)
                 const std::string sems_name = seeded_name(prefix + "sems", seed);
                 const auto sems = train_or_load(c, sems_name, sems_settings, log);
                 const std::string f = std::to_string(c.exp8_super_frames);
-                score_track_bundle(c, out, train_or_load_track(c, sems_name, sems, seed, log, c.exp8_super_frames),
-                                   "SemS super-frame (F = " + f + ") + track",
-                                   "SemS super-frame (F = " + f + ") fusion", "learned super-frame (task)", seed);
+                const std::string from = c.exp8_super_frame_start == "frame" ? "" : ", " + c.exp8_super_frame_start + " start";
+                score_track_bundle(c, out,
+                                   train_or_load_track(c, sems_name, sems, seed, log, c.exp8_super_frames,
+                                                       c.exp8_super_frame_start),
+                                   "SemS super-frame (F = " + f + from + ") + track",
+                                   "SemS super-frame (F = " + f + from + ") fusion", "learned super-frame (task)", seed);
             }
     for (int np : budgets) {
         const bool main_part = np == 32 && c.exp8_parts.count("main");

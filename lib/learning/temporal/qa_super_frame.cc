@@ -197,6 +197,14 @@ public:
             sum += x;
         CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, sum, 1e-5);
         CPPUNIT_ASSERT(!res.metrics.at("by_snr").empty());
+        // A random start has no epoch 0 (no repeated mask to keep).
+        auto random_start = tiny(temp_dir("random_start"));
+        random_start.mask_start = "random";
+        const auto rr = train_track(random_start, nullptr);
+        const auto& rh = rr.bundle.track.at("training").at("super_frame_history");
+        CPPUNIT_ASSERT_EQUAL(2, int(rh.size()));
+        CPPUNIT_ASSERT_EQUAL(1, rh.at(0).at("epoch").get<int>());
+        CPPUNIT_ASSERT_EQUAL(2, model_bundle::load(random_start.out_dir).super_frames());
         // A super-frame bundle is not a frame bundle to learn another super-frame from.
         auto again = tiny(temp_dir("again"));
         again.frame_bundle = dir;
@@ -224,6 +232,9 @@ public:
         s = tiny(temp_dir("bad"));
         s.mask_lr = std::nan("");
         assert_error([&] { s.validate(); }, "mask_lr");
+        s = tiny(temp_dir("bad"));
+        s.mask_start = "best";
+        assert_error([&] { s.validate(); }, "mask_start: must be \"frame\" or \"random\", got \"best\"");
         // A frame bundle whose mask already spans a super-frame.
         s = tiny(temp_dir("bad"));
         s.frame_bundle = two_set_bundle(pilot_mask::from_pattern("doppler", model_bundle::load(paper_classifier()).frame,

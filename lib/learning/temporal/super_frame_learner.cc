@@ -150,7 +150,8 @@ super_frame_result learn_super_frame(const model_bundle& frame,
     groups.emplace_back(dec->parameters(), std::make_unique<torch::optim::AdamOptions>(s.mask_lr));
     for (int i = 0; i < f; ++i) {
         enc.emplace_back(np, n, m, nn::encoder_settings{}, false, frame.frame.guard_subcarriers);
-        start_at(enc.back(), frame.mask);
+        if (s.mask_start == "frame")
+            start_at(enc.back(), frame.mask);
         groups.emplace_back(enc.back()->parameters(),
                             std::make_unique<torch::optim::AdamOptions>(s.mask_encoder_lr));
     }
@@ -187,9 +188,10 @@ super_frame_result learn_super_frame(const model_bundle& frame,
         dec->eval();
         return fused_accuracy(frame_log_probs(dec, val_y, val.set, grids, c), val.label, val.valid);
     };
-    // Epoch 0: every set at the frame bundle's mask, the repeated mask the learner starts from,
-    // kept unless an epoch validates better.
-    {
+    // Epoch 0 of a start at the frame mask: every set at the frame bundle's mask, the repeated
+    // mask the learner starts from, kept unless an epoch validates better. A random start has
+    // no such candidate (its first sets are random draws).
+    if (s.mask_start == "frame") {
         auto [grids, sets] = final_masks();
         best = evaluate(grids);
         best_sets = sets;

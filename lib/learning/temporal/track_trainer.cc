@@ -171,6 +171,8 @@ void track_training_settings::validate() const
             bad("mask_lr", "must be a finite number > 0");
         if (!(mask_encoder_lr > 0.0 && std::isfinite(mask_encoder_lr)))
             bad("mask_encoder_lr", "must be a finite number > 0");
+        if (mask_start != "frame" && mask_start != "random")
+            bad("mask_start", "must be \"frame\" or \"random\", got \"" + mask_start + "\"");
     }
 }
 
@@ -197,6 +199,7 @@ nlohmann::json track_training_settings::to_json() const
              { "mask_tracks", mask_tracks },
              { "mask_lr", mask_lr },
              { "mask_encoder_lr", mask_encoder_lr },
+             { "mask_start", mask_start },
              { "command_line", command_line } };
 }
 

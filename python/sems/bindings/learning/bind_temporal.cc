@@ -50,6 +50,7 @@ void bind_temporal(py::module& m)
         .def_readwrite("super_frames", &track_training_settings::super_frames, D(track_training_settings, super_frames))
         .def_readwrite("mask_epochs", &track_training_settings::mask_epochs, D(track_training_settings, mask_epochs))
         .def_readwrite("mask_tracks", &track_training_settings::mask_tracks, D(track_training_settings, mask_tracks))
+        .def_readwrite("mask_start", &track_training_settings::mask_start, D(track_training_settings, mask_start))
         .def_readwrite("mask_lr", &track_training_settings::mask_lr, D(track_training_settings, mask_lr))
         .def_readwrite("mask_encoder_lr", &track_training_settings::mask_encoder_lr,
                        D(track_training_settings, mask_encoder_lr))

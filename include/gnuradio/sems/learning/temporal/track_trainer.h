@@ -67,6 +67,12 @@ struct SEMS_LEARNING_API track_training_settings {
     int mask_tracks = 1600;       ///< F > 1: training tracks it learns on, windows of min(2F, track_frames) frames (8·N·M bytes a frame)
     double mask_lr = 3e-4;        ///< F > 1: Adam's rate for the frame decoder
     double mask_encoder_lr = 0.3; ///< F > 1: Adam's rate for the sets' scores (they must sharpen within a few epochs)
+    /*!
+     * \brief F > 1: where the sets start: "frame" (every set at the frame bundle's mask, the
+     *        repeated mask, kept unless an epoch validates better) or "random" (scores zero:
+     *        uniformly random sets, as the frame trainer's encoder starts).
+     */
+    std::string mask_start = "frame";
     std::string out_dir;             ///< empty: do not write a bundle
     std::string command_line;        ///< recorded in bundle.json
     bool verbose = true;             ///< per-epoch progress on the log
