@@ -101,6 +101,11 @@ class predictions:
         return {"diff": diff, "se": se, "p": p, "tracks": n, "seeds": len(seeds)}
 
 
+def verdict(r, adjusted):
+    """'+' better, '−' worse, '=' no difference that survives the correction (adjusted p)."""
+    return "=" if adjusted >= ALPHA else ("+" if r["diff"] > 0 else "−")
+
+
 def mean_over_seeds(rows, key):
     """(method, N_p, SNR, frames) -> (mean, min, max, seeds) of column `key`."""
     acc = defaultdict(list)
@@ -155,7 +160,9 @@ def main():
     t_max = frames[-1]
     budgets = sorted({k[1] for k in acc if k[0] == SEMS})
     main_np = 32 if 32 in budgets else budgets[0]
-    methods = method_order({k[0] for k in acc if k[1] == main_np or "CNN" in k[0]})
+    # Pilots across frames have a section of their own (below), not a place among the references.
+    across = lambda m: "super-frame" in m or "across frames" in m  # noqa: E731
+    methods = method_order({k[0] for k in acc if (k[1] == main_np or "CNN" in k[0]) and not across(k[0])})
     np_of = {m: (main_np if (m, main_np, snrs[0], frames[0]) in acc else
                  next(k[1] for k in acc if k[0] == m)) for m in methods}
     n_tracks = len(pred.truth)
@@ -283,7 +290,7 @@ def main():
                     row.append("")
                     continue
                 c, a = table[(s, f)]
-                mark = "=" if a >= ALPHA else ("+" if c["diff"] > 0 else "−")
+                mark = verdict(c, a)
                 wins += mark == "+"
                 losses += mark == "−"
                 row.append("%+.3f ± %.3f %s" % (c["diff"], c["se"], mark))
@@ -310,10 +317,65 @@ def main():
         w("| N_p | SNR | SemS-track | best pattern + track | difference |")
         w("|---:|---:|---:|---|---:|")
         for (b, s), (best, r), a in zip(keys, cells, adj):
-            mark = "=" if a >= ALPHA else ("+" if r["diff"] > 0 else "−")
+            mark = verdict(r, a)
             w("| %d | %g dB | %.3f | %s %.3f | %+.3f ± %.3f %s |" % (
                 b, s, acc[(SEMS, b, s, t_max)][0], best.replace("SemS decoder ", "").replace(" + track", ""),
                 acc[(best, b, s, t_max)][0], r["diff"], r["se"], mark))
+
+    # Pilots across frames: each learned super-frame against the best repeated mask under the
+    # temporal decoder (SemS-track's learned mask or a hand pattern), and the SemS decoder's mask
+    # moved across the band frame by frame against the same mask repeated (fusion of both).
+    learned = sorted({k[0] for k in acc if "super-frame" in k[0] and "+ track" in k[0]})
+    if learned:
+        w("\n## Pilots across frames: learned super-frames against the best repeated mask\n")
+        w("At each N_p and SNR over %.3g s: the learned super-frame under the temporal decoder against the best "
+          "repeated mask under the same decoder there (SemS-track's learned mask or a hand pattern, whichever has "
+          "the best mean accuracy in that cell: a choice in the repeated masks' favour), paired on the shared "
+          "test tracks and seeds, Holm-corrected over the whole table.\n" % secs(t_max))
+        cells, keys = [], []
+        for m in learned:
+            for b in sorted({k[1] for k in acc if k[0] == m}):
+                for s in snrs:
+                    if (m, b, s, t_max) not in acc:
+                        continue
+                    reps = [r for r in sorted({k[0] for k in acc}) if (r == SEMS or ("+ track" in r and not across(r)))
+                            and "shipped" not in r and (r, b, s, t_max) in acc]
+                    if not reps:
+                        continue
+                    best = max(reps, key=lambda r: acc[(r, b, s, t_max)][0])
+                    r = pred.paired(m, best, b, b, s, t_max, rng, args.bootstrap)
+                    if r:
+                        cells.append((best, r))
+                        keys.append((m, b, s))
+        adj = holm([r["p"] for _, r in cells])
+        w("| super-frame | N_p | SNR | accuracy | best repeated mask + track | difference |")
+        w("|---|---:|---:|---:|---|---:|")
+        for (m, b, s), (best, r), a in zip(keys, cells, adj):
+            mark = verdict(r, a)
+            w("| %s | %d | %g dB | %.3f | %s %.3f | %+.3f ± %.3f %s |" % (
+                m.replace("SemS super-frame ", "").replace(" + track", ""), b, s, acc[(m, b, s, t_max)][0],
+                best.replace("SemS decoder ", "").replace(" + track", ""), acc[(best, b, s, t_max)][0],
+                r["diff"], r["se"], mark))
+        shifted = sorted({k[0] for k in acc if "across frames" in k[0]})
+        if shifted:
+            w("\nThe same frame decoder with its mask moved across the band frame by frame (the target seen at F "
+              "places of the band) against its mask repeated, both fused over the frames, over %.3g s; Holm over the "
+              "table.\n" % secs(t_max))
+            cells, keys = [], []
+            for m in shifted:
+                for b in sorted({k[1] for k in acc if k[0] == m}):
+                    for s in snrs:
+                        r = pred.paired(m, "SemS fusion", b, b, s, t_max, rng, args.bootstrap)
+                        if r:
+                            cells.append(r)
+                            keys.append((m, b, s))
+            adj = holm([r["p"] for r in cells])
+            w("| N_p | SNR | moved across the band | repeated | difference |")
+            w("|---:|---:|---:|---:|---:|")
+            for (m, b, s), r, a in zip(keys, cells, adj):
+                mark = verdict(r, a)
+                w("| %d | %g dB | %.3f | %.3f | %+.3f ± %.3f %s |" % (
+                    b, s, acc[(m, b, s, t_max)][0], acc[("SemS fusion", b, s, t_max)][0], r["diff"], r["se"], mark))
 
     # The adult/child pair: the 2 x 2 accuracy among tracks of either class, after the longest time.
     names = {v: k for k, v in class_names.items()}

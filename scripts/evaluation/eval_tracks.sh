@@ -15,6 +15,11 @@
 #                               more; SEMS_EVAL_PARTS adds it)
 #   shipped                     the shipped track bundle (models/classifier_kinematic_track) and
 #                               its frame decoder's fusion on the same tracks (no training)
+#   superframe8_s0, superframe32_s0
+#                               learned super-frame masks of 4 sets from the SemS frame bundle
+#                               at N_p = 8 and 32 under the temporal decoder, and the SemS decoder
+#                               on its mask moved across the band frame by frame (training seed 2026)
+#   superframe8r_s0             the same at N_p = 8 with the sets started at random
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. SEMS_EVAL_PARTS (space-separated) runs a subset;
 # the parts whose CSVs exist are merged. The results (exp8_*.csv, exp8_*.png and
@@ -33,8 +38,11 @@ declare -A part_args=(
   [budget8_s0]="--exp8-parts budget --exp8-np-sweep 8 --first-seed 0"
   [budget128_s0]="--exp8-parts budget --exp8-np-sweep 128 --first-seed 0"
   [shipped]="--exp8-parts main --only-shipped --shipped-track $root/models/classifier_kinematic_track"
+  [superframe8_s0]="--exp8-parts superframe --exp8-np-sweep 8 --first-seed 0"
+  [superframe32_s0]="--exp8-parts superframe --exp8-np-sweep 32 --first-seed 0"
+  [superframe8r_s0]="--exp8-parts superframe --exp8-np-sweep 8 --exp8-super-frame-start random --first-seed 0"
 )
-parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 shipped})
+parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 shipped superframe8_s0 superframe32_s0 superframe8r_s0})
 stamp "sems_eval --size $size --experiments 8, parts ${parts[*]}, two at a time, logs in $out/*.log"
 status=0
 running=()

@@ -255,6 +255,32 @@ track_source train_or_load_track(const config& c, const std::string& frame_name,
 
 int argmax(const float* p, int n) { return static_cast<int>(std::max_element(p, p + n) - p); }
 
+// The set each frame of the test tracks is read at: frame f of track i at (i + f) mod F (the
+// training's rule: a track starts at any phase of the super-frame); all 0 for F = 1.
+std::vector<int> frame_sets(const track_grids& t, int n_sets)
+{
+    std::vector<int> sets(size_t(t.count) * t.frames);
+    for (int i = 0; i < t.count; ++i)
+        for (int f = 0; f < t.frames; ++f)
+            sets[size_t(i) * t.frames + f] = (i + f) % n_sets;
+    return sets;
+}
+
+// The test tracks' observations (count*K x N_p), each frame at the pilots of its set, with the
+// one noise draw every method sees at each element.
+std::vector<gr_complex> observe_sets(const track_grids& t, const model_bundle& b, const std::vector<int>& sets, double snr)
+{
+    auto obs = t.grids.observe(b.mask_of_set(0), snr);
+    const size_t np = static_cast<size_t>(b.mask.size());
+    for (int set = 1; set < b.super_frames(); ++set) {
+        const auto other = t.grids.observe(b.mask_of_set(set), snr);
+        for (size_t r = 0; r < sets.size(); ++r)
+            if (sets[r] == set)
+                std::copy(other.begin() + r * np, other.begin() + (r + 1) * np, obs.begin() + r * np);
+    }
+    return obs;
+}
+
 // A track bundle on the test tracks at every SNR: the decision over the track and, from the
 // same frames, the fusion of independent frames.
 void score_track_bundle(const config& c, track_scorer& out, const track_source& src, const std::string& method,
@@ -267,21 +293,9 @@ void score_track_bundle(const config& c, track_scorer& out, const track_source& 
     const int np = tc.n_pilots(), e = tc.evidence_size(), nc = tc.n_classes(), k = t.frames;
     const auto slot = eval_slot(c);
     const size_t ne = c.exp8_frames.size();
-    // A super-frame of F sets: frame f of test track i is read at set (i + f) mod F (the
-    // training's rule: a track starts at any phase of the super-frame).
-    const int n_sets = tc.super_frames();
-    std::vector<int> sets(size_t(t.count) * k);
-    for (int i = 0; i < t.count; ++i)
-        for (int f = 0; f < k; ++f)
-            sets[size_t(i) * k + f] = (i + f) % n_sets;
+    const auto sets = frame_sets(t, tc.super_frames());
     for (double snr : c.snrs) {
-        auto obs = t.grids.observe(src.bundle.mask_of_set(0), snr); // count*K x N_p, zero past a track's end
-        for (int set = 1; set < n_sets; ++set) {
-            const auto other = t.grids.observe(src.bundle.mask_of_set(set), snr); // the same noise draw per element
-            for (size_t r = 0; r < sets.size(); ++r)
-                if (sets[r] == set)
-                    std::copy(other.begin() + r * np, other.begin() + (r + 1) * np, obs.begin() + r * np);
-        }
+        const auto obs = observe_sets(t, src.bundle, sets, snr); // count*K x N_p, zero past a track's end
         answers track(size_t(t.count) * ne, -1), fused(size_t(t.count) * ne, -1);
         std::vector<float> probs(nc), fprobs(nc);
         size_t frames_done = 0;
@@ -306,6 +320,32 @@ void score_track_bundle(const config& c, track_scorer& out, const track_source& 
     }
 }
 
+// The frame bundle with its mask on F subcarriers across the band, one per frame of a
+// super-frame (set f: every pilot's subcarrier moved by f·M/F, cyclically; the symbols kept):
+// the same decoder sees the target at F places of the band instead of one. Written beside the
+// other bundles (no training: the frame bundle's weights).
+decoder_source shifted_super_frame(const config& c, const decoder_source& frame, int n_sets)
+{
+    const auto& b = frame.bundle;
+    const int m = b.frame.n_subcarriers;
+    std::vector<pilot_mask> sets;
+    for (int f = 0; f < n_sets; ++f) {
+        std::vector<pilot_position> pos;
+        for (auto q : b.mask.positions())
+            pos.push_back({ q.n, (q.m + f * m / n_sets) % m });
+        sets.emplace_back(b.frame.n_symbols, m, pos, b.mask.pilot_symbol());
+    }
+    decoder_source out = frame;
+    out.bundle.super_frame = super_frame_mask(sets, { { "kind", "shifted" }, { "from", b.directory } });
+    out.bundle.mask = sets.front();
+    const auto dir = fsys::path(c.out_dir) / "bundles" / (fsys::path(b.directory).filename().string() + "_shifted" +
+                                                          std::to_string(n_sets));
+    out.bundle.save(dir.string());
+    fsys::copy_file(b.weights_path(), dir / b.weights_name, fsys::copy_options::overwrite_existing);
+    out.bundle = model_bundle::load(dir.string());
+    return out;
+}
+
 // A frame bundle's product of per-frame posteriors (a bundle without a temporal model).
 void score_fusion(const config& c, track_scorer& out, const decoder_source& src, const std::string& method,
                   const std::string& mask_label, std::optional<uint64_t> train_seed)
@@ -316,15 +356,16 @@ void score_fusion(const config& c, track_scorer& out, const decoder_source& src,
     const int np = dec.n_pilots(), nc = static_cast<int>(ids.size()), k = t.frames;
     const auto slot = eval_slot(c);
     const size_t ne = c.exp8_frames.size();
+    const auto sets = frame_sets(t, dec.super_frames());
     for (double snr : c.snrs) {
-        const auto obs = t.grids.observe(src.bundle.mask, snr);
+        const auto obs = observe_sets(t, src.bundle, sets, snr);
         answers fused(size_t(t.count) * ne, -1);
         size_t frames_done = 0;
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<double> logp(nc);
         for (int i = 0; i < t.count; ++i) {
             const int len = t.length[i];
-            const auto p = dec.classify(obs.data() + size_t(i) * k * np, len);
+            const auto p = dec.classify(obs.data() + size_t(i) * k * np, len, sets.data() + size_t(i) * k);
             std::fill(logp.begin(), logp.end(), 0.0);
             for (int f = 0; f < len; ++f) {
                 for (int q = 0; q < nc; ++q)
@@ -534,6 +575,12 @@ void run_tracks(const config& c, std::ostream& log)
                                                        c.exp8_super_frame_start),
                                    "SemS super-frame (F = " + f + from + ") + track",
                                    "SemS super-frame (F = " + f + from + ") fusion", "learned super-frame (task)", seed);
+                // What diversity across frames alone gives: the SemS frame decoder on its mask
+                // moved across the band frame by frame, fused (against its repeated mask's fusion).
+                if (c.exp8_super_frame_start == "frame")
+                    score_fusion(c, out, shifted_super_frame(c, sems, c.exp8_super_frames),
+                                 "SemS decoder (its mask on " + f + " subcarriers across frames) fusion",
+                                 "hand super-frame (shifted)", seed);
             }
     for (int np : budgets) {
         const bool main_part = np == 32 && c.exp8_parts.count("main");

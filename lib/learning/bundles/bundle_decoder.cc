@@ -33,18 +33,22 @@ struct bundle_decoder::impl {
     // is built with those M' columns alone (no dense N x M grid per frame). With a super-frame
     // the columns are those any set occupies, and each set has its own index and mask.
     int grid_columns = 0; // M, or M' for the spectral classifier
-    std::vector<torch::Tensor> set_index, set_mask; // super-frame only: per set f, as `index` and `mask`
+    // A super-frame: per set f, its grid as `index`, `mask` and `grid_columns` are for one mask
+    // (for the spectral classifier the set's own occupied subcarriers, `set_cols`, given with
+    // each call), so a frame of set f is decoded exactly as by a bundle whose mask is set f.
+    std::vector<torch::Tensor> set_index, set_mask, set_cols;
+    std::vector<int> set_columns;
 
     int n_sets() const { return set_index.empty() ? 1 : static_cast<int>(set_index.size()); }
 
-    torch::Tensor grid(const gr_complex* obs, int batch, const torch::Tensor& idx) const
+    torch::Tensor grid(const gr_complex* obs, int batch, const torch::Tensor& idx, int columns) const
     {
         if (batch < 0)
             throw std::invalid_argument("bundle_decoder: batch must be >= 0");
         const int np = bundle.mask.size();
         // gr_complex is two packed floats: view the caller's buffer as batch x N_p x 2.
         auto o = torch::from_blob(const_cast<gr_complex*>(obs), { batch, np, 2 }, torch::kFloat);
-        return nn::scatter_pilots(o, idx, bundle.frame.n_symbols, grid_columns);
+        return nn::scatter_pilots(o, idx, bundle.frame.n_symbols, columns);
     }
 
     // The rule of bundle_decoder.h: a batch with a NaN or Inf anywhere is refused, naming
@@ -95,7 +99,7 @@ struct bundle_decoder::impl {
         // tracking), cheaper per op than NoGradGuard; the outputs are copied out below.
         c10::InferenceMode im;
         if (n_sets() == 1)
-            return net->forward(grid(obs, batch, index), mask);
+            return net->forward(grid(obs, batch, index, grid_columns), mask);
         // A super-frame: the frames of each set in one pass with that set's mask, the
         // answers put back in the batch's order.
         const size_t np = static_cast<size_t>(bundle.mask.size());
@@ -121,7 +125,9 @@ struct bundle_decoder::impl {
             picked.resize(rows.size() * np);
             for (size_t r = 0; r < rows.size(); ++r)
                 std::copy(obs + rows[r] * np, obs + (rows[r] + 1) * np, picked.begin() + r * np);
-            auto out = net->forward(grid(picked.data(), static_cast<int>(rows.size()), set_index[f]), set_mask[f]);
+            const auto g = grid(picked.data(), static_cast<int>(rows.size()), set_index[f], set_columns[f]);
+            auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(net);
+            auto out = sc ? sc->forward(g, set_mask[f], set_cols[f]) : net->forward(g, set_mask[f]);
             const auto at = torch::tensor(rows, torch::kLong);
             put(all.logits, out.logits, at);
             put(all.features, out.features, at);
@@ -147,48 +153,61 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
     if (n_sets > 1 && bundle.task != task_kind::classify)
         throw std::invalid_argument(source + ": a mask spanning a super-frame of " + std::to_string(n_sets) +
                                     " frames is for classifiers; a \"" + task_name(bundle.task) + "\" bundle has one frame's mask");
-    std::vector<std::vector<int64_t>> flat(static_cast<size_t>(n_sets));
-    for (int f = 0; f < n_sets; ++f)
-        for (int i : bundle.mask_of_set(f).flat_indices())
-            flat[f].push_back(i);
-    d_impl->indices = flat[0];
-    // Grid columns: all M, or for the spectral classifier only the occupied subcarriers of
-    // any set (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
-    d_impl->grid_columns = msub;
-    std::vector<int> column(msub, -1);
-    const bool compact = bundle.decoder.value("kind", std::string()) == "classifier_spectral";
-    if (compact) {
-        for (const auto& set : flat)
-            for (int64_t i : set)
-                column[i % msub] = 0;
-        int next = 0;
-        for (auto& c : column)
-            if (c == 0)
-                c = next++;
-        d_impl->grid_columns = next;
+    if (n_sets > 1 && bundle.decoder.value("settings", nlohmann::json::object()).value("template_frames", 0) > 0)
+        throw std::invalid_argument(source + ": a template bank holds one mask's pilots; a mask spanning a super-frame "
+                                             "of " + std::to_string(n_sets) + " frames needs a decoder without one");
+    const bool spectral = bundle.decoder.value("kind", std::string()) == "classifier_spectral";
+    // One mask's grid: all M columns, or for the spectral classifier only the occupied
+    // subcarriers (in increasing order; a pilot at flat n*M + m goes to n*M' + column(m)).
+    struct set_grid {
+        torch::Tensor index, mask;
         std::vector<int64_t> occupied; // the subcarrier of each compact column (the range gate's phases)
-        for (int m = 0; m < msub; ++m)
-            if (column[m] >= 0)
-                occupied.push_back(m);
-        if (auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net))
-            sc->set_compact_columns(occupied);
-    }
-    auto grid_of = [&](std::vector<int64_t> idx, torch::Tensor& index, torch::Tensor& mask) {
-        if (compact)
-            for (auto& i : idx)
-                i = (i / msub) * d_impl->grid_columns + column[i % msub];
-        index = torch::tensor(idx, torch::kLong);
-        auto m = torch::zeros({ static_cast<int64_t>(n) * d_impl->grid_columns });
-        m.index_fill_(0, index, 1.0f);
-        mask = m.view({ n, d_impl->grid_columns });
+        int columns = 0;
     };
-    grid_of(flat[0], d_impl->index, d_impl->mask);
-    if (n_sets > 1) {
-        d_impl->set_index.resize(n_sets);
-        d_impl->set_mask.resize(n_sets);
-        for (int f = 0; f < n_sets; ++f)
-            grid_of(flat[f], d_impl->set_index[f], d_impl->set_mask[f]);
-    }
+    auto grid_of = [&](const pilot_mask& pm) {
+        set_grid out;
+        std::vector<int64_t> idx;
+        for (int i : pm.flat_indices())
+            idx.push_back(i);
+        out.columns = msub;
+        if (spectral) {
+            std::vector<int> column(msub, -1);
+            for (int64_t i : idx)
+                column[i % msub] = 0;
+            int next = 0;
+            for (auto& c : column)
+                if (c == 0)
+                    c = next++;
+            out.columns = next;
+            for (auto& i : idx)
+                i = (i / msub) * next + column[i % msub];
+            for (int m = 0; m < msub; ++m)
+                if (column[m] >= 0)
+                    out.occupied.push_back(m);
+        }
+        out.index = torch::tensor(idx, torch::kLong);
+        auto m = torch::zeros({ static_cast<int64_t>(n) * out.columns });
+        m.index_fill_(0, out.index, 1.0f);
+        out.mask = m.view({ n, out.columns });
+        return out;
+    };
+    for (int i : bundle.mask.flat_indices())
+        d_impl->indices.push_back(i);
+    const auto first = grid_of(bundle.mask);
+    d_impl->index = first.index;
+    d_impl->mask = first.mask;
+    d_impl->grid_columns = first.columns;
+    if (spectral)
+        if (auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net))
+            sc->set_compact_columns(first.occupied);
+    if (n_sets > 1)
+        for (int f = 0; f < n_sets; ++f) {
+            const auto g = grid_of(bundle.mask_of_set(f));
+            d_impl->set_index.push_back(g.index);
+            d_impl->set_mask.push_back(g.mask);
+            d_impl->set_columns.push_back(g.columns);
+            d_impl->set_cols.push_back(torch::tensor(g.occupied, torch::kLong));
+        }
     // The delay decoder's refinement stage fits the pilots where the mask put them.
     if (auto dd = std::dynamic_pointer_cast<nn::delay_decoder_module>(d_impl->net))
         dd->set_pilot_positions(bundle.frame, d_impl->indices);

@@ -317,7 +317,8 @@ torch::Tensor spectral_classifier_decoder_module::profile(const torch::Tensor& g
 
 std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inputs(const torch::Tensor& grid,
                                                                                    const torch::Tensor& mask,
-                                                                                   bool with_tone) const
+                                                                                   bool with_tone,
+                                                                                   const torch::Tensor& columns) const
 {
     // A compact grid (only some subcarriers, with the mask of those columns, no gradient)
     // is accepted too: the profile sums over subcarriers, so absent ones count as zeros.
@@ -332,10 +333,11 @@ std::pair<torch::Tensor, torch::Tensor> spectral_classifier_decoder_module::inpu
     auto m = mask;
     torch::Tensor cols; // the subcarriers of g's columns (undefined: all M)
     if (compact) {
-        if (!d_compact_cols.defined() || d_compact_cols.size(0) != grid.size(3))
+        const auto& given = columns.defined() ? columns : d_compact_cols;
+        if (!given.defined() || given.size(0) != grid.size(3))
             throw std::invalid_argument("spectral classifier: a compact grid of " + std::to_string(grid.size(3)) +
-                                        " columns needs set_compact_columns() with its subcarriers first");
-        cols = d_compact_cols;
+                                        " columns needs its subcarriers (set_compact_columns() or the call's) first");
+        cols = given;
     }
     // A fixed mask and no gradient to carry (inference, decoder-only training): the grid is
     // zero on the subcarriers without pilots, which add nothing to the profile's sum over
@@ -440,8 +442,15 @@ torch::Tensor spectral_classifier_decoder_module::inference_conv(torch::nn::Conv
 
 decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid, const torch::Tensor& mask)
 {
+    return forward(grid, mask, torch::Tensor());
+}
+
+decoder_output spectral_classifier_decoder_module::forward(const torch::Tensor& grid,
+                                                           const torch::Tensor& mask,
+                                                           const torch::Tensor& columns)
+{
     // Leaky ReLU with conv_slope (0: ReLU, the legacy bundles).
-    const auto [prof, tone] = inputs(grid, mask, true);
+    const auto [prof, tone] = inputs(grid, mask, true, columns);
     auto x = torch::leaky_relu(inference_conv(d_conv1, d_dense1, prof, true), d_s.conv_slope);
     x = torch::leaky_relu(inference_conv(d_conv2, d_dense2, x, false), d_s.conv_slope).flatten(1);
     x = torch::leaky_relu(d_fc1->forward(x), 0.1);

@@ -81,6 +81,9 @@ public:
     //! Without a mask: refused (the MTI stage and the pilot count need it).
     decoder_output forward(const torch::Tensor& grid) override;
     decoder_output forward(const torch::Tensor& grid, const torch::Tensor& mask) override;
+    //! The same on a compact grid whose columns are the subcarriers `columns` (given per call,
+    //! not kept: a super-frame's sets each have their own; bundle_decoder).
+    decoder_output forward(const torch::Tensor& grid, const torch::Tensor& mask, const torch::Tensor& columns);
     //! The B x channels x K log Doppler profile the network sees (before BatchNorm).
     torch::Tensor profile(const torch::Tensor& grid, const torch::Tensor& mask) const;
     //! The B x J tone/chirp-fit features log(1 - E_j + 1e-4) (undefined when chirp_bins = 0).
@@ -104,8 +107,9 @@ private:
     torch::Tensor template_observations(const torch::Tensor& grid, const torch::Tensor& mask) const;
     // The profile and (with_tone and chirp_bins > 0; else undefined) the tone/chirp fit of one
     // grid, normalised once for both.
+    // `columns`: a compact grid's subcarriers given with the call (undefined: set_compact_columns()'s).
     std::pair<torch::Tensor, torch::Tensor>
-    inputs(const torch::Tensor& grid, const torch::Tensor& mask, bool with_tone) const;
+    inputs(const torch::Tensor& grid, const torch::Tensor& mask, bool with_tone, const torch::Tensor& columns = {}) const;
     // A convolution's output without autograd: a small one as one product with its dense
     // circulant matrix (cached per weight version), a large one through conv1d.
     struct dense_conv {

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <random>
 
 using namespace gr::sems;
 using gr::sems::qa::assert_error;
@@ -43,11 +44,16 @@ std::string two_set_bundle(const pilot_mask& other, const std::string& name)
     return dir;
 }
 
-std::vector<gr_complex> observations(int batch, int np, float phase)
+// Standard complex normal observations, seeded: unlike a smooth sequence they leave the range
+// gate's strongest delay bin nearly tied, so a decoder that computed a set's frames on another
+// grid than that set's own (more columns, other rounding) would pick other bins and answer otherwise.
+std::vector<gr_complex> observations(int batch, int np, unsigned seed)
 {
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g;
     std::vector<gr_complex> o(static_cast<size_t>(batch) * np);
-    for (size_t i = 0; i < o.size(); ++i)
-        o[i] = gr_complex(std::cos(0.37f * float(i) + phase), std::sin(0.91f * float(i) - phase));
+    for (auto& x : o)
+        x = gr_complex(g(rng), g(rng));
     return o;
 }
 
@@ -136,7 +142,7 @@ public:
         fsys::copy_file(one.weights_path(), fsys::path(one_dir) / one.weights_name, fsys::copy_options::overwrite_existing);
 
         const int np = paper.mask.size(), batch = 6;
-        const auto obs = observations(batch, np, 0.2f);
+        const auto obs = observations(batch, np, 3);
         const std::vector<int> sets = { 0, 1, 1, 0, 1, 0 };
         const bundle_decoder dec_two(two, 1), dec_paper(paper, 1), dec_other(model_bundle::load(one_dir), 1);
         CPPUNIT_ASSERT_EQUAL(2, dec_two.super_frames());
@@ -186,7 +192,7 @@ public:
         CPPUNIT_ASSERT(fsys::exists(fsys::path(dir) / b.weights_name));
         track_classifier tc(b, 1);
         CPPUNIT_ASSERT_EQUAL(2, tc.super_frames());
-        const auto obs = observations(2, tc.n_pilots(), 0.5f);
+        const auto obs = observations(2, tc.n_pilots(), 5);
         const std::vector<int> sets = { 0, 1 };
         auto st = tc.begin();
         const auto ev = tc.evidence(obs.data(), 2, sets.data());

@@ -159,6 +159,45 @@ class qa_learning(gr_unittest.TestCase):
             with self.assertRaises(ValueError):
                 s.validate()
 
+    def test_super_frame_bundle_sets(self):
+        # The shipped classifier's files with a mask of two sets (its own, then the staggered
+        # pattern): frames of set 1 get the answers of the same weights on the staggered pattern
+        # alone; a batch without sets is refused naming F, and sets of another length too.
+        with tempfile.TemporaryDirectory() as d:
+            src = os.path.join(SRC, "models", "classifier")
+            b = sems.model_bundle.load(src)
+            own = json.load(open(os.path.join(src, "mask.json")))
+            other = sems.pilot_mask.from_pattern("staggered", b.frame.n_symbols, b.frame.n_subcarriers, b.n_pilots)
+            pilots = [[int(i) // b.frame.n_subcarriers, int(i) % b.frame.n_subcarriers] for i in other.flat_indices()]
+            two = {k: v for k, v in own.items() if k not in ("pilots", "n_pilots", "power", "phases")}
+            two["frames"] = [{"pilots": own["pilots"]}, {"pilots": pilots}]
+            alone = dict(own, pilots=pilots, n_pilots=len(pilots))
+            for name, mask in (("two", two), ("alone", alone)):
+                os.makedirs(os.path.join(d, name))
+                for f in ("bundle.json", "decoder.pt"):
+                    with open(os.path.join(src, f), "rb") as i, open(os.path.join(d, name, f), "wb") as o:
+                        o.write(i.read())
+                with open(os.path.join(d, name, "mask.json"), "w") as o:
+                    json.dump(mask, o)
+            bt = sems.model_bundle.load(os.path.join(d, "two"))
+            self.assertEqual(bt.super_frames, 2)
+            self.assertEqual(list(bt.mask_of_set(1).flat_indices()), list(other.flat_indices()))
+            dec = sems.bundle_decoder(bt, 1)
+            self.assertEqual(dec.super_frames(), 2)
+            rng = np.random.default_rng(3)
+            obs = (rng.standard_normal((4, b.n_pilots)) + 1j * rng.standard_normal((4, b.n_pilots))).astype(np.complex64)
+            sets = np.array([0, 1, 1, 0], np.int32)
+            got = dec.classify(obs, sets)
+            want0 = sems.bundle_decoder(b, 1).classify(obs)
+            want1 = sems.bundle_decoder(os.path.join(d, "alone"), 1).classify(obs)
+            np.testing.assert_allclose(got[[0, 3]], want0[[0, 3]], atol=1e-5)
+            np.testing.assert_allclose(got[[1, 2]], want1[[1, 2]], atol=1e-5)
+            self.assertGreater(np.abs(want0 - want1).max(), 1e-3)
+            with self.assertRaisesRegex(ValueError, "super-frame of 2 frames"):
+                dec.classify(obs)
+            with self.assertRaises(ValueError):
+                dec.classify(obs, np.array([0, 1], np.int32))
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_learning)

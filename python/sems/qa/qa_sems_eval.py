@@ -265,6 +265,8 @@ class qa_sems_eval(gr_unittest.TestCase):
             for args, word in ((["--size", "huge"], "--size"), (["--experiments", "9"], "--experiments"),
                               (["--exp8-frames", "0"], "--exp8-frames"), (["--exp8-np-sweep", "5000"], "--exp8-np-sweep"),
                               (["--exp8-parts", "all"], "--exp8-parts"), (["--first-seed", "-1"], "--first-seed"),
+                              (["--exp8-super-frames", "1"], "--exp8-super-frames"),
+                              (["--exp8-super-frame-start", "best"], "--exp8-super-frame-start"),
                               (["--exp7-parts", "all"], "--exp7-parts"), (["--exp7-np-sweep", "0"], "--exp7-np-sweep"),
                                (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds")):
                 r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
@@ -468,6 +470,54 @@ class qa_sems_eval(gr_unittest.TestCase):
                                 "--out", out], capture_output=True, text=True, timeout=60)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("shipped-track", r.stderr)
+
+    def test_009_experiment_8_super_frames(self):
+        """The superframe part at the test size beside the budget part: the learned super-frame
+        under the temporal decoder and its fusion, and the SemS decoder on its mask moved across
+        the band frame by frame, at every SNR and time; their bundles hold F = 4 sets of N_p
+        pilots (the moved one: set f is the SemS mask shifted by f·M/4 subcarriers); each score is
+        its saved decisions'; plot_tracks.py writes the section of pilots across frames."""
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "8", "--seeds", "1", "--out", out,
+                                "--exp8-parts", "budget,superframe", "--threads", "1"],
+                               capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr + r.stdout[-2000:])
+            scores = rows(os.path.join(out, "exp8_tracks.csv"))
+            truth = rows(os.path.join(out, "exp8_truth.csv"))
+            preds = {(p["method"], p["snr_db"], p["frames"]): p for p in rows(os.path.join(out, "exp8_predictions.csv"))}
+            length = [int(t["frames"]) for t in truth]
+            label = [int(t["class_id"]) for t in truth]
+            new = ["SemS super-frame (F = 4) + track", "SemS super-frame (F = 4) fusion",
+                   "SemS decoder (its mask on 4 subcarriers across frames) fusion"]
+            for m in new:
+                for snr in ("-10", "10", "30"):
+                    for f in ("1", "2", "4", "8"):
+                        if not any(x >= int(f) for x in length):
+                            continue
+                        got = [s for s in scores if (s["method"], s["snr_db"], s["frames"]) == (m, snr, f)]
+                        self.assertEqual(len(got), 1, (m, snr, f))
+                        self.assertEqual(got[0]["n_pilots"], "8")
+                        d = [int(v) for v in preds[(m, snr, f)]["predicted"].split()]
+                        kept = [i for i in range(len(truth)) if length[i] >= int(f)]
+                        self.assertAlmostEqual(float(got[0]["accuracy"]),
+                                               sum(d[i] == label[i] for i in kept) / len(kept), places=5)
+            bundles = os.path.join(out, "bundles")
+            sems = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026", "mask.json")))
+            learned = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_sf4_track", "mask.json")))
+            moved = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_shifted4", "mask.json")))
+            self.assertEqual(len(learned["frames"]), 4)
+            self.assertTrue(all(len(f["pilots"]) == 8 for f in learned["frames"]))
+            m = sems["n_subcarriers"]
+            for f, fr in enumerate(moved["frames"]):
+                want = sorted([n, (k + f * m // 4) % m] for n, k in sems["pilots"])
+                self.assertEqual(sorted(fr["pilots"]), want, f)
+            r = subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "apps", "figures", "plot_tracks.py"), out,
+                                "--bootstrap", "200"], capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "track_tables.md")) as f:
+                text = f.read()
+            self.assertIn("## Pilots across frames: learned super-frames against the best repeated mask", text)
+            self.assertIn("moved across the band", text)
 
     def test_007_holm_and_paired_bootstrap(self):
         """plot_tracks.py's statistics against closed forms: Holm's step-down adjustment, and the
