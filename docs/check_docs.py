@@ -79,6 +79,7 @@ GENERATED = {
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
     "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
+    "docs/results/track_super_frames.md",  # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py

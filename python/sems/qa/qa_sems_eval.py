@@ -514,7 +514,7 @@ class qa_sems_eval(gr_unittest.TestCase):
             r = subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "apps", "figures", "plot_tracks.py"), out,
                                 "--bootstrap", "200"], capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stderr)
-            with open(os.path.join(out, "track_tables.md")) as f:
+            with open(os.path.join(out, "track_super_frames.md")) as f:
                 text = f.read()
             self.assertIn("## Pilots across frames: learned super-frames against the best repeated mask", text)
             self.assertIn("moved across the band", text)
