@@ -247,10 +247,11 @@ classifier_sink::sptr classifier_sink::make(const std::string& bundle_dir,
                                             int n_symbols,
                                             int n_subcarriers,
                                             const std::string& frame,
-                                            double track_idle_s)
+                                            double track_idle_s,
+                                            int super_frames)
 {
-    return gnuradio::make_block_sptr<classifier_sink_impl>(
-        bundle_dir, n_pilots, batch_size, threads, metrics_period, n_symbols, n_subcarriers, frame, track_idle_s);
+    return gnuradio::make_block_sptr<classifier_sink_impl>(bundle_dir, n_pilots, batch_size, threads, metrics_period,
+                                                           n_symbols, n_subcarriers, frame, track_idle_s, super_frames);
 }
 
 classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
@@ -261,13 +262,22 @@ classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
                                            int n_symbols,
                                            int n_subcarriers,
                                            const std::string& frame,
-                                           double track_idle_s)
+                                           double track_idle_s,
+                                           int super_frames)
     : gr::sync_block(block_name,
                      detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
                  n_symbols, n_subcarriers, frame, track_idle_s)
 {
+    // The stream's super-frame and the bundle's, like n_pilots against its N_p: the sets are
+    // picked by frame index mod F, so another F would read frames at pilots they do not carry.
+    const int f = d_task.super_frames();
+    if (super_frames != f)
+        throw std::invalid_argument(std::string(block_name) + ": the stream's pilot mask spans super_frames = " +
+                                    std::to_string(super_frames) + " frame(s), but bundle " + bundle_dir +
+                                    "'s mask spans " + std::to_string(f) + ": give the mapper and the extractor the "
+                                    "bundle's own mask.json and super_frames = " + std::to_string(f));
 }
 
 uint64_t classifier_sink_impl::tracks_started() const

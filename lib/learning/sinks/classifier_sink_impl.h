@@ -39,6 +39,7 @@ public:
     void check_library(const pmt::pmt_t& truth);
 
     bool track_mode() const { return static_cast<bool>(d_track); }
+    int super_frames() const { return bundle().super_frames(); }
     uint64_t tracks_started() const { return d_tracks_started; }
     uint64_t track_gaps() const { return d_track_gaps; }
     uint64_t track_idle_resets() const { return d_track_idle; }
@@ -86,7 +87,8 @@ public:
                          int n_symbols,
                          int n_subcarriers,
                          const std::string& frame,
-                         double track_idle_s);
+                         double track_idle_s,
+                         int super_frames);
 
     double accuracy() const override;
     std::vector<std::vector<uint64_t>> confusion() const override;

@@ -111,7 +111,9 @@ run_result stream(const std::vector<frame_spec>& frames, int batch, const std::s
 {
     const auto b = model_bundle::load(bundle_dir);
     const int np = b.mask.size();
-    auto sink = classifier_sink::make(bundle_dir, np, batch, 1, 0);
+    const frame_settings fs;
+    auto sink = classifier_sink::make(bundle_dir, np, batch, 1, 0, fs.n_symbols, fs.n_subcarriers, "", 0.0,
+                                      b.super_frames());
     std::vector<gr_complex> data;
     std::vector<gr::tag_t> tags;
     for (size_t f = 0; f < frames.size(); ++f) {
@@ -278,6 +280,17 @@ public:
             for (size_t f = 0; f < 6; ++f)
                 for (size_t c = 0; c < want[f].size(); ++c)
                     CPPUNIT_ASSERT_DOUBLES_EQUAL(want[f][c], r.answers[f].probs[c], 1e-5);
+        }
+        // A sink told another F than the bundle's is refused naming both.
+        for (int wrong : { 1, 3 }) {
+            try {
+                classifier_sink::make(super_frame_bundle(), b.mask.size(), 2, 1, 0, 32, 64, "", 0.0, wrong);
+                CPPUNIT_FAIL("a sink of super_frames = " + std::to_string(wrong) + " took a bundle of 2");
+            } catch (const std::invalid_argument& e) {
+                const std::string what = e.what();
+                CPPUNIT_ASSERT(what.find("super_frames = " + std::to_string(wrong)) != std::string::npos);
+                CPPUNIT_ASSERT(what.find("spans 2") != std::string::npos);
+            }
         }
         // The frame decoder alone, in a per-frame sink.
         const auto frame_dir = (fsys::temp_directory_path() / ("sems_qa_track_sink_sf_alone_" + std::to_string(::getpid()))).string();

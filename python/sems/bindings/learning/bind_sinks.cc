@@ -65,7 +65,7 @@ void bind_sinks(py::module& m)
         .def_readonly_static("metrics_period", &sink_defaults::metrics_period, D(sink_defaults, metrics_period));
 
     auto classifier = bind_sink<classifier_sink>(m, "classifier_sink", D(classifier_sink));
-    bind_make(classifier, D(classifier_sink, make), py::arg("track_idle_s") = 0.0);
+    bind_make(classifier, D(classifier_sink, make), py::arg("track_idle_s") = 0.0, py::arg("super_frames") = 1);
     classifier.def("accuracy", &classifier_sink::accuracy, D(classifier_sink, accuracy))
         .def("confusion", &classifier_sink::confusion, D(classifier_sink, confusion))
         .def("class_names", &classifier_sink::class_names, D(classifier_sink, class_names))

@@ -40,6 +40,10 @@ namespace sems {
  * `track_idle_s` seconds without a frame (counted too); one track is followed at a time, so two
  * tracks are never mixed. The metrics add tracks_started, track_gaps and track_idle_resets.
  *
+ * Super-frames: a bundle whose mask spans F frames (pilots across frames) reads the frame of
+ * index i at set i mod F, the set the pilot mapper and extractor used for it; `super_frames`
+ * states the F of the stream, and a bundle of another F is refused naming both.
+ *
  * Frames are decoded `batch_size` at a time; the partial last batch is decoded in stop().
  * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still
  * running; read the getters after wait() for the final numbers.
@@ -64,6 +68,8 @@ public:
      *                       The bundle's frame must equal it in every field (N, M, B, f_c, T, CP, guards).
      * \param track_idle_s   track mode: seconds of wall time without a frame after which the next
      *                       frame starts its track again (0: no limit; >= 0)
+     * \param super_frames   F of the stream's pilot mask (the frames of its super-frame, 1 for one
+     *                       frame's mask); must match the bundle's mask
      * \return the block.
      * \throws std::invalid_argument naming the bundle and the mismatch.
      */
@@ -75,7 +81,8 @@ public:
                      int n_symbols = frame_settings().n_symbols,
                      int n_subcarriers = frame_settings().n_subcarriers,
                      const std::string& frame = "",
-                     double track_idle_s = 0.0);
+                     double track_idle_s = 0.0,
+                     int super_frames = 1);
 
     /*! \brief Frames handled: answered or skipped. \return the count. */
     virtual uint64_t frames() const = 0;
