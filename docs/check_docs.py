@@ -79,7 +79,8 @@ GENERATED = {
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
     "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
-    "docs/results/track_super_frames.md",  # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
+    "docs/results/track_pilots.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
+    "docs/results/exp8_nr/track_tables.md",  # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks_nr.sh)
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "docs/reference/walker_kinematics.md",  # docs/reference/walker_signature.py
     "docs/reference/walker_timing.md",      # docs/reference/walker_signature.py
@@ -91,6 +92,8 @@ NUMBERS_ALLOWED = {
     "10.4": ({"models/README.md", "docs/reference/hardening.md"},
              "the clutter target's 10.4 dB and delay_single_fast's 10.4 s of training; a soak run's "
              "10.4 s of system time"),
+    "0.125": ({"models/README.md", "docs/reference/frame_files.md"},
+              "the delay dictionary's 0.125-index spacing; the nr_sensing_120khz preset's 0.125 ms symbol interval"),
     "12.5": ({"docs/guides/radio_front_end.md", "docs/reference/micro_doppler_gallery.md",
               "docs/reference/walker.md"},
              "a residual of 12.5 dB; a car's 12.5 m/s; a wavelength of 12.5 mm"),

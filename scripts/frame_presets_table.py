@@ -16,7 +16,7 @@ import sys
 
 C = 3e8  # the module's speed of light (docs/design.md §1)
 BEGIN, END = "<!-- presets -->", "<!-- /presets -->"
-ORDER = ["paper", "sdr_2g4_20mhz", "wifi_5g_80mhz", "nr_30khz", "auto_77g"]
+ORDER = ["paper", "sdr_2g4_20mhz", "wifi_5g_80mhz", "nr_30khz", "nr_sensing_120khz", "auto_77g"]
 
 
 def guards(frame):

@@ -23,7 +23,7 @@
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. SEMS_EVAL_PARTS (space-separated) runs a subset;
 # the parts whose CSVs exist are merged. The results (exp8_*.csv, exp8_*.png and
-# track_tables.md, track_super_frames.md) go to RESULTS (default docs/results), the run's record to
+# track_tables.md, track_pilots.md) go to RESULTS (default docs/results), the run's record to
 # RESULTS/eval_tracks.log. --size test runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_tracks.sh

@@ -186,7 +186,7 @@ public:
         // model combining them builds and draws.
         const char* src = std::getenv("SEMS_SOURCE_DIR");
         CPPUNIT_ASSERT_MESSAGE("SEMS_SOURCE_DIR must point at the source tree", src != nullptr);
-        for (const std::string name : { "paper", "sdr_2g4_20mhz", "wifi_5g_80mhz", "nr_30khz", "auto_77g" }) {
+        for (const std::string name : { "paper", "sdr_2g4_20mhz", "wifi_5g_80mhz", "nr_30khz", "nr_sensing_120khz", "auto_77g" }) {
             const auto f = frame_file::find(name);
             CPPUNIT_ASSERT_EQUAL(name, f.name);
             CPPUNIT_ASSERT_MESSAGE(name, !f.classes.empty());

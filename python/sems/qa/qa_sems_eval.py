@@ -448,8 +448,10 @@ class qa_sems_eval(gr_unittest.TestCase):
             with open(os.path.join(out, "track_tables.md")) as f:
                 text = f.read()
             for heading in ("## Accuracy at 10 dB, N_p = 32", "### against SemS fusion", "## Time to 90",
-                            "## Pilot budget", "## The adult/child pair"):
+                            "## The adult/child pair", "## The quadcopter/hexacopter pair"):
                 self.assertIn(heading, text)
+            with open(os.path.join(out, "track_pilots.md")) as f:
+                self.assertIn("## Pilot budget", f.read())
 
     def test_008_experiment_8_scores_a_shipped_track_bundle(self):
         """--shipped-track scores a shipped track bundle (its decision and its frame decoder's
@@ -514,7 +516,7 @@ class qa_sems_eval(gr_unittest.TestCase):
             r = subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "apps", "figures", "plot_tracks.py"), out,
                                 "--bootstrap", "200"], capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stderr)
-            with open(os.path.join(out, "track_super_frames.md")) as f:
+            with open(os.path.join(out, "track_pilots.md")) as f:
                 text = f.read()
             self.assertIn("## Pilots across frames: learned super-frames against the best repeated mask", text)
             self.assertIn("moved across the band", text)
