@@ -11,8 +11,7 @@
 #   main_s0, main_s1, main_s2   N_p = 32, every method, training seed 2026, 2027, 2028
 #   budget8_s0                  SemS-track against the hand patterns under the temporal decoder
 #                               at N_p = 8, training seed 2026
-#   budget128_s0                the same at N_p = 128 (not in the default set: about 40 minutes
-#                               more; SEMS_EVAL_PARTS adds it)
+#   budget128_s0                the same at N_p = 128
 #   shipped                     the shipped track bundle (models/classifier_kinematic_track) and
 #                               its frame decoder's fusion on the same tracks (no training)
 #   superframe8_s0, superframe32_s0
@@ -42,7 +41,8 @@ declare -A part_args=(
   [superframe32_s0]="--exp8-parts superframe --exp8-np-sweep 32 --first-seed 0"
   [superframe8r_s0]="--exp8-parts superframe --exp8-np-sweep 8 --exp8-super-frame-start random --first-seed 0"
 )
-parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 shipped superframe8_s0 superframe32_s0 superframe8r_s0})
+parts=(${SEMS_EVAL_PARTS:-main_s0 main_s1 budget8_s0 main_s2 budget128_s0 shipped superframe8_s0 superframe32_s0
+  superframe8r_s0})
 stamp "sems_eval --size $size --experiments 8, parts ${parts[*]}, two at a time, logs in $out/*.log"
 status=0
 running=()

@@ -30,6 +30,7 @@ for kind in tracks predictions truth; do
   [ -f "$out/nr_s0/exp8_$kind.csv" ] && cp "$out/nr_s0/exp8_$kind.csv" "$results/exp8_$kind.csv"
 done
 cp "$out/nr_s0.log" "$results/eval_tracks_nr_s0.log"
-/usr/bin/python3 "$root/apps/figures/plot_tracks.py" "$results" --tables "$results/track_tables.md" --frame-ms 4
+/usr/bin/python3 "$root/apps/figures/plot_tracks.py" "$results" --tables "$results/track_tables.md" --frame-ms 4 \
+  --script scripts/evaluation/eval_tracks_nr.sh
 stamp "done in $(( $(date +%s) - start )) s"
 exit "$status"
