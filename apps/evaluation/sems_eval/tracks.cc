@@ -346,6 +346,21 @@ decoder_source shifted_super_frame(const config& c, const decoder_source& frame,
     return out;
 }
 
+// The names of a budget's bundles start with this ("cls_kinematic_" at 32 pilots, the main part's).
+std::string budget_prefix(int np)
+{
+    return "cls_kinematic" + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
+}
+
+// The SemS frame bundle's training at a budget: every part of experiment 8 trains (or finds
+// cached) the same one.
+training_settings sems_training(const config& c, const scene& sc, int np, uint64_t seed)
+{
+    auto s = base_training(c, task_kind::classify, sc, "sems_eval kinematic", seed);
+    s.n_pilots = np;
+    return s;
+}
+
 // A frame bundle's product of per-frame posteriors (a bundle without a temporal model).
 void score_fusion(const config& c, track_scorer& out, const decoder_source& src, const std::string& method,
                   const std::string& mask_label, std::optional<uint64_t> train_seed)
@@ -563,11 +578,8 @@ void run_tracks(const config& c, std::ostream& log)
     if (c.exp8_parts.count("superframe"))
         for (int np : c.exp8_np_sweep)
             for (uint64_t seed : training_seeds(c)) {
-                const std::string prefix = "cls_kinematic" + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
-                auto sems_settings = base_training(c, task_kind::classify, sc, "sems_eval kinematic", seed);
-                sems_settings.n_pilots = np;
-                const std::string sems_name = seeded_name(prefix + "sems", seed);
-                const auto sems = train_or_load(c, sems_name, sems_settings, log);
+                const std::string sems_name = seeded_name(budget_prefix(np) + "sems", seed);
+                const auto sems = train_or_load(c, sems_name, sems_training(c, sc, np, seed), log);
                 const std::string f = std::to_string(c.exp8_super_frames);
                 const std::string from = c.exp8_super_frame_start == "frame" ? "" : ", " + c.exp8_super_frame_start + " start";
                 score_track_bundle(c, out,
@@ -585,9 +597,8 @@ void run_tracks(const config& c, std::ostream& log)
     for (int np : budgets) {
         const bool main_part = np == 32 && c.exp8_parts.count("main");
         for (uint64_t seed : training_seeds(c)) {
-            const std::string prefix = "cls_kinematic" + (np == 32 ? std::string() : "_np" + std::to_string(np)) + "_";
-            auto sems_settings = base_training(c, task_kind::classify, sc, "sems_eval kinematic", seed);
-            sems_settings.n_pilots = np;
+            const std::string prefix = budget_prefix(np);
+            const auto sems_settings = sems_training(c, sc, np, seed);
             const std::string sems_name = seeded_name(prefix + "sems", seed);
             const auto sems = train_or_load(c, sems_name, sems_settings, log);
             score_track_bundle(c, out, train_or_load_track(c, sems_name, sems, seed, log), "SemS-track",

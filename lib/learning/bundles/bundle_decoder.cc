@@ -38,6 +38,7 @@ struct bundle_decoder::impl {
     // each call), so a frame of set f is decoded exactly as by a bundle whose mask is set f.
     std::vector<torch::Tensor> set_index, set_mask, set_cols;
     std::vector<int> set_columns;
+    std::shared_ptr<nn::spectral_classifier_decoder_module> spectral; // net, when it is one (cast once)
 
     int n_sets() const { return set_index.empty() ? 1 : static_cast<int>(set_index.size()); }
 
@@ -126,8 +127,7 @@ struct bundle_decoder::impl {
             for (size_t r = 0; r < rows.size(); ++r)
                 std::copy(obs + rows[r] * np, obs + (rows[r] + 1) * np, picked.begin() + r * np);
             const auto g = grid(picked.data(), static_cast<int>(rows.size()), set_index[f], set_columns[f]);
-            auto sc = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(net);
-            auto out = sc ? sc->forward(g, set_mask[f], set_cols[f]) : net->forward(g, set_mask[f]);
+            auto out = spectral ? spectral->forward(g, set_mask[f], set_cols[f]) : net->forward(g, set_mask[f]);
             const auto at = torch::tensor(rows, torch::kLong);
             put(all.logits, out.logits, at);
             put(all.features, out.features, at);
@@ -148,6 +148,7 @@ bundle_decoder::bundle_decoder(const model_bundle& bundle, int threads) : d_impl
                                    bundle.mask.size(), source);
     nn::load_module(d_impl->net, bundle.weights_path()); // the weights file bundle.json names
     d_impl->net->eval();
+    d_impl->spectral = std::dynamic_pointer_cast<nn::spectral_classifier_decoder_module>(d_impl->net);
     const int n = bundle.frame.n_symbols, msub = bundle.frame.n_subcarriers;
     const int n_sets = bundle.super_frames();
     if (n_sets > 1 && bundle.task != task_kind::classify)
