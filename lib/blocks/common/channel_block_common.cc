@@ -197,9 +197,11 @@ pmt::pmt_t body_params(const scatterer_body& b)
 }
 } // namespace
 
-pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double snr_db)
+pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double snr_setting_db)
 {
     const frame_truth& t = r.truth;
+    // With a link budget the target's SNR is the radar equation's plus the setting's shift.
+    const double snr_db = std::isnan(t.link_snr_db) ? snr_setting_db : snr_setting_db + t.link_snr_db;
     if (r.truth_body >= static_cast<int>(r.bodies.size()))
         throw std::invalid_argument("sems_truth: the target of interest's body " + std::to_string(r.truth_body) +
                                     " is beyond the frame's " + std::to_string(r.bodies.size()) + " bodies");

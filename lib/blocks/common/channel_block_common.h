@@ -62,8 +62,9 @@ public:
     explicit truth_dict(const std::string& library);
     const pmt::pmt_t& tag_key() const { return d_truth_key; }
     // The dict of a frame: `r`'s truth, and the drawn parameters of its target of
-    // interest's body (r.truth_body) when it has one.
-    pmt::pmt_t make(const frame_realization& r, uint64_t frame, double snr_db);
+    // interest's body (r.truth_body) when it has one. `snr_setting_db`: the emulator's SNR
+    // (with a link budget, added to the target's SNR from the radar equation).
+    pmt::pmt_t make(const frame_realization& r, uint64_t frame, double snr_setting_db);
 
 private:
     const pmt::pmt_t d_truth_key, d_frame, d_class, d_class_name, d_delay_s, d_delay_index, d_range_m,

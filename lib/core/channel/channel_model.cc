@@ -77,6 +77,7 @@ void draw_target(target_spec& t,
                  const random_spec& r,
                  const std::vector<target_class>& classes,
                  const class_library& lib,
+                 bool budget,
                  rng& g)
 {
     t.cls = classes[g.below(classes.size())];
@@ -96,15 +97,17 @@ void draw_target(target_spec& t,
     }
     if (r.micro_doppler && spec.motion) {
         if (spec.motion->model == "sinusoid")
-            t.md = detail::draw_sinusoid(*spec.motion, &g);
+            t.md = detail::draw_sinusoid(*spec.motion, &g, t.speed_mps);
         else
-            t.motion = detail::draw_motion(*spec.motion, &g);
+            t.motion = detail::draw_motion(*spec.motion, &g, t.speed_mps);
     }
     t.paths.clear();
     t.paths.push_back({ 0.0, 1.0 });
     for (int k = 1; k < r.paths_per_target; ++k)
         t.paths.push_back({ g.uniform(r.excess_range_min_m, r.excess_range_max_m),
                             db_to_linear(-k * r.path_power_decay_db) });
+    // Last, and only with a link budget, so scenes without one keep their exact frames.
+    t.rcs_dbsm = budget ? g.uniform(spec.rcs_min_dbsm, spec.rcs_max_dbsm) : target_spec{}.rcs_dbsm;
 }
 
 } // namespace
@@ -519,7 +522,7 @@ int channel_model::begin_track(uint64_t track_index)
     // planned length.
     tr.start.resize(static_cast<size_t>(r->n_targets));
     for (auto& t : tr.start)
-        draw_target(t, *r, classes, lib, g);
+        draw_target(t, *r, classes, lib, d_scene.budget().has_value(), g);
     tr.clutter_ranges.clear();
     if (const auto& c = d_scene.clutter()) {
         if (c->ranges_m.empty())
@@ -593,7 +596,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
         drawn.resize(static_cast<size_t>(r->n_targets));
         const auto& classes = r->classes.empty() ? d_rng->all_classes(lib) : r->classes;
         for (auto& t : drawn)
-            draw_target(t, *r, classes, lib, g);
+            draw_target(t, *r, classes, lib, d_scene.budget().has_value(), g);
         targets_of_frame = &drawn;
     } else if (const auto& track = d_scene.track()) {
         auto& moved = d_rng->drawn;
@@ -604,9 +607,16 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
         targets_of_frame = &moved;
     }
     const auto& targets = *targets_of_frame;
-    double weight_sum = 0.0;
+    // A target's mean power per resource element: its share of unit power, or with a link
+    // budget its SNR from the radar equation at this frame's range (noise at 0 dB is the
+    // budget's thermal noise); clutter then has csr times the targets' sum.
+    const auto& budget = d_scene.budget();
+    double weight_sum = 0.0, budget_sum = 0.0;
     for (const auto& t : targets)
         weight_sum += t.power;
+    auto target_power = [&](const target_spec& t) {
+        return budget ? db_to_linear(budget->snr_db(d_fs, t.range_m, t.rcs_dbsm)) : target_total * (t.power / weight_sum);
+    };
     for (const auto& t : targets) {
         double path_sum = 0.0;
         for (const auto& p : t.paths)
@@ -623,6 +633,8 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             b.speed_mps = sh.first;
             b.heading_rad = sh.second;
         }
+        const double power = target_power(t);
+        budget_sum += power;
         for (const auto& p : t.paths) {
             channel_path cp;
             cp.body = body;
@@ -633,7 +645,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
                 cp.md_amplitude_m = t.md->amplitude_m;
                 cp.md_phase_rad = t.md->phase_rad;
             }
-            cp.mean_power = target_total * (t.power / weight_sum) * (p.power / path_sum);
+            cp.mean_power = power * (p.power / path_sum);
             out.paths.push_back(cp);
         }
     }
@@ -646,7 +658,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             channel_path cp; // static scatterer: zero Doppler, no micro-Doppler
             const double range = fixed_ranges ? (*fixed_ranges)[k] : g.uniform(c->range_min_m, c->range_max_m);
             cp.delay_s = d_fs.delay_from_range(range);
-            cp.mean_power = (1.0 - target_total) / n;
+            cp.mean_power = (budget ? clutter_share * budget_sum : 1.0 - target_total) / n;
             out.paths.push_back(cp);
         }
     }
@@ -685,6 +697,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     truth.delay_index = d_fs.delay_index(truth.delay_s);
     truth.velocity_mps = toi.velocity_mps;
     truth.snr_db = std::numeric_limits<double>::infinity();
+    truth.link_snr_db = budget ? budget->snr_db(d_fs, toi.range_m, toi.rcs_dbsm) : std::numeric_limits<double>::quiet_NaN();
     truth.n_paths = static_cast<int>(out.paths.size());
     if (tracked) {
         truth.track_id = tr.index;

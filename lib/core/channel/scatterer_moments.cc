@@ -396,14 +396,18 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
             }
         }
     } else if (const auto* s = std::get_if<scatterers_motion>(&d_b.motion)) {
+        // The harmonics move along the body's heading, as wheels and limbs do: the line of
+        // sight sees cos θ of them (head-on all, side-on none).
+        const double along = std::cos(d_b.heading_rad);
         out.point_r.assign(s->scatterers.size() * c, 0.0);
         for (size_t i = 0; i < s->scatterers.size(); ++i) {
             double* r = out.point_r.data() + i * c;
             for (const auto& h : s->scatterers[i].harmonics) {
                 turning_angles(t, h.rate_hz, h.phase_rad, 0.0, out.arg.data(), c);
                 sincos_args(out, count);
+                const double a = h.amplitude_m * along;
                 for (int n = 0; n < count; ++n)
-                    r[n] -= h.amplitude_m * out.sn[n];
+                    r[n] -= a * out.sn[n];
             }
             append_constant(out.point_a, d_point_a[i], count);
         }

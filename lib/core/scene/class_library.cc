@@ -86,6 +86,8 @@ std::shared_ptr<const class_library> class_library::paper()
 {
     // The paper's table (docs/design.md §1). Micro-Doppler displacements: pedestrian 0.10 m (limb
     // swing), drone 0.01 m (rotor blades); every class stays inside ±500 Hz at 3 GHz, 1 ms.
+    // Mean RCS (used with a link budget only): indicative microwave values, a person about
+    // 1 m², a car 10–100 m², a small drone 0.01–0.1 m².
     static const std::shared_ptr<const class_library> lib = [] {
         const json j = {
             { "format", format_name },
@@ -97,11 +99,13 @@ std::shared_ptr<const class_library> class_library::paper()
                   { { { "name", "pedestrian" },
                       { "range_m", { 0.0, 200.0 } },
                       { "speed_mps", { 0.0, 2.0 } },
+                      { "rcs_dbsm", { -3.0, 0.0 } },
                       { "micro_motion", { { "model", "sinusoid" }, { "rate_hz", { 1.0, 3.0 } }, { "amplitude_m", 0.10 } } } },
-                    { { "name", "car" }, { "range_m", { 0.0, 200.0 } }, { "speed_mps", { 10.0, 20.0 } } },
+                    { { "name", "car" }, { "range_m", { 0.0, 200.0 } }, { "speed_mps", { 10.0, 20.0 } }, { "rcs_dbsm", { 10.0, 20.0 } } },
                     { { "name", "drone" },
                       { "range_m", { 0.0, 200.0 } },
                       { "speed_mps", { 5.0, 10.0 } },
+                      { "rcs_dbsm", { -20.0, -10.0 } },
                       { "micro_motion",
                         { { "model", "sinusoid" }, { "rate_hz", { 80.0, 120.0 } }, { "amplitude_m", 0.01 } } } } }) }
         };
@@ -158,9 +162,11 @@ std::shared_ptr<const class_library> class_library::from_json(const json& j, con
         if (!checks::non_negative(c.speed_min_mps))
             fail(source, where + ".speed_mps", "must be >= 0 m/s (the heading sets the direction), got " +
                                                    std::to_string(c.speed_min_mps));
+        if (r.has("rcs_dbsm")) // uniform in dB per frame where a link budget uses it
+            std::tie(c.rcs_min_dbsm, c.rcs_max_dbsm) = read_interval(r, "rcs_dbsm");
         if (const json* m = r.find("micro_motion")) {
             c.motion = std::make_shared<const detail::motion_template>(
-                detail::read_motion_template(*m, source, where + ".micro_motion", true));
+                detail::read_motion_template(*m, source, where + ".micro_motion", true, c.speed_min_mps, c.speed_max_mps));
             if (c.motion->model == "walker")
                 for (auto end : { detail::endpoint::low, detail::endpoint::high }) {
                     const auto w = std::get<walker_motion>(detail::motion_at(*c.motion, end));
@@ -184,6 +190,8 @@ json class_library::to_json() const
                     { "speed_mps", { c.speed_min_mps, c.speed_max_mps } } };
         if (!c.description.empty())
             jc["description"] = c.description;
+        if (c.has_rcs())
+            jc["rcs_dbsm"] = c.rcs_min_dbsm == c.rcs_max_dbsm ? json(c.rcs_min_dbsm) : json({ c.rcs_min_dbsm, c.rcs_max_dbsm });
         if (c.motion)
             jc["micro_motion"] = c.motion->source_json;
         classes.push_back(jc);
@@ -226,8 +234,10 @@ namespace {
 json without_descriptions(json j)
 {
     j.erase("description");
-    for (auto& c : j["classes"])
+    for (auto& c : j["classes"]) {
         c.erase("description");
+        c.erase("rcs_dbsm"); // a power scale: the classes move alike whatever their RCS
+    }
     return j;
 }
 } // namespace

@@ -4,6 +4,7 @@
 #include "core/common/json_object.h"
 #include <gnuradio/sems/core/common/limits.h>
 #include <cmath>
+#include <limits>
 
 namespace gr {
 namespace sems {
@@ -115,6 +116,8 @@ public:
         p.lo = p.hi = fallback;
         if (const json* v = d_r.find(key)) {
             const std::string f = d_r.field(key);
+            if (v->is_object())
+                fail(d_r.source(), f, "a count cannot follow the speed: give an integer or an interval [min, max]");
             if (v->is_array()) {
                 require_interval_allowed(f);
                 object_reader::checked_array(*v, f, d_r.source(), 2, 2);
@@ -173,9 +176,24 @@ public:
 private:
     motion_param read_value(const json& v, const std::string& f)
     {
+        if (v.is_object())
+            return read_per_speed(v, f);
         if (v.is_array())
             require_interval_allowed(f);
         return read_number_or_interval(v, f, d_r.source());
+    }
+
+    // {"per_speed": k or [k_lo, k_hi], "offset": c}: offset + k·speed, the target's speed.
+    motion_param read_per_speed(const json& v, const std::string& f)
+    {
+        if (!d_intervals)
+            fail(d_r.source(), f, "a value coupled to the speed ({\"per_speed\": ...}) is drawn in a class library only; a scene gives one value");
+        object_reader o(v, d_r.source(), f);
+        motion_param p = read_number_or_interval(o.require("per_speed"), o.field("per_speed"), d_r.source());
+        p.per_speed = true;
+        p.offset = o.number_or("offset", 0.0);
+        o.finish();
+        return p;
     }
 
     void require_interval_allowed(const std::string& f) const
@@ -192,7 +210,7 @@ private:
 
     void push(const motion_param& p)
     {
-        d_t.has_intervals = d_t.has_intervals || p.interval;
+        d_t.has_intervals = d_t.has_intervals || p.interval || p.per_speed;
         d_t.params.push_back(p);
     }
 
@@ -208,7 +226,7 @@ private:
 class drawer
 {
 public:
-    drawer(const motion_template& t, rng* g, endpoint e) : d_t(t), d_g(g), d_e(e) {}
+    drawer(const motion_template& t, rng* g, endpoint e, double speed_mps) : d_t(t), d_g(g), d_e(e), d_speed(speed_mps) {}
 
     void number(const char*, double& ref, double, bool, bool) { ref = value(next()); }
     void integer(const char*, int& ref, int, int, int) { ref = static_cast<int>(value(next())); }
@@ -235,40 +253,51 @@ private:
     const motion_param& next() { return d_t.params.at(d_next++); }
     double value(const motion_param& p)
     {
-        if (!p.interval)
-            return p.lo;
-        if (!d_g)
-            return d_e == endpoint::low ? p.lo : p.hi;
-        if (p.integer)
-            return p.lo + static_cast<double>(d_g->below(static_cast<uint64_t>(p.hi - p.lo) + 1));
-        return d_g->uniform(p.lo, p.hi);
+        if (p.per_speed && !d_g) { // an end: the extreme of offset + k·v over k and the class's speeds
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (double k : { p.lo, p.hi })
+                for (double v : { d_t.speed_min_mps, d_t.speed_max_mps }) {
+                    lo = std::min(lo, p.offset + k * v);
+                    hi = std::max(hi, p.offset + k * v);
+                }
+            return d_e == endpoint::low ? lo : hi;
+        }
+        double x = p.lo;
+        if (p.interval) {
+            if (!d_g)
+                return d_e == endpoint::low ? p.lo : p.hi;
+            x = p.integer ? p.lo + static_cast<double>(d_g->below(static_cast<uint64_t>(p.hi - p.lo) + 1))
+                          : d_g->uniform(p.lo, p.hi);
+        }
+        return p.per_speed ? p.offset + x * d_speed : x;
     }
 
     const motion_template& d_t;
     rng* d_g;
     endpoint d_e;
+    double d_speed;
     size_t d_next = 0, d_list = 0;
 };
 
 template <class M>
-M draw_as(const motion_template& t, rng* g, endpoint e)
+M draw_as(const motion_template& t, rng* g, endpoint e, double speed_mps)
 {
     M m;
-    drawer d(t, g, e);
+    drawer d(t, g, e, speed_mps);
     visit(m, d);
     return m;
 }
 
-micro_motion draw_any(const motion_template& t, rng* g, endpoint e)
+micro_motion draw_any(const motion_template& t, rng* g, endpoint e, double speed_mps)
 {
     if (t.model == "rotor")
-        return draw_as<rotor_motion>(t, g, e);
+        return draw_as<rotor_motion>(t, g, e, speed_mps);
     if (t.model == "walker")
-        return draw_as<walker_motion>(t, g, e);
+        return draw_as<walker_motion>(t, g, e, speed_mps);
     if (t.model == "wheels")
-        return draw_as<wheels_motion>(t, g, e);
+        return draw_as<wheels_motion>(t, g, e, speed_mps);
     if (t.model == "scatterers")
-        return draw_as<scatterers_motion>(t, g, e);
+        return draw_as<scatterers_motion>(t, g, e, speed_mps);
     throw std::logic_error("micro-motion model \"" + t.model + "\" is not a scatterer model");
 }
 
@@ -290,10 +319,17 @@ motion_param read_number_or_interval(const json& v, const std::string& field, co
     return p;
 }
 
-motion_template read_motion_template(const json& j, const std::string& source, const std::string& field, bool intervals)
+motion_template read_motion_template(const json& j,
+                                     const std::string& source,
+                                     const std::string& field,
+                                     bool intervals,
+                                     double speed_min_mps,
+                                     double speed_max_mps)
 {
     object_reader r(j, source, field);
     motion_template t;
+    t.speed_min_mps = speed_min_mps;
+    t.speed_max_mps = speed_max_mps;
     t.model = r.string("model");
     t.source_json = j;
     reader rd(r, t, intervals);
@@ -332,10 +368,16 @@ motion_template read_motion_template(const json& j, const std::string& source, c
     return t;
 }
 
-micro_doppler draw_sinusoid(const motion_template& t, rng* g) { return draw_as<micro_doppler>(t, g, endpoint::low); }
-micro_motion draw_motion(const motion_template& t, rng* g) { return draw_any(t, g, endpoint::low); }
-micro_doppler sinusoid_at(const motion_template& t, endpoint e) { return draw_as<micro_doppler>(t, nullptr, e); }
-micro_motion motion_at(const motion_template& t, endpoint e) { return draw_any(t, nullptr, e); }
+micro_doppler draw_sinusoid(const motion_template& t, rng* g, double speed_mps)
+{
+    return draw_as<micro_doppler>(t, g, endpoint::low, speed_mps);
+}
+micro_motion draw_motion(const motion_template& t, rng* g, double speed_mps)
+{
+    return draw_any(t, g, endpoint::low, speed_mps);
+}
+micro_doppler sinusoid_at(const motion_template& t, endpoint e) { return draw_as<micro_doppler>(t, nullptr, e, 0.0); }
+micro_motion motion_at(const motion_template& t, endpoint e) { return draw_any(t, nullptr, e, 0.0); }
 
 json sinusoid_to_json(const micro_doppler& md)
 {

@@ -31,6 +31,10 @@ struct motion_param {
     bool interval = false;          // drawn per frame (class libraries only)
     bool integer = false;           // drawn among the integers lo..hi
     std::vector<double> per_item;   // a scene's one-value-per-rotor list (not drawn)
+    // Coupled to the target's speed (class libraries only): value = offset + k·speed, k the
+    // number or interval above, so a bicyclist's cadence and wheel rate follow its speed.
+    bool per_speed = false;
+    double offset = 0.0;
 };
 
 /*! What a "micro_motion" object holds: the sinusoid or a scatterer model, with its parameters. */
@@ -40,6 +44,7 @@ struct motion_template {
     std::vector<size_t> list_sizes;    // the JSON lists' lengths (scatterers, harmonics), in visit order
     nlohmann::json source_json;        // as written (to_json gives it back)
     bool has_intervals = false;
+    double speed_min_mps = 0.0, speed_max_mps = 0.0; // the class's speed interval (per_speed parameters' ends)
 };
 
 enum class endpoint { low, high };
@@ -49,20 +54,27 @@ motion_param read_number_or_interval(const nlohmann::json& v, const std::string&
 
 /*!
  * Reads a "micro_motion" object.
- * intervals_allowed: class libraries draw from [lo, hi]; scenes give values.
- * sinusoid_phase_default: the phase a sinusoid takes when the key is absent (a scene: 0;
- * a class library: the paper's draw, [0, 2π)).
+ * intervals_allowed: class libraries draw from [lo, hi] and may couple a number to the
+ * target's speed ({"per_speed": k or [lo, hi], "offset": c}); scenes give values. A class
+ * library's phases absent from it are drawn over [0, 2π) (a scene's are 0).
+ * speed_min_mps, speed_max_mps: the class's speed interval, the range of a per_speed
+ * parameter's speed (both ends are validated).
  */
 motion_template read_motion_template(const nlohmann::json& j,
                                      const std::string& source,
                                      const std::string& field,
-                                     bool intervals_allowed);
+                                     bool intervals_allowed,
+                                     double speed_min_mps = 0.0,
+                                     double speed_max_mps = 0.0);
 
-/*! A concrete sinusoid from a template (model "sinusoid"); draws from g when it has intervals. */
-micro_doppler draw_sinusoid(const motion_template& t, rng* g);
-/*! A concrete scatterer model from a template; draws from g when it has intervals. */
-micro_motion draw_motion(const motion_template& t, rng* g);
-/*! The template with every interval at one end (for validation). */
+/*! A concrete sinusoid from a template (model "sinusoid"); draws from g when it has intervals;
+ *  speed_mps, the target's speed, sets per_speed parameters. */
+micro_doppler draw_sinusoid(const motion_template& t, rng* g, double speed_mps = 0.0);
+/*! A concrete scatterer model from a template; draws from g when it has intervals; speed_mps,
+ *  the target's speed, sets per_speed parameters. */
+micro_motion draw_motion(const motion_template& t, rng* g, double speed_mps = 0.0);
+/*! The template with every interval at one end, and every per_speed parameter at the lowest or
+ *  highest value it takes over the class's speeds (for validation and bounds). */
 micro_doppler sinusoid_at(const motion_template& t, endpoint e);
 micro_motion motion_at(const motion_template& t, endpoint e);
 

@@ -207,10 +207,53 @@ scene scene::with_track(track_spec t) const
     return s;
 }
 
+scene scene::with_budget(link_budget b) const
+{
+    scene s = *this;
+    b.validate("scene", "link_budget");
+    s.d_budget = b;
+    s.validate("scene with a link budget");
+    return s;
+}
+
+// A link budget needs every target's RCS and ranges where the radar equation holds.
+void scene::validate_budget(const std::string& source) const
+{
+    const double near = link_budget::min_range_m;
+    const std::string why = " (a link budget's radar equation holds from " + std::to_string(near) + " m)";
+    if (d_random) {
+        for (auto c : label_classes()) { // every target of a frame draws from these
+            const auto& def = d_library->at(static_cast<int>(c));
+            const std::string f = "class \"" + def.name + "\" of class library " + d_library->name();
+            if (!def.has_rcs())
+                fail(source, "link_budget", f + " has no rcs_dbsm: a link budget needs each class's RCS");
+            if (def.range_min_m < near)
+                fail(source, "link_budget", f + " comes as near as " + std::to_string(def.range_min_m) + " m" + why);
+        }
+    }
+    for (size_t i = 0; i < d_targets.size(); ++i) {
+        const auto& t = d_targets[i];
+        const std::string f = "targets[" + std::to_string(i) + "]";
+        if (std::isnan(t.rcs_dbsm))
+            fail(source, f + ".rcs_dbsm", "missing: a scene with a link budget needs each target's RCS in dBsm");
+        if (t.power != 1.0)
+            fail(source, f + ".power", "a link budget sets the power from the range and RCS; give rcs_dbsm, not power");
+        if (t.range_m < near)
+            fail(source, f + ".range_m", std::to_string(t.range_m) + " m is too near" + why);
+    }
+    if (d_track && d_track->range_min_m < near)
+        fail(source, "track.range_m", "starts at " + std::to_string(d_track->range_min_m) + " m" + why);
+}
+
 void scene::validate(const std::string& source) const
 {
     if (d_clutter)
         validate_clutter(*d_clutter, source);
+    for (size_t i = 0; i < d_targets.size(); ++i)
+        if (!std::isnan(d_targets[i].rcs_dbsm) && !std::isfinite(d_targets[i].rcs_dbsm))
+            fail(source, "targets[" + std::to_string(i) + "].rcs_dbsm", "must be a finite number of dBsm");
+    if (d_budget)
+        validate_budget(source);
     if (d_track) {
         if (d_random)
             fail(source, "track", "applies to fixed scenes only (a random scene follows its targets with random.tracks)");
@@ -372,6 +415,8 @@ json scene::to_json() const
                 jt["speed_mps"] = t.speed_mps;
                 jt["heading_rad"] = t.heading_rad;
             }
+            if (!std::isnan(t.rcs_dbsm))
+                jt["rcs_dbsm"] = t.rcs_dbsm;
             if (t.motion)
                 jt["micro_motion"] = micro_motion_to_json(*t.motion);
             if (t.md)
@@ -387,6 +432,8 @@ json scene::to_json() const
     if (d_track)
         j["track"] = { { "range_m", range_pair(d_track->range_min_m, d_track->range_max_m) },
                        { "at_bound", d_track->at_bound == track_bound::restart ? "restart" : "reflect" } };
+    if (d_budget)
+        j["link_budget"] = d_budget->to_json();
     if (d_clutter) {
         const auto& c = *d_clutter;
         json jc = { { "csr_db", c.csr_db } };
@@ -524,6 +571,7 @@ scene scene::from_json(const json& j, const std::string& source)
                 t.velocity_mps = rt.number("velocity_mps");
             }
             t.power = rt.number_or("power", 1.0);
+            t.rcs_dbsm = rt.number_or("rcs_dbsm", t.rcs_dbsm);
             if (const auto* mm = rt.find("micro_motion")) {
                 if (rt.has("micro_doppler"))
                     fail(source, f, "give micro_motion or its short form micro_doppler, not both");
@@ -577,6 +625,8 @@ scene scene::from_json(const json& j, const std::string& source)
         rt.finish();
         s.d_track = tr;
     }
+    if (const json* b = top.find("link_budget"))
+        s.d_budget = link_budget::from_json(*b, source, "link_budget");
     if (top.has("clutter")) {
         object_reader rc = top.object("clutter");
         clutter_spec c;

@@ -34,6 +34,7 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::range_m] = t.range_m;
     d[keys::velocity_mps] = t.velocity_mps;
     d[keys::snr_db] = t.snr_db;
+    d["link_snr_db"] = t.link_snr_db;
     d[keys::n_paths] = t.n_paths;
     d[keys::micro_motion] = t.micro_motion;
     d[keys::track_id] = t.track_id;
@@ -284,13 +285,13 @@ void bind_scene(py::module& m)
     py::class_<target_spec>(m, "target_spec", D(target_spec))
         .def(py::init([](target_class cls, double range_m, double velocity_mps, std::optional<micro_doppler> md,
                          double power, std::vector<path_spec> paths, double speed_mps, double heading_rad,
-                         std::optional<micro_motion> motion) {
-                 return target_spec{ cls, range_m, velocity_mps, speed_mps, heading_rad, md, motion, power, paths };
+                         std::optional<micro_motion> motion, double rcs_dbsm) {
+                 return target_spec{ cls, range_m, velocity_mps, speed_mps, heading_rad, md, motion, power, paths, rcs_dbsm };
              }),
              py::arg("cls"), py::arg("range_m"), py::arg("velocity_mps"), py::arg("md") = py::none(),
              py::arg("power") = 1.0, py::arg("paths") = std::vector<path_spec>{ path_spec{} },
              py::arg("speed_mps") = target_spec{}.speed_mps, py::arg("heading_rad") = target_spec{}.heading_rad,
-             py::arg("motion") = py::none())
+             py::arg("motion") = py::none(), py::arg("rcs_dbsm") = target_spec{}.rcs_dbsm)
         .def_readwrite("cls", &target_spec::cls)
         .def_readwrite("range_m", &target_spec::range_m)
         .def_readwrite("velocity_mps", &target_spec::velocity_mps)
@@ -299,7 +300,18 @@ void bind_scene(py::module& m)
         .def_readwrite("md", &target_spec::md)
         .def_readwrite("motion", &target_spec::motion, D(target_spec, motion))
         .def_readwrite("power", &target_spec::power)
-        .def_readwrite("paths", &target_spec::paths);
+        .def_readwrite("paths", &target_spec::paths)
+        .def_readwrite("rcs_dbsm", &target_spec::rcs_dbsm, D(target_spec, rcs_dbsm));
+
+    py::class_<link_budget>(m, "link_budget", D(link_budget))
+        .def(py::init<>())
+        .def_readwrite("tx_power_dbm", &link_budget::tx_power_dbm, D(link_budget, tx_power_dbm))
+        .def_readwrite("tx_gain_dbi", &link_budget::tx_gain_dbi, D(link_budget, tx_gain_dbi))
+        .def_readwrite("rx_gain_dbi", &link_budget::rx_gain_dbi, D(link_budget, rx_gain_dbi))
+        .def_readwrite("noise_figure_db", &link_budget::noise_figure_db, D(link_budget, noise_figure_db))
+        .def_readwrite("system_loss_db", &link_budget::system_loss_db, D(link_budget, system_loss_db))
+        .def_readwrite("noise_temperature_k", &link_budget::noise_temperature_k, D(link_budget, noise_temperature_k))
+        .def("snr_db", &link_budget::snr_db, D(link_budget, snr_db), py::arg("fs"), py::arg("range_m"), py::arg("rcs_dbsm"));
     m.def("target_speed_heading", &target_speed_heading, D(target_speed_heading), py::arg("t"));
 
     py::enum_<track_bound>(m, "track_bound", D(track_bound))
@@ -402,6 +414,8 @@ void bind_scene(py::module& m)
             D(scene, with_library), py::arg("lib"))
         .def("track", &scene::track, D(scene, track))
         .def("with_track", &scene::with_track, D(scene, with_track), py::arg("t"))
+        .def("budget", &scene::budget, D(scene, budget))
+        .def("with_budget", &scene::with_budget, D(scene, with_budget), py::arg("b"))
         .def("class_name", &scene::class_name, D(scene, class_name), py::arg("c"));
 }
 

@@ -30,6 +30,7 @@
 #include <gnuradio/sems/core/scene/scene.h>
 #include <complex>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -75,6 +76,12 @@ struct SEMS_API frame_truth {
     double range_m = 0.0;      ///< range in m
     double velocity_mps = 0.0; ///< radial velocity in m/s
     double snr_db = 0.0;      ///< +inf when noiseless
+    /*!
+     * \brief With a link budget: the target of interest's SNR per resource element from the
+     *        radar equation at this frame's range, at the budget's thermal noise (the emulator's
+     *        SNR setting adds to it). NaN without a link budget.
+     */
+    double link_snr_db = std::numeric_limits<double>::quiet_NaN();
     int n_paths = 0;          ///< all paths of the realization, clutter included
     std::string micro_motion = "none"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", ...)
     /*!

@@ -15,6 +15,8 @@
 
 #include <gnuradio/sems/api.h>
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +37,11 @@ struct SEMS_API class_definition {
     double speed_min_mps = 0.0;        ///< lower end of the speed interval in m/s
     double speed_max_mps = 0.0;        ///< upper end of the speed interval in m/s
     std::shared_ptr<const detail::motion_template> motion; ///< its micro-motion with intervals (null: none)
+    /*! \brief Lower end of its mean RCS in dBsm, drawn per frame in a scene with a link budget (NaN: not given). */
+    double rcs_min_dbsm = std::numeric_limits<double>::quiet_NaN();
+    double rcs_max_dbsm = std::numeric_limits<double>::quiet_NaN(); ///< upper end of its mean RCS in dBsm
+    /*! \brief Whether it gives an RCS (a scene with a link budget needs one). \return true when given. */
+    bool has_rcs() const { return !std::isnan(rcs_min_dbsm); }
     /*! \brief The micro-motion model. \return "none", "sinusoid", "rotor", "walker", "wheels" or "scatterers". */
     std::string motion_model() const;
     /*! \brief The largest extent |r_s| any draw of its micro-motion reaches. \return the bound in m. */
@@ -98,7 +105,9 @@ public:
     std::vector<std::string> class_names() const;
     /*!
      * \brief Whether two libraries define the same classes (names, intervals, models).
-     * \param other the other library. \return true when their JSON (without description) is equal.
+     * \details Descriptions and RCS are not compared: an RCS only scales a class's power, and
+     * a classifier is trained and used over a range of SNRs.
+     * \param other the other library. \return true when their JSON (without description and RCS) is equal.
      */
     bool same_classes(const class_library& other) const;
     /*!

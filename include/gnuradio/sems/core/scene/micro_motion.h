@@ -94,7 +94,13 @@ struct SEMS_API harmonic {
     double phase_rad = 0.0;   ///< φ
 };
 
-/*! \brief A point scatterer with harmonic radial motion r = −Σ_h A_h sin(2π f_h t + φ_h). */
+/*!
+ * \brief A point scatterer with harmonic motion along the body's heading,
+ *        r = −cos θ · Σ_h A_h sin(2π f_h t + φ_h) on the line of sight (θ the heading).
+ *
+ * \details As with wheels and limbs, the motion is along the direction the body moves: a
+ * target approaching head-on (θ = 0) sees it whole, one seen side-on (θ = π/2) sees none of it.
+ */
 struct SEMS_API point_scatterer {
     double power = 1.0;              ///< its share of the target's mean power (shares are normalised to sum 1)
     std::vector<harmonic> harmonics; ///< none: a fixed point on the body

@@ -8,13 +8,16 @@
  *
  * \details Power bookkeeping: the mean path powers of one realization sum to 1 (unit mean
  * channel power per resource element). Clutter takes csr/(1+csr) of it, the targets
- * the rest, split by target power and then by path power.
+ * the rest, split by target power and then by path power. With a link budget a target's
+ * paths share its SNR from the radar equation instead, and clutter has csr times the
+ * targets' sum.
  */
 #ifndef INCLUDED_SEMS_CORE_SCENE_H
 #define INCLUDED_SEMS_CORE_SCENE_H
 
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/scene/class_library.h>
+#include <gnuradio/sems/core/scene/link_budget.h>
 #include <gnuradio/sems/core/scene/micro_motion.h>
 #include <gnuradio/sems/core/scene/target_class.h>
 #include <nlohmann/json.hpp>
@@ -44,8 +47,10 @@ struct SEMS_API target_spec {
     double heading_rad = 0.0;
     std::optional<micro_doppler> md;      ///< its micro-Doppler (model `sinusoid`), if any
     std::optional<micro_motion> motion;   ///< its scatterer micro-motion (rotor, walker, wheels, scatterers), if any
-    double power = 1.0;                        ///< relative to the scene's other targets
+    double power = 1.0;                        ///< relative to the scene's other targets (unused with a link budget)
     std::vector<path_spec> paths{ path_spec{} }; ///< at least one; the first is the direct path
+    /*! \brief Its mean RCS in dBsm: with a link budget, its power follows the radar equation (NaN: none given). */
+    double rcs_dbsm = std::numeric_limits<double>::quiet_NaN();
 };
 
 /*! \brief Static clutter: zero-Doppler scatterers at a clutter-to-signal power ratio. */
@@ -245,6 +250,20 @@ public:
      * \throws std::invalid_argument for a random scene or a bad track.
      */
     scene with_track(track_spec t) const;
+    /*!
+     * \brief The link budget, if any: then each target's SNR per resource element follows the
+     *        radar equation at its range and RCS, frame by frame (link_budget.h).
+     * \return the budget (empty: unit mean power per target, the paper's).
+     */
+    const std::optional<link_budget>& budget() const { return d_budget; }
+    /*!
+     * \brief The same scene with a link budget.
+     * \param b the budget.
+     * \return the scene.
+     * \throws std::invalid_argument when a target or class has no RCS or may come nearer than
+     *         link_budget::min_range_m, naming it.
+     */
+    scene with_budget(link_budget b) const;
     /*! \brief A class name in the scene's library. \param c the class id. \return its name. */
     std::string class_name(target_class c) const { return d_library->at(static_cast<int>(c)).name; }
 
@@ -257,10 +276,12 @@ public:
 
 private:
     scene() = default;
+    void validate_budget(const std::string& source) const;
     std::vector<target_spec> d_targets;
     std::optional<random_spec> d_random;
     std::optional<clutter_spec> d_clutter;
     std::optional<track_spec> d_track;
+    std::optional<link_budget> d_budget;
     std::shared_ptr<const class_library> d_library = class_library::paper();
     int d_toi = 0;
     fading_kind d_fading = fading_kind::rayleigh;
