@@ -89,6 +89,8 @@ GENERATED = {
 # The same digits in two documents that state two different facts: value -> (documents, why).
 # The check passes while a value occurs only in (a subset of) its documents.
 NUMBERS_ALLOWED = {
+    "0.143": ({"docs/reference/time_domain.md", "docs/reference/walker.md"},
+              "a 0.143 m delay error in a time-domain table; the walker's foot, 0.143 of the height"),
     "10.4": ({"models/README.md", "docs/reference/hardening.md"},
              "the clutter target's 10.4 dB and delay_single_fast's 10.4 s of training; a soak run's "
              "10.4 s of system time"),

@@ -76,9 +76,15 @@ double class_definition::max_sinusoid_speed_mps() const
 double class_definition::max_scatterer_speed_mps() const
 {
     double micro = max_sinusoid_speed_mps();
-    if (motion && motion->model != "sinusoid")
+    if (motion && motion->model == "walker") {
+        // Not the corners: a walker's peak speed can be largest inside its height interval.
+        const double h0 = std::get<walker_motion>(detail::motion_at(*motion, detail::endpoint::low)).height_m;
+        const double h1 = std::get<walker_motion>(detail::motion_at(*motion, detail::endpoint::high)).height_m;
+        micro = detail::walker_peak_speed_mps(std::min(h0, h1), std::max(h0, h1), speed_max_mps);
+    } else if (motion && motion->model != "sinusoid") {
         for (auto end : { detail::endpoint::low, detail::endpoint::high })
             micro = std::max(micro, micro_motion_peak_speed_mps(detail::motion_at(*motion, end), speed_max_mps));
+    }
     return speed_max_mps + micro;
 }
 

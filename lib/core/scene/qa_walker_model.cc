@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the walking human against the published Boulic–Thalmann model (cycle duration,
- * trajectory control points and formulas, the stance/swing kinematics they imply), the
- * ellipsoid RCS closed forms, the geometry conventions and bad input. */
+ * trajectory control points and formulas, the stance/swing kinematics they imply, the gait
+ * boundaries), the peak-speed bound the channel models plan with, the ellipsoid RCS closed
+ * forms, the geometry conventions and bad input. */
 #include <gnuradio/sems/core/scene/walker_model.h>
+#include "core/scene/walker_scatterers.h"
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -113,6 +116,52 @@ double ellipsoid_rcs(double a, double b, double c, double theta, double phi)
     return M_PI * a * a * b * b * c * c / (den * den);
 }
 
+// The largest speed of any segment centre relative to the body (the norm of its velocity in
+// the body frame, by central differences) over n instants of one cycle, m/s.
+double peak_segment_speed(const walker_model& w, int n)
+{
+    const double dc = w.cycle_duration_s(), dt = 1e-5 * dc;
+    double peak = 0.0;
+    body_pose a, b;
+    for (int j = 0; j < n; ++j) {
+        const double t = (j + 0.5) / n * dc;
+        w.pose(t - dt, a);
+        w.pose(t + dt, b);
+        for (int s = 0; s < n_segments; ++s) {
+            double v2 = 0.0;
+            for (int k = 0; k < 3; ++k)
+                v2 += std::pow((b.centre[s][k] - a.centre[s][k]) / (2.0 * dt), 2);
+            peak = std::max(peak, std::sqrt(v2));
+        }
+    }
+    return peak;
+}
+
+// Gait C's hip flexion minus gait B's as RV passes 1.3, in degrees, at cycle time u (walker.md,
+// "Gait boundaries"). Gait C's first control point (0.2·sc − 0.1, 5·sc + 25) closes on its third
+// (0.9, 6·sc + 25) as sc → 0, but the secant across the closing gap stays −5°/cycle; pchip's
+// slope there (weights 2h₁ + h₀ and h₁ + 2h₀ with h₀ → 0, h₁ = 0.6) tends to 3/(2/d₀ + 1/d₁)
+// with d₀ = −5 and d₁ = −40/0.6 °/cycle (to the point at 0.5), where gait B, whose two points
+// are one, has slope 0. The piece from 0.9 to 1.5 (≡ 0.5) differs by the Hermite term h₁·m·s(1 − s)².
+double hip_jump_at_1_3_deg(double u)
+{
+    const double m = 3.0 / (2.0 / -5.0 + 1.0 / (-40.0 / 0.6)); // −7.2289 °/cycle
+    const double s = (u - 0.9 - std::floor(u - 0.9)) / 0.6;
+    return s < 1.0 ? 0.6 * m * s * (1.0 - s) * (1.0 - s) : 0.0;
+}
+
+// p turned by angle a (rad) about the unit axis k through the point c.
+vec3 turned(const vec3& p, const vec3& c, const vec3& k, double a)
+{
+    const vec3 d = { p[0] - c[0], p[1] - c[1], p[2] - c[2] };
+    const double kd = k[0] * d[0] + k[1] * d[1] + k[2] * d[2];
+    const vec3 kxd = { k[1] * d[2] - k[2] * d[1], k[2] * d[0] - k[0] * d[2], k[0] * d[1] - k[1] * d[0] };
+    vec3 r;
+    for (int i = 0; i < 3; ++i)
+        r[i] = c[i] + d[i] * std::cos(a) + kxd[i] * std::sin(a) + k[i] * kd * (1.0 - std::cos(a));
+    return r;
+}
+
 } // namespace
 
 class qa_walker_model : public CppUnit::TestFixture
@@ -121,10 +170,12 @@ class qa_walker_model : public CppUnit::TestFixture
     CPPUNIT_TEST(proportions_add_up_to_the_height);
     CPPUNIT_TEST(cycle_duration_follows_boulic);
     CPPUNIT_TEST(trajectories_follow_the_published_curves);
-    CPPUNIT_TEST(slow_gait_joins_the_normal_gait);
+    CPPUNIT_TEST(gaits_join_but_for_the_published_hip_jump);
     CPPUNIT_TEST(pose_carries_the_joint_angles);
     CPPUNIT_TEST(torso_line_sits_at_the_bulk_velocity);
     CPPUNIT_TEST(feet_rest_in_stance_and_cover_the_stride_in_swing);
+    CPPUNIT_TEST(peak_speed_bound_holds_and_is_tight);
+    CPPUNIT_TEST(class_peak_speed_covers_its_walkers);
     CPPUNIT_TEST(arms_swing_against_the_legs);
     CPPUNIT_TEST(crossing_walker_moves_only_laterally);
     CPPUNIT_TEST(speed_outside_the_model_is_refused);
@@ -258,28 +309,82 @@ public:
         CPPUNIT_ASSERT_DOUBLES_EQUAL(-0.128 * r * (1 - r), slow.trajectories(0.35).lateral_m, 1e-12);
     }
 
-    void slow_gait_joins_the_normal_gait()
+    void gaits_join_but_for_the_published_hip_jump()
     {
-        // The gaits meet at RV = 0.5 and 1.3: every trajectory is continuous there.
-        for (double rv : { 0.5, 1.3 }) {
-            const walker_model lo(params(1.8, (rv - 1e-9) * 0.954)), hi(params(1.8, (rv + 1e-9) * 0.954));
-            for (int j = 0; j < 50; ++j) {
-                const double u = j / 50.0;
-                const auto a = lo.trajectories(u), b = hi.trajectories(u);
-                const double da[] = { a.vertical_m, a.lateral_m, a.forward_m };
-                const double db[] = { b.vertical_m, b.lateral_m, b.forward_m };
-                for (int i = 0; i < 3; ++i)
-                    CPPUNIT_ASSERT_DOUBLES_EQUAL(da[i], db[i], 1e-6);
-                const double aa[] = { a.pelvis_forward_deg, a.pelvis_list_deg, a.pelvis_torsion_deg,
-                                      a.hip_deg, a.knee_deg, a.ankle_deg, a.thorax_deg,
-                                      a.shoulder_deg, a.elbow_deg };
-                const double ab[] = { b.pelvis_forward_deg, b.pelvis_list_deg, b.pelvis_torsion_deg,
-                                      b.hip_deg, b.knee_deg, b.ankle_deg, b.thorax_deg,
-                                      b.shoulder_deg, b.elbow_deg };
-                for (int i = 0; i < 9; ++i)
-                    CPPUNIT_ASSERT_DOUBLES_EQUAL(aa[i], ab[i], 1e-4);
+        // Walkers 1e-6 of RV either side of the gait boundaries 0.5 and 1.3 must agree in every
+        // trajectory and every segment centre to within what a smooth trajectory moves over
+        // 2e-6 of RV, but for the documented jump: gait C's hip flexion (both hips, the left half
+        // a cycle later) and with it the legs turned about the hip joints. Tolerances = slope
+        // bound × 2e-6: joint angles 500° per unit of RV (the steepest published law is gait A's
+        // knee peak 140·RV; knots moving with RV and the support fraction add less) → 1e-3°;
+        // translations 0.5 m per unit of RV (gait A's 0.128·RV(1 − RV)) → 1e-6 m; segment
+        // centres 500° per unit of RV on a lever of at most H, plus the translations →
+        // (8.73·H + 0.5)·2e-6 m. The same tolerances bound the change over 2e-6 of RV on either
+        // side, so a smooth trajectory passes and any other jump above them fails.
+        const double d_rv = 1e-6, tol_deg = 500.0 * 2e-6, tol_m = 0.5 * 2e-6;
+        const char* names[] = { "vertical", "lateral", "forward", "pelvis forward", "pelvis list",
+                                "pelvis torsion", "hip", "knee", "ankle", "thorax", "shoulder", "elbow" };
+        auto fields = [](const gait_trajectories& g) {
+            return std::array<double, 12>{ g.vertical_m, g.lateral_m, g.forward_m, g.pelvis_forward_deg,
+                                           g.pelvis_list_deg, g.pelvis_torsion_deg, g.hip_deg, g.knee_deg,
+                                           g.ankle_deg, g.thorax_deg, g.shoulder_deg, g.elbow_deg };
+        };
+        for (double h : { 1.0, 1.8 })
+            for (double rv : { 0.5, 1.3 }) {
+                const double tol_c = (500.0 * deg * h + 0.5) * 2e-6;
+                const walker_model lo2(params(h, (rv - 3 * d_rv) * 0.53 * h)), lo(params(h, (rv - d_rv) * 0.53 * h)),
+                    hi(params(h, (rv + d_rv) * 0.53 * h)), hi2(params(h, (rv + 3 * d_rv) * 0.53 * h));
+                const int n = 1000;
+                for (int j = 0; j <= n; ++j) {
+                    const double u = j < n ? (j + 0.5) / n : 0.1; // and the jump's peak
+                    const auto f_lo2 = fields(lo2.trajectories(u)), f_lo = fields(lo.trajectories(u));
+                    const auto f_hi = fields(hi.trajectories(u)), f_hi2 = fields(hi2.trajectories(u));
+                    for (int i = 0; i < 12; ++i) {
+                        const double tol = i < 3 ? tol_m : tol_deg;
+                        const double jump = rv == 1.3 && i == 6 ? hip_jump_at_1_3_deg(u) : 0.0;
+                        if (std::fabs(f_lo[i] - f_lo2[i]) <= tol && std::fabs(f_hi2[i] - f_hi[i]) <= tol &&
+                            std::fabs(f_hi[i] - f_lo[i] - jump) <= tol)
+                            continue;
+                        std::ostringstream what;
+                        what << names[i] << " at RV " << rv << " ± 1e-6, u = " << u << ", height " << h << ": "
+                             << f_lo2[i] << ", " << f_lo[i] << " below, " << f_hi[i] << ", " << f_hi2[i]
+                             << " above (at ∓3e-6 and ∓1e-6), documented jump " << jump << ", tolerance " << tol;
+                        CPPUNIT_FAIL(what.str());
+                    }
+                    // The centres: the walker below with each leg turned about its hip joint by
+                    // its hip's jump (right: u, left: u + 1/2), within tol_c of the one above.
+                    body_pose a, b;
+                    lo.pose(u * lo.cycle_duration_s(), a);
+                    hi.pose(u * hi.cycle_duration_s(), b);
+                    vec3 trans;
+                    for (int k = 0; k < 3; ++k)
+                        trans[k] = 0.5 * (a.centre[left_hip][k] + a.centre[right_hip][k]);
+                    auto want = a.centre;
+                    for (int side = 0; side < 2; ++side) { // 0 left, 1 right
+                        const double jump = rv == 1.3 ? hip_jump_at_1_3_deg(side == 0 ? u + 0.5 : u) : 0.0;
+                        vec3 joint;
+                        for (int k = 0; k < 3; ++k)
+                            joint[k] = 2.0 * a.centre[left_hip + side][k] - trans[k];
+                        // Flexion by +δ turns the leg by −δ about the pelvis's y axis.
+                        for (int s : { left_foot + side, left_lower_leg + side, left_upper_leg + side })
+                            want[s] = turned(a.centre[s], joint, a.axis[left_hip], -jump * deg);
+                    }
+                    for (int s = 0; s < n_segments; ++s)
+                        for (int k = 0; k < 3; ++k) {
+                            if (std::fabs(b.centre[s][k] - want[s][k]) <= tol_c)
+                                continue;
+                            std::ostringstream what;
+                            what << segment_shapes()[s].name << " centre (coordinate " << k << ") at RV " << rv
+                                 << " ± 1e-6, u = " << u << ", height " << h << ": " << b.centre[s][k]
+                                 << " m above, " << want[s][k] << " m from below with the documented jump, tolerance "
+                                 << tol_c;
+                            CPPUNIT_FAIL(what.str());
+                        }
+                }
             }
-        }
+        // The documented jump is what the model does: 0.643° at u = 0.1.
+        const walker_model b(params(1.8, (1.3 - d_rv) * 0.954)), c(params(1.8, (1.3 + d_rv) * 0.954));
+        CPPUNIT_ASSERT_DOUBLES_EQUAL(-0.6426, c.trajectories(0.1).hip_deg - b.trajectories(0.1).hip_deg, 1e-4);
     }
 
     void pose_carries_the_joint_angles()
@@ -366,6 +471,81 @@ public:
             CPPUNIT_ASSERT(leg_min < 0.35 * v);
             CPPUNIT_ASSERT(leg_max > 2.0 * v && leg_max < 3.0 * v);
         }
+    }
+
+    void peak_speed_bound_holds_and_is_tight()
+    {
+        // detail::walker_peak_speed_mps bounds the speed of every segment centre relative to the
+        // body (the 3-D norm, so the radial speed at any heading and elevation too), sampled at
+        // 512 instants of the cycle, on heights 1 to 2 m and RV over the whole range: 0.02 apart,
+        // 0.005 apart over the peak (0.2 to 0.85), near 0 and either side of the gait boundaries.
+        // Tight: at most 6 % above the sampled peak for RV >= 0.05 (the table's own margin is 2 to
+        // 3.1 %, sampling 512 instants misses the peak by under 0.2 %), at most 50 % above it
+        // below RV 0.05, where every segment is slower than 0.08 m/s.
+        std::vector<double> rvs = { 1e-4, 1e-3, 3e-3, 0.005, 0.008, 0.012, 0.015, 0.025, 0.04,
+                                    0.5 - 1e-6, 0.5 + 1e-6, 1.3 - 1e-6, 1.3 + 1e-6 };
+        for (int i = 1; i <= 150; ++i)
+            rvs.push_back(0.02 * i);
+        for (int i = 0; i <= 130; ++i)
+            rvs.push_back(0.2 + 0.005 * i);
+        double loose = 0.0, loose_slow = 0.0, peak_per_v = 0.0; // the last over RV 0.25 to 0.8
+        for (double h : { 1.0, 1.25, 1.5, 1.75, 2.0 })
+            for (double rv : rvs) {
+                const double v = std::min(rv * 0.53 * h, max_speed_mps(h));
+                const walker_model w(params(h, v));
+                const double peak = peak_segment_speed(w, 512);
+                const double bound = gr::sems::detail::walker_peak_speed_mps(h, v);
+                std::ostringstream what;
+                what << "height " << h << " m, RV " << rv << ": peak " << peak << " m/s, bound " << bound;
+                CPPUNIT_ASSERT_MESSAGE(what.str(), peak <= bound);
+                double& worst = rv >= 0.05 ? loose : loose_slow;
+                worst = std::max(worst, bound / peak);
+                if (rv >= 0.25 && rv <= 0.8)
+                    peak_per_v = std::max(peak_per_v, peak / v);
+            }
+        CPPUNIT_ASSERT(loose <= 1.06);
+        CPPUNIT_ASSERT(loose_slow <= 1.5);
+        // The peak reaches 5.4 v at RV 0.5 (at 1 m), beyond any bound of 4.5 v.
+        CPPUNIT_ASSERT(peak_per_v > 5.3);
+        // A still body has no micro-motion; the sign of the speed does not matter (a walker that
+        // walks away has heading π).
+        CPPUNIT_ASSERT_EQUAL(0.0, gr::sems::detail::walker_peak_speed_mps(1.8, 0.0));
+        CPPUNIT_ASSERT_EQUAL(gr::sems::detail::walker_peak_speed_mps(1.8, 1.4),
+                             gr::sems::detail::walker_peak_speed_mps(1.8, -1.4));
+        // Outside the model there is no bound.
+        assert_error([] { gr::sems::detail::walker_peak_speed_mps(1.8, 3.0); }, "speed_mps 3", "0 <= RV <= 3");
+        assert_error([] { gr::sems::detail::walker_peak_speed_mps(0.3, 0.5); }, "height_m");
+    }
+
+    void class_peak_speed_covers_its_walkers()
+    {
+        // The bound over a class (heights in an interval, speeds up to a maximum) covers the bound
+        // of every walker in it, also where the class peaks inside its height interval, and
+        // stays within 2 % of the largest of them.
+        using gr::sems::detail::walker_peak_speed_mps;
+        struct box {
+            double h_min, h_max, v_max;
+        };
+        for (const box& c : { box{ 1.0, 2.0, 0.5 }, box{ 1.0, 3.0, 0.3 }, box{ 0.5, 3.0, 0.795 },
+                              box{ 1.6, 1.9, 2.5 }, box{ 1.0, 1.3, 1.2 }, box{ 1.75, 1.75, 1.4 } }) {
+            double largest = 0.0, corners = 0.0;
+            for (int i = 0; i <= 200; ++i)
+                for (int k = 0; k <= 200; ++k) {
+                    const double h = c.h_min + (c.h_max - c.h_min) * i / 200, v = c.v_max * k / 200;
+                    largest = std::max(largest, walker_peak_speed_mps(h, v));
+                    if ((i == 0 || i == 200) && k == 200)
+                        corners = std::max(corners, walker_peak_speed_mps(h, v));
+                }
+            const double b = walker_peak_speed_mps(c.h_min, c.h_max, c.v_max);
+            std::ostringstream what;
+            what << "heights [" << c.h_min << ", " << c.h_max << "] m, speeds up to " << c.v_max << " m/s: class bound "
+                 << b << ", largest walker bound " << largest << ", at the corners " << corners;
+            CPPUNIT_ASSERT_MESSAGE(what.str(), b >= largest && b <= 1.02 * largest);
+            if (c.h_min == 1.0 && c.h_max == 3.0) // RV 0.19 to 0.57: the peak is inside
+                CPPUNIT_ASSERT_MESSAGE(what.str(), largest > 1.03 * corners);
+        }
+        assert_error([] { walker_peak_speed_mps(1.0, 2.0, 1.6); }, "speed_mps 1.6", "height_m 1 m");
+        assert_error([] { walker_peak_speed_mps(2.0, 1.0, 1.0); }, "height interval", "empty");
     }
 
     void arms_swing_against_the_legs()

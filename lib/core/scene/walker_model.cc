@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the Boulic–Thalmann walking human as 16 ellipsoid scatterers (walker_model.h).
  *
- * The trajectories are the published ones (Boulic et al. 1990, appendices A–D; the same
- * numbers as V. C. Chen's human-walk simulation and MATLAB's backscatterPedestrian), written
- * here as functions of the cycle time u in [0, 1) of the right side, u = 0 the right heel
- * strike; the left side runs half a cycle later. docs/reference/walker.md lists them.
+ * The trajectories are the published ones (Boulic et al. 1990, appendices A–D, as V. C. Chen's
+ * scripts and MATLAB's backscatterPedestrian transcribe them; where those two differ, walker.md
+ * says which this code follows), written here as functions of the cycle time u in [0, 1) of
+ * the right side, u = 0 the right heel strike; the left side runs half a cycle later. The body
+ * is backscatterPedestrian's (lengths, foot vector, scatterers at segment centres), the
+ * ellipsoid radii and RCS Chen's. docs/reference/walker.md lists them.
  */
 #include <gnuradio/sems/core/scene/walker_model.h>
 #include "core/common/checks.h"
@@ -25,7 +27,9 @@ constexpr double two_pi = 2.0 * M_PI;
 constexpr double deg = M_PI / 180.0;
 // Chen's segment radii are absolute (m); they are taken as those of a walker this tall.
 constexpr double radius_reference_height_m = 1.8;
-// Knots of a trajectory closer than this (in cycles) are one knot.
+// Knots of a trajectory closer than this (in cycles) are one knot: gait B's hip points at −0.1
+// and 0.9 are one point a cycle apart, gait C's first hip point reaches its third at RV = 1.3
+// (Chen's script merges them when they are equal), and pchip needs distinct knots.
 constexpr double knot_merge = 1e-9;
 
 using checks::text;
@@ -223,7 +227,11 @@ walker_model::walker_model(const walker_params& p) : d_params(p)
     d_shoulder = 9.88 * rv * deg;
 
     using P = periodic_pchip;
-    // Flexion at the hip, the knee, the ankle (deg at the control points).
+    // Flexion at the hip, the knee, the ankle (deg at the control points). The hip keeps the
+    // published points although pchip jumps with them as RV passes 1.3: gait C's first point
+    // closes on its third with a secant of −5°/cycle that does not vanish with sc, so the curve
+    // from 0.9 starts with slope −7.23°/cycle where gait B's has 0 (up to 0.64° less flexion at
+    // u = 0.1; walker.md, "Gait boundaries"). Both published implementations jump the same way.
     if (gait == 0)
         d_hip = make_pchip<P>({ -0.1, 0.5, 0.9 }, { 50 * rv, -30 * rv, 50 * rv });
     else if (gait == 1)
@@ -397,7 +405,8 @@ void walker_model::pose_from(const gait_state& g, const double* sn, const double
     auto& ax = pose.axis;
     const vec3 y_axis = { 0.0, 1.0, 0.0 }, z_axis = { 0.0, 0.0, 1.0 };
 
-    // Legs: the left one half a cycle after the right one.
+    // Legs: the left one half a cycle after the right one. The foot vector (foot, 0,
+    // −ankle_height)·H from the ankle to the toe is backscatterPedestrian's (Chen's is horizontal).
     const double lu = pr::upper_leg * h, ll = pr::lower_leg * h;
     const double lf = pr::foot * h, la = pr::ankle_height * h;
     const double foot_len = std::hypot(lf, la);
@@ -439,6 +448,8 @@ void walker_model::pose_from(const gait_state& g, const double* sn, const double
         ax[left_shoulder + side] = mul(U, y_axis);
     }
     const vec3 up = mul(U, z_axis);
+    // The head above the neck, as the chain of lengths that sums to the height has it
+    // (backscatterPedestrian's standing pose; its walking trajectories and Chen's drop the neck).
     const double head_z = lt + (pr::neck + 0.5 * pr::head) * h;
     cen[head] = add({ head_z * up[0], head_z * up[1], head_z * up[2] }, trans);
     cen[torso] = add({ 0.5 * lt * up[0], 0.5 * lt * up[1], 0.5 * lt * up[2] }, trans);

@@ -59,7 +59,8 @@
  * (rotors 2πf, wheels v/R, harmonics 2πf, walkers the gait cycle's 8th harmonic; κv
  * dominates). The degree and spacing needing the fewest anchors that keep this below 1e-6 of
  * a unit-power target are used. At 3 GHz, 30 MHz, M 64, CP 16: a 100 rev/s quadcopter
- * (blade tips 80 m/s) and a 1.4 m/s walker take 3 anchors per symbol (quadratic). Evaluating
+ * (blade tips 80 m/s) takes 3 anchors per symbol (quadratic), and a 1.8 m walker at 1.4 m/s
+ * 3 anchors too (linear over two segments). Evaluating
  * G once per symbol instead would leave a phase change of κ·v·S/B ≈ 0.03 rad across a fast
  * rotor's symbol. qa_td_channel checks the return against a direct per-sample sum over the
  * scatterers: within 1e-6 plus the float rounding of the terms (each at most Σ|a|·x^p/p!,

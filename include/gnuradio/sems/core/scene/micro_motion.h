@@ -147,6 +147,7 @@ SEMS_API double micro_motion_extent_m(const micro_motion& m);
  * \param m the motion.
  * \param speed_mps the target's speed (wheels and walker move with it).
  * \return the bound in m/s.
+ * \throws std::invalid_argument for a walker outside its model's range of heights and speeds.
  */
 SEMS_API double micro_motion_peak_speed_mps(const micro_motion& m, double speed_mps);
 

@@ -6,10 +6,12 @@
  *
  * \details Kinematics: R. Boulic, N. Magnenat-Thalmann, D. Thalmann, "A global human walking
  * model with real-time kinematic personification", The Visual Computer 6(6), 1990, as
- * implemented in V. C. Chen's human-walk simulation (The Micro-Doppler Effect in Radar, Artech
- * House, 2011, ch. 4) and MATLAB's backscatterPedestrian. Scattering: each body segment is an
- * ellipsoid whose monostatic RCS depends on the angle between the line of sight and its axis.
- * The equations, the segment table and the conventions are in docs/reference/walker.md.
+ * implemented in V. C. Chen's MATLAB scripts (The Micro-Doppler Effect in Radar, Artech House,
+ * 2011, ch. 4) and in MATLAB's backscatterPedestrian; the body's lengths follow
+ * backscatterPedestrian's source, its ellipsoid radii Chen's. Scattering: each body segment is
+ * an ellipsoid whose monostatic RCS (Chen) depends on the angle between the line of sight and
+ * its axis. The equations, the segment table, the conventions, what comes from which source
+ * and where the two implementations differ are in docs/reference/walker.md.
  *
  * Geometry. Body frame: x the walking direction, y to the walker's left, z up; origin the
  * pelvis centre (the model's spine origin), which moves with the body's mean velocity at the
@@ -37,8 +39,7 @@ namespace walker {
 constexpr int n_segments = 16;
 
 /*!
- * \brief The 16 segments, in the order of MATLAB's backscatterPedestrian body parts
- *        (and of Chen's scatterer set, there listed from the head down).
+ * \brief The 16 segments, in the order of MATLAB's backscatterPedestrian body parts.
  */
 enum segment : int {
     left_foot = 0,   ///< ankle to toe
@@ -60,22 +61,23 @@ enum segment : int {
 };
 
 /*!
- * \brief Body proportions as fractions of the height H (Winter's segment lengths, as used by
- *        Chen's simulation and backscatterPedestrian). The vertical chain sums to 1:
- *        ankle_height + lower_leg + upper_leg + torso + neck + head = H.
+ * \brief Body proportions as fractions of the height H, as backscatterPedestrian's source
+ *        (phased.internal.getHumanBodyParts) gives them. Chen's scripts share all but the ankle
+ *        height, the neck and the lower arm (docs/reference/walker.md). The vertical chain sums
+ *        to 1: ankle_height + lower_leg + upper_leg + torso + neck + head = H.
  */
 namespace proportion {
 constexpr double upper_leg = 0.245;             ///< hip joint to knee
 constexpr double lower_leg = 0.246;             ///< knee to ankle
-constexpr double ankle_height = 0.039;          ///< ankle above the sole
+constexpr double ankle_height = 0.039;          ///< ankle above the sole; the toe lies this far below the ankle (Chen's leg has none)
 constexpr double foot = 0.143;                  ///< ankle to toe, forward
 constexpr double hip_half_width = 0.191 / 2.0;  ///< pelvis centre to hip joint
 constexpr double torso = 0.288;                 ///< hip-joint line to the base of the neck
-constexpr double neck = 0.052;                  ///< base of the neck to the head
+constexpr double neck = 0.052;                  ///< base of the neck to the head (Chen's head sits on the torso)
 constexpr double head = 0.130;                  ///< the head
 constexpr double shoulder_half_width = 0.259 / 2.0; ///< base of the neck to shoulder joint
 constexpr double upper_arm = 0.188;             ///< shoulder to elbow
-constexpr double lower_arm = 0.145;             ///< elbow to hand
+constexpr double lower_arm = 0.145;             ///< elbow to hand (Chen's is 0.152)
 /*! \brief The hip-joint height H_t (the model's leg length): upper_leg + lower_leg + ankle_height. */
 constexpr double hip_joint_height = upper_leg + lower_leg + ankle_height;
 } // namespace proportion
@@ -89,10 +91,10 @@ struct segment_shape {
 
 /*!
  * \brief The 16 ellipsoids, indexed by #segment. Lengths from walker::proportion (the foot's is
- *        the ankle-to-toe distance hypot(foot, ankle_height)); radii are the published absolute
- *        radii of Chen's simulation (foot 0.05 m, lower leg 0.06, upper leg 0.07, hip 0.07,
- *        lower arm 0.05, upper arm 0.06, shoulder 0.06, head 0.10, torso 0.15) divided by
- *        1.8 m, so that they scale with the height.
+ *        the ankle-to-toe distance hypot(foot, ankle_height)); radii are the absolute radii of
+ *        Chen's scripts (foot 0.05 m, lower leg 0.06, upper leg 0.07, hip 0.07, lower arm 0.05,
+ *        upper arm 0.06, shoulder 0.06, head 0.10, torso 0.15) divided by 1.8 m, so that they
+ *        scale with the height.
  * \return the table.
  */
 SEMS_API const std::array<segment_shape, n_segments>& segment_shapes();
