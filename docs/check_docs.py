@@ -78,6 +78,7 @@ GENERATED = {
     "docs/results/learned_vs_hand.md",    # docs/results/learned_vs_hand.py table
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
+    "docs/results/claims.md",             # apps/figures/claims.py (scripts/evaluation/eval_full.sh, eval_kinematic.sh)
     "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
     "docs/results/track_pilots.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
     "docs/results/exp8_nr/track_tables.md",  # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks_nr.sh)

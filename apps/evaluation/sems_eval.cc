@@ -18,6 +18,10 @@
  *     exp7_confusion.csv     every method's confusion matrix at --confusion-snr;
  *     exp7_pilot_budget.csv  SemS against the Doppler and staggered patterns at each N_p
  *     exp7_pilot_power.csv   SemS with learned pilot energies (same total) at N_p 32 and 128
+ *   beside experiments 1, 3, 4, 5 and 7's CSVs: <csv stem>_predictions.npz, every method's output on
+ *     every test frame at every SNR and training seed (class ids; delay-index errors), and
+ *     exp<N>_truth.npz, the test frames' truth, for the paired statistics of
+ *     apps/figures/paired_stats.py (docs/reference/file_formats.md, "Kept predictions")
  *   8 exp8_tracks.csv        decisions over a track (kinematic library, any heading): accuracy /
  *                            macro-F1 against observation time (frames) and SNR for SemS-track,
  *                            the hand patterns under the same temporal decoder, the fusion of
@@ -38,6 +42,7 @@
 #include <gnuradio/sems/core/common/limits.h>
 #include <algorithm>
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -168,7 +173,9 @@ int main(int argc, char** argv)
         ("first-seed", po::value(&c.first_seed)->default_value(c.first_seed),
          "train with seeds seed + first-seed, ... (the test frames stay those of --seed): one seed per process")
         ("threads", po::value(&c.threads)->default_value(c.threads), "LibTorch threads (training and inference)")
-        ("test-frames", po::value<int>(), "override: test frames per operating point")
+        ("test-frames", po::value<int>(), "override: test frames per operating point of experiments 1, 3, 4, 5 and 7 "
+         "(test 24, full 3000), the same for every method, seed and SNR; e.g. 30000 for tighter paired tests (each "
+         "scene's frames are held in memory: 16 N M bytes each, 1 GB at 30000 of 32 x 64)")
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
         ("epochs", po::value<int>(), "override: mask-learning epochs (decoder epochs on fixed masks)")
         ("decoder-epochs", po::value<int>(), "override: decoder epochs after a learned mask")
@@ -319,8 +326,15 @@ int main(int argc, char** argv)
                 throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..8");
             c.experiments.insert(static_cast<int>(e));
         }
-        if (c.test_frames < 2 || c.train_frames < 10 || c.svm_train_frames < 6 || c.tsne_frames < 2)
-            throw std::invalid_argument("frame counts are too small (test >= 2, train >= 10, svm >= 6, t-SNE >= 2)");
+        // Each scene's test frames are held in memory (H and W: 16 bytes per resource element each).
+        const double max_test_frames = std::floor(8.0 * (1ull << 30) / (16.0 * c.fs.grid_size()));
+        if (c.test_frames < 2 || c.test_frames > max_test_frames)
+            throw std::invalid_argument("--test-frames must be in [2, " + num(max_test_frames, 10) +
+                                        "] (test frames per operating point; at most 8 GB per scene of this frame), got " +
+                                        std::to_string(c.test_frames));
+        if (c.train_frames < 10 || c.svm_train_frames < 6 || c.tsne_frames < 2)
+            throw std::invalid_argument("frame counts are too small (--train-frames >= 10, --svm-train-frames >= 6, "
+                                        "--tsne-frames >= 2)");
         if (c.epochs < 1 || c.classifier_epochs < 1 || c.decoder_epochs < 0 || c.threads < 1)
             throw std::invalid_argument("--epochs >= 1, --classifier-epochs >= 1, --decoder-epochs >= 0, --threads >= 1");
         for (int np : c.np_sweep)

@@ -13,6 +13,13 @@ each with a template bank); writes
 exp7_kinematic.png (accuracy and macro-F1 against SNR), exp7_confusion.png (the learned mask's
 and the best hand pattern's confusion at the confusion SNR, summed over training seeds) and
 exp7_pilot_budget.png (accuracy against N_p), and with --tables the markdown tables.
+
+The tables' comparisons (the learned mask against the best hand pattern, overall and by pilot
+budget; learned against equal pilot energies; the two decoders with template banks) are paired
+tests on the per-frame predictions sems_eval keeps beside these CSVs (<csv stem>_predictions.npz,
+exp7_truth.npz): a two-level bootstrap over training seeds and test frames and Holm's correction
+over each family, which every table names (apps/figures/claims.py, paired_stats.py). A table
+whose kept file is missing names it and the command that writes it.
 """
 import argparse
 import csv
@@ -23,6 +30,7 @@ from collections import OrderedDict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_results as pr  # noqa: E402  (one set of styles, statistics and table helpers)
+import claims  # noqa: E402  (the paired tables)
 
 plt = pr.plt
 np = pr.np
@@ -127,30 +135,36 @@ def budget_figure(rows, out, snrs=(0.0, 10.0, 30.0)):
     return save(fig, out, "exp7_pilot_budget.png")
 
 
-def budget_claim(rows):
-    """Markdown: at each N_p and SNR, SemS against the best hand pattern (pr.learned_vs_hand)."""
-    out = []
-    for n in sorted({int(pr.fnum(r["n_pilots"])) for r in rows}):
-        claim = pr.learned_vs_hand([r for r in rows if int(pr.fnum(r["n_pilots"])) == n], "kinematic")
-        if claim:
-            out += ["#### N_p = %d" % n, "", claim, ""]
-    return out
+def by_budget(tables, text, note=""):
+    """Markdown: the text, then one "#### N_p = n" section per table of {N_p: table}; or the note
+    of a missing kept file ({None: note})."""
+    if None in tables:
+        return [tables[None], ""]
+    out = [text, ""] if text else []
+    for n, t in tables.items():
+        out += ["#### N_p = %d" % n, "", t, ""]
+    return out + ([note, ""] if note else [])
 
 
-def bank_tables(bank):
+def bank_tables(bank, paired):
     """Markdown: per N_p of the bank part, both decoders' accuracy and the learned mask against
-    the Doppler pattern when each decoder keeps its training frames."""
+    the Doppler pattern when each decoder keeps its training frames (paired)."""
     out = ["### Experiment 7: with template banks, the learned mask against the Doppler pattern", ""]
+    tables = paired["bank"]
+    if None in tables:
+        out += [tables[None], ""]
+    elif paired.get("bank_text"):
+        out += [paired["bank_text"], ""]
     for n in sorted({int(pr.fnum(r["n_pilots"])) for r in bank}):
         rs = [r for r in bank if int(pr.fnum(r["n_pilots"])) == n]
         out += ["#### N_p = %d" % n, "", pr.pivot(rs, "method", "accuracy"), ""]
-        claim = pr.learned_vs_hand(rs, "kinematic", learned=BANK_LEARNED, rivals={BANK_DOPPLER})
-        if claim:
-            out += [claim, ""]
+        if tables.get(n):
+            out += [tables[n], ""]
     return out
 
 
-def tables(rows, conf, budget, bank=()):
+def tables(rows, conf, budget, bank=(), paired=None):
+    """The markdown tables; paired: claims.exp7_tables() of the results folder."""
     n = pr.n_seeds(rows)
     out = []
     if n > 1:
@@ -158,9 +172,10 @@ def tables(rows, conf, budget, bank=()):
                 "frames; methods without training: single values." % n, ""]
     out += ["### Experiment 7: accuracy", "", pr.pivot(rows, "method", "accuracy"), "",
             "### Experiment 7: macro-F1", "", pr.pivot(rows, "method", "macro_f1"), ""]
-    claim = pr.learned_vs_hand(rows, "kinematic")
-    if claim:
-        out += ["### Experiment 7: the learned mask against the best hand pattern", "", claim, ""]
+    hand = paired["hand"]
+    out += ["### Experiment 7: the learned mask against the best hand pattern", ""]
+    out += [paired["hand_text"], "", hand[32], ""] if hand.get(32) else [
+        hand.get(None) or "*No paired test at N_p = 32 in the kept predictions.*", ""]
     if conf:
         snr = pr.fnum(conf[0]["snr_db"])
         classes = list(OrderedDict.fromkeys(r["true_class"] for r in conf))
@@ -183,17 +198,12 @@ def tables(rows, conf, budget, bank=()):
             rs.sort(key=lambda r: (r["method"].split(", N_p")[0], int(pr.fnum(r["n_pilots"]))))
             out += ["#### %g dB" % snr, "", pr.pivot(rs, "method", "accuracy"), ""]
         out += ["### Experiment 7: the learned mask against the best hand pattern by pilot budget", ""]
-        out += budget_claim(budget)
-        energies = [r for r in budget if r["method"] == ENERGIES]
-        if energies:
+        out += by_budget(hand, paired.get("hand_text"), paired.get("hand_note", ""))
+        if any(r["method"] == ENERGIES for r in budget):
             out += ["### Experiment 7: learned pilot energies against equal energies (the same learner)", ""]
-            for n in sorted({int(pr.fnum(r["n_pilots"])) for r in energies}):
-                claim = pr.learned_vs_hand([r for r in budget if int(pr.fnum(r["n_pilots"])) == n], "kinematic",
-                                           learned=ENERGIES, rivals={"SemS"})
-                if claim:
-                    out += ["#### N_p = %d" % n, "", claim, ""]
+            out += by_budget(paired["energies"], paired.get("energies_text"))
     if bank:
-        out += bank_tables(bank)
+        out += bank_tables(bank, paired)
     return "\n".join(out)
 
 
@@ -202,7 +212,12 @@ def main(argv):
     ap.add_argument("results", help="directory with experiment 7's CSVs")
     ap.add_argument("--out", help="where to write the PNGs (default: the results directory)")
     ap.add_argument("--tables", help="also write the tables as markdown to this file")
+    ap.add_argument("--bootstrap", type=int, default=claims.BOOTSTRAP,
+                    help="bootstrap resamples of the paired tables (default %d)" % claims.BOOTSTRAP)
     a = ap.parse_args(argv)
+    if a.bootstrap < 100:
+        print("plot_kinematic: --bootstrap must be >= 100, got %d" % a.bootstrap, file=sys.stderr)
+        return 2
     rows = pr.read_csv(os.path.join(a.results, "exp7_kinematic.csv"))
     if not rows:
         print("plot_kinematic: no exp7_kinematic.csv in %s" % a.results, file=sys.stderr)
@@ -225,8 +240,12 @@ def main(argv):
     for p in made:
         print("wrote", p)
     if a.tables:
+        paired = claims.exp7_tables(a.results, a.bootstrap)
+        for part in ("hand", "energies", "bank"):
+            if None in paired[part]:
+                print("plot_kinematic: %s" % paired[part][None], file=sys.stderr)
         with open(a.tables, "w") as f:
-            f.write(tables(rows, conf, budget, bank))
+            f.write(tables(rows, conf, budget, bank, paired))
         print("wrote", a.tables)
     return 0
 

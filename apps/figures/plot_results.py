@@ -11,7 +11,9 @@ separate run, e.g. `docs/results/classifier_bayes.py --csv`) are added to their 
 Learned methods trained with several seeds (the train_seed column, `sems_eval --seeds`) are
 drawn as the mean over the seeds with min–max bars, and tabulated as mean ± half-range;
 rows with train_seed "none" (no training) and CSVs without the column (one seed) are drawn
-as single lines. The t-SNE of
+as single lines. The tables' comparison of the learned mask with the best hand pattern
+(experiment 1) is a paired test on the per-frame predictions sems_eval keeps beside the CSVs
+(apps/figures/claims.py, which also writes claims.md; apps/figures/paired_stats.py). The t-SNE of
 experiment 2 is an exact t-SNE in numpy (perplexity 30, early exaggeration), so no
 scikit-learn is needed.
 """
@@ -28,6 +30,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.text  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import claims  # noqa: E402  (the paired tests on the kept predictions)
 
 CLASS_COLOURS = {"pedestrian": "tab:blue", "car": "tab:orange", "drone": "tab:green"}
 
@@ -497,57 +502,10 @@ def pivot(rows, row_key, value, fmt="%.3f"):
     return "\n".join(lines)
 
 
-def learned_vs_hand(rows, scenario, learned="SemS", rivals=None):
-    """Markdown: the learned mask (SemS) against the best hand pattern with the same decoder,
-    per SNR: means over training seeds and whether SemS >= best - 2 standard errors. With
-    `learned` and `rivals` (method names), another method against the best of those.
-
-    The standard error of a method's mean is the seeds' standard deviation over sqrt(seeds),
-    floored by the binomial error of that mean on the method's own test frames
-    (sqrt(p(1-p)/(frames·seeds)); a bound's rows beside them, e.g. the Bayes classifier's 30 000
-    frames, do not count); the difference's error adds the two in quadrature (the test frames
-    are the same, so this is conservative)."""
-    rs = [r for r in rows if r["scenario"] == scenario]
-    hands = sorted({r["method"] for r in rs if r["method"].startswith("SemS decoder (")} if rivals is None
-                   else {r["method"] for r in rs if r["method"] in rivals})
-    if not hands or not any(r["method"] == learned for r in rs):
-        return None
-
-    def stats(method, snr):
-        own = [r for r in rs if r["method"] == method and fnum(r["snr_db"]) == snr]
-        if not own:
-            return None
-        v = [fnum(r["accuracy"]) for r in own]
-        n, m = len(v), sum(v) / len(v)
-        sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1)) if n > 1 else 0.0
-        frames = min(int(fnum(r["n_frames"])) for r in own)
-        se = max(sd / math.sqrt(n), math.sqrt(max(m * (1 - m), 1e-12) / (frames * n)))
-        return m, se, n
-
-    head = ("| SNR (dB) | SemS (learned) | best hand pattern | difference ± 2 SE | ahead by > 2 SE | SemS ≥ best − 2 SE |"
-            if rivals is None else
-            "| SNR (dB) | %s | %s%s | difference ± 2 SE | ahead by > 2 SE | ≥ %s − 2 SE |" % (
-                learned, "best of " if len(hands) > 1 else "", ", ".join(sorted(hands)),
-                "best" if len(hands) > 1 else "rival"))
-    lines = [head, "|---|---|---|---|---|---|"]
-    for snr in sorted({fnum(r["snr_db"]) for r in rs}):
-        sems = stats(learned, snr)
-        measured = [(h,) + stats(h, snr) for h in hands if stats(h, snr)]
-        if sems is None or not measured:  # a point only other rows have (e.g. a bound's)
-            continue
-        best = max(measured, key=lambda t: t[1])
-        diff, two_se = sems[0] - best[1], 2 * math.sqrt(sems[1] ** 2 + best[2] ** 2)
-        # Which rival was best, where there is a choice.
-        which = " (%s)" % (best[0][len("SemS decoder ("):-len(" pilots)")] if best[0].startswith("SemS decoder (")
-                           else best[0]) if len(hands) > 1 else ""
-        lines.append("| %g | %.3f | %.3f%s | %+.3f ± %.3f | %s | %s |" % (
-            snr, sems[0], best[1], which, diff, two_se, "**yes**" if diff > two_se else "no",
-            "yes" if diff >= -two_se else "**no**"))
-    return "\n".join(lines)
-
-
-def tables(d):
-    """All result tables as markdown (what docs/RESULTS.md quotes)."""
+def tables(d, boots=claims.BOOTSTRAP, seed=claims.SEED):
+    """All result tables as markdown (what docs/RESULTS.md quotes). The learned mask against the
+    best hand pattern is a paired test on the kept predictions (apps/figures/claims.py); without
+    them its section names the missing file and the command that writes it."""
     out = []
     n = max((n_seeds(read_csv(os.path.join(d, f)) or []) for f in (
         "exp1_recognition.csv", "exp3_conditions.csv", "exp4_delay.csv", "exp5_pilot_budget.csv")), default=0)
@@ -556,14 +514,18 @@ def tables(d):
                 "frames; methods without training: single values." % n, ""]
     e1 = read_csv(os.path.join(d, "exp1_recognition.csv"))
     if e1:
+        paired = None
         for s in OrderedDict.fromkeys(r["scenario"] for r in e1):  # default, then the "any" heading scene
             rs = [r for r in e1 if r["scenario"] == s]
             out += ["### Experiment 1 (%s): accuracy" % s, "", pivot(rs, "method", "accuracy"), "",
                     "### Experiment 1 (%s): macro-F1" % s, "", pivot(rs, "method", "macro_f1"), ""]
-            claim = learned_vs_hand(e1, s)
-            if claim:
+            if any(r["method"] == "SemS" for r in rs) and any(claims.hand_pattern(r["method"]) for r in rs):
+                if paired is None:  # one family over both scenes
+                    paired = claims.learned_vs_hand_exp1(d, boots, seed)
+                    if None in paired:
+                        print("plot_results: %s" % paired[None], file=sys.stderr)
                 out += ["### Experiment 1 (%s): the learned mask against the best hand pattern" % s, "",
-                        claim, ""]
+                        paired.get(s) or paired.get(None) or "*No paired test: no kept series of this scene.*", ""]
     e3 = read_csv(os.path.join(d, "exp3_conditions.csv"))
     if e3:
         for s in ("no_md", "clutter"):
@@ -612,7 +574,12 @@ def main(argv):
     ap.add_argument("--out", help="where to write the PNGs (default: the results directory)")
     ap.add_argument("--tsne-iter", type=int, default=500, help="t-SNE iterations")
     ap.add_argument("--tables", help="also write the result tables as markdown to this file")
+    ap.add_argument("--bootstrap", type=int, default=claims.BOOTSTRAP,
+                    help="bootstrap resamples of the paired tables (default %d)" % claims.BOOTSTRAP)
     a = ap.parse_args(argv)
+    if a.bootstrap < 100:
+        print("plot_results: --bootstrap must be >= 100, got %d" % a.bootstrap, file=sys.stderr)
+        return 2
     if not os.path.isdir(a.results):
         print("plot_results: %s is not a directory" % a.results, file=sys.stderr)
         return 1
@@ -627,7 +594,7 @@ def main(argv):
         print("wrote", p)
     if a.tables:
         with open(a.tables, "w") as f:
-            f.write(tables(a.results))
+            f.write(tables(a.results, a.bootstrap))
         print("wrote", a.tables)
     return 0
 

@@ -16,10 +16,11 @@ test track) and exp8_truth.csv (the test tracks' classes and lengths), written b
                                  its accuracy over the longest time, the paired comparisons of
                                  SemS-track with each reference, and the adult/child pair.
 
-Paired statistics: for two methods on the same test tracks, a track's difference is its
-correctness under one minus under the other, averaged over the training seeds both share; the
-mean difference's standard error comes from a bootstrap over test tracks, and its two-sided
-p-value from the difference over that standard error (normal approximation).
+Paired statistics (apps/figures/paired_stats.py, shared with the other experiments' tables):
+for two methods on the same test tracks, a track's difference is its correctness under one minus
+under the other, averaged over the training seeds both share; the mean difference's standard
+error comes from a bootstrap over test tracks, and its two-sided p-value from the difference
+over that standard error (normal approximation).
 Every comparison that covers several SNRs and observation times is one family, and its p-values
 get Holm's correction: a cell is "better" or "worse" only if it survives at level 0.05.
 """
@@ -27,9 +28,14 @@ import argparse
 import csv
 import math
 import os
+import sys
 from collections import defaultdict
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paired_stats  # noqa: E402  (Holm, the bootstrap and the verdicts of every experiment's tables)
+from paired_stats import ALPHA, holm  # noqa: E402,F401  (holm: this module's name for it, as before)
 
 import matplotlib
 
@@ -38,25 +44,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 SEMS = "SemS-track"
 FRAME_MS = None  # set from the CSV's frame (N symbols x T): see main()
-ALPHA = 0.05
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def read_csv(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
-
-
-def holm(pvalues):
-    """Holm-adjusted p-values (same order)."""
-    order = sorted(range(len(pvalues)), key=lambda i: pvalues[i])
-    adjusted = [0.0] * len(pvalues)
-    running = 0.0
-    m = len(pvalues)
-    for rank, i in enumerate(order):
-        running = max(running, min(1.0, (m - rank) * pvalues[i]))
-        adjusted[i] = running
-    return adjusted
 
 
 class predictions:
@@ -91,20 +84,16 @@ class predictions:
         if not seeds:
             return None
         d = np.mean([ca.get(s, ca.get("none")) - cb.get(s, cb.get("none")) for s in seeds], axis=0)
-        n = len(d)
-        idx = rng.integers(0, n, size=(boots, n))
-        means = d[idx].mean(axis=1)
-        se = float(means.std(ddof=1))
-        diff = float(d.mean())
-        # Two-sided p of the mean difference against its bootstrap SE (normal approximation: the
-        # bootstrap's own tail fractions cannot resolve the small p-values Holm needs).
-        p = math.erfc(abs(diff) / se / math.sqrt(2.0)) if se > 0 else (1.0 if diff == 0 else 0.0)
-        return {"diff": diff, "se": se, "p": p, "tracks": n, "seeds": len(seeds)}
+        # The bootstrap over tracks of the seed-averaged differences; two-sided p of the mean
+        # difference against its SE (normal approximation: the bootstrap's own tail fractions
+        # cannot resolve the small p-values Holm needs).
+        r = paired_stats.one_level(d, rng, boots)
+        return {"diff": r["diff"], "se": r["se"], "p": r["p"], "tracks": r["n"], "seeds": len(seeds)}
 
 
 def verdict(r, adjusted):
     """'+' better, '−' worse, '=' no difference that survives the correction (adjusted p)."""
-    return "=" if adjusted >= ALPHA else ("+" if r["diff"] > 0 else "−")
+    return {"ahead": "+", "behind": "−", "tied": "="}[paired_stats.verdict(r["diff"], adjusted)]
 
 
 def mean_over_seeds(rows, key):

@@ -4,7 +4,7 @@
 # full` at the paper's budget, split over three processes of one LibTorch thread each so both
 # cores stay busy, then the shipped bundles' rows, one set of CSVs and the figures.
 #
-#   bash scripts/evaluation/eval_full.sh [--out DIR] [--results DIR] [--size full|test]
+#   bash scripts/evaluation/eval_full.sh [--out DIR] [--results DIR] [--size full|test] [--test-frames N]
 #
 # Processes (each its own output folder under DIR, default out/eval_full), balanced so that
 # they end together (the N_p sweep of experiment 5 is split over all three):
@@ -14,12 +14,17 @@
 #   full4b experiment 4 multipath, then experiment 5 at N_p 32 (experiment 4's network from the
 #          same cache), 64 and 128, 6
 # then `--only-shipped` for models/, docs/results/combine_runs.py and apps/figures/plot_results.py into
-# RESULTS (default docs/results). Prints the wall time of each part and of the whole run, also
-# into RESULTS/eval_full.log.
+# RESULTS (default docs/results), with the per-frame predictions of experiments 1, 3, 4 and 5 merged
+# over the parts (<csv stem>_predictions.npz, exp<N>_truth.npz; apps/figures/predictions.py), every
+# CSV score checked against them, and the paired tests of the claims (apps/figures/claims.py,
+# RESULTS/claims.md, with experiment 7's when its predictions are there). --test-frames N sets the
+# test frames per operating point of every part (the full size's 3000 otherwise; e.g. 30000).
+# Prints the wall time of each part and of the whole run, also into RESULTS/eval_full.log.
 # The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test
 # runs the same plumbing in a minute (numbers meaningless).
 set -euo pipefail
 script=eval_full.sh
+takes_test_frames=1
 out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_full"
 log=eval_full.log
 source "$(dirname "$0")/eval_parts.sh"
@@ -39,6 +44,24 @@ for p in "${pids[@]}"; do wait "$p" || failed=1; done
 run_part shipped --experiments 1,4 --only-shipped --shipped-classifier "$root/models/classifier" \
   --shipped-delay-single "$root/models/delay_single" --shipped-delay-multipath "$root/models/delay_multipath"
 /usr/bin/python3 "$root/docs/results/combine_runs.py" "$out" "$results"
+# The kept predictions, as combine_runs.py merges the CSVs: experiment 1 from full, 3 from full4,
+# 4 from full4 (single path) and full4b (multipath), 5 from all three; the shipped rows beside.
+kept exp1_recognition_predictions.npz full
+kept exp1_truth.npz full
+kept exp3_conditions_predictions.npz full4
+kept exp3_truth.npz full4
+kept exp4_delay_predictions.npz full4 full4b
+kept exp4_truth.npz full4 full4b
+kept exp5_pilot_budget_predictions.npz full full4 full4b
+kept exp5_truth.npz full full4 full4b
+for f in exp1_recognition exp4_delay; do
+  if [ -f "$out/shipped/${f}_predictions.npz" ]; then
+    /usr/bin/python3 "$root/apps/figures/predictions.py" merge "$results/shipped_${f}_predictions.npz" \
+      "$out/shipped/${f}_predictions.npz"
+  fi
+done
+/usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 1,3,4,5
 /usr/bin/python3 "$root/apps/figures/plot_results.py" "$results" --tables "$results/tables.md"
+/usr/bin/python3 "$root/apps/figures/claims.py" "$results"
 for f in "$out"/*.log; do cp "$f" "$results/eval_full_$(basename "$f")"; done
 stamp "whole run: $(( ($(date +%s) - start) / 60 )) min $(( ($(date +%s) - start) % 60 )) s"

@@ -4,7 +4,7 @@
 # kinematic class library, any heading), at the paper's budget, split over three processes of one
 # LibTorch thread each (two more, short, beside them), then its CSVs, figures and tables.
 #
-#   bash scripts/evaluation/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test]
+#   bash scripts/evaluation/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test] [--test-frames N]
 #
 # Processes (each its own output folder under DIR, default out/eval_kinematic):
 #   main    N_p = 32: SemS, the SemS decoder on the Doppler, uniform, random and staggered
@@ -15,12 +15,17 @@
 #   bank    SemS and the Doppler pattern's decoder, each with a template bank, at N_p = 16 and 64
 #   burst   the SemS decoder on the burst pattern at N_p = 8 and 16 (beside the budget part's patterns)
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
-# re-evaluates, and a stopped run resumes. The results (exp7_*.csv, exp7_*.png and
-# kinematic_tables.md) go to RESULTS (default docs/results), the run's record to
+# re-evaluates, and a stopped run resumes. The results (exp7_*.csv, the per-frame predictions
+# exp7_*_predictions.npz and exp7_truth.npz, exp7_*.png, kinematic_tables.md with its paired tests,
+# and claims.md with experiments 1-5's where their predictions are there) go to RESULTS (default
+# docs/results), the run's record to
 # RESULTS/eval_kinematic.log and the parts' logs to RESULTS/eval_kinematic_<part>.log. The programs are $SEMS_EVAL (default build/apps/sems_eval) and
 # /usr/bin/python3. --size test runs the same plumbing in a minute (numbers meaningless).
+# --test-frames N sets the test frames per operating point of every part (the full size's 3000
+# otherwise; e.g. 30000 for tighter paired tests).
 set -euo pipefail
 script=eval_kinematic.sh
+takes_test_frames=1
 out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_kinematic"
 log=eval_kinematic.log
 source "$(dirname "$0")/eval_parts.sh"
@@ -38,5 +43,14 @@ for p in "${pids[@]}"; do wait "$p" || status=1; done
 cp "$out/main/exp7_kinematic.csv" "$out/main/exp7_confusion.csv" "$out/budget/exp7_pilot_budget.csv" \
    "$out/power/exp7_pilot_power.csv" "$out/bank/exp7_bank.csv" "$out/burst/exp7_burst.csv" "$results/"
 for p in main budget power bank burst; do cp "$out/$p.log" "$results/eval_kinematic_$p.log"; done
+# Each part's predictions beside its CSV; the truth is the same test frames in every part.
+kept exp7_kinematic_predictions.npz main
+kept exp7_pilot_budget_predictions.npz budget
+kept exp7_pilot_power_predictions.npz power
+kept exp7_bank_predictions.npz bank
+kept exp7_burst_predictions.npz burst
+kept exp7_truth.npz main budget power bank burst
+/usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 7
 /usr/bin/python3 "$root/apps/figures/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
+/usr/bin/python3 "$root/apps/figures/claims.py" "$results"
 stamp "done in $(( $(date +%s) - start )) s"

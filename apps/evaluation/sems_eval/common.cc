@@ -121,6 +121,14 @@ scene delay_scene(int paths)
     return scene::random(r);
 }
 
+std::vector<std::string> class_names(const scene& sc)
+{
+    std::vector<std::string> out;
+    for (int k = 0; k < sc.library().size(); ++k)
+        out.push_back(sc.library().at(k).name);
+    return out;
+}
+
 class_score score(const std::vector<int>& predicted, const std::vector<int>& truth, int n_classes)
 {
     class_score s;

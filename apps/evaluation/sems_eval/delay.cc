@@ -11,6 +11,7 @@
  * path's mean power in multipath) and, in multipath, the CRB of the direct path with all
  * paths unknown, evaluated on every test frame's true paths. */
 #include "eval.h"
+#include "predictions.h"
 #include <gnuradio/sems/baselines/ls_delay_estimator.h>
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
@@ -34,20 +35,32 @@ struct errors {
     double mae = 0, rmse = 0, median = 0, gross = 0; // gross: fraction with |error| > 0.5 index
 };
 
-errors delay_errors(const std::vector<double>& est, const test_set& ts)
+// Each frame's error, estimate minus the true delay index, rounded once to float32: what the
+// kept predictions hold (<csv stem>_predictions.npz) and what every score below is computed
+// from, so the CSV's scores are exactly those of the kept errors.
+std::vector<float> index_errors(const std::vector<double>& est, const test_set& ts)
+{
+    std::vector<float> out(ts.count);
+    for (int f = 0; f < ts.count; ++f)
+        out[f] = static_cast<float>(est[f] - ts.truth[f].delay_index);
+    return out;
+}
+
+errors delay_errors(const std::vector<float>& err)
 {
     errors e;
     std::vector<double> a;
-    for (int f = 0; f < ts.count; ++f) {
-        const double d = est[f] - ts.truth[f].delay_index;
+    const size_t count = err.size();
+    for (float ef : err) {
+        const double d = ef;
         a.push_back(std::abs(d));
         e.mae += std::abs(d);
         e.rmse += d * d;
         e.gross += std::abs(d) > 0.5 ? 1.0 : 0.0;
     }
-    e.gross /= ts.count;
-    e.mae /= ts.count;
-    e.rmse = std::sqrt(e.rmse / ts.count);
+    e.gross /= count;
+    e.mae /= count;
+    e.rmse = std::sqrt(e.rmse / count);
     std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
     e.median = a[a.size() / 2];
     return e;
@@ -132,6 +145,9 @@ void run_delay(const config& c, std::ostream& log)
                  { "experiment", "scenario", "method", "mask", "n_pilots", "snr_db", "mae_index", "rmse_index",
                    "median_abs_error_index", "frac_error_over_half_index", "crb_mae_index", "n_frames", "seed",
                    "train_seed", "us_per_frame", "train_seconds", "model" });
+    // Every method's per-frame errors beside the CSV (the bounds have none), and the truth.
+    kept_predictions kept(predictions_path(c.out_dir, "exp4_delay"), "4", kept_predictions::kind::delay_index);
+    truth_file truth(c.out_dir + "/exp4_truth.npz", "4");
     const int np = 32;
     for (const auto& scenario : std::vector<std::pair<std::string, int>>{ { "single", 1 },
                                                                          { "multipath", c.multipath_paths } }) {
@@ -143,10 +159,14 @@ void run_delay(const config& c, std::ostream& log)
         const test_set ts = make_test_set(c.fs, delay_scene(paths), c.test_frames, test_seed);
         log << "[" << now_utc() << "] exp 4 (" << scen << ", " << paths << " path(s)): " << ts.count
             << " test frames, seed " << test_seed << std::endl;
+        truth.add(scen, test_seed, ts.truth, class_names(delay_scene(paths)));
 
-        auto write = [&](const std::string& method, const std::string& mask, int p, double snr, const errors& e,
-                         double crb, double us, double train_s, const std::string& model,
-                         std::optional<uint64_t> train_seed) {
+        // Scores one method's errors at one SNR: the CSV row, the kept errors and the cost row.
+        auto write = [&](const std::string& method, const std::string& mask, int p, double snr,
+                         const std::vector<float>& err, double crb, double us, double train_s,
+                         const std::string& model, std::optional<uint64_t> train_seed) {
+            const errors e = delay_errors(err);
+            kept.add({ scen, method, mask, p, snr, train_seed, test_seed }, err);
             const std::string ts_label = train_seed_label(train_seed);
             csv.row({ "4", scen, method, mask, std::to_string(p), num(snr), num(e.mae), num(e.rmse), num(e.median),
                       num(e.gross), num(crb), std::to_string(ts.count), std::to_string(test_seed), ts_label,
@@ -216,9 +236,10 @@ void run_delay(const config& c, std::ostream& log)
                 double us = 0;
                 const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
                 write(method, src.bundle.mask.origin().value("kind", std::string("unknown")), dec.n_pilots(), snr,
-                      delay_errors(est, ts), crb_of(src.bundle.mask, snr), us, src.train_seconds, src.origin,
+                      index_errors(est, ts), crb_of(src.bundle.mask, snr), us, src.train_seconds, src.origin,
                       train_seed);
             }
+            kept.write(); // after each method: a stopped run keeps what it scored
         }
 
         if (c.only_shipped)
@@ -289,7 +310,7 @@ void run_delay(const config& c, std::ostream& log)
                 log << "  " << name << " not applicable: " << e.what() << std::endl;
             }
         }
-        for (const auto& m : methods)
+        for (const auto& m : methods) {
             for (double snr : c.delay_snrs) {
                 const auto obs = ts.observe(*m.mask, snr);
                 std::vector<double> est(ts.count);
@@ -297,9 +318,11 @@ void run_delay(const config& c, std::ostream& log)
                 for (int f = 0; f < ts.count; ++f)
                     est[f] = m.estimate(obs.data() + size_t(f) * np);
                 const double us = 1e6 * seconds_between(t0, std::chrono::steady_clock::now()) / ts.count;
-                write(m.method, m.mask_label, np, snr, delay_errors(est, ts), crb_of(*m.mask, snr), us, 0.0,
+                write(m.method, m.mask_label, np, snr, index_errors(est, ts), crb_of(*m.mask, snr), us, 0.0,
                       "classical", m.train_seed);
             }
+            kept.write();
+        }
         // The bounds: the single-path closed form (at the direct path's mean power) for the
         // random pattern, the one-symbol pattern and the SemS pilots; in multipath also the
         // direct path's bound with every path unknown, on each test frame's true paths
@@ -362,16 +385,22 @@ void run_pilot_budget(const config& c, std::ostream& log)
     const uint64_t test_seed = c.seed + 304; // experiment 4's multipath frames
     const test_set ts = make_test_set(c.fs, delay_scene(c.multipath_paths), c.test_frames, test_seed);
     log << "[" << now_utc() << "] exp 5: N_p sweep on " << ts.count << " multipath frames" << std::endl;
+    kept_predictions kept(predictions_path(c.out_dir, "exp5_pilot_budget"), "5", kept_predictions::kind::delay_index);
+    truth_file(c.out_dir + "/exp5_truth.npz", "5")
+        .add(scen, test_seed, ts.truth, class_names(delay_scene(c.multipath_paths)));
     // Seeds outermost: a stopped run still has every N_p for its first seeds.
     for (uint64_t seed : training_seeds(c)) {
         for (int np : c.np_sweep) {
             const auto src =
                 train_or_load(c, model_name(scen, np, seed), delay_training(c, scen, c.multipath_paths, np, seed), log);
             const bundle_decoder dec(src.bundle, c.threads);
+            const std::string mask = src.bundle.mask.origin().value("kind", std::string("unknown"));
             for (double snr : c.delay_snrs) {
                 double us = 0;
                 const auto est = run_bundle(dec, ts.observe(src.bundle.mask, snr), ts.count, us);
-                const auto e = delay_errors(est, ts);
+                const auto err = index_errors(est, ts);
+                const auto e = delay_errors(err);
+                kept.add({ scen, "SemS", mask, np, snr, seed, test_seed }, err);
                 double crb = std::nan("");
                 try {
                     crb = delay_crb::mae_index(c.fs, src.bundle.mask, snr, false, true);
@@ -380,13 +409,13 @@ void run_pilot_budget(const config& c, std::ostream& log)
                 csv.row({ "5", scen, "SemS", std::to_string(np), num(snr), num(e.mae), num(e.rmse), num(e.median),
                           num(crb), std::to_string(ts.count), std::to_string(test_seed), std::to_string(seed),
                           num(us, 4), num(src.train_seconds, 4), src.origin });
-                cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np),
-                                        src.bundle.mask.origin().value("kind", std::string("unknown")), test_seed,
+                cost_rows().push_back({ "5", scen, "SemS N_p=" + std::to_string(np), mask, test_seed,
                                         std::to_string(seed), np, snr, "mae_index", e.mae, us, ts.count,
                                         src.train_seconds });
                 log << "  N_p " << np << " [train seed " << seed << "] snr " << num(snr) << ": MAE " << num(e.mae, 4)
                     << std::endl;
             }
+            kept.write();
         }
     }
 }

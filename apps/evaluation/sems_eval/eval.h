@@ -117,6 +117,8 @@ std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, 
 // default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)
 scene recognition_scene(const std::string& scenario, const config& c);
 scene delay_scene(int paths);
+// The class names of a scene's library, by class id.
+std::vector<std::string> class_names(const scene& sc);
 
 // Accuracy and macro-F1 (unweighted mean of per-class F1 over the classes present).
 struct class_score {

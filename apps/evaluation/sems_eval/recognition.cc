@@ -4,6 +4,7 @@
  * with strong clutter; targets of moving scatterers from a kinematic class library, with the
  * confusion matrices and the pilot budget sweep). */
 #include "eval.h"
+#include "predictions.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/baselines/feature_svm.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 
 namespace sems_eval {
@@ -183,13 +185,15 @@ std::vector<dl_method> learned_methods(const config& c, const std::string& scen,
 }
 
 // One scenario's test frames and outputs: every method is scored on these frames and written
-// to csv (and, where given, its confusion matrix at the confusion SNR).
+// to csv, its per-frame class ids to kept (and, where given, its confusion matrix at the
+// confusion SNR).
 struct scenario_run {
     std::string experiment, scenario;
     const scene& sc;
     const test_set& ts;
     uint64_t test_seed;
     csv_file& csv;
+    kept_predictions& kept;
     csv_file* confusion = nullptr;
 };
 
@@ -201,13 +205,14 @@ public:
     {
     }
 
-    // Scores predictions at one SNR and writes the CSV row, the cost row and, at the
-    // confusion SNR, the confusion matrix.
+    // Scores predictions at one SNR and writes the CSV row, the kept class ids, the cost row
+    // and, at the confusion SNR, the confusion matrix.
     void write(const std::string& method, const std::string& mask, int pilots, double snr,
                const std::vector<int>& pred, double us, double train_s, const std::string& model,
                std::optional<uint64_t> train_seed)
     {
         const class_score s = score(pred, d_truth, d_n_classes);
+        d_run.kept.add({ d_run.scenario, method, mask, pilots, snr, train_seed, d_run.test_seed }, pred, d_n_classes);
         const std::string ts_label = train_seed_label(train_seed);
         d_run.csv.row({ d_run.experiment, d_run.scenario, method, mask, std::to_string(pilots), num(snr),
                         num(s.accuracy), num(s.macro_f1), std::to_string(d_run.ts.count),
@@ -243,6 +248,7 @@ public:
             const auto pred = classify_all(dec, obs, d_run.ts.count, ids, us);
             for (double snr : d_c.snrs) // the input does not depend on the test SNR
                 write(m.method, m.mask_label, p, snr, pred, us, src.train_seconds, src.origin, train_seed);
+            d_run.kept.write();
             return;
         }
         for (double snr : d_c.snrs) {
@@ -251,6 +257,7 @@ public:
             const auto pred = classify_all(dec, obs, d_run.ts.count, ids, us); // sets us before it is written
             write(m.method, m.mask_label, p, snr, pred, us, src.train_seconds, src.origin, train_seed);
         }
+        d_run.kept.write(); // after each method: a stopped run keeps what it scored
     }
 
     // Feature SVMs: Doppler-spectrum moments from uniform and Doppler-oriented pilots, trained
@@ -291,6 +298,7 @@ public:
                 write(method, pattern, np, snr, pred, us, train_s,
                       "libsvm RBF " + std::to_string(svm.n_support_vectors()) + " SV", seed);
             }
+            d_run.kept.write();
         }
     }
 
@@ -324,7 +332,11 @@ void run_kinematic_part(const config& c, std::ostream& log, const std::string& w
     const uint64_t test_seed = c.seed + 101;
     const test_set ts = scenario_test_set(c, "kinematic", sc, test_seed, log, "7 (" + what + ")");
     csv_file csv(c.out_dir + "/" + csv_name, header);
-    const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, nullptr };
+    // Every part keeps its class ids beside its CSV, and the same test frames' truth.
+    kept_predictions kept(predictions_path(c.out_dir, csv_name.substr(0, csv_name.size() - 4)), "7",
+                          kept_predictions::kind::class_id);
+    truth_file(c.out_dir + "/exp7_truth.npz", "7").add("kinematic", test_seed, ts.truth, class_names(sc));
+    const scenario_run run{ "7", "kinematic", sc, ts, test_seed, csv, kept, nullptr };
     scorer sc_run(c, run, log);
     const std::string full_mask = write_mask(c, full_grid_mask(c.fs), "full_grid");
     for (int np : budgets)
@@ -411,15 +423,26 @@ void run_recognition(const config& c, std::ostream& log)
     }
     if (c.experiments.count(7) && c.exp7_parts.count("main"))
         scenarios.push_back("kinematic");
-    std::unique_ptr<csv_file> csv1, csv3, csv7, confusion7;
-    if (c.experiments.count(1))
-        csv1 = std::make_unique<csv_file>(c.out_dir + "/exp1_recognition.csv", header);
-    if (c.experiments.count(3))
-        csv3 = std::make_unique<csv_file>(c.out_dir + "/exp3_conditions.csv", header);
-    if (c.experiments.count(7) && c.exp7_parts.count("main")) {
-        csv7 = std::make_unique<csv_file>(c.out_dir + "/exp7_kinematic.csv", header);
-        confusion7 = std::make_unique<csv_file>(c.out_dir + "/exp7_confusion.csv", confusion_header);
+    // Per experiment: its CSV, its kept class ids (<csv stem>_predictions.npz) and its test
+    // frames' truth (exp<N>_truth.npz).
+    struct outputs {
+        std::unique_ptr<csv_file> csv;
+        std::unique_ptr<kept_predictions> kept;
+        std::unique_ptr<truth_file> truth;
+    };
+    std::map<std::string, outputs> out;
+    for (const auto& [exp, stem] : { std::pair<std::string, std::string>{ "1", "exp1_recognition" },
+                                     { "3", "exp3_conditions" }, { "7", "exp7_kinematic" } }) {
+        if (!c.experiments.count(std::stoi(exp)) || (exp == "7" && !c.exp7_parts.count("main")))
+            continue;
+        out[exp] = { std::make_unique<csv_file>(c.out_dir + "/" + stem + ".csv", header),
+                     std::make_unique<kept_predictions>(predictions_path(c.out_dir, stem), exp,
+                                                        kept_predictions::kind::class_id),
+                     std::make_unique<truth_file>(c.out_dir + "/exp" + exp + "_truth.npz", exp) };
     }
+    std::unique_ptr<csv_file> confusion7;
+    if (out.count("7"))
+        confusion7 = std::make_unique<csv_file>(c.out_dir + "/exp7_confusion.csv", confusion_header);
     const int np = 32;
     const std::string full_mask = scenarios.empty() ? "" : write_mask(c, full_grid_mask(c.fs), "full_grid");
 
@@ -430,8 +453,9 @@ void run_recognition(const config& c, std::ostream& log)
         // The same test frames for every method and every training seed.
         const uint64_t test_seed = c.seed + 101;
         const test_set ts = scenario_test_set(c, scen, sc, test_seed, log, exp);
-        const scenario_run run{ exp, scen, sc, ts, test_seed, exp1 ? *csv1 : exp7 ? *csv7 : *csv3,
-                                exp7 ? confusion7.get() : nullptr };
+        outputs& o = out.at(exp);
+        o.truth->add(scen, test_seed, ts.truth, class_names(sc));
+        const scenario_run run{ exp, scen, sc, ts, test_seed, *o.csv, *o.kept, exp7 ? confusion7.get() : nullptr };
         scorer sc_run(c, run, log);
 
         // Seeds outermost: a stopped run still has every method for its first seeds.

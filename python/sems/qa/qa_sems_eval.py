@@ -1,22 +1,32 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """End-to-end: sems_eval --size test --seeds 2 writes the seven experiments' CSVs (every learned
-method once per training seed, on the same test frames), and plot_results.py and
-plot_kinematic.py draw one PNG per experiment and the tables from them; bad options fail
-clearly."""
+method once per training seed, on the same test frames) and, beside those of experiments 1, 3, 4,
+5 and 7, every method's per-frame predictions and the test frames' truth, from which every
+score is recomputed exactly; plot_results.py and plot_kinematic.py draw one PNG per experiment
+and the tables from them, with paired tests on the kept predictions, and claims.py the claims
+page; the paired statistics (apps/figures/paired_stats.py) against closed forms; bad options
+fail clearly.
+
+CTest runs it with the staged package and the build and source folders in the environment;
+by hand: SEMS_BUILD_DIR=build PYTHONPATH=build/python_pkg /usr/bin/python3 python/sems/qa/qa_sems_eval.py
+(the build folder defaults to <source>/build)."""
 import csv
 import json
+import math
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
 
+import numpy as np
 from gnuradio import gr_unittest
 
-BUILD = os.environ.get("SEMS_BUILD_DIR", "")
-SOURCE = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+SOURCE = os.environ.get("SEMS_SOURCE_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
+BUILD = os.environ.get("SEMS_BUILD_DIR", os.path.join(SOURCE, "build"))
 EVAL = os.path.join(BUILD, "apps", "sems_eval")
+FIGURES = os.path.join(SOURCE, "apps", "figures")
 PLOT = os.path.join(SOURCE, "apps", "figures", "plot_results.py")
 
 CSVS = {
@@ -38,6 +48,11 @@ CSVS = {
     "exp7_burst.csv": ["method", "mask", "n_pilots", "snr_db", "accuracy", "n_frames", "seed", "train_seed"],
 }
 PLOT7 = os.path.join(SOURCE, "apps", "figures", "plot_kinematic.py")
+CLAIMS = os.path.join(FIGURES, "claims.py")
+KEPT = os.path.join(FIGURES, "predictions.py")
+# The CSVs of each experiment with kept predictions (<stem>_predictions.npz; exp<N>_truth.npz).
+KEPT_STEMS = {"1": ["exp1_recognition"], "3": ["exp3_conditions"], "4": ["exp4_delay"], "5": ["exp5_pilot_budget"],
+              "7": ["exp7_kinematic", "exp7_pilot_budget", "exp7_pilot_power", "exp7_bank", "exp7_burst"]}
 KINEMATIC = ["adult", "bicyclist", "car", "child", "hexacopter", "quadcopter"]
 SEED = 2026  # sems_eval's default --seed: the training seeds are SEED and SEED + 1
 TRAIN_SEEDS = {str(SEED), str(SEED + 1)}
@@ -46,6 +61,100 @@ TRAIN_SEEDS = {str(SEED), str(SEED + 1)}
 def rows(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def read_kept(path):
+    """A kept-predictions file read as docs/reference/file_formats.md describes it, with numpy
+    alone (not through apps/figures/predictions.py): (info, series, values), values one row per
+    series (class ids, -1 = none; or float32 delay errors); the packed rows' padding is checked."""
+    with np.load(path, allow_pickle=False) as z:
+        info, series, raw = z["info"][0], z["series"], z["values"]
+    n, b = int(info["n_frames"]), int(info["bits"])
+    if str(info["quantity"]) == "class_id":
+        assert raw.dtype == np.uint8 and raw.shape == (len(series), (n * b + 7) // 8), (raw.dtype, raw.shape)
+        bits = np.unpackbits(raw, axis=1)
+        assert not bits[:, n * b:].any(), "padding bits must be zero"
+        values = (bits[:, :n * b].reshape(len(series), n, b) * (1 << np.arange(b - 1, -1, -1))).sum(axis=2) - 1
+    else:
+        assert raw.dtype == np.float32 and raw.shape == (len(series), n), (raw.dtype, raw.shape)
+        values = raw
+    return info, series, values
+
+
+def series_rows(series):
+    """Kept series as CSV-like rows (the CSVs' spelling of SNR and training seed)."""
+    return [{"scenario": str(s["scenario"]), "method": str(s["method"]), "mask": str(s["mask"]),
+             "n_pilots": str(int(s["n_pilots"])), "snr_db": "%g" % s["snr_db"],
+             "train_seed": str(int(s["train_seed"])) if s["train_seed"] >= 0 else "none"} for s in series]
+
+
+def csv6(v):
+    """A float as sems_eval writes it (6 significant digits, inf and nan spelled out)."""
+    return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf") if math.isinf(v) else "%.6g" % v
+
+
+def recognition_scores(pred, truth, n_classes):
+    """Accuracy and macro-F1 with sems_eval's operations in its order (common.cc, score())."""
+    tp, fp, fn = [0.0] * n_classes, [0.0] * n_classes, [0.0] * n_classes
+    correct = 0
+    for p, t in zip(pred, truth):
+        if p == t:
+            correct += 1
+            tp[t] += 1
+        else:
+            if 0 <= p < n_classes:
+                fp[p] += 1
+            fn[t] += 1
+    f1, present = 0.0, 0
+    for k in range(n_classes):
+        if tp[k] + fn[k] > 0:
+            present += 1
+            d = 2 * tp[k] + fp[k] + fn[k]
+            f1 += 2 * tp[k] / d if d > 0 else 0.0
+    return correct / len(truth), f1 / present if present else 0.0
+
+
+def delay_scores(err):
+    """MAE, RMSE, median absolute error and fraction above half an index, summed in frame order
+    as sems_eval does (delay.cc, delay_errors())."""
+    mae = rmse = gross = 0.0
+    a = []
+    for e in (float(x) for x in err):
+        a.append(abs(e))
+        mae += abs(e)
+        rmse += e * e
+        gross += 1.0 if abs(e) > 0.5 else 0.0
+    return {"mae_index": mae / len(a), "rmse_index": math.sqrt(rmse / len(a)),
+            "median_abs_error_index": sorted(a)[len(a) // 2], "frac_error_over_half_index": gross / len(a)}
+
+
+def write_kept(path, experiment, scenario, test_seed, series, n_classes):
+    """A kept class-id file in the documented format, from {(method, mask, n_pilots, snr, seed):
+    ids} (for synthetic results)."""
+    n = len(next(iter(series.values())))
+    b = max(1, int(math.ceil(math.log2(n_classes + 1))))
+    keys = list(series)
+    rec = np.array([(scenario, m, mk, np_, snr, seed, test_seed) for m, mk, np_, snr, seed in keys],
+                   dtype=[("scenario", "<U16"), ("method", "<U64"), ("mask", "<U32"), ("n_pilots", "<i4"),
+                          ("snr_db", "<f8"), ("train_seed", "<i8"), ("test_seed", "<u8")])
+    bits = np.array([[(v + 1) >> (b - 1 - k) & 1 for v in series[key] for k in range(b)] for key in keys],
+                    dtype=np.uint8)
+    info = np.array([("sems_eval kept predictions", 1, experiment, "class_id", b, n)],
+                    dtype=[("format", "<U32"), ("version", "<i4"), ("experiment", "<U2"), ("quantity", "<U20"),
+                           ("bits", "<i4"), ("n_frames", "<i4")])
+    np.savez(path, info=info, series=rec, values=np.packbits(bits, axis=1))
+
+
+def write_truth(path, experiment, scenario, test_seed, labels, classes):
+    info = np.array([("sems_eval kept predictions", 1, experiment, "truth")],
+                    dtype=[("format", "<U32"), ("version", "<i4"), ("experiment", "<U2"), ("quantity", "<U8")])
+    scen = np.array([(scenario, test_seed, len(labels))], dtype=[("scenario", "<U16"), ("test_seed", "<u8"),
+                                                                 ("n_frames", "<i4")])
+    frames = np.array([(i, c, 10.0, 50.0, 1.0) for i, c in enumerate(labels)],
+                      dtype=[("frame", "<i8"), ("class_id", "<i2"), ("delay_index", "<f8"), ("range_m", "<f8"),
+                             ("velocity_mps", "<f8")])
+    names = np.array(list(enumerate(classes)), dtype=[("class_id", "<i4"), ("name", "<U16")])
+    np.savez(path, info=info, scenarios=scen, **{"frames_" + scenario: frames, "classes_" + scenario: names})
 
 
 class qa_sems_eval(gr_unittest.TestCase):
@@ -169,6 +278,158 @@ class qa_sems_eval(gr_unittest.TestCase):
                          "exp6_cost"):
                 p = os.path.join(png, name + ".png")
                 self.assertTrue(os.path.exists(p) and os.path.getsize(p) > 1000, name)
+            # The learned mask against the best hand pattern: paired on the kept predictions, one
+            # family over both scenes and the 3 SNRs.
+            self.assertEqual(md.count('family "experiment 1: the learned mask against the best hand pattern, every '
+                                      'scene and SNR": 6 tests, Holm'), 2, md)
+            self.check_kept(out, want)
+            self.check_claims(out)
+
+    def check_kept(self, out, want):
+        """The kept predictions of experiments 1, 3, 4, 5 and 7: one series per CSV row but the
+        bounds' (every method, pilot budget, SNR and training seed) and no other; every score
+        of the CSVs recomputed exactly from them and the truth; experiment 7's confusion matrix
+        recounted; `predictions.py check` agrees, and fails on a changed prediction."""
+        seen = 0
+        for exp, stems in KEPT_STEMS.items():
+            with np.load(os.path.join(out, "exp%s_truth.npz" % exp), allow_pickle=False) as z:
+                self.assertEqual((str(z["info"]["experiment"][0]), str(z["info"]["quantity"][0])), (exp, "truth"))
+                scen = {str(r["scenario"]): (str(r["test_seed"]), int(r["n_frames"])) for r in z["scenarios"]}
+                frames = {s: z["frames_" + s] for s in scen}
+                classes = {s: [str(c) for c in z["classes_" + s]["name"]] for s in scen}
+            for s, f in frames.items():
+                self.assertEqual(list(f["frame"]), list(range(24)), (exp, s))
+                self.assertTrue(((f["class_id"] >= 0) & (f["class_id"] < len(classes[s]))).all(), (exp, s))
+            for stem in stems:
+                table = [r for r in rows(os.path.join(out, stem + ".csv")) if not r["method"].startswith("CRB")]
+                info, series, values = read_kept(os.path.join(out, stem + "_predictions.npz"))
+                self.assertEqual((str(info["format"]), int(info["version"]), str(info["experiment"]),
+                                  int(info["n_frames"])), ("sems_eval kept predictions", 1, exp, 24), stem)
+                self.assertEqual(int(info["bits"]), {"4": 0, "5": 0, "7": 3}.get(exp, 2), stem)  # 3 or 6 classes
+                kept = series_rows(series)
+                key = lambda r: (r["scenario"], r["method"], r.get("mask", ""), r["n_pilots"], r["snr_db"],  # noqa
+                                 r["train_seed"])
+                if exp == "5":  # its CSV has no mask column: one mask per N_p
+                    self.assertEqual({r["mask"] for r in kept}, {"learned"})
+                    kept_keys = [key(dict(r, mask="")) for r in kept]
+                else:
+                    kept_keys = [key(r) for r in kept]
+                self.assertEqual(len(set(kept_keys)), len(kept_keys), "%s: a series twice" % stem)
+                self.assertEqual(sorted(kept_keys), sorted(key(r) for r in table),
+                                 "%s: the kept series are not the CSV's rows" % stem)
+                for s in series:  # every series on its scenario's test frames
+                    self.assertEqual((str(s["test_seed"]), 24), scen[str(s["scenario"])], stem)
+                at = dict(zip(kept_keys, range(len(kept_keys))))
+                for r in table:
+                    self.assertEqual(r["seed"], scen[r["scenario"]][0], stem)
+                    v = values[at[key(r)]]
+                    if exp in ("4", "5"):
+                        got = delay_scores(v)
+                    else:
+                        acc, f1 = recognition_scores([int(x) for x in v], [int(x) for x in frames[r["scenario"]]
+                                                                           ["class_id"]], len(classes[r["scenario"]]))
+                        got = {"accuracy": acc, "macro_f1": f1}
+                    self.assertIn("mae_index" if exp in ("4", "5") else "accuracy", r)
+                    for col, value in got.items():
+                        if col in r:  # experiment 5's CSV has no gross-error column
+                            self.assertEqual(csv6(value), r[col], (stem, key(r), col))
+                    seen += 1
+                # Every method at every SNR and training seed (classical and shipped ones: none).
+                if exp in ("1", "3"):
+                    for s in scen:
+                        ms = want[s] if exp == "1" else sorted({r["method"] for r in table if r["scenario"] == s})
+                        self.assert_per_seed([r for r in kept if r["scenario"] == s], ms, TRAIN_SEEDS)
+                        self.assertEqual({r["snr_db"] for r in kept if r["scenario"] == s}, {"-10", "10", "30"})
+                elif exp in ("4", "5"):
+                    trained = [r for r in kept if r["train_seed"] != "none"]
+                    self.assert_per_seed(trained, ["SemS"], TRAIN_SEEDS, key=("method", "scenario", "mask", "n_pilots"))
+                    if exp == "4":
+                        for s in ("single", "multipath"):
+                            fixed = {r["method"] for r in kept if r["scenario"] == s and r["train_seed"] == "none"}
+                            self.assertTrue({"OMP", "Periodogram", "UP-MUSIC", "RP-MUSIC", "OP-MUSIC"} <= fixed, s)
+                else:
+                    self.assert_per_seed(kept, sorted({r["method"] for r in table}), TRAIN_SEEDS,
+                                         key=("method", "n_pilots"))
+                # A noiseless method's predictions do not depend on the test SNR.
+                for seed in TRAIN_SEEDS:
+                    pc = [values[i] for i, r in enumerate(kept) if r["method"] == "Perfect CSI (noiseless)"
+                          and r["train_seed"] == seed and r["scenario"] == kept[0]["scenario"]]
+                    self.assertTrue(all((p == pc[0]).all() for p in pc), (stem, seed))
+        self.assertGreater(seen, 300)
+        # Experiment 7's confusion matrices (10 dB) recounted from the kept class ids.
+        info, series, values = read_kept(os.path.join(out, "exp7_kinematic_predictions.npz"))
+        with np.load(os.path.join(out, "exp7_truth.npz")) as z:
+            truth, names = z["frames_kinematic"]["class_id"], [str(n) for n in z["classes_kinematic"]["name"]]
+        counts = {}
+        for r, v in zip(series_rows(series), values):
+            if r["snr_db"] == "10":
+                for t, p in zip(truth, v):
+                    k = (r["method"], r["train_seed"], names[t], names[p])
+                    counts[k] = counts.get(k, 0) + 1
+        for r in rows(os.path.join(out, "exp7_confusion.csv")):
+            self.assertEqual(int(r["count"]), counts.get((r["method"], r["train_seed"], r["true_class"],
+                                                          r["predicted_class"]), 0), r)
+        # predictions.py check agrees with all of it, and fails when one prediction changes.
+        r = subprocess.run(["/usr/bin/python3", KEPT, "check", out], capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr + r.stdout)
+        self.assertIn("%d CSV rows recomputed from the kept predictions, 0 differ" % seen, r.stdout)
+        changed = os.path.join(out, "changed")
+        os.makedirs(changed)
+        for f in ("exp7_kinematic.csv", "exp7_truth.npz"):
+            shutil.copy(os.path.join(out, f), changed)
+        ids = values.copy()
+        f = int(np.flatnonzero(ids[0] == truth)[0])  # a frame series 0 decides right
+        ids[0, f] = (truth[f] + 1) % len(names)
+        with np.load(os.path.join(out, "exp7_kinematic_predictions.npz")) as z:
+            arrays = {k: z[k] for k in z.files}
+        b = int(info["bits"])
+        bits = ((ids[:, :, None] + 1) >> np.arange(b - 1, -1, -1)) & 1
+        arrays["values"] = np.packbits(bits.reshape(len(ids), -1).astype(np.uint8), axis=1)
+        np.savez(os.path.join(changed, "exp7_kinematic_predictions.npz"), **arrays)
+        r = subprocess.run(["/usr/bin/python3", KEPT, "check", changed, "7"], capture_output=True, text=True,
+                           timeout=120)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        s0 = series[0]
+        self.assertIn("%r, accuracy: the CSV has" % ((str(s0["scenario"]), str(s0["method"]), str(s0["mask"]),
+                                                      int(s0["n_pilots"]), float(s0["snr_db"]),
+                                                      str(int(s0["train_seed"]))),), r.stderr)
+
+    def check_claims(self, out):
+        """claims.py on the test-size run: every claim tested, each family named with its size and
+        correction; the paired difference of a row is the CSVs' mean difference; a results folder
+        without one kept file gets the file and the command that writes it named."""
+        r = subprocess.run(["/usr/bin/python3", CLAIMS, out, "--bootstrap", "200"], capture_output=True, text=True,
+                           timeout=300)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "claims.md")) as f:
+            page = f.read()
+        self.assertNotIn("not tested", page)
+        for family, tests in (("SemS against MSE-DL", 6), ("SemS against the best feature SVM", 12),
+                              ("SemS against Perfect CSI", 6),
+                              ("experiment 7: the learned mask against the best hand pattern, every N_p and SNR", 6),
+                              ("multipath delay: SemS against the best classical estimator", 2),
+                              ("experiment 5: SemS at a pilot budget against the budget below it", 2)):
+            self.assertIn("\n### %s\n" % family, page)
+            self.assertIn('family "%s": %d tests, Holm\'s step-down correction over all of them at α = 0.05'
+                          % (family, tests), page)
+        e1 = rows(os.path.join(out, "exp1_recognition.csv"))
+        mean = lambda m: sum(float(x["accuracy"]) for x in e1 if x["method"] == m and x["scenario"] == "default"  # noqa
+                             and x["snr_db"] == "10") / 2
+        line = [l for l in page.splitlines() if l.startswith("| experiment 1, default: SemS | 10 |")
+                and "| MSE-DL |" in l][0]
+        self.assertIn("| %+.3f ± " % (mean("SemS") - mean("MSE-DL")), line)
+        bare = os.path.join(out, "without_exp4")
+        os.makedirs(bare)
+        for f in os.listdir(out):
+            if f.endswith((".csv", ".npz")) and f != "exp4_delay_predictions.npz":
+                shutil.copy(os.path.join(out, f), bare)
+        r = subprocess.run(["/usr/bin/python3", CLAIMS, bare, "--bootstrap", "100"], capture_output=True, text=True,
+                           timeout=300)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("%s is missing: `bash scripts/evaluation/eval_full.sh` writes it"
+                      % os.path.join(bare, "exp4_delay_predictions.npz"), r.stderr)
+        with open(os.path.join(bare, "claims.md")) as f:
+            self.assertIn("not tested: `exp4_delay_predictions.npz` missing", f.read())
 
     def check_experiment_7(self, out):
         """Experiment 7: every recognition method on the kinematic library, the staggered
@@ -248,6 +509,14 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertIn("| SemS decoder (burst pilots), N_p 8 |", md)
         self.assertIn("learned pilot energies against equal energies", md)
         self.assertIn("with template banks, the learned mask against the Doppler pattern", md)
+        # Paired on the kept predictions, each table naming its family: the learned mask against
+        # the best hand pattern at N_p 8 and 32 x 3 SNRs; the energies at 32; the banks at 8.
+        for family, tests in (("experiment 7: the learned mask against the best hand pattern, every N_p and SNR", 6),
+                              ("experiment 7: learned pilot energies against equal energies, every N_p and SNR", 3),
+                              ("experiment 7: with template banks, the learned mask against the Doppler pattern, "
+                               "every N_p and SNR", 3)):
+            self.assertIn('family "%s": %d tests, Holm' % (family, tests), md)
+        self.assertNotIn("not available", md)
 
     def assert_per_seed(self, rs, methods, seeds, key=("method",)):
         """rs hold every one of methods (the first key field), and each key has, at every SNR
@@ -268,7 +537,8 @@ class qa_sems_eval(gr_unittest.TestCase):
                               (["--exp8-super-frames", "1"], "--exp8-super-frames"),
                               (["--exp8-super-frame-start", "best"], "--exp8-super-frame-start"),
                               (["--exp7-parts", "all"], "--exp7-parts"), (["--exp7-np-sweep", "0"], "--exp7-np-sweep"),
-                               (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds")):
+                               (["--np-sweep", "0"], "--np-sweep"), (["--seeds", "0"], "--seeds"),
+                               (["--test-frames", "1"], "--test-frames"), (["--test-frames", "9999999"], "--test-frames")):
                 r = subprocess.run([EVAL, "--out", out] + args, capture_output=True, text=True, timeout=60)
                 self.assertNotEqual(r.returncode, 0)
                 self.assertIn(word, r.stderr)
@@ -278,31 +548,53 @@ class qa_sems_eval(gr_unittest.TestCase):
         r = subprocess.run(["/usr/bin/python3", PLOT, "/nonexistent/dir"], capture_output=True, text=True)
         self.assertNotEqual(r.returncode, 0)
 
-    def test_003_learned_vs_hand_errors_use_each_methods_own_frames(self):
-        """The 2-SE comparison of the learned mask with the best hand pattern: each mean's error
-        is floored by the binomial error on that method's own test frames (frames x seeds); a
-        bound's rows beside them on 10x the frames (the Bayes classifier's 30 000) must not
-        shrink it. Closed form here: two methods at p = 0.9 on 3 000 frames x 3 seeds with no
-        seed spread: 2 SE = 2 sqrt(2 p (1-p) / 9000) = 0.0089."""
-        sys.path.insert(0, os.path.dirname(PLOT))
-        import plot_results
-
-        def row(method, acc, seed, frames=3000):
-            return {"scenario": "any", "method": method, "snr_db": "10", "accuracy": str(acc),
-                    "n_frames": str(frames), "train_seed": str(seed)}
-
-        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.895), ("SemS decoder (doppler pilots)", 0.9))]
-        two_se = 2 * (2 * 0.9 * 0.1 / 9000) ** 0.5  # the floor dominates: no spread over seeds
-        for extra in ([], [row("Bayes classifier (bound)", 0.95, "none", frames=30000)]):
-            line = plot_results.learned_vs_hand(rs + extra, "any").splitlines()[-1]
-            self.assertIn("-0.005 ± %.3f" % two_se, line, line)  # well within: 0.0089 > 0.005
-            self.assertTrue(line.endswith("| no | yes |"), line)  # a tie: not ahead, not behind
-        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.88), ("SemS decoder (doppler pilots)", 0.9))]
-        line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
-        self.assertTrue(line.endswith("| no | **no** |"), line)  # 0.02 is beyond 2 SE
-        rs = [row(m, a, s) for s in (1, 2, 3) for m, a in (("SemS", 0.92), ("SemS decoder (doppler pilots)", 0.9))]
-        line = plot_results.learned_vs_hand(rs, "any").splitlines()[-1]
-        self.assertTrue(line.endswith("| **yes** | yes |"), line)  # ahead: 0.02 > 2 SE
+    def test_003_paired_tables_from_kept_predictions(self):
+        """Experiment 7's paired tables from synthetic kept predictions with known answers: one
+        seed, 400 frames; SemS right on 3 frames of 4, the Doppler pattern on 1 of 2 and the
+        staggered one on 1 of 4 (the best, Doppler, is the rival): difference 0.25, SE
+        sqrt(v/n) of the per-frame differences, ahead; learned energies identical to SemS:
+        difference 0, SE 0, p = 1, tied; the bank part's file missing: its table names the file
+        and the command that writes it."""
+        sys.path.insert(0, FIGURES)
+        import claims
+        n = 400
+        truth = [i % 2 for i in range(n)]
+        sems = [t if i % 4 else 1 - t for i, t in enumerate(truth)]
+        doppler = [t if i % 2 else 1 - t for i, t in enumerate(truth)]
+        staggered = [t if i % 4 == 0 else 1 - t for i, t in enumerate(truth)]
+        with tempfile.TemporaryDirectory() as d:
+            write_truth(os.path.join(d, "exp7_truth.npz"), "7", "kinematic", 2127, truth, ["adult", "child", "car"])
+            main = {("SemS", "learned (task)", 32, 10.0, 5, ): sems,
+                    ("SemS decoder (doppler pilots)", "doppler", 32, 10.0, 5): doppler,
+                    ("SemS decoder (staggered pilots)", "staggered", 32, 10.0, 5): staggered}
+            write_kept(os.path.join(d, "exp7_kinematic_predictions.npz"), "7", "kinematic", 2127, main, 3)
+            write_kept(os.path.join(d, "exp7_pilot_power_predictions.npz"), "7", "kinematic", 2127,
+                       {("SemS (learned energies)", "learned (task, energies)", 32, 10.0, 5): sems}, 3)
+            t = claims.exp7_tables(d, boots=4000, seed=3)
+            self.assertEqual(list(t["hand"]), [32])
+            row = t["hand"][32].splitlines()[-1]
+            d_frames = np.array([(i % 4 != 0) - (i % 2 != 0) for i in range(n)], dtype=float)
+            se = d_frames.std() / n ** 0.5  # the bootstrap SE of a mean over n frames, one seed
+            cells = [c.strip() for c in row.strip("|").split("|")]
+            self.assertEqual(cells[:3], ["10", "0.750", "0.500 (doppler)"], row)
+            diff, got_se = (float(x) for x in cells[3].split(" ± "))
+            self.assertEqual(diff, 0.25)
+            self.assertAlmostEqual(got_se, se, delta=0.05 * se)
+            self.assertEqual(cells[-1], "**ahead**", row)
+            self.assertIn('family "%s": 1 test, Holm' % claims.EXP7_HAND, t["hand_text"])
+            energies = t["energies"][32].splitlines()[-1]
+            self.assertEqual([c.strip() for c in energies.strip("|").split("|")][3:],
+                             ["+0.000 ± 0.000", "1", "1", "tied"], energies)
+            self.assertIn("exp7_bank_predictions.npz is missing: `bash scripts/evaluation/eval_kinematic.sh` writes it",
+                          t["bank"][None])
+            self.assertIn("--exp7-parts bank", t["bank"][None])
+            # A series on other test frames than the truth's is refused, naming both.
+            write_kept(os.path.join(d, "exp7_bank_predictions.npz"), "7", "kinematic", 99,
+                       {("SemS + template bank", "learned (task)", 8, 10.0, 5): sems}, 3)
+            with self.assertRaises(ValueError) as e:
+                claims.exp7_tables(d, boots=100)
+            self.assertIn("test seed 99", str(e.exception))
+            self.assertIn("test seed 2127", str(e.exception))
 
     def test_004_cache_reuses_only_networks_trained_with_the_same_settings(self):
         """A re-run reuses every cached network whose settings match, and retrains one whose
@@ -522,12 +814,19 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertIn("moved across the band", text)
 
     def test_007_holm_and_paired_bootstrap(self):
-        """plot_tracks.py's statistics against closed forms: Holm's step-down adjustment, and the
-        paired bootstrap's standard error of a mean difference of 0/1 correctness (sqrt(v/n))."""
-        sys.path.insert(0, os.path.join(SOURCE, "apps", "figures"))
-        import numpy as np
+        """The paired statistics (paired_stats.py, which plot_tracks.py uses) against closed
+        forms: Holm's step-down adjustment by hand; plot_tracks.py's bootstrap over tracks, SE
+        sqrt(v/n); the two-level bootstrap: one seed gives sqrt(v/n), identical methods a
+        difference of 0 with p = 1, and seed and frame effects the variance
+        var(seed)/S + var(frame)/n + var(interaction)/(S n); pairing, verdicts and families."""
+        sys.path.insert(0, FIGURES)
+        import paired_stats as ps
         import plot_tracks
-        self.assertEqual(plot_tracks.holm([0.01, 0.04, 0.03, 0.5]), [0.04, 0.09, 0.09, 0.5])
+        self.assertIs(plot_tracks.holm, ps.holm)
+        self.assertEqual(ps.holm([0.01, 0.04, 0.03, 0.5]), [0.04, 0.09, 0.09, 0.5])
+        # 0.001 * 3; then 0.2 * 2 = 0.4; then 0.3 * 1, raised to 0.4 (step-down monotone); capped at 1.
+        self.assertEqual([round(p, 12) for p in ps.holm([0.2, 0.3, 0.001])], [0.4, 0.4, 0.003])
+        self.assertEqual(ps.holm([0.6, 0.7]), [1.0, 1.0])
         n = 400
         truth = [{"class_id": str(i % 2), "frames": "4"} for i in range(n)]
         a = " ".join(str(i % 2) if i % 4 else str(1 - i % 2) for i in range(n))  # 3/4 right
@@ -539,6 +838,92 @@ class qa_sems_eval(gr_unittest.TestCase):
         self.assertAlmostEqual(res["diff"], 0.25, places=9)
         self.assertAlmostEqual(res["se"], d.std() / n ** 0.5, delta=0.1 * d.std() / n ** 0.5)
         self.assertLess(res["p"], 0.01)
+        # Two levels, one seed: the frames' SE, sqrt(v/n) (v the population variance).
+        ca = (np.arange(n) % 4 != 0).astype(float)  # per-frame correctness, a - b = d
+        cb = (np.arange(n) % 2 != 0).astype(float)
+        r = ps.two_level(ca[None], cb[None], np.random.default_rng(2), 4000)
+        self.assertEqual(r["diff"], 0.25)
+        self.assertAlmostEqual(r["se"], d.std() / n ** 0.5, delta=0.05 * d.std() / n ** 0.5)
+        self.assertAlmostEqual(r["p"], math.erfc(0.25 / r["se"] / 2 ** 0.5), places=12)
+        # Identical methods: no difference, no spread, p = 1, tied.
+        same = ps.two_level(np.tile(ca, (3, 1)), np.tile(ca, (3, 1)), np.random.default_rng(3), 500)
+        self.assertEqual((same["diff"], same["se"], same["p"]), (0.0, 0.0, 1.0))
+        self.assertEqual(ps.verdict(same["diff"], ps.holm([same["p"]])[0]), "tied")
+        # Seed and frame effects: the exact bootstrap variance of the mean difference.
+        rng = np.random.default_rng(4)
+        S, n = 4, 600
+        dd = rng.normal(0, 1, (S, n)) * 0.3 + rng.normal(0, 1, (S, 1)) * 0.05 + rng.normal(0, 1, (1, n)) * 0.5
+        mu = dd.mean()
+        alpha, beta = dd.mean(axis=1) - mu, dd.mean(axis=0) - mu
+        gamma = dd - mu - alpha[:, None] - beta[None, :]
+        exact = (alpha.var() / S + beta.var() / n + gamma.var() / (S * n)) ** 0.5
+        r = ps.two_level(dd, np.zeros((S, n)), np.random.default_rng(5), 4000)
+        self.assertAlmostEqual(r["diff"], mu, places=12)
+        self.assertAlmostEqual(r["se"], exact, delta=0.06 * exact)
+        # The seed level is in the SE: with these seeds' spread, a bootstrap over frames alone
+        # of the seed-averaged differences misses most of it.
+        frames_only = dd.mean(axis=0).std() / n ** 0.5
+        self.assertGreater(exact, 1.3 * frames_only)
+        # Seeds not shared: each method's resampled on its own (variance adds).
+        r = ps.two_level(dd[:2], -dd[2:], np.random.default_rng(6), 2000, paired_seeds=False)
+        self.assertAlmostEqual(r["diff"], dd[:2].mean() + dd[2:].mean(), places=12)
+        self.assertEqual(r["seeds"], (2, 2))
+        # Pairing: shared seeds row by row; a method without training pairs with every seed.
+        x, y, z = np.zeros(3), np.ones(3), np.full(3, 2.0)
+        a_, b_, paired = ps.align({"1": x, "2": y}, {None: z})
+        self.assertTrue(paired)
+        self.assertEqual((a_.tolist(), b_.tolist()), ([x.tolist(), y.tolist()], [z.tolist(), z.tolist()]))
+        a_, b_, paired = ps.align({"1": x, "2": y, "3": z}, {"2": z, "3": x})
+        self.assertEqual((a_.tolist(), b_.tolist(), paired), ([y.tolist(), z.tolist()], [z.tolist(), x.tolist()], True))
+        self.assertIsNone(ps.align({}, {"1": x}))
+        # Verdicts from the adjusted p, for accuracies and for errors (lower is better).
+        self.assertEqual([ps.verdict(0.1, 0.01), ps.verdict(-0.1, 0.01), ps.verdict(0.1, 0.05)],
+                         ["ahead", "behind", "tied"])
+        self.assertEqual([ps.verdict(-0.1, 0.01, lower_is_better=True), ps.verdict(0.1, 0.01, lower_is_better=True)],
+                         ["ahead", "behind"])
+        self.assertAlmostEqual(ps.normal_p(1.959963984540054, 1.0), 0.05, places=12)
+        # A family: Holm over its tests, each verdict from its adjusted p, the family named.
+        fam = ps.Family("test family")
+        for k, (diff, pv) in enumerate(((0.1, 0.01), (0.2, 0.04), (-0.3, 0.001))):
+            fam.add(k, {"diff": diff, "se": 1.0, "p": pv})
+        self.assertEqual([(k, round(adj, 12), v) for k, _, adj, v in fam.results()],
+                         [(0, 0.02, "ahead"), (1, 0.04, "ahead"), (2, 0.003, "behind")])
+        self.assertEqual(fam.describe(), 'family "test family": 3 tests, Holm\'s step-down correction over all of '
+                                         'them at α = 0.05')
+
+    def test_010_scripts_pass_the_test_frames(self):
+        """eval_kinematic.sh --test-frames 30: every part's CSVs and kept predictions on 30 test
+        frames per point, merged into the results with the truth, the scores checked, the paired
+        tables and the claims page written; a malformed count and a script without the option
+        are refused naming it."""
+        env = dict(os.environ, SEMS_EVAL=EVAL)
+        script = os.path.join(SOURCE, "scripts", "evaluation", "eval_kinematic.sh")
+        with tempfile.TemporaryDirectory() as d:
+            out, res = os.path.join(d, "out"), os.path.join(d, "results")
+            r = subprocess.run(["bash", script, "--size", "test", "--test-frames", "30", "--out", out,
+                                "--results", res], capture_output=True, text=True, timeout=900, env=env)
+            self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr)
+            for stem in KEPT_STEMS["7"]:
+                self.assertEqual({x["n_frames"] for x in rows(os.path.join(res, stem + ".csv"))}, {"30"}, stem)
+                info, series, values = read_kept(os.path.join(res, stem + "_predictions.npz"))
+                self.assertEqual((int(info["n_frames"]), values.shape[1]), (30, 30), stem)
+            self.assertIn("0 differ", r.stdout)
+            with open(os.path.join(res, "claims.md")) as f:
+                self.assertIn("### %s" % "experiment 7: the learned mask against the best hand pattern, every N_p "
+                              "and SNR", f.read())
+            with open(os.path.join(res, "kinematic_tables.md")) as f:
+                self.assertIn("Paired on the same 30 test frames", f.read())
+            for args, word in ((["--test-frames", "many"], "--test-frames"),):
+                r = subprocess.run(["bash", script, "--out", out, "--results", res] + args, capture_output=True,
+                                   text=True, timeout=60, env=env)
+                self.assertNotEqual(r.returncode, 0)
+                self.assertIn(word, r.stderr)
+            r = subprocess.run(["bash", os.path.join(SOURCE, "scripts", "evaluation", "eval_tracks.sh"), "--out", out,
+                                "--results", res, "--test-frames", "30"], capture_output=True, text=True, timeout=60,
+                               env=env)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("unknown option --test-frames", r.stderr)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)
