@@ -194,7 +194,13 @@ int main(int argc, char** argv)
         ("exp7-parts", po::value(&exp7_parts)->default_value(exp7_parts),
          "experiment 7: comma-separated subset of main (N_p 32, every method), budget (the N_p sweep), power (SemS with "
          "learned pilot energies), bank (SemS and the Doppler pattern's decoder, each with a template bank, at N_p 16 and 64), "
-         "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes")
+         "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes; "
+         "range (a shipped classifier against range under a link budget, only when named: --exp7-range-bundle, --exp7-range-scene)")
+        ("exp7-range-bundle", po::value(&c.exp7_range_bundle), "experiment 7's range part: the classifier bundle (its frame is used)")
+        ("exp7-range-scene", po::value(&c.exp7_range_scene), "experiment 7's range part: a scene with a link budget, of the bundle's class library")
+        ("exp7-range-frames", po::value(&c.exp7_range_frames), "experiment 7's range part: frames (default 10 x the test frames)")
+        ("exp7-range-snr", po::value(&c.exp7_range_margin_db)->default_value(c.exp7_range_margin_db),
+         "experiment 7's range part: the emulator's SNR setting in dB (0: the budget's thermal noise; +10: a floor 10 dB lower)")
         ("exp8-parts", po::value(&exp8_parts)->default_value(exp8_parts),
          "experiment 8: comma-separated subset of main (N_p 32, every method), budget (SemS-track against the track "
          "hand patterns at each --exp8-np-sweep budget), superframe (learned super-frame masks of --exp8-super-frames "
@@ -237,7 +243,7 @@ int main(int argc, char** argv)
         c.exp1_any_heading = !vm.count("no-any-heading");
         c.exp1_hand_patterns = !vm.count("no-hand-patterns");
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
-        c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst" }, "--exp7-parts");
+        c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst", "range" }, "--exp7-parts");
         c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
         if (vm.count("exp8-super-frame-start")) {
             c.exp8_super_frame_start = vm["exp8-super-frame-start"].as<std::string>();
@@ -347,6 +353,17 @@ int main(int argc, char** argv)
                 throw std::invalid_argument("--exp7-np-sweep: " + std::to_string(np) +
                                             " is outside [1, N*(M - guards) = " +
                                             std::to_string(c.fs.usable_elements()) + "]");
+        if (c.experiments.count(7) && c.exp7_parts.count("range")) {
+            if (c.exp7_range_bundle.empty() || c.exp7_range_scene.empty())
+                throw std::invalid_argument("--exp7-parts range needs --exp7-range-bundle (a classifier) and "
+                                            "--exp7-range-scene (a scene with a link budget)");
+            if (c.exp7_range_frames == 0)
+                c.exp7_range_frames = 10 * c.test_frames;
+            if (c.exp7_range_frames < 1)
+                throw std::invalid_argument("--exp7-range-frames must be >= 1, got " + std::to_string(c.exp7_range_frames));
+            if (!std::isfinite(c.exp7_range_margin_db))
+                throw std::invalid_argument("--exp7-range-snr must be a finite number of dB");
+        }
         // A shipped bundle is scored on this run's test frames: one of another frame is refused
         // here, before any training, naming the first field that differs and both values.
         for (const auto& [flag, dir] : { std::pair<std::string, std::string>{ "shipped-classifier", c.shipped_classifier },
@@ -383,6 +400,8 @@ int main(int argc, char** argv)
         for (int e : c.experiments)
             (e == 3 || e == 7 ? rest : first).experiments.insert(e);
         run_recognition(first, std::cout);
+        if (c.experiments.count(7) && c.exp7_parts.count("range"))
+            run_kinematic_range(c, std::cout); // a shipped classifier under a link budget: seconds
         write_cost(c, std::cout);
         run_delay(c, std::cout);
         write_cost(c, std::cout);

@@ -56,6 +56,10 @@ struct config {
                                                  // pattern, each with a template bank)
     std::vector<int> exp7_burst_np{ 8 };         // experiment 7: N_p of the burst pattern (below N: else the Doppler one)
     std::set<std::string> exp7_parts{ "main", "budget", "power", "bank", "burst" }; // one per process lets cores share a run
+                                                 // ("range" only when named)
+    std::string exp7_range_bundle, exp7_range_scene; // experiment 7, range part: a classifier and a link-budget scene
+    int exp7_range_frames = 0;                    // experiment 7, range part: frames (0: 10 x test_frames)
+    double exp7_range_margin_db = 0.0;            // experiment 7, range part: the emulator's SNR setting (0: the budget's noise)
     double confusion_snr_db = 10.0;               // experiment 7's confusion matrices
     int exp8_test_tracks = 12;                    // experiment 8: test tracks (every method, every SNR)
     int exp8_track_frames = 8;                    // experiment 8: K, frames of a track (test and training)
@@ -197,6 +201,7 @@ void run_delay(const config& c, std::ostream& log);         // 4
 void run_pilot_budget(const config& c, std::ostream& log);  // 5
 void write_cost(const config& c, std::ostream& log);        // 6
 void run_tracks(const config& c, std::ostream& log);        // 8
+void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 
 } // namespace sems_eval
 

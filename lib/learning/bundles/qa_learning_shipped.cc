@@ -3,9 +3,9 @@
  * classifier (learned mask) >= 95 % accuracy at 10 dB and >= 88 % at 0 dB (99 % at 10 dB is
  * the Bayes bound of its mask, so not asserted; models/README.md);
  * classifier_clutter (learned mask, CSR +10 dB clutter) >= 95 % at 20 dB nominal SNR;
- * classifier_kinematic (the kinematic class library, any heading) >= 57 % at 10 dB and
- * >= 74 % at 30 dB; classifier_sdr_2g4 (the same library on the 2.4 GHz / 20 MHz SDR frame
- * preset) >= 59 % at 10 dB and >= 76 % at 30 dB; classifier_monostatic (trained for the
+ * classifier_kinematic (the kinematic class library, any heading) >= 51 % at 10 dB and
+ * >= 67 % at 30 dB; classifier_sdr_2g4 (the same library on the 2.4 GHz / 20 MHz SDR frame
+ * preset) >= 52 % at 10 dB and >= 69 % at 30 dB; classifier_monostatic (trained for the
  * monostatic SDR radio) >= 99.4 % at 20 dB and >= 97.7 % at 10 dB through that radio;
  * single-path delay MAE <= 0.05 delay index and <= 1.5x the fading-averaged CRB of the
  * bundle's own mask at 30 dB; multipath delay (3 paths) at 30 dB: median |error|
@@ -127,7 +127,7 @@ public:
 
     // The kinematic library's classifier: six classes of moving scatterers, any heading. It
     // records its library, and on fresh frames of its own scene it holds what it reached in
-    // training (0.598 at 10 dB, 0.765 at 30 dB on 3 000 frames; models/README.md) within
+    // training (0.539 at 10 dB, 0.704 at 30 dB on 3 000 frames; models/README.md) within
     // three standard errors.
     void classifier_kinematic_bar()
     {
@@ -136,8 +136,8 @@ public:
         CPPUNIT_ASSERT(b.library && b.library->same_classes(*class_library::find("kinematic")));
         CPPUNIT_ASSERT_EQUAL(6, static_cast<int>(b.class_names.size()));
         const double a10 = accuracy(b, 10.0), a30 = accuracy(b, 30.0);
-        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.57", a10 >= 0.57);
-        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a30) + " at 30 dB < 0.74", a30 >= 0.74);
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.51", a10 >= 0.51);
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a30) + " at 30 dB < 0.67", a30 >= 0.67);
     }
 
     // The classifier trained for the monostatic SDR radio: it records that radio (the
@@ -158,7 +158,7 @@ public:
 
     // The SDR frame's classifier: the kinematic library on the 2.4 GHz / 20 MHz preset. It
     // carries that frame (guards included) with a mask off its guards, and on fresh frames it
-    // holds what it reached in training (0.620 at 10 dB, 0.788 at 30 dB on 3 000 frames;
+    // holds what it reached in training (0.548 at 10 dB, 0.715 at 30 dB on 3 000 frames;
     // models/README.md) within three standard errors.
     void classifier_sdr_bar()
     {
@@ -169,8 +169,8 @@ public:
         b.mask.check_frame(preset, "classifier_sdr_2g4");
         CPPUNIT_ASSERT(b.library && b.library->same_classes(*class_library::find("kinematic")));
         const double a10 = accuracy(b, 10.0), a30 = accuracy(b, 30.0);
-        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.59", a10 >= 0.59);
-        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a30) + " at 30 dB < 0.76", a30 >= 0.76);
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.52", a10 >= 0.52);
+        CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a30) + " at 30 dB < 0.69", a30 >= 0.69);
     }
 
     void classifier_clutter_bar()

@@ -924,6 +924,52 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("unknown option --test-frames", r.stderr)
 
+    def test_011_experiment_7_range_under_a_link_budget(self):
+        """The range part: every frame in a range bin of its class, each bin's mean SNR inside
+        the radar equation's values for the class's RCS interval and the bin's ranges (the
+        module's own link_budget, through the bindings), the plot and table written; bad input
+        refused by name."""
+        from gnuradio import sems
+        bundle = os.path.join(SOURCE, "models", "classifier_sdr_2g4")
+        scene = os.path.join(SOURCE, "models", "scenes", "kinematic_sdr_budget.json")
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--out", out, "--experiments", "7", "--exp7-parts", "range",
+                                "--exp7-range-bundle", bundle, "--exp7-range-scene", scene,
+                                "--exp7-range-frames", "600"], capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            with open(os.path.join(out, "exp7_range.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(sum(int(x["frames"]) for x in rows), 600)
+            sc = sems.scene.load(scene)
+            b = sc.budget()
+            fs = sems.frame_file.find("sdr_2g4_20mhz").frame
+            rcs = {c["name"]: c["rcs_dbsm"] for c in json.loads(sc.library().to_json())["classes"]}
+            for x in rows:
+                lo, hi = rcs[x["class"]]
+                r0, r1 = float(x["range_min_m"]), float(x["range_max_m"])
+                snr = float(x["mean_snr_db"])
+                self.assertGreaterEqual(snr, b.snr_db(fs, r1, lo) - 1e-3, x)
+                self.assertLessEqual(snr, b.snr_db(fs, r0, hi) + 1e-3, x)
+                n, acc = int(x["frames"]), float(x["accuracy"])
+                self.assertAlmostEqual(acc * n, round(acc * n), places=3)
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_range.py"), out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.getsize(os.path.join(out, "exp7_range.png")) > 1000)
+            with open(os.path.join(out, "range_table.md")) as f:
+                self.assertEqual(len([l for l in f if l.startswith("| ")]), 1 + len(set(x["class"] for x in rows)))
+            for args, word in ((["--exp7-range-scene", scene], "--exp7-range-bundle"),
+                               (["--exp7-range-bundle", bundle, "--exp7-range-scene",
+                                 os.path.join(SOURCE, "models", "scenes", "kinematic_any.json")], "link_budget"),
+                               (["--exp7-range-bundle", os.path.join(SOURCE, "models", "classifier"),
+                                 "--exp7-range-scene", scene], "class library"),
+                               (["--exp7-range-bundle", bundle, "--exp7-range-scene", scene,
+                                 "--exp7-range-frames", "-5"], "--exp7-range-frames")):
+                r = subprocess.run([EVAL, "--out", out, "--experiments", "7", "--exp7-parts", "range"] + args,
+                                   capture_output=True, text=True, timeout=120)
+                self.assertNotEqual(r.returncode, 0)
+                self.assertIn(word, r.stderr)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)
