@@ -62,7 +62,9 @@ public:
      *                         or "any" (speed·cos θ, θ uniform on [0, 2π)); see heading_kind
      * \param clutter_paths    random scenes: static clutter scatterers (0 = no clutter)
      * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
-     * \param snr_db           SNR per resource element, +inf = noiseless
+     * \param snr_db           SNR per resource element, +inf = noiseless; with a scene's link
+     *                         budget, the noise floor's shift from the budget's thermal noise
+     *                         (0 dB: the budget as stated; the truth's snr_db is then the target's)
      * \param seed             seed of the model's draws (scene/gains and noise)
      * \param n_symbols        N (frame_settings::n_symbols)
      * \param n_subcarriers    M, the vector length (frame_settings::n_subcarriers)

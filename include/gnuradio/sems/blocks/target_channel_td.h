@@ -57,7 +57,9 @@ public:
      * \param micro_doppler    random scenes: micro-Doppler for the classes that have it
      * \param clutter_paths    random scenes: static clutter scatterers (0 = no clutter)
      * \param clutter_csr_db   random scenes: clutter-to-signal ratio when clutter_paths > 0
-     * \param snr_db           SNR per resource element, +inf = noiseless
+     * \param snr_db           SNR per resource element, +inf = noiseless; with a scene's link
+     *                         budget, the noise floor's shift from the budget's thermal noise
+     *                         (0 dB: the budget as stated; the truth's snr_db is then the target's)
      * \param seed             seed of the model's draws (scene/gains and noise)
      * \param n_symbols        N, symbols per frame
      * \param n_subcarriers    M, subcarriers (FFT size)
