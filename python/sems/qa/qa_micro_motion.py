@@ -200,6 +200,33 @@ class qa_micro_motion(gr_unittest.TestCase):
             tb.run()  # a refused stream ends (it does not hang the flowgraph)
             self.assertEqual(sink.frames(), want_frames, library)
 
+    def test_008_link_budget_sets_the_truth_snr(self):
+        """A scene with a link budget through the channel block: the truth's snr_db is the radar
+        equation's SNR at the target's range and RCS plus the block's SNR setting."""
+        text = json.dumps({"format": "sems.scene", "version": 1, "fading": "none",
+                           "link_budget": {"tx_power_dbm": 10, "tx_gain_dbi": 10, "rx_gain_dbi": 10,
+                                           "noise_figure_db": 8, "system_loss_db": 3},
+                           "targets": [{"class": "car", "range_m": 40, "velocity_mps": 3, "rcs_dbsm": 10}]})
+        sc = sems.scene.parse(text)
+        fs = sems.frame_settings()
+        want = sc.budget().snr_db(fs, 40.0, 10.0)
+        lam, k_t0 = 3e8 / fs.carrier_hz, 1.380649e-23 * 290.0
+        closed = 10 * math.log10(1e-2 * 10 * 10 * lam ** 2 * 10 / ((4 * math.pi) ** 3 * 40.0 ** 4 * k_t0 *
+                                                                    10 ** 0.8 * fs.bandwidth_hz * 10 ** 0.3))
+        self.assertAlmostEqual(want, closed, places=9)
+        block = sems.target_channel(scene=text, snr_db=5.0, seed=SEED)
+        (_, d), = run_channel(block, fs.n_symbols, fs.n_subcarriers)
+        self.assertAlmostEqual(d[sems.keys.snr_db], want + 5.0, places=9)
+        # The same from Python objects: a target with an RCS and a budget set on the scene.
+        b = sems.link_budget()
+        b.tx_power_dbm, b.tx_gain_dbi, b.rx_gain_dbi, b.noise_figure_db, b.system_loss_db = 10, 10, 10, 8, 3
+        t = sems.target_spec(sems.class_from_name("car"), 40.0, 3.0, rcs_dbsm=10.0)
+        sc2 = sems.scene.fixed([t]).with_budget(b)
+        r = sems.channel_model(fs, sc2, SEED).draw(0)
+        self.assertAlmostEqual(r.truth["link_snr_db"], want, places=9)
+        with self.assertRaisesRegex(ValueError, "rcs_dbsm"):
+            sems.scene.fixed([sems.target_spec(sems.class_from_name("car"), 40.0, 3.0)]).with_budget(b)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_micro_motion)
