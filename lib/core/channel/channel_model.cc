@@ -6,6 +6,7 @@
 #include "core/kernels/rng.h"
 #include "core/channel/scatterer_moments.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <algorithm>
 #include <cmath>
@@ -39,6 +40,35 @@ void check_inside_frame(const frame_settings& fs, double range_m, double peak_do
         throw std::invalid_argument(what + ": peak Doppler " + std::to_string(peak_doppler) +
                                     " Hz exceeds the unambiguous ±" + std::to_string(fs.max_doppler_hz()) +
                                     " Hz of the frame (1/(2T))");
+}
+
+// With a link budget, the strongest target (nearest range, largest RCS) must stay within
+// limits::max_link_snr_db on this frame: a frame's values are single-precision floats.
+void check_budget_fits(const frame_settings& fs, const scene& sc)
+{
+    const auto& b = sc.budget();
+    if (!b)
+        return;
+    auto check = [&](double range_m, double rcs_dbsm, const std::string& what) {
+        const double snr = b->snr_db(fs, range_m, rcs_dbsm);
+        if (!(snr <= limits::max_link_snr_db))
+            throw std::invalid_argument(what + ": the link budget gives " + std::to_string(snr) + " dB at " +
+                                        std::to_string(range_m) + " m and " + std::to_string(rcs_dbsm) +
+                                        " dBsm on this frame, beyond the " + std::to_string(limits::max_link_snr_db) +
+                                        " dB a frame holds");
+    };
+    if (sc.is_random()) {
+        for (auto cls : sc.label_classes()) {
+            const auto& spec = sc.library().at(static_cast<int>(cls));
+            check(spec.range_min_m, spec.rcs_max_dbsm, "random scene, class " + spec.name);
+        }
+        return;
+    }
+    const auto& track = sc.track();
+    for (size_t i = 0; i < sc.targets().size(); ++i) {
+        const auto& t = sc.targets()[i];
+        check(track ? std::min(track->range_min_m, t.range_m) : t.range_m, t.rcs_dbsm, "scene target " + std::to_string(i));
+    }
 }
 
 // A target of a moving fixed scene at time t (the frame's first symbol): R(t) = R_0 − v t
@@ -468,6 +498,7 @@ channel_model::channel_model(const frame_settings& fs, const scene& sc, uint64_t
                                "scene target " + std::to_string(i));
         }
     }
+    check_budget_fits(d_fs, d_scene);
 }
 
 channel_model::~channel_model() = default;

@@ -189,6 +189,13 @@ public:
         qa::assert_error(with_budget(R"({"noise_temperature_k": 0})"), "link_budget.noise_temperature_k", "> 0");
         qa::assert_error(with_budget(R"({"tx_power_dbm": "high"})"), "link_budget.tx_power_dbm", "");
         qa::assert_error(with_budget(R"({"bandwidth_hz": 1e6})"), "link_budget.bandwidth_hz", "unknown key");
+        // A budget whose strongest target would not fit a frame of floats is refused by the model.
+        qa::assert_error([] {
+            channel_model(frame_settings{}, scene::parse(R"({"format": "sems.scene", "version": 1,
+                "link_budget": {"tx_power_dbm": 150, "tx_gain_dbi": 100, "rx_gain_dbi": 100},
+                "targets": [{"class": "car", "range_m": 1, "velocity_mps": 0, "rcs_dbsm": 100}]})"), 1);
+        },
+                         "scene target 0", "beyond the 300");
         // A random scene needs every class's RCS and ranges from 1 m: the paper's classes have
         // an RCS but start at 0 m.
         qa::assert_error([] { scene::random(random_spec{}).with_budget(link_budget{}); }, "class \"pedestrian\"", "as near as");

@@ -29,6 +29,9 @@ constexpr long long max_template_values = 1LL << 28; // its frames x pilots (2 G
 // weakest, and sums of up to 256 x 256 of them stay far from overflow (1e308 + 1e308 = inf
 // would zero every normalised power).
 constexpr double max_relative_power = 1e30;
+// A link budget's largest SNR per resource element (its nearest, strongest target): 300 dB keeps
+// a frame's values (single-precision floats) and their squares finite.
+constexpr double max_link_snr_db = 300.0;
 // Micro-motion (micro_motion.h): sizes of one target's scatterer model.
 constexpr int max_rotors = 16;              // rotors of a rotor target
 constexpr int max_blades = 16;              // blades per rotor
