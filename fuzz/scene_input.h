@@ -13,6 +13,7 @@
 #define INCLUDED_SEMS_FUZZ_SCENE_INPUT_H
 
 #include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <algorithm>
@@ -157,8 +158,24 @@ inline void check_realization(const frame_settings& fs, const scene& sc, const f
         if (p.delay_s == t.delay_s && p.doppler_hz == fs.doppler_from_velocity(t.velocity_mps))
             toi_path = true;
     }
-    if (!near(power, 1.0, 1e-9))
+    if (const auto& b = sc.budget()) {
+        // With a link budget the powers are SNRs from the radar equation: the target of
+        // interest's at its range, every one inside what a frame holds.
+        if (!(t.link_snr_db <= gr::sems::limits::max_link_snr_db))
+            fail("link budget: the target of interest's SNR %g dB, beyond %g dB", t.link_snr_db,
+                 gr::sems::limits::max_link_snr_db);
+        if (!(power <= (1.0 + (sc.clutter() ? std::pow(10.0, sc.clutter()->csr_db / 10.0) : 0.0)) *
+                           static_cast<double>(r.paths.size()) * std::pow(10.0, gr::sems::limits::max_link_snr_db / 10.0)))
+            fail("link budget: mean path powers sum to %g", power);
+        if (!sc.is_random()) {
+            const auto& toi = sc.targets().at(static_cast<size_t>(sc.target_of_interest()));
+            if (!near(t.link_snr_db, b->snr_db(fs, t.range_m, toi.rcs_dbsm), 1e-9))
+                fail("link budget: truth SNR %.17g dB, the radar equation's %.17g dB", t.link_snr_db,
+                     b->snr_db(fs, t.range_m, toi.rcs_dbsm));
+        }
+    } else if (!near(power, 1.0, 1e-9)) {
         fail("mean path powers sum to %.17g, not 1", power);
+    }
     if (!toi_path)
         fail("no path has the truth's delay %g s and Doppler", t.delay_s);
     if (t.delay_s != fs.delay_from_range(t.range_m) || t.delay_index != fs.delay_index(t.delay_s))
