@@ -17,6 +17,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <cmath>
 
 namespace py = pybind11;
 using namespace gr::sems;
@@ -34,7 +35,8 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::range_m] = t.range_m;
     d[keys::velocity_mps] = t.velocity_mps;
     d[keys::snr_db] = t.snr_db;
-    d["link_snr_db"] = t.link_snr_db;
+    if (!std::isnan(t.link_snr_db)) // a scene with a link budget: the radar equation's SNR (frame_truth::link_snr_db)
+        d["link_snr_db"] = t.link_snr_db;
     d[keys::n_paths] = t.n_paths;
     d[keys::micro_motion] = t.micro_motion;
     d[keys::track_id] = t.track_id;
