@@ -49,13 +49,15 @@ void check_budget_fits(const frame_settings& fs, const scene& sc)
     const auto& b = sc.budget();
     if (!b)
         return;
+    // Clutter has csr times the targets' power: it counts when stronger than them.
+    const double clutter_db = sc.clutter() ? std::max(0.0, sc.clutter()->csr_db) : 0.0;
     auto check = [&](double range_m, double rcs_dbsm, const std::string& what) {
-        const double snr = b->snr_db(fs, range_m, rcs_dbsm);
+        const double snr = b->snr_db(fs, range_m, rcs_dbsm) + clutter_db;
         if (!(snr <= limits::max_link_snr_db))
             throw std::invalid_argument(what + ": the link budget gives " + std::to_string(snr) + " dB at " +
                                         std::to_string(range_m) + " m and " + std::to_string(rcs_dbsm) +
-                                        " dBsm on this frame, beyond the " + std::to_string(limits::max_link_snr_db) +
-                                        " dB a frame holds");
+                                        " dBsm on this frame (clutter above it included), beyond the " +
+                                        std::to_string(limits::max_link_snr_db) + " dB a frame holds");
     };
     if (sc.is_random()) {
         for (auto cls : sc.label_classes()) {

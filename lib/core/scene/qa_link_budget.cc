@@ -196,6 +196,14 @@ public:
                 "targets": [{"class": "car", "range_m": 1, "velocity_mps": 0, "rcs_dbsm": 100}]})"), 1);
         },
                          "scene target 0", "beyond the 300");
+        const auto strong = [](const std::string& clutter) { // 260 dB of target, and 60 dB of clutter above it
+            return scene::parse(R"({"format": "sems.scene", "version": 1,
+                "link_budget": {"tx_power_dbm": 100, "tx_gain_dbi": 50, "rx_gain_dbi": 50}, )" + clutter + R"(
+                "targets": [{"class": "car", "range_m": 1, "velocity_mps": 0, "rcs_dbsm": 20}]})");
+        };
+        channel_model(frame_settings{}, strong(""), 1); // 260 dB alone fits
+        qa::assert_error([&] { channel_model(frame_settings{}, strong(R"("clutter": {"csr_db": 60, "ranges_m": [10]},)"), 1); },
+                         "scene target 0", "clutter above it included");
         // A random scene needs every class's RCS and ranges from 1 m: the paper's classes have
         // an RCS but start at 0 m.
         qa::assert_error([] { scene::random(random_spec{}).with_budget(link_budget{}); }, "class \"pedestrian\"", "as near as");
