@@ -20,6 +20,12 @@
 #include <string>
 #include <vector>
 
+namespace gr {
+namespace sems {
+class bundle_decoder; // gnuradio/sems/learning/bundles/bundle_decoder.h
+}
+} // namespace gr
+
 namespace sems_eval {
 
 using namespace gr::sems;
@@ -187,6 +193,10 @@ std::string train_seed_label(std::optional<uint64_t> train_seed);
 // <dir>/eval_key.json as written beside a cached bundle (the settings it was trained with and
 // its training time), or an empty object when it is missing or unreadable.
 nlohmann::json read_eval_key(const std::string& dir);
+// Runs a classifier on count x N_p observations in batches of 256 (after a warm-up, so
+// us_per_frame is the steady cost); returns the class ids (ids: the scene's id of each output).
+std::vector<int> classify_all(const bundle_decoder& dec, const std::vector<gr_complex>& obs, int count,
+                              const std::vector<int>& ids, double& us_per_frame);
 // Class ids (in the scene's library) of a classifier bundle's outputs; a bundle trained on
 // another class library is refused with the reason (model_bundle::check_library).
 std::vector<int> output_classes(const model_bundle& b, const scene& sc);

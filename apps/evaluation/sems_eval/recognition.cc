@@ -31,29 +31,6 @@ std::vector<int> truth_labels(const test_set& ts)
     return y;
 }
 
-// Runs the decoder on count x N_p observations in batches; returns class ids.
-std::vector<int> classify_all(const bundle_decoder& dec,
-                              const std::vector<gr_complex>& obs,
-                              int count,
-                              const std::vector<int>& ids,
-                              double& us_per_frame)
-{
-    const int np = dec.n_pilots(), c = static_cast<int>(ids.size());
-    std::vector<int> pred(count);
-    dec.classify(obs.data(), std::min(count, 32)); // warm-up: first-call allocations are not per-frame cost
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int f0 = 0; f0 < count; f0 += 256) {
-        const int b = std::min(256, count - f0);
-        const auto p = dec.classify(obs.data() + size_t(f0) * np, b);
-        for (int i = 0; i < b; ++i) {
-            const float* row = p.data() + size_t(i) * c;
-            pred[f0 + i] = ids[std::max_element(row, row + c) - row];
-        }
-    }
-    us_per_frame = 1e6 * seconds_between(t0, std::chrono::steady_clock::now()) / count;
-    return pred;
-}
-
 // The classical MTI on pilot observations (mask order): each subcarrier's observations minus
 // their mean over the symbols observed on it, per frame (what the networks' "mean" stage does).
 std::vector<gr_complex> remove_static(std::vector<gr_complex> obs, int count, const pilot_mask& mask)
