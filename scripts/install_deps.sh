@@ -16,7 +16,7 @@ packages=(
   # The OpenMP build shares LibTorch's OpenMP threads (no oversubscription between sinks).
   libopenblas0-openmp
   libcppunit-dev pybind11-dev python3-pybind11
-  nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev
+  nlohmann-json3-dev libboost-program-options-dev libeigen3-dev libsvm-dev zlib1g-dev
   python3-numpy python3-scipy python3-matplotlib python3-yaml python3-mako
   # The decoders' anchor: the same networks in PyTorch from Python (apps/benchmarks/torch_reference.py;
   # the tests torch_reference_matches and bench_quick).
