@@ -17,6 +17,8 @@ same() { # same A B FILE: byte-identical
 
 "$train" --task classify --frames 300 --epochs 2 --decoder-epochs 1 --batch 64 --threads 1 --seed 7 \
   --width 4 --hidden 16 --snr-min 0 --snr-max 20 --eval-snr 10 --quiet --out "$work/classify" > /dev/null
+grep -q '"measured_by": "sems_train test split"' "$work/classify/model_card.json" \
+  || fail "sems_train wrote no model card with its test split in $work/classify"
 "$train" --from "$work/classify" --out "$work/classify_again" --quiet > /dev/null
 same "$work/classify" "$work/classify_again" decoder.pt
 same "$work/classify" "$work/classify_again" mask.json

@@ -30,6 +30,10 @@
  *     exp8_predictions.csv   every method's decision on every test track (paired statistics);
  *     exp8_truth.csv         the test tracks' classes and lengths
  *   (experiment 8 runs only when asked: --experiments 8)
+ * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
+ *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
+ *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
+ *   (sems_eval/model_cards.cc); no experiment runs and --out is not needed.
  * Test frames: one channel_model seed per scene (scene/gain and noise generators are
  * separate), noise drawn once with unit variance and scaled, so every SNR point and
  * every method sees exactly the same frames. Decoders are trained with the project's
@@ -166,7 +170,7 @@ int main(int argc, char** argv)
     opts.add_options()
         ("help,h", "this help")
         ("size", po::value(&c.size)->default_value(c.size), "test (seconds, CI) | full (the documented run)")
-        ("out", po::value(&c.out_dir)->required(), "output directory (CSVs, masks, cached bundles)")
+        ("out", po::value(&c.out_dir), "output directory (CSVs, masks, cached bundles); required unless --model-card")
         ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..8 (8 only when named)")
         ("seed", po::value(&c.seed)->default_value(c.seed), "seed of the test frames and the first training seed")
         ("seeds", po::value<int>(), "override: training seeds per learned method (seed, seed + 1, ...; test 1, full 3)")
@@ -224,7 +228,23 @@ int main(int argc, char** argv)
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
         ("no-any-heading", "experiment 1: skip the \"any\" heading scene")
         ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)")
-        ("delay-scenarios", po::value(&delay_scenarios)->default_value(delay_scenarios), "experiment 4: comma-separated subset of single,multipath (to split a run over processes)");
+        ("delay-scenarios", po::value(&delay_scenarios)->default_value(delay_scenarios), "experiment 4: comma-separated subset of single,multipath (to split a run over processes)")
+        ("model-card", po::value(&c.model_cards)->multitoken(), "measure these bundles (directories or names) on a fixed test set and write "
+         "each one's model_card.json beside its bundle.json; only the --card-* options apply")
+        ("card-frames", po::value(&c.card_frames)->default_value(c.card_frames), "--model-card: test frames per SNR "
+         "(frames 0..n-1 of the bundle's training scene; with --card-seed 1 those scripts/demo.sh streams)")
+        ("card-tracks", po::value(&c.card_tracks)->default_value(c.card_tracks), "--model-card: test tracks of a track bundle")
+        ("card-track-frames", po::value(&c.card_track_frames)->default_value(c.card_track_frames),
+         "--model-card: frames of a test track (0: the track bundle's training length)")
+        ("card-snrs", po::value<std::string>()->default_value("0,10,20,30"), "--model-card: SNRs (dB), comma-separated")
+        ("card-seed", po::value(&c.card_seed)->default_value(c.card_seed), "--model-card: seed of the test frames "
+         "(a delay bundle's: this + 1, as the demo's delay channel)")
+        ("card-speed-frames", po::value(&c.card_speed_frames)->default_value(c.card_speed_frames),
+         "--model-card: frames per timing run of the decoder and of the anchor")
+        ("card-summary", po::value(&c.card_summary), "--model-card: the card's one-line summary (default: the card's own, "
+         "else one made from the bundle)")
+        ("card-cite-snr", po::value(&c.card_cite_snr_db), "--model-card: the SNR whose figure the card cites "
+         "(default: the card's own, else 10 dB)");
     // clang-format on
     frame_flags.add_to(opts);
     try {
@@ -235,6 +255,23 @@ int main(int argc, char** argv)
             return 0;
         }
         po::notify(vm);
+        std::ostringstream cmd;
+        for (int i = 0; i < argc; ++i)
+            cmd << (i ? " " : "") << argv[i];
+        c.command_line = cmd.str();
+        if (!c.model_cards.empty()) {
+            c.card_snrs = parse_list(vm["card-snrs"].as<std::string>());
+            for (double v : c.card_snrs)
+                if (!std::isfinite(v))
+                    throw std::invalid_argument("--card-snrs: " + num(v) + " is not a finite SNR in dB");
+            if (c.card_frames < 2 || c.card_tracks < 2 || c.card_track_frames < 0 || c.card_speed_frames < 1)
+                throw std::invalid_argument("--card-frames >= 2, --card-tracks >= 2, --card-track-frames >= 0, "
+                                            "--card-speed-frames >= 1");
+            run_model_cards(c, std::cout);
+            return 0;
+        }
+        if (c.out_dir.empty())
+            throw std::invalid_argument("--out is required (the output directory), unless --model-card");
         apply_size(c);
         const frame_file frame = frame_flags.resolve(vm);
         c.fs = frame.frame;
@@ -380,10 +417,6 @@ int main(int argc, char** argv)
                 b.frame.require_same(c.fs, "--" + flag + " " + dir, "the bundle's frame",
                                      "the run's frame (--frame and its overrides)");
             }
-        std::ostringstream cmd;
-        for (int i = 0; i < argc; ++i)
-            cmd << (i ? " " : "") << argv[i];
-        c.command_line = cmd.str();
         std::filesystem::create_directories(c.out_dir);
 
         std::cout << apps::describe(frame) << std::endl;

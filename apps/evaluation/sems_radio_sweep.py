@@ -306,7 +306,7 @@ def main():
                    help="classifier bundle trained for the radio (sems_train --radio), scored in the combined "
                    "and ideal rows too; \"\" for none")
     p.add_argument("--radio-delay", default="",
-                   help="delay bundle trained for the radio (default none: see models/README.md)")
+                   help="delay bundle trained for the radio (default none: see docs/results/notes/shipped_models.md)")
     p.add_argument("--radio", default="", help="radio file of the combined rows "
                    "(default: examples/radios/sdr_monostatic.json of the source tree)")
     p.add_argument("--quick", action="store_true", help="one point per part (checks the tool runs)")

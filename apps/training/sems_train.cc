@@ -17,12 +17,16 @@
  * docs/reference/distributed_training.md for several processes and machines.
  */
 #include "frame_options.h"
+#include "model_card_speed.h"
 #include <gnuradio/sems/core/radio/front_end.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sems/core/scene/target_class.h>
+#include <gnuradio/sems/learning/bundles/model_card.h>
 #include <gnuradio/sems/learning/temporal/track_trainer.h>
 #include <gnuradio/sems/learning/training/trainer.h>
+#include <algorithm>
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <iostream>
 #include <limits>
 #include <set>
@@ -63,6 +67,37 @@ std::string command_of(int argc, char** argv)
     for (int i = 1; i < argc; ++i)
         cmd << " " << argv[i];
     return cmd.str();
+}
+
+// The model card's SNR to cite: 10 dB when measured, else the measured SNR closest to it.
+double cite_snr(const std::vector<double>& snrs)
+{
+    double best = snrs.front();
+    for (double v : snrs)
+        if (std::abs(v - 10.0) < std::abs(best - 10.0))
+            best = v;
+    return best;
+}
+
+// The card of a bundle just written (model_card.h): `figures` per SNR from its test split,
+// the sink's decoder timed beside the anchor on a few frames (sems_eval --model-card measures
+// a card on a fixed test set, with more frames).
+void write_card(const model_bundle& written, model_card::test_record test)
+{
+    auto card = model_card::of_bundle(written);
+    card.test = std::move(test);
+    std::vector<double> snrs;
+    for (const auto& f : card.test.by_snr)
+        snrs.push_back(f.snr_db);
+    if (snrs.empty())
+        return; // no test SNR, no figures: no card
+    card.cite_snr_db = cite_snr(snrs);
+    // A rough figure that costs training little: one sink batch of the paper's frame, twice, and
+    // as many resource elements on a larger frame (a preset of 28 times the paper's grid decodes
+    // about 100 frames/s); sems_eval --model-card times thousands of frames.
+    const int speed_frames = std::clamp(32 * 2048 / written.frame.grid_size(), 1, 32), speed_repeats = 2;
+    card.speed = apps::measure_card_speed(written, card.cite_snr_db, speed_frames, speed_repeats, card.test.seed + 1);
+    card.save(written.directory);
 }
 
 // --frame-bundle: a decision over a track on a trained per-frame classifier. Only the flags
@@ -146,6 +181,30 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
     t.verbose = !vm.count("quiet");
     t.command_line = command_line;
     const auto r = train_track(t, &std::cout);
+    // The card: its test tracks' figures after the first frame and after the longest time scored.
+    model_card::test_record test;
+    test.measured_by = "sems_train test split";
+    test.command = command_line;
+    test.frames = "the trainer's test tracks (a tenth of --tracks), each scored at every SNR";
+    test.scene = t.scene_source;
+    test.seed = t.seed;
+    test.track_frames = *std::max_element(t.eval_frames.begin(), t.eval_frames.end());
+    for (const auto& by : r.metrics.at("by_snr")) {
+        model_card::snr_figures f;
+        f.snr_db = by.at("snr_db").get<double>();
+        for (const auto& row : by.at("by_frames")) {
+            const int frames = row.at("frames").get<int>();
+            if (frames == 1)
+                f.first_frame_accuracy = row.at("accuracy").get<double>();
+            if (frames == test.track_frames) {
+                f.accuracy = row.at("accuracy").get<double>();
+                f.frames = row.at("tracks").get<int>();
+            }
+        }
+        if (f.accuracy && f.frames > 0 && std::isfinite(f.snr_db))
+            test.by_snr.push_back(f);
+    }
+    write_card(r.bundle, test);
     std::cout << "track bundle written to " << t.out_dir << " (" << r.seconds << " s)" << std::endl;
     return 0;
 }
@@ -167,8 +226,10 @@ int main(int argc, char** argv)
         ("help,h", "this help")
         ("task", po::value(&task), "classify | delay (required unless --from)")
         ("from", po::value(&from), "train again from this bundle's recorded settings (a bundle directory or name, e.g. classifier): "
-                                   "same settings and seed, same mask and weights; only --out, --frames, --epochs, --decoder-epochs, "
-                                   "--batch, --eval-frames, --eval-snr, --threads, --quiet and the distributed options may be given with it")
+                                   "same settings and seed (a bundle made by this version of sems_train comes out with the same mask and "
+                                   "weights, bit for bit; one made by an earlier version need not); only --out, --frames, --epochs, "
+                                   "--decoder-epochs, --batch, --eval-frames, --eval-snr, --threads, --data, --quiet, --dry-run and the distributed "
+                                   "options may be given with it")
         ("objective", po::value(&s.objective)->default_value(s.objective), "task (SemS) | mse (reconstruction baseline)")
         ("pilots", po::value(&s.n_pilots)->default_value(s.n_pilots), "number of pilots N_p")
         ("mask", po::value(&s.mask_file), "fixed pilot mask file: train the decoder only")
@@ -419,8 +480,33 @@ int main(int argc, char** argv)
         if (s.distributed.rank == 0)
             std::cout << apps::describe(frame) << std::endl;
         const auto res = train(s, &std::cout);
-        if (s.distributed.rank == 0)
+        if (s.distributed.rank == 0) {
+            // The card: the test split's figures per SNR (bundle.json's metrics.test_by_snr).
+            model_card::test_record test;
+            test.measured_by = "sems_train test split";
+            test.command = s.command_line;
+            test.frames = "the trainer's test split (a tenth of --frames), noise drawn at each SNR";
+            test.scene = s.scene_source;
+            test.seed = s.seed;
+            if (s.radio)
+                test.radio = s.radio_source;
+            for (const auto& m : res.bundle.metrics.at("test_by_snr")) {
+                model_card::snr_figures f;
+                f.snr_db = m.at("snr_min_db").get<double>();
+                f.frames = m.at("frames").get<int>();
+                if (s.task == task_kind::classify) {
+                    f.accuracy = m.at("accuracy").get<double>();
+                } else {
+                    f.mae_index = m.at("mae_index").get<double>();
+                    f.mae_m = m.at("mae_m").get<double>();
+                    f.median_abs_error_index = m.at("median_abs_error_index").get<double>();
+                }
+                if (std::isfinite(f.snr_db))
+                    test.by_snr.push_back(f);
+            }
+            write_card(res.bundle, test);
             std::cout << "bundle written to " << s.out_dir << " (" << res.seconds << " s)" << std::endl;
+        }
         return 0;
     } catch (const po::error& e) {
         std::cerr << "sems_train: " << e.what() << "\n\n" << opts << std::endl;

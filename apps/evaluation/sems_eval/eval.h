@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <set>
 #include <string>
@@ -91,6 +92,17 @@ struct config {
                                                                     // lets two cores share a full run)
     frame_settings fs;
     std::string command_line;
+    // --model-card: measure and write these bundles' model cards (model_cards.cc), nothing else.
+    std::vector<std::string> model_cards;
+    int card_frames = 2000;            // test frames per SNR (the demo's)
+    int card_tracks = 1000;            // test tracks of a track bundle
+    int card_track_frames = 0;         // frames of a test track (0: the track bundle's training length)
+    std::vector<double> card_snrs{ 0, 10, 20, 30 }; // the demo's SNRs
+    uint64_t card_seed = 1;            // the demo's: classifiers seed 1, delay bundles seed + 1
+    int card_speed_frames = 2048;      // frames per timing run of the speed record
+    int card_speed_repeats = 5;        // timing runs (the fastest counts)
+    std::string card_summary;          // replaces the card's summary when given
+    double card_cite_snr_db = std::numeric_limits<double>::quiet_NaN(); // replaces the SNR to cite when given
 };
 
 // Wall-clock stamps for progress lines.
@@ -212,6 +224,7 @@ void run_pilot_budget(const config& c, std::ostream& log);  // 5
 void write_cost(const config& c, std::ostream& log);        // 6
 void run_tracks(const config& c, std::ostream& log);        // 8
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
+void run_model_cards(const config& c, std::ostream& log);     // --model-card
 
 } // namespace sems_eval
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the shipped model bundles (models/) meet their bars on fresh frames:
  * classifier (learned mask) >= 95 % accuracy at 10 dB and >= 88 % at 0 dB (99 % at 10 dB is
- * the Bayes bound of its mask, so not asserted; models/README.md);
+ * the Bayes bound of its mask, so not asserted; docs/results/notes/shipped_models.md);
  * classifier_clutter (learned mask, CSR +10 dB clutter) >= 95 % at 20 dB nominal SNR;
  * classifier_kinematic (the kinematic class library, any heading) >= 51 % at 10 dB and
  * >= 67 % at 30 dB; classifier_sdr_2g4 (the same library on the 2.4 GHz / 20 MHz SDR frame
@@ -119,7 +119,7 @@ public:
         check_learned(b);
         const double a10 = accuracy(b, 10.0), a0 = accuracy(b, 0.0);
         // The bar at 10 dB is 0.95. 0.990 is the Bayes bound of this mask (the best any
-        // decoder can reach on its pilots): models/README.md reports how close the bundle
+        // decoder can reach on its pilots): docs/results/notes/shipped_models.md says how close the bundle
         // comes, it is not asserted here.
         CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a10) + " at 10 dB < 0.95", a10 >= 0.95);
         CPPUNIT_ASSERT_MESSAGE("accuracy " + std::to_string(a0) + " at 0 dB < 0.88", a0 >= 0.88);
@@ -127,7 +127,7 @@ public:
 
     // The kinematic library's classifier: six classes of moving scatterers, any heading. It
     // records its library, and on fresh frames of its own scene it holds what it reached in
-    // training (0.539 at 10 dB, 0.704 at 30 dB on 3 000 frames; models/README.md) within
+    // training (0.539 at 10 dB, 0.704 at 30 dB on 3 000 frames; its bundle.json test split) within
     // three standard errors.
     void classifier_kinematic_bar()
     {
@@ -142,7 +142,7 @@ public:
 
     // The classifier trained for the monostatic SDR radio: it records that radio (the
     // example's radio file), and on fresh frames through it it holds what it reached in
-    // training (0.997 at 20 dB, 0.984 at 10 dB on 3 000 frames; models/README.md) within three
+    // training (0.997 at 20 dB, 0.984 at 10 dB on 3 000 frames; its bundle.json test split) within three
     // standard errors.
     void classifier_monostatic_bar()
     {
@@ -159,7 +159,7 @@ public:
     // The SDR frame's classifier: the kinematic library on the 2.4 GHz / 20 MHz preset. It
     // carries that frame (guards included) with a mask off its guards, and on fresh frames it
     // holds what it reached in training (0.548 at 10 dB, 0.715 at 30 dB on 3 000 frames;
-    // models/README.md) within three standard errors.
+    // its bundle.json test split) within three standard errors.
     void classifier_sdr_bar()
     {
         const auto b = model_bundle::load(models_dir() + "classifier_sdr_2g4");

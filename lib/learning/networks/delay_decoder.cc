@@ -305,7 +305,7 @@ constexpr double global_fit_min_move = 0.25;
 // 3-path fits of one frame often differ by a few variances: with any gain accepted, 0.3 %
 // of the shipped bundle's frames moved to a spurious early "path" (mean 0.098 on
 // qa_learning_shipped's 3 000 frames at 30 dB, twice that with 20); 10 and 40 gave means
-// within 0.006 of 20's there and on three other frame sets (models/README.md).
+// within 0.006 of 20's there and on three other frame sets (docs/results/notes/shipped_models.md).
 constexpr double global_fit_min_gain = 20.0;
 } // namespace
 

@@ -49,7 +49,7 @@
  * anchored the fit on a later path or a sidelobe of a merged pair, the reference's grid
  * search finds the better-fitting set of paths; where the reference's greedy search went
  * wrong, the network's start fits better and stays — on the shipped bundle's fresh frames
- * this halves the frames off by more than half an index (models/README.md).
+ * this halves the frames off by more than half an index (docs/results/notes/shipped_models.md).
  */
 #ifndef INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
 #define INCLUDED_SEMS_LIB_LEARNING_DELAY_DECODER_H
