@@ -58,12 +58,10 @@ def twin(doc, scene):
     tx, rx = tx[0], rx[0]
     doc["blocks"] = [b for b in doc["blocks"] if b["name"] not in (tx, rx)]
     doc["options"]["parameters"]["id"] += "_sim"
-    fe = {"radio": "''", "settings": "{}", "tx_power": "(M - len(frame.guard_subcarriers)) / M",
-          "scene_kind": "random", "scene_file": "''", "class_library": "sems.frame_file.find(frame_name).classes",
-          "classes": "[]", "n_targets": "1", "snr_db": "sim_snr_db", "seed": "seed", "n_symbols": "N",
-          "n_subcarriers": "M", "bandwidth_hz": "frame.bandwidth_hz", "carrier_hz": "frame.carrier_hz",
-          "symbol_interval_s": "frame.symbol_interval_s", "cp_len": "cp_len",
-          "affinity": "", "alias": "", "maxoutbuf": "0", "minoutbuf": "0"}
+    fe = {"radio": "''", "settings": "{}", "tx_power": "(M - len(sems.frame_of(frame).guard_subcarriers)) / M",
+          "scene_kind": "random", "scene_file": "''", "class_library": "sems.frame_file.find(frame).classes",
+          "classes": "[]", "n_targets": "1", "snr_db": "sim_snr_db", "seed": "seed", "frame": "frame",
+          "cp_len": "cp_len", "affinity": "", "alias": "", "maxoutbuf": "0", "minoutbuf": "0"}
     if scene == "cable":
         fe.update(scene_kind="file", scene_file=repr(json.dumps(CABLE_SCENE)))
     doc["blocks"] += [

@@ -4,20 +4,107 @@
 (headless with QT_QPA_PLATFORM=offscreen) and save a screenshot of its window.
 
     screenshot_qt.py <flowgraph.grc> <outdir> <screenshot.png> [--seconds S] [--size WxH]
-                     [--check EXPR]
+                     [--check EXPR] [--cycles K [--cycle-seconds S] [--cycle-speed F]
+                     [--cycle-check EXPR]]
+
+Each run does what the generated script's main() does (the flowgraph's Python snippets
+included), then tears the flowgraph and its window down in the order GNU Radio's Qt sinks
+need: flowgraph stopped, blocks freed while their widgets still exist, then the window.
+With --cycles K, K - 1 stress cycles come first in the same process: each builds, starts and
+shows the flowgraph, runs it for --cycle-seconds with its throttles --cycle-speed times faster
+while the window repaints without pause (a widget touched from a GNU Radio thread then races
+with Qt's painting all the time, not only at the sinks' update rate), waits for --cycle-check
+to hold, and tears it all down again.
 
 Fails (exit 1) if the flowgraph does not compile, raises, the screenshot is empty
 (every pixel the same colour), or the Python expression EXPR (evaluated with the running
-top block as `tb` when the screenshot is taken, e.g. "tb.classifier.frames() >= 2") is false.
+top block as `tb` when the screenshot is taken, e.g. "tb.classifier.frames() >= 2") is false;
+a crash in any cycle ends the process with the signal.
 """
 import argparse
+import gc
 import importlib.util
 import os
 import shutil
 import subprocess
 import sys
+import time
 
 import yaml
+
+CYCLE_GRACE_S = 30.0  # the longest a stress cycle may run past --cycle-seconds for its check
+
+def fail(message):
+    print(f"screenshot_qt: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def compile_flowgraph(grc, outdir):
+    """The generated module of `grc` (compiled by grcc into <outdir>/<id>/) and its id."""
+    with open(grc) as f:
+        script_id = yaml.safe_load(f)["options"]["parameters"]["id"]
+    outdir = os.path.join(outdir, script_id)
+    os.makedirs(outdir, exist_ok=True)
+    grcc = shutil.which("grcc") or "/usr/bin/grcc"
+    done = subprocess.run([grcc, "-o", outdir, grc], capture_output=True, text=True)
+    script = os.path.join(outdir, script_id + ".py")
+    if done.returncode != 0 or not os.path.isfile(script):
+        sys.stderr.write(done.stdout + done.stderr)
+        fail(f"grcc could not compile {grc}")
+    sys.path.insert(0, outdir)  # grcc writes embedded Python blocks next to the script
+    spec = importlib.util.spec_from_file_location(script_id, script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module, script_id
+
+
+def snippets(module, section, tb):
+    """The flowgraph's Python snippets of one section, as its main() calls them."""
+    run = getattr(module, "snippets_" + section, None)
+    if run is not None:
+        run(tb)
+
+
+def holds(expr, tb, quiet=False):
+    """Whether the check `expr` (empty: none) holds on the top block; an error in it is false."""
+    try:
+        return not expr or bool(eval(expr, {"tb": tb}))
+    except Exception as e:
+        if not quiet:
+            print(f"screenshot_qt: {expr}: {type(e).__name__}: {e}", file=sys.stderr)
+        return False
+
+
+def start(module, script_id, width, height):
+    """The top block built, started and shown as the generated main() does it."""
+    tb = getattr(module, script_id)()
+    snippets(module, "main_after_init", tb)
+    tb.start()
+    snippets(module, "main_after_start", tb)
+    tb.show()
+    tb.resize(width, height)
+    return tb
+
+
+def tear_down(module, tb, app):
+    """Stop the flowgraph, free its blocks, then delete its window.
+
+    GNU Radio's Qt sinks close their display widget in their destructor, and that widget
+    belongs to the window (the flowgraph added it to its layout): the blocks must go while the
+    window still exists. The top block holds them in its graph and in its attributes; Message
+    Pair to Variable holds a setter of the window, hence the window itself."""
+    import sip
+
+    tb.stop()
+    tb.wait()
+    snippets(module, "main_after_stop", tb)
+    tb.disconnect_all()
+    for name in [k for k, v in vars(tb).items() if k == "_impl" or hasattr(v, "to_basic_block")]:
+        delattr(tb, name)
+    gc.collect()
+    tb.hide()
+    sip.delete(tb)
+    app.processEvents()  # whatever the window still had queued, now dropped
 
 
 def main():
@@ -28,36 +115,54 @@ def main():
     ap.add_argument("--seconds", type=float, default=4.0)
     ap.add_argument("--size", default="1000x520", help="window size in pixels, WxH (default 1000x520)")
     ap.add_argument("--check", default="", help="expression on the top block `tb` that must hold at the screenshot")
+    ap.add_argument("--cycles", type=int, default=1,
+                    help="runs in this process: K - 1 stress cycles, then the screenshot run (default 1)")
+    ap.add_argument("--cycle-seconds", type=float, default=1.5, help="length of a stress cycle (default 1.5 s)")
+    ap.add_argument("--cycle-check", default="", help="expression on `tb` that must hold at the end of each stress cycle")
+    ap.add_argument("--cycle-speed", type=float, default=1.0,
+                    help="stress cycles run every Throttle of the flowgraph this many times faster (default 1)")
     args = ap.parse_args()
     try:
         width, height = (int(v) for v in args.size.lower().split("x"))
         if width < 1 or height < 1:
             raise ValueError
     except ValueError:
-        sys.exit(f"screenshot_qt: --size must be WxH in pixels, got {args.size!r}")
+        fail(f"--size must be WxH in pixels, got {args.size!r}")
+    if args.cycles < 1:
+        fail(f"--cycles must be at least 1, got {args.cycles}")
 
-    with open(args.grc) as f:
-        script_id = yaml.safe_load(f)["options"]["parameters"]["id"]
-    outdir = os.path.join(args.outdir, script_id)
-    os.makedirs(outdir, exist_ok=True)
-    grcc = shutil.which("grcc") or "/usr/bin/grcc"
-    done = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True)
-    script = os.path.join(outdir, script_id + ".py")
-    if done.returncode != 0 or not os.path.isfile(script):
-        sys.stderr.write(done.stdout + done.stderr)
-        sys.exit(f"screenshot_qt: grcc could not compile {args.grc}")
-
-    sys.path.insert(0, outdir)  # grcc writes embedded Python blocks next to the script
-    spec = importlib.util.spec_from_file_location(script_id, script)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module, script_id = compile_flowgraph(args.grc, args.outdir)
     from PyQt5 import Qt, QtCore
 
     app = Qt.QApplication([script_id])
-    tb = getattr(module, script_id)()
-    tb.start()
-    tb.show()
-    tb.resize(width, height)
+    started = time.monotonic()
+    for cycle in range(1, args.cycles):
+        tb = start(module, script_id, width, height)
+        for block in vars(tb).values():
+            if type(block).__name__ == "throttle":
+                block.set_sample_rate(block.sample_rate() * args.cycle_speed)
+        painter = QtCore.QTimer()
+        painter.timeout.connect(tb.repaint)
+        painter.start(0)
+        QtCore.QTimer.singleShot(int(args.cycle_seconds * 1000), app.quit)
+        app.exec_()
+        # A slow machine (a sanitizer build) may take longer to answer its first frames: the
+        # cycle goes on until its check holds, up to CYCLE_GRACE_S more.
+        give_up = time.monotonic() + CYCLE_GRACE_S
+        while not holds(args.cycle_check, tb, quiet=True) and time.monotonic() < give_up:
+            app.processEvents(QtCore.QEventLoop.AllEvents, 50)
+        painter.stop()
+        ok = holds(args.cycle_check, tb)
+        tear_down(module, tb, app)  # also on failure: exiting with the flowgraph running crashes
+        del tb
+        if not ok:
+            fail(f"stress cycle {cycle}: after {args.cycle_seconds + CYCLE_GRACE_S:g} s this is false: "
+                 f"{args.cycle_check}")
+    if args.cycles > 1:
+        print(f"screenshot_qt: {args.cycles - 1} stress cycles of {args.cycle_seconds:g} s "
+              f"in {time.monotonic() - started:.1f} s")
+
+    tb = start(module, script_id, width, height)
 
     def shoot():
         image = tb.grab().toImage()
@@ -69,7 +174,7 @@ def main():
         elif len(colours) < 3:
             print(f"screenshot_qt: {args.png} is blank ({len(colours)} colours)", file=sys.stderr)
             app.exit(1)
-        elif args.check and not eval(args.check, {"tb": tb}):
+        elif not holds(args.check, tb):
             print(f"screenshot_qt: saved {args.png}, but at {args.seconds:g} s this is false: {args.check}",
                   file=sys.stderr)
             app.exit(1)
@@ -79,8 +184,8 @@ def main():
 
     QtCore.QTimer.singleShot(int(args.seconds * 1000), shoot)
     rc = app.exec_()
-    tb.stop()
-    tb.wait()
+    tear_down(module, tb, app)
+    del tb, shoot
     sys.exit(rc)
 
 

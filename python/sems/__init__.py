@@ -2,7 +2,7 @@
 """gr-sems: semantic sensing over OFDM for GNU Radio.
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
-keys, front_end_settings, front_end_frame; blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
+keys, front_end_settings, front_end_frame; frame_of (a frame by name or file); blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
 leakage_canceller, cfo_corrector, pilot_extractor, range_doppler_map, phase_noise_source; hier
 blocks ofdm_tx / ofdm_rx / radio_front_end.
 
@@ -18,6 +18,7 @@ import importlib as _importlib
 
 from .core_python import *  # noqa: F401,F403
 
+from .frames import frame_of  # noqa: F401
 from .ofdm_tx import ofdm_tx  # noqa: F401
 from .ofdm_rx import ofdm_rx  # noqa: F401
 from .radio_front_end import (converter_full_scale, radio_front_end, radio_settings,  # noqa: F401

@@ -29,7 +29,8 @@ def format_metrics(label, m):
 
 
 class metrics_printer(gr.basic_block):
-    """Prints each metrics message it receives on `metrics`, prefixed with `label`."""
+    """Prints the running metrics of a SemS sink: each message it receives on `metrics`, one
+    line prefixed with `label`."""
 
     def __init__(self, label="sink"):
         gr.basic_block.__init__(self, name="sems_metrics_printer", in_sig=None, out_sig=None)

@@ -10,7 +10,10 @@ _FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/se
 
 
 class ofdm_rx(gr.hier_block2):
-    """Complex samples in, gr_complex[M] OFDM symbols (frequency domain) out: drops the
+    """Time-domain samples to frequency-domain OFDM symbols: cyclic-prefix removal, then an
+    M-point FFT, the inverse of ofdm_tx.
+
+    Complex samples in, gr_complex[M] OFDM symbols out: drops the
     cyclic prefix of every M + cp_len samples (blocks.keep_m_in_n), groups the M
     remaining samples into a vector and applies the M-point forward FFT scaled by
     1/sqrt(M) — the inverse of ofdm_tx. The input must start at a symbol boundary

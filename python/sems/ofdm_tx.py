@@ -10,9 +10,11 @@ _FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/se
 
 
 class ofdm_tx(gr.hier_block2):
-    """gr_complex[M] OFDM symbols (frequency domain) in, complex samples out:
-    M-point inverse FFT, then a cyclic prefix of cp_len samples, with GNU Radio's
-    own blocks (fft.fft_vcc, digital.ofdm_cyclic_prefixer).
+    """Frequency-domain OFDM symbols to time-domain samples: an M-point inverse FFT, then a
+    cyclic prefix of cp_len samples.
+
+    gr_complex[M] OFDM symbols in, complex samples out, with GNU Radio's own blocks
+    (fft.fft_vcc, digital.ofdm_cyclic_prefixer).
 
     The inverse FFT is scaled by 1/sqrt(M) (unitary), so a symbol keeps its power in
     the time domain and ofdm_rx (forward FFT, also 1/sqrt(M)) undoes it exactly.

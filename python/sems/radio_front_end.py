@@ -140,8 +140,10 @@ def recorded_full_scale(recording):
 
 
 class radio_front_end(gr.hier_block2):
-    """Complex samples in (what ofdm_tx emits), complex samples out (what the converter
-    delivers): target_channel_td inside an SDR front end.
+    """The time-domain target channel (target_channel_td) inside an SDR front end: the
+    transmitted samples in, what the receiver's converter delivers out.
+
+    Complex samples in (what ofdm_tx emits), complex samples out, sample-aligned 1:1:
 
         x -> [x TX oscillator] -> target_channel_td (echo + noise) -+-> [x conj RX oscillator]
                               \\-> leakage FIR --------------------/

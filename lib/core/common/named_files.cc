@@ -76,6 +76,12 @@ std::string find_named_file(const std::string& name_or_path,
             if (!d.empty())
                 add(d);
     }
+    // The user's own folder needs no variable: GNU Radio Companion (started from a desktop
+    // menu, without the shell's exports) finds a user's libraries and frames there.
+    if (const char* data = std::getenv("XDG_DATA_HOME"); data && *data)
+        add(std::string(data) + "/gr-sems/models/" + kind);
+    else if (const char* home = std::getenv("HOME"); home && *home)
+        add(std::string(home) + "/.local/share/gr-sems/models/" + kind);
     if (const char* src = std::getenv("SEMS_SOURCE_DIR"); src && *src)
         add(std::string(src) + "/models/" + kind);
     const std::vector<const char*> fixed(built_in);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: data files found by name (class libraries, frames): an existing path, else
- * `<name>.json` in the folders of an environment variable, the source tree's
+ * `<name>.json` in the folders of an environment variable, the user's own folder
+ * ($XDG_DATA_HOME or ~/.local/share, /gr-sems/models/<kind>), the source tree's
  * (SEMS_SOURCE_DIR/models/<kind>, and the one the library was built from), the
  * share/gr-sems/models/<kind> next to the installed library (wherever the module was
  * installed to), and the configured prefix's. Internal to the library. */

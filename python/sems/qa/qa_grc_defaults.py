@@ -102,8 +102,8 @@ def cxx_defaults():
               for name in ("window", "n_symbols", "n_subcarriers")}
     # tag_file_sink / tag_file_replay: Python blocks, their constructors' defaults.
     from gnuradio.sems.tag_file import tag_file_replay, tag_file_sink
-    tag_files = {cls.__name__: {name: inspect.signature(cls.__init__).parameters[name].default
-                                for name in ("item", "vlen")}
+    tag_files = {cls.__name__: {name: p.default for name, p in inspect.signature(cls.__init__).parameters.items()
+                                if name not in ("self", "path")}
                  for cls in (tag_file_sink, tag_file_replay)}
     pn_source = {name: bound_default(sems.phase_noise_source, name)
                  for name in ("sample_rate_hz", "dbc_hz", "offset_hz", "seed")}
@@ -114,6 +114,12 @@ def cxx_defaults():
                               "n_symbols", "n_subcarriers", "bandwidth_hz", "carrier_hz", "symbol_interval_s",
                               "cp_len")}
     front_end["classes"] = list(front_end["classes"])
+    # The Frame parameter: compared as the frame it names (test_defaults_agree); the C++ default
+    # of the blocks with numbers is frame_settings(), the sinks' is their `frame` argument's.
+    # The prefix of the time-domain blocks is the frame's there (GRC_ONLY, test_one_cp_default).
+    for d in (front_end, channel, mapper_d, extractor_d, ofdm, channel_td, sync, rd_map):
+        d["frame"] = fs
+        d.pop("cp_len", None)
     return {
         "sems_phase_noise_source": pn_source,
         "sems_radio_front_end": front_end,
@@ -128,8 +134,8 @@ def cxx_defaults():
         "sems_metrics_printer": {},
         "sems_target_channel_td": channel_td,
         "sems_frame_sync": sync,
-        "sems_cfo_corrector": {name: bound_default(sems.cfo_corrector, name)
-                               for name in ("n_subcarriers", "cp_len", "symbols", "forgetting", "snr_db")},
+        "sems_cfo_corrector": dict({name: bound_default(sems.cfo_corrector, name)
+                                    for name in ("symbols", "forgetting", "snr_db")}, frame=fs),
         "sems_leakage_canceller": {name: bound_default(sems.leakage_canceller, name)
                                    for name in ("taps", "window", "forgetting", "widely_linear", "dc", "clip_level")},
         "sems_range_doppler_map": rd_map,
@@ -147,8 +153,17 @@ def bound_default(cls, name):
     raise AssertionError(f"{cls.__name__}: no default for {name} in {first}")
 
 
+# The blocks that take the frame (one Frame parameter), and those of them at sample level (which
+# also take an optional cyclic prefix). tag_file_sink and phase_noise_source keep their own
+# sample rate: they record or drive any stream, not only a frame's samples.
+TIME_DOMAIN = ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_frame_sync",
+               "sems_radio_front_end", "sems_cfo_corrector")
+FRAME_BLOCKS = TIME_DOMAIN + ("sems_pilot_mapper", "sems_pilot_extractor", "sems_target_channel",
+                              "sems_range_doppler_map", "sems_classifier_sink", "sems_delay_estimator_sink")
+
 # GRC-only parameters (no C++ default to agree with), and why.
 GRC_ONLY = {
+    **{(block, "cp_len"): "-1: the Frame's prefix; C++ and Python take the prefix itself" for block in TIME_DOMAIN},
     ("sems_target_channel", "scene_kind"): "GRC chooser between random / file / JSON scene",
     ("sems_target_channel", "scene_file"): "the chosen scene's path (C++ scene = '' means random)",
     ("sems_target_channel", "scene_json"): "the chosen scene's JSON text",
@@ -220,6 +235,8 @@ class qa_grc_defaults(gr_unittest.TestCase):
                 # An enum's default is an option name, a string's (or a path's) its text, not an expression.
                 grc = str(p["default"]) if p.get("dtype") in ("enum", "string", "file_open") else grc_value(p["default"])
                 cxx = self.cxx[block][p["id"]]
+                if p["id"] == "frame":  # a frame's name: the frames it names must be equal
+                    grc, cxx = sems.frame_of(grc), sems.frame_of(cxx)
                 self.assertTrue(same(grc, cxx), f"{block}.{p['id']}: GRC default {grc!r} != C++ default {cxx!r}")
                 checked += 1
         self.assertGreaterEqual(checked, 30)
@@ -233,13 +250,33 @@ class qa_grc_defaults(gr_unittest.TestCase):
             self.assertEqual(sig["cp_len"].default, fs.cp_len, cls.__name__)
 
     def test_one_cp_default(self):
-        # Every time-domain block, in GRC and in C++/Python, has frame_settings' cyclic prefix.
+        # Every time-domain block takes its cyclic prefix from its Frame unless told otherwise
+        # (-1), and the default frame's is frame_settings' one, which C++ and Python use too.
         cp = sems.frame_settings().cp_len
-        for block in ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_frame_sync"):
+        for block in TIME_DOMAIN:
             p = [p for p in self.blocks[block]["parameters"] if p["id"] == "cp_len"][0]
-            self.assertEqual(grc_value(p["default"]), cp, block)
+            self.assertEqual(grc_value(p["default"]), -1, block)
+            self.assertEqual(sems.frame_of(self.param(block, "frame")["default"], -1).cp_len, cp, block)
         self.assertEqual(sems.target_channel_td().settings().cp_len, cp)
         self.assertEqual(bound_default(sems.frame_sync, "cp_len"), cp)
+
+    def param(self, block, pid):
+        return [p for p in self.blocks[block]["parameters"] if p["id"] == pid][0]
+
+    def test_frame_is_one_setting(self):
+        # Every block that needs the frame takes one Frame parameter (a string: a preset's name,
+        # a frame file or a Variable holding one) and none of the frame's fields by hand.
+        fields = {"n_symbols", "n_subcarriers", "bandwidth_hz", "carrier_hz", "symbol_interval_s",
+                  "guard_subcarriers"}
+        for block in FRAME_BLOCKS:
+            p = self.param(block, "frame")
+            self.assertEqual((p["label"], p["dtype"], str(p["default"])), ("Frame", "string", "paper"), block)
+            ids = {q["id"] for q in self.blocks[block]["parameters"]}
+            self.assertFalse(ids & fields, f"{block}: frame fields typed by hand: {sorted(ids & fields)}")
+        for block, d in self.blocks.items():
+            ids = {q["id"] for q in d.get("parameters", [])}
+            if block not in FRAME_BLOCKS:
+                self.assertFalse(ids & (fields | {"frame"}), f"{block}: takes a frame field but is not in FRAME_BLOCKS")
 
     def test_every_parameter_documented(self):
         for block, d in self.blocks.items():

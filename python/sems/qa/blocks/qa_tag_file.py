@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: tag_file_sink / tag_file_replay keep a stream's tags across a raw recording:
-samples through file_sink, tags through the sidecar; the replay from file_source carries
-the same tags (keys, values bit-exact, offsets) and the same samples."""
+"""gr-sems: tag_file_sink / tag_file_replay with the JSON-lines tag file of earlier versions
+(a path ending in .tags): samples through file_sink, tags through the sidecar; the replay from
+file_source carries the same tags (keys, values bit-exact, offsets) and the same samples.
+SigMF recordings: qa_sigmf.py."""
 import os
 import tempfile
 

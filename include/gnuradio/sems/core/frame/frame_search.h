@@ -46,7 +46,7 @@
  * (examples/sems_offset_calibration.grc). A mask whose pilots share one subcarrier gives a
  * periodic template that cannot resolve single samples: such masks are refused (the
  * template's autocorrelation sidelobe must stay below max_sidelobe of its peak; the
- * shipped classifier mask, 32 pilots on subcarrier 32, is one; the delay masks pass).
+ * shipped classifier mask, 32 pilots on subcarrier 17, is one; the delay masks pass).
  */
 #ifndef INCLUDED_SEMS_CORE_FRAME_SEARCH_H
 #define INCLUDED_SEMS_CORE_FRAME_SEARCH_H
