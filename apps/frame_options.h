@@ -38,8 +38,8 @@ public:
         // clang-format off
         f.add_options()
             ("frame", po::value(&d_frame)->default_value("paper"),
-             "the frame: a preset's name (paper, sdr_2g4_20mhz, wifi_5g_80mhz, nr_30khz, auto_77g) or a frame "
-             "file (format sems.frame)")
+             "the frame: a preset's name (paper, sdr_2g4_20mhz, wifi_5g_80mhz, nr_30khz, nr_sensing_120khz, "
+             "auto_77g) or a frame file (format sems.frame)")
             ("symbols", po::value<int>(), "override N, OFDM symbols per frame")
             ("subcarriers", po::value<int>(), "override M, subcarriers per symbol (clears the frame's guards unless --guards is given)")
             ("bandwidth-hz", po::value<double>(), "override B, the bandwidth in Hz")

@@ -527,7 +527,7 @@ def design_anchors(src):
 def shipped_examples(src, block_id):
     found = []
     for path in sorted(glob.glob(os.path.join(src, "examples", "*.grc"))):
-        if re.search(r"^\s*id: %s\s*$" % re.escape(block_id), open(path, encoding="utf-8").read(), re.M):
+        if re.search(r"^\s*(?:-\s+)?id: %s\s*$" % re.escape(block_id), open(path, encoding="utf-8").read(), re.M):
             found.append(os.path.relpath(path, src))
     return found
 
@@ -809,7 +809,8 @@ def index_page(rows):
         "| block | id | inputs | outputs | purpose |", "|---|---|---|---|---|"] + rows + [
         "",
         "The pages are generated from the block files (`grc/`), the headers' Doxygen and the Python "
-        "blocks' docstrings; a test regenerates them and runs every example:", "",
+        "blocks' docstrings; this command writes them (CTest `block_reference` runs it with --check: the pages "
+        "must match, and every example runs):", "",
         "    /usr/bin/python3 scripts/block_reference.py . --write", "",
         f"<!-- /{MARK} -->"]) + "\n"
 

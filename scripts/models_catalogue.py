@@ -130,7 +130,7 @@ def catalogue(source):
             "the [README](../README.md#quick-start) and their cards give the same figures. A `_fast` bundle reads",
             "the same pilots as its accurate pair, so a flowgraph switches between them by the bundle's name",
             f"alone (`scripts/demo.sh --fast`). A bundle takes {sizes[small]:.0f} kB (`{small}`) to "
-            f"{sizes[large]:.0f} kB (`{large}`).", "",
+            f"{sizes[large]:.0f} kB (`{large}`) besides its card.", "",
             "## Each bundle on fresh frames", "",
             "Every card's figures per SNR, on frames of the bundle's own scene that no training saw",
             "(`sems_eval --model-card`: the card's `test` records the frames, seed and command):", "",
