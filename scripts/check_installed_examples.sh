@@ -87,17 +87,15 @@ run sems_demo --frames 200
 run sems_demo_td --frames 100
 run sems_track_demo --frames 62
 run sems_offset_calibration
-run sems_record_td --frames 20 --recording rec.c64
-run sems_replay_td --recording rec.c64
-run sems_record_td --frames 20 --skip 3001 --direct-path 0.5 --recording mid.c64
-run sems_replay_sync_td --recording mid.c64
-# The sems_radio_* flowgraphs look for their radio file relative to the source tree or the
-# working directory only: here they are given the installed one.
-radios="$prefix/share/gr-sems/examples/radios"
-run sems_radio_monostatic --frames 20 --radio "$radios/sdr_monostatic.json"
-run sems_radio_bistatic --frames 20 --radio "$radios/sdr_bistatic.json"
-run sems_radio_record --frames 20 --radio "$radios/sdr_monostatic.json" --recording radio.c64
-run sems_radio_replay --recording radio.c64
+run sems_record_td --frames 20 --recording rec
+run sems_replay_td --recording rec
+run sems_record_td --frames 20 --skip 3001 --direct-path 0.5 --recording mid
+run sems_replay_sync_td --recording mid
+# The sems_radio_* flowgraphs find their radio file in the prefix (none is beside the copied .grc).
+run sems_radio_monostatic --frames 20
+run sems_radio_bistatic --frames 20
+run sems_radio_record --frames 20 --recording radio
+run sems_radio_replay --recording radio
 # The Qt examples run until closed: offscreen, side by side (they mostly wait on their throttles),
 # stopped after 10 s; none may fail or raise before. sems_micro_doppler_live must find its
 # scene files in the prefix (none are beside the copied .grc).

@@ -191,7 +191,7 @@ int main(int argc, char** argv)
         ("np-sweep", po::value(&np_sweep), "override: pilot budgets of experiment 5")
         ("clutter-csr", po::value(&c.clutter_csr_db)->default_value(c.clutter_csr_db), "clutter-to-signal ratio of the strong-clutter scene (dB)")
         ("class-library", po::value(&c.class_library)->default_value(c.class_library),
-         "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic) or file")
+         "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic, automotive, nr_urban, wifi_indoor) or file")
         ("exp7-class-library", po::value(&c.exp7_class_library)->default_value(c.exp7_class_library),
          "experiment 7: the class library of targets of moving scatterers, by name or file")
         ("exp7-np-sweep", po::value(&exp7_np_sweep), "override: experiment 7's pilot budgets besides 32 (test 8; full 128,64,16,8)")

@@ -246,7 +246,7 @@ int main(int argc, char** argv)
          "random scene: comma-separated classes of --class-library (default: the paper's three; with another "
          "library, every class of it)")
         ("class-library", po::value(&class_library_name)->default_value("paper"),
-         "random scene: the class library, by name (paper, kinematic) or file (format sems.classes); default: the "
+         "random scene: the class library, by name (paper, kinematic, automotive, nr_urban, wifi_indoor) or file (format sems.classes); default: the "
          "library the frame names (the paper's for the paper frame)")
         ("paths", po::value(&paths)->default_value(1), "random scene: paths per target (1 = single path)")
         ("clutter-csr", po::value(&clutter_csr), "random scene: add static clutter at this clutter-to-signal ratio (dB)")
