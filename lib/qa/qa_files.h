@@ -4,6 +4,7 @@
 #define INCLUDED_SEMS_LIB_QA_QA_FILES_H
 
 #include <nlohmann/json.hpp>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -13,6 +14,14 @@
 namespace gr {
 namespace sems {
 namespace qa {
+
+// The shipped models/ folder of the source tree ($SEMS_SOURCE_DIR, set by CTest), with a
+// trailing slash.
+inline std::string models_dir()
+{
+    const char* src = std::getenv("SEMS_SOURCE_DIR");
+    return std::string(src ? src : ".") + "/models/";
+}
 
 // A fresh directory path of this process under the temporary folder (removed if it exists).
 inline std::string temp_dir(const std::string& suite, const std::string& name)

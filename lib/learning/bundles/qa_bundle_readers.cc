@@ -3,6 +3,7 @@
  * the field: unknown keys at every level, integers beyond their bounds, class names
  * that disagree with n_classes (and hence the weights), negative collision weights;
  * bundle_decoder refuses a batch holding a NaN or Inf frame, naming the frame. */
+#include "qa/qa_files.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
@@ -23,11 +24,7 @@ using gr::sems::qa::assert_error;
 using nlohmann::json;
 
 namespace {
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 
 // A copy of a shipped bundle (mask and weights linked) whose bundle.json is edited by
 // `edit`; returns the directory.

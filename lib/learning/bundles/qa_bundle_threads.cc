@@ -2,6 +2,7 @@
 /* gr-sems: two decoders in one process keep their own intra-op thread counts.
  * Before, the constructor set LibTorch's count for the process and the last decoder
  * built won; now each inference sets it in the calling thread (OpenMP: per thread). */
+#include "qa/qa_files.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <ATen/Parallel.h>
 #include <cppunit/TestAssert.h>
@@ -16,11 +17,7 @@
 using namespace gr::sems;
 
 namespace {
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 } // namespace
 
 class qa_bundle_threads : public CppUnit::TestFixture

@@ -13,6 +13,7 @@
  * (the mean with the bundle's refine_global_fit check); the fast bundles within 1 point of the accurate classifier's
  * accuracy and 1.5x the accurate single-path delay MAE at 10, 20 and 30 dB. Frames are drawn from each bundle's own training scene with a seed the
  * trainer never used, noise from channel_model::add_noise (or the radio's front_end_frame). */
+#include "qa/qa_files.h"
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
@@ -33,11 +34,7 @@ namespace {
 constexpr uint64_t fresh_seed = 0x5e5f00d; // not a training seed
 constexpr int fresh_frames = 3000;
 
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 
 // Pilot observations (frames x N_p, mask order) of fresh frames at `snr_db`, with truths;
 // through `radio` when given (core/radio/front_end_frame.h), else with channel_model's noise.

@@ -3,6 +3,7 @@
  * malformed card is refused naming the file and the field; a card made from a shipped bundle
  * finds its frame preset, pilots and retrain command; every shipped bundle's card reads and
  * describes its bundle. */
+#include "qa/qa_files.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/learning/bundles/model_card.h>
 #include <cppunit/TestAssert.h>
@@ -18,11 +19,7 @@ using gr::sems::qa::assert_error;
 using nlohmann::json;
 
 namespace {
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 
 // A complete card of a classifier (made by hand: no decoder runs).
 model_card classifier_card()

@@ -4,6 +4,7 @@
  * touched are counted as skipped and faulted, and every frame is accounted for
  * (frames in = answered + skipped). Faults are injected through sink_core's test hook
  * into the real sinks (shipped bundles) in a real flowgraph. */
+#include "qa/qa_files.h"
 #include "learning/sinks/classifier_sink_impl.h"
 #include "learning/sinks/delay_estimator_sink_impl.h"
 #include <gnuradio/blocks/message_debug.h>
@@ -22,11 +23,7 @@
 using namespace gr::sems;
 
 namespace {
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 
 struct run_result {
     uint64_t frames, scored, skipped, faulted;

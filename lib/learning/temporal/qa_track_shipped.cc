@@ -4,6 +4,7 @@
  * stepped frame by frame through track_classifier as the sink does — holds the accuracy its
  * training measured within three standard errors, and decides better over the track than from
  * its first frame. */
+#include "qa/qa_files.h"
 #include "learning/temporal/track_data.h"
 #include <gnuradio/sems/learning/temporal/track_classifier.h>
 #include <cppunit/TestAssert.h>
@@ -22,11 +23,7 @@ constexpr uint64_t fresh_seed = 0x5e5f00d; // not a training seed
 constexpr int fresh_tracks = 400;
 constexpr int frames = 31; // 1 s of the paper's 32 ms frames
 
-std::string models_dir()
-{
-    const char* src = std::getenv("SEMS_SOURCE_DIR");
-    return std::string(src ? src : ".") + "/models/";
-}
+using gr::sems::qa::models_dir;
 } // namespace
 
 class qa_track_shipped : public CppUnit::TestFixture
