@@ -822,6 +822,8 @@ FACTS = [
      r"clutter paths <= (\d+), classes <= (\d+)", limits, "limits.h"),
     ("docs/reference/file_formats.md", r"N, M <= (\d+), N\*M <= (\d+), targets <= (\d+), paths per target <= (\d+), "
      r"clutter paths <= (\d+), classes <= (\d+)", limits, "limits.h"),
+    ("docs/reference/arrays.md", r"a count outside \[1, (\d+)\] \(`limits::max_array_elements`\)",
+     lambda s: header_default(s, LIMITS_H, "max_array_elements"), "limits.h"),
     ("docs/reference/class_libraries.md", r"\((\d+) rotors or blades or wheels, (\d+) rim points or spokes, (\d+) scatterers, "
      r"(\d+) harmonics\)", body_limits, "limits.h"),
     # the demo and its test

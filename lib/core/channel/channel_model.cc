@@ -103,6 +103,15 @@ void move_along_track(target_spec& t, const track_spec& track, double t_s)
     }
 }
 
+// Clutter scatterer k's azimuth as an array sees it: a fixed scatterer's given azimuth (0 when
+// none is given), a drawn one's uniform on [−π/2, π/2).
+double clutter_azimuth(const clutter_spec& c, size_t k, rng& g)
+{
+    if (!c.ranges_m.empty())
+        return c.azimuths_rad.empty() ? 0.0 : c.azimuths_rad[k];
+    return g.uniform(-0.5 * M_PI, 0.5 * M_PI);
+}
+
 // One random target: class, range, speed, heading, micro-motion and extra paths, drawn in
 // this order from g (the paper scenes' frames depend on it).
 void draw_target(target_spec& t,
@@ -140,6 +149,9 @@ void draw_target(target_spec& t,
                             db_to_linear(-k * r.path_power_decay_db) });
     // Last, and only with a link budget, so scenes without one keep their exact frames.
     t.rcs_dbsm = budget ? g.uniform(spec.rcs_min_dbsm, spec.rcs_max_dbsm) : target_spec{}.rcs_dbsm;
+    // The azimuth after everything else, and drawn only for an interval, for the same reason.
+    t.azimuth_rad = r.azimuth_min_rad < r.azimuth_max_rad ? g.uniform(r.azimuth_min_rad, r.azimuth_max_rad)
+                                                          : r.azimuth_min_rad;
 }
 
 } // namespace
@@ -175,11 +187,20 @@ frame_channel::frame_channel(const frame_settings& fs, const frame_realization& 
     update(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
 }
 
+frame_channel::frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol,
+                             const array_element& element)
+    : d_fs(fs), d_element(element), d_n(fs.n_symbols), d_m(fs.n_subcarriers), d_l(0),
+      d_scratch(std::make_unique<scratch>())
+{
+    update(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
+}
+
 frame_channel::~frame_channel() = default;
 frame_channel::frame_channel(frame_channel&&) noexcept = default;
 frame_channel& frame_channel::operator=(frame_channel&&) noexcept = default;
 frame_channel::frame_channel(const frame_channel& o)
     : d_fs(o.d_fs),
+      d_element(o.d_element),
       d_n(o.d_n),
       d_m(o.d_m),
       d_l(o.d_l),
@@ -270,13 +291,25 @@ void frame_channel::update(const std::vector<channel_path>& paths,
     // delay rows are the same every frame (the same values, not an approximation of them).
     d_delay_key.resize(size_t(d_l) * 3, std::numeric_limits<double>::quiet_NaN());
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
+    // An array element (steering.h): each path's gain turned by its steering phasor and pattern,
+    // its delay moved by the plane wave's delay at the element, on every subcarrier. The origin
+    // skips this, so a single antenna's factors are today's, bit for bit.
+    const bool steered = !d_element.is_origin();
+    const double lambda = fs.wavelength_m();
     int row = 0, body_row = rows;
     for (const auto& p : paths) {
         const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
+        std::complex<double> gain = p.gain;
+        double delay_s = p.delay_s;
+        if (steered) {
+            const position3 u = direction_vector(p.azimuth_rad, p.elevation_rad);
+            gain *= element_pattern_amplitude(d_element.pattern, u) * element_phasor(u, d_element.offset, lambda);
+            delay_s += element_delay_s(u, d_element.offset);
+        }
         // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
         // instead of N + M. The frame's first phase is anchored to the absolute symbol
         // index, so the rounding of 32 or 64 products (~1e-14) never accumulates across frames.
-        std::complex<double> v = p.gain * doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, T);
+        std::complex<double> v = gain * doppler_phasor(static_cast<double>(first_symbol), p.doppler_hz, T);
         const std::complex<double> doppler_step = doppler_phasor(1.0, p.doppler_hz, T);
         if (p.body >= 0) {
             const auto& plan = sc.plans[p.body];
@@ -286,7 +319,7 @@ void frame_channel::update(const std::vector<channel_path>& paths,
                 for (int k = 0; k < terms; ++k)
                     d_slow[size_t(n) * d_l + body_row + k] = gr_complex(v * g[k]);
             }
-            fill_body_rows(body_row, p.delay_s, plan, sc.dk_scale[p.body], dk);
+            fill_body_rows(body_row, delay_s, plan, sc.dk_scale[p.body], dk);
             sc.blocks.push_back({ body_row, plan });
             body_row += terms;
             continue;
@@ -302,7 +335,7 @@ void frame_channel::update(const std::vector<channel_path>& paths,
             }
             d_slow[size_t(n) * d_l + row] = gr_complex(slow);
         }
-        fill_delay_row(row, p.delay_s);
+        fill_delay_row(row, delay_s);
         ++row;
     }
 }
@@ -445,6 +478,7 @@ struct channel_model::rngs {
         rng draws;
         std::vector<target_spec> start;
         std::vector<double> clutter_ranges;
+        std::vector<double> clutter_azimuths; // with an array: drawn with the track, kept over it
         std::vector<std::complex<double>> gains;
     } track;
     uint64_t seed;
@@ -464,6 +498,12 @@ channel_model::channel_model(const frame_settings& fs, const scene& sc, uint64_t
 {
     d_fs.validate();
     d_scene.validate();
+    d_elements = d_scene.array() ? virtual_elements(*d_scene.array()) : std::vector<array_element>(1);
+    if (d_elements.size() > static_cast<size_t>(limits::max_array_elements))
+        throw std::invalid_argument("scene's array: " + std::to_string(d_scene.array()->n_receive()) + " receive × " +
+                                    std::to_string(d_scene.array()->n_transmit()) + " transmit elements give " +
+                                    std::to_string(d_elements.size()) + " streams, more than the " +
+                                    std::to_string(limits::max_array_elements) + " limits.h allows");
     const auto& c = d_scene.clutter();
     if (c) {
         if (c->ranges_m.empty())
@@ -566,6 +606,12 @@ int channel_model::begin_track(uint64_t track_index)
     }
     const int planned =
         spec.frames_min + static_cast<int>(g.below(static_cast<uint64_t>(spec.frames_max - spec.frames_min) + 1));
+    // With an array each clutter scatterer keeps one azimuth over the track (drawn after the
+    // length, and only then, so tracks without an array keep their exact frames).
+    tr.clutter_azimuths.clear();
+    if (d_scene.array() && d_scene.clutter())
+        for (size_t k = 0; k < tr.clutter_ranges.size(); ++k)
+            tr.clutter_azimuths.push_back(clutter_azimuth(*d_scene.clutter(), k, g));
     const double frame_s = d_fs.n_symbols * d_fs.symbol_interval_s;
     int length = planned;
     for (const auto& t : tr.start) {
@@ -665,6 +711,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             b.motion = *t.motion; // the same model's assignment reuses its lists' capacity
             b.speed_mps = sh.first;
             b.heading_rad = sh.second;
+            b.elevation_rad = t.elevation_rad;
         }
         const double power = target_power(t);
         budget_sum += power;
@@ -679,6 +726,8 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
                 cp.md_phase_rad = t.md->phase_rad;
             }
             cp.mean_power = power * (p.power / path_sum);
+            cp.azimuth_rad = t.azimuth_rad; // a target's extra paths arrive from its own direction
+            cp.elevation_rad = t.elevation_rad;
             out.paths.push_back(cp);
         }
     }
@@ -692,6 +741,10 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             const double range = fixed_ranges ? (*fixed_ranges)[k] : g.uniform(c->range_min_m, c->range_max_m);
             cp.delay_s = d_fs.delay_from_range(range);
             cp.mean_power = (budget ? clutter_share * budget_sum : 1.0 - target_total) / n;
+            // Seen by an array, each scatterer from its own azimuth (a track's kept over it),
+            // drawn only then (a scene without an array keeps its exact frames).
+            if (d_scene.array())
+                cp.azimuth_rad = tracked ? tr.clutter_azimuths[size_t(k)] : clutter_azimuth(*c, size_t(k), g);
             out.paths.push_back(cp);
         }
     }
@@ -747,6 +800,24 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const
 {
     return frame_channel(d_fs, r, first_symbol);
+}
+
+frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol, int element) const
+{
+    if (element < 0 || element >= n_elements())
+        throw std::invalid_argument("channel_model::factors: element " + std::to_string(element) +
+                                    " is beyond the scene's array of " + std::to_string(n_elements()) + " streams");
+    return frame_channel(d_fs, r, first_symbol, d_elements[size_t(element)]);
+}
+
+std::vector<array_element> virtual_elements(const array_geometry& a)
+{
+    std::vector<array_element> e;
+    e.reserve(a.receive().size() * a.transmit().size());
+    for (const auto& p : a.receive())
+        for (const auto& q : a.transmit())
+            e.push_back({ position3{ p[0] + q[0], p[1] + q[1], p[2] + q[2] }, a.pattern() });
+    return e;
 }
 
 void channel_model::add_noise(gr_complex* y, size_t count, double snr_db)

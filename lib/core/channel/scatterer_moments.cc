@@ -282,6 +282,7 @@ body_model::body_model(const scatterer_body& b, const frame_settings& fs) : d_b(
         p.height_m = wk.height_m;
         p.speed_mps = b.speed_mps;
         p.heading_rad = b.heading_rad;
+        p.elevation_rad = b.elevation_rad;
         p.phase_rad = wk.phase_rad;
         d_walker.emplace(p);
         normalise_over_cycle(fs, b.speed_mps > 0.0 ? d_walker->cycle_duration_s() : 1.0, 64);

@@ -147,7 +147,8 @@ void snapshot_terms(body_snapshot& snap, const expansion_plan& plan, const frame
  * up for one serves the other. */
 inline bool same_body(const scatterer_body& a, const scatterer_body& b)
 {
-    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.motion == b.motion;
+    return a.speed_mps == b.speed_mps && a.heading_rad == b.heading_rad && a.elevation_rad == b.elevation_rad &&
+           a.motion == b.motion;
 }
 
 /* G_p for p = 0..P of a snapshot's instants at reference wavenumber kappa_ref, in the

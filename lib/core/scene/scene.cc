@@ -9,10 +9,12 @@
  *                 "paths": [{"excess_range_m": 0, "power": 1}, {"excess_range_m": 12, "power": 0.3}]}],
  *    "random": {"classes": ["pedestrian", "car", "drone"], "targets": 1, "paths_per_target": 1,
  *               "excess_range_m": [2, 30], "path_power_decay_db": 3, "micro_doppler": true,
- *               "heading": "approaching" | "any",
+ *               "heading": "approaching" | "any", "azimuth_rad": [lo, hi] | value,
  *               "tracks": {"frames": 64 | [16, 64], "gains": "frame" | "track" | "gauss_markov",
  *                          "coherence_time_s": 0.1}},
- *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]}}
+ *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]},
+ *    "array": {"receive": {"ula": {...}}, ...} | "file.json"}   (array_geometry.h; targets add
+ *    "azimuth_rad" and "elevation_rad")
  */
 #include "core/common/checks.h"
 #include "core/common/json_object.h"
@@ -73,6 +75,13 @@ void validate_clutter(const clutter_spec& c, const std::string& source)
         for (double r : c.ranges_m)
             check_finite_nonneg(r, source, "clutter.ranges_m");
     }
+    if (!c.azimuths_rad.empty() && c.azimuths_rad.size() != c.ranges_m.size())
+        fail(source, "clutter.azimuths_rad", "has " + std::to_string(c.azimuths_rad.size()) + " azimuths for " +
+                                                 std::to_string(c.ranges_m.size()) + " ranges_m: give one per scatterer");
+    for (size_t i = 0; i < c.azimuths_rad.size(); ++i)
+        if (!(checks::finite(c.azimuths_rad[i]) && std::fabs(c.azimuths_rad[i]) <= M_PI))
+            fail(source, "clutter.azimuths_rad[" + std::to_string(i) + "]",
+                 "must lie in [-pi, pi] rad, got " + checks::text(c.azimuths_rad[i]));
 }
 
 } // namespace
@@ -207,6 +216,13 @@ scene scene::with_track(track_spec t) const
     return s;
 }
 
+scene scene::with_array(array_geometry a) const
+{
+    scene s = *this;
+    s.d_array = std::move(a);
+    return s;
+}
+
 scene scene::with_budget(link_budget b) const
 {
     scene s = *this;
@@ -293,6 +309,12 @@ void scene::validate(const std::string& source) const
         check_finite_nonneg(r.path_power_decay_db, source, "random.path_power_decay_db");
         if (r.heading != heading_kind::approaching && r.heading != heading_kind::any)
             fail(source, "random.heading", "unknown heading kind " + std::to_string(static_cast<int>(r.heading)));
+        if (!(checks::finite(r.azimuth_min_rad) && checks::finite(r.azimuth_max_rad) && r.azimuth_min_rad >= -M_PI &&
+              r.azimuth_max_rad <= M_PI))
+            fail(source, "random.azimuth_rad", "must lie in [-pi, pi] rad, got [" + checks::text(r.azimuth_min_rad) +
+                                                   ", " + checks::text(r.azimuth_max_rad) + "]");
+        if (r.azimuth_min_rad > r.azimuth_max_rad)
+            fail(source, "random.azimuth_rad", "min exceeds max");
         if (r.tracks) {
             const auto& t = *r.tracks;
             const std::string bound = "[1, " + std::to_string(limits::max_track_frames) + "]";
@@ -336,12 +358,23 @@ void scene::validate(const std::string& source) const
         if (!checks::finite(t.velocity_mps))
             fail(source, f + ".velocity_mps", "must be finite");
         check_power(t.power, source, f + ".power");
+        if (!(checks::finite(t.azimuth_rad) && std::fabs(t.azimuth_rad) <= M_PI))
+            fail(source, f + ".azimuth_rad", "must lie in [-pi, pi] rad, got " + checks::text(t.azimuth_rad));
+        if (!(checks::finite(t.elevation_rad) && std::fabs(t.elevation_rad) <= M_PI / 2))
+            fail(source, f + ".elevation_rad", "must lie in [-pi/2, pi/2] rad, got " + checks::text(t.elevation_rad));
+        if (t.elevation_rad != 0.0 && t.motion && !std::holds_alternative<walker_motion>(*t.motion))
+            fail(source, f + ".elevation_rad",
+                 "a " + micro_motion_model(*t.motion) +
+                     " target is modelled as seen from the ground plane: its elevation must be 0 (walkers, sinusoids "
+                     "and point targets take any)");
         if (!std::isnan(t.speed_mps)) {
             check_finite_nonneg(t.speed_mps, source, f + ".speed_mps");
             if (!checks::finite(t.heading_rad))
                 fail(source, f + ".heading_rad", "must be finite");
-            if (std::fabs(t.velocity_mps - t.speed_mps * std::cos(t.heading_rad)) > 1e-9 * (1.0 + t.speed_mps))
-                fail(source, f + ".velocity_mps", "must equal speed_mps·cos(heading_rad) when a speed is given");
+            if (std::fabs(t.velocity_mps - t.speed_mps * std::cos(t.heading_rad) * std::cos(t.elevation_rad)) >
+                1e-9 * (1.0 + t.speed_mps))
+                fail(source, f + ".velocity_mps",
+                     "must equal speed_mps·cos(heading_rad)·cos(elevation_rad) when a speed is given");
         }
         if (t.md && t.motion)
             fail(source, f + ".micro_motion", "a target has one micro-motion: a sinusoid or a scatterer model, not both");
@@ -389,6 +422,8 @@ json scene::to_json() const
                         { "path_power_decay_db", r.path_power_decay_db },
                         { "micro_doppler", r.micro_doppler },
                         { "heading", heading_name(r.heading) } };
+        if (r.azimuth_min_rad != 0.0 || r.azimuth_max_rad != 0.0)
+            j["random"]["azimuth_rad"] = range_pair(r.azimuth_min_rad, r.azimuth_max_rad);
         if (r.tracks) {
             const auto& t = *r.tracks;
             json jt = { { "frames", t.frames_min == t.frames_max ? json(t.frames_min)
@@ -417,6 +452,10 @@ json scene::to_json() const
             }
             if (!std::isnan(t.rcs_dbsm))
                 jt["rcs_dbsm"] = t.rcs_dbsm;
+            if (t.azimuth_rad != 0.0)
+                jt["azimuth_rad"] = t.azimuth_rad;
+            if (t.elevation_rad != 0.0)
+                jt["elevation_rad"] = t.elevation_rad;
             if (t.motion)
                 jt["micro_motion"] = micro_motion_to_json(*t.motion);
             if (t.md)
@@ -434,6 +473,12 @@ json scene::to_json() const
                        { "at_bound", d_track->at_bound == track_bound::restart ? "restart" : "reflect" } };
     if (d_budget)
         j["link_budget"] = d_budget->to_json();
+    if (d_array) {
+        json ja = d_array->to_json();
+        ja.erase("format");
+        ja.erase("version");
+        j["array"] = ja;
+    }
     if (d_clutter) {
         const auto& c = *d_clutter;
         json jc = { { "csr_db", c.csr_db } };
@@ -442,6 +487,8 @@ json scene::to_json() const
             jc["range_m"] = range_pair(c.range_min_m, c.range_max_m);
         } else {
             jc["ranges_m"] = c.ranges_m;
+            if (!c.azimuths_rad.empty())
+                jc["azimuths_rad"] = c.azimuths_rad;
         }
         j["clutter"] = jc;
     }
@@ -518,6 +565,15 @@ scene scene::from_json(const json& j, const std::string& source)
                 fail(source, "random.heading", e.what());
             }
         }
+        if (const auto* az = r.find("azimuth_rad")) {
+            if (az->is_array())
+                std::tie(spec.azimuth_min_rad, spec.azimuth_max_rad) = read_pair(*az, "random.azimuth_rad", source);
+            else
+                spec.azimuth_min_rad = spec.azimuth_max_rad = finite_number(*az, "random.azimuth_rad", source);
+        }
+        if (r.has("elevation_rad"))
+            fail(source, "random.elevation_rad",
+                 "random scenes draw targets in the ground plane (elevation 0); give elevations in a fixed scene's targets");
         if (r.has("tracks")) {
             object_reader rt = r.object("tracks");
             track_draw_spec t;
@@ -564,7 +620,10 @@ scene scene::from_json(const json& j, const std::string& source)
                     fail(source, f, "give velocity_mps (radial) or speed_mps with heading_rad, not both");
                 t.speed_mps = rt.number("speed_mps");
                 t.heading_rad = rt.number_or("heading_rad", 0.0);
+                t.elevation_rad = rt.number_or("elevation_rad", 0.0);
                 t.velocity_mps = t.speed_mps * std::cos(t.heading_rad);
+                if (t.elevation_rad != 0.0) // the ground-plane motion's projection on the line of sight
+                    t.velocity_mps *= std::cos(t.elevation_rad);
             } else {
                 if (rt.has("heading_rad"))
                     fail(source, f + ".heading_rad", "goes with speed_mps (velocity_mps is already radial)");
@@ -572,6 +631,8 @@ scene scene::from_json(const json& j, const std::string& source)
             }
             t.power = rt.number_or("power", 1.0);
             t.rcs_dbsm = rt.number_or("rcs_dbsm", t.rcs_dbsm);
+            t.azimuth_rad = rt.number_or("azimuth_rad", 0.0);
+            t.elevation_rad = rt.number_or("elevation_rad", t.elevation_rad);
             if (const auto* mm = rt.find("micro_motion")) {
                 if (rt.has("micro_doppler"))
                     fail(source, f, "give micro_motion or its short form micro_doppler, not both");
@@ -627,6 +688,12 @@ scene scene::from_json(const json& j, const std::string& source)
     }
     if (const json* b = top.find("link_budget"))
         s.d_budget = link_budget::from_json(*b, source, "link_budget");
+    if (const json* a = top.find("array")) {
+        if (a->is_string()) // a file: scene::load has made a relative name relative to the scene's folder
+            s.d_array = array_geometry::load(a->get<std::string>());
+        else
+            s.d_array = array_geometry::from_json(*a, source, "array", false);
+    }
     if (top.has("clutter")) {
         object_reader rc = top.object("clutter");
         clutter_spec c;
@@ -636,6 +703,11 @@ scene scene::from_json(const json& j, const std::string& source)
             for (size_t i = 0; i < ranges->size(); ++i)
                 c.ranges_m.push_back(finite_number((*ranges)[i], "clutter.ranges_m[" + std::to_string(i) + "]", source));
             c.n_paths = static_cast<int>(c.ranges_m.size());
+            if (const auto* az = rc.find("azimuths_rad")) {
+                object_reader::checked_array(*az, "clutter.azimuths_rad", source, c.ranges_m.size(), c.ranges_m.size());
+                for (size_t i = 0; i < az->size(); ++i)
+                    c.azimuths_rad.push_back(finite_number((*az)[i], "clutter.azimuths_rad[" + std::to_string(i) + "]", source));
+            }
             if (rc.has("paths") || rc.has("range_m"))
                 fail(source, "clutter", "give either \"ranges_m\" (fixed scatterers) or \"paths\" and \"range_m\", not both");
         } else {
@@ -666,6 +738,12 @@ scene scene::load(const std::string& path)
             if (std::ifstream(beside).good())
                 j["classes"] = beside;
         }
+    }
+    if (j.is_object() && j.contains("array") && j["array"].is_string()) {
+        const std::string file = j["array"].get<std::string>();
+        const auto slash = path.rfind('/');
+        if (!file.empty() && file.front() != '/' && slash != std::string::npos)
+            j["array"] = path.substr(0, slash + 1) + file;
     }
     return from_json(j, path);
 }

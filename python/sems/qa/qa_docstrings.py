@@ -58,6 +58,8 @@ class qa_docstrings(gr_unittest.TestCase):
         self.check(sems.scatterers_motion, "core/scene/micro_motion.h", "struct SEMS_API scatterers_motion")
         self.check(sems.scatterer_body, "core/channel/channel_model.h", "struct SEMS_API scatterer_body")
         self.check(sems.track_spec, "core/scene/scene.h", "struct SEMS_API track_spec")
+        self.check(sems.array_geometry, "core/array/array_geometry.h", "class SEMS_API array_geometry")
+        self.check(sems.steering_vector, "core/array/steering.h", "steering_vector(const array_geometry& a")
         self.check(sems.micro_motion_model, "core/scene/micro_motion.h", "SEMS_API std::string micro_motion_model")
         self.check(sems.class_library.find, "core/scene/class_library.h", "static std::shared_ptr<const class_library> find")
 

@@ -287,13 +287,15 @@ void bind_scene(py::module& m)
     py::class_<target_spec>(m, "target_spec", D(target_spec))
         .def(py::init([](target_class cls, double range_m, double velocity_mps, std::optional<micro_doppler> md,
                          double power, std::vector<path_spec> paths, double speed_mps, double heading_rad,
-                         std::optional<micro_motion> motion, double rcs_dbsm) {
-                 return target_spec{ cls, range_m, velocity_mps, speed_mps, heading_rad, md, motion, power, paths, rcs_dbsm };
+                         std::optional<micro_motion> motion, double rcs_dbsm, double azimuth_rad, double elevation_rad) {
+                 return target_spec{ cls,    range_m, velocity_mps, speed_mps, heading_rad, md,
+                                     motion, power,   paths,        rcs_dbsm,  azimuth_rad, elevation_rad };
              }),
              py::arg("cls"), py::arg("range_m"), py::arg("velocity_mps"), py::arg("md") = py::none(),
              py::arg("power") = 1.0, py::arg("paths") = std::vector<path_spec>{ path_spec{} },
              py::arg("speed_mps") = target_spec{}.speed_mps, py::arg("heading_rad") = target_spec{}.heading_rad,
-             py::arg("motion") = py::none(), py::arg("rcs_dbsm") = target_spec{}.rcs_dbsm)
+             py::arg("motion") = py::none(), py::arg("rcs_dbsm") = target_spec{}.rcs_dbsm,
+             py::arg("azimuth_rad") = 0.0, py::arg("elevation_rad") = 0.0)
         .def_readwrite("cls", &target_spec::cls)
         .def_readwrite("range_m", &target_spec::range_m)
         .def_readwrite("velocity_mps", &target_spec::velocity_mps)
@@ -303,7 +305,9 @@ void bind_scene(py::module& m)
         .def_readwrite("motion", &target_spec::motion, D(target_spec, motion))
         .def_readwrite("power", &target_spec::power)
         .def_readwrite("paths", &target_spec::paths)
-        .def_readwrite("rcs_dbsm", &target_spec::rcs_dbsm, D(target_spec, rcs_dbsm));
+        .def_readwrite("rcs_dbsm", &target_spec::rcs_dbsm, D(target_spec, rcs_dbsm))
+        .def_readwrite("azimuth_rad", &target_spec::azimuth_rad, D(target_spec, azimuth_rad))
+        .def_readwrite("elevation_rad", &target_spec::elevation_rad, D(target_spec, elevation_rad));
 
     py::class_<link_budget>(m, "link_budget", D(link_budget))
         .def(py::init<>())
@@ -331,14 +335,15 @@ void bind_scene(py::module& m)
 
     py::class_<clutter_spec>(m, "clutter_spec", D(clutter_spec))
         .def(py::init([](double csr_db, int n_paths, double range_min_m, double range_max_m,
-                         std::vector<double> ranges_m) {
-                 return clutter_spec{ csr_db, n_paths, range_min_m, range_max_m, ranges_m };
+                         std::vector<double> ranges_m, std::vector<double> azimuths_rad) {
+                 return clutter_spec{ csr_db, n_paths, range_min_m, range_max_m, ranges_m, azimuths_rad };
              }),
              py::arg("csr_db"), py::arg("n_paths") = clutter_spec{}.n_paths,
              py::arg("range_min_m") = clutter_spec{}.range_min_m, py::arg("range_max_m") = clutter_spec{}.range_max_m,
-             py::arg("ranges_m") = std::vector<double>{})
+             py::arg("ranges_m") = std::vector<double>{}, py::arg("azimuths_rad") = std::vector<double>{})
         .def_readwrite("csr_db", &clutter_spec::csr_db)
-        .def_readwrite("n_paths", &clutter_spec::n_paths);
+        .def_readwrite("n_paths", &clutter_spec::n_paths)
+        .def_readwrite("azimuths_rad", &clutter_spec::azimuths_rad, D(clutter_spec, azimuths_rad));
 
     py::enum_<heading_kind>(m, "heading_kind")
         .value("approaching", heading_kind::approaching)
@@ -384,7 +389,9 @@ void bind_scene(py::module& m)
         .def_readwrite("paths_per_target", &random_spec::paths_per_target)
         .def_readwrite("micro_doppler", &random_spec::micro_doppler)
         .def_readwrite("heading", &random_spec::heading)
-        .def_readwrite("tracks", &random_spec::tracks, D(random_spec, tracks));
+        .def_readwrite("tracks", &random_spec::tracks, D(random_spec, tracks))
+        .def_readwrite("azimuth_min_rad", &random_spec::azimuth_min_rad, D(random_spec, azimuth_min_rad))
+        .def_readwrite("azimuth_max_rad", &random_spec::azimuth_max_rad, D(random_spec, azimuth_max_rad));
 
     py::class_<scene>(m, "scene", D(scene))
         .def_static(
@@ -418,6 +425,8 @@ void bind_scene(py::module& m)
         .def("with_track", &scene::with_track, D(scene, with_track), py::arg("t"))
         .def("budget", &scene::budget, D(scene, budget))
         .def("with_budget", &scene::with_budget, D(scene, with_budget), py::arg("b"))
+        .def("array", &scene::array, D(scene, array))
+        .def("with_array", &scene::with_array, D(scene, with_array), py::arg("a"))
         .def("class_name", &scene::class_name, D(scene, class_name), py::arg("c"));
 }
 
@@ -433,7 +442,9 @@ void bind_channel_model(py::module& m)
         .def_readonly("md_phase_rad", &channel_path::md_phase_rad)
         .def_readonly("gain", &channel_path::gain)
         .def_readonly("mean_power", &channel_path::mean_power)
-        .def_readonly("body", &channel_path::body, D(channel_path, body));
+        .def_readonly("body", &channel_path::body, D(channel_path, body))
+        .def_readonly("azimuth_rad", &channel_path::azimuth_rad, D(channel_path, azimuth_rad))
+        .def_readonly("elevation_rad", &channel_path::elevation_rad, D(channel_path, elevation_rad));
 
     py::class_<scatterer_body>(m, "scatterer_body", D(scatterer_body))
         .def_readonly("motion", &scatterer_body::motion, D(scatterer_body, motion))
@@ -462,6 +473,17 @@ void bind_channel_model(py::module& m)
                 return h;
             },
             py::arg("realization"), py::arg("first_symbol"), "H (N x M) of a drawn frame")
+        .def(
+            "channel",
+            [](const channel_model& cm, const frame_realization& r, uint64_t first_symbol, int element) {
+                const auto& fs = cm.settings();
+                cplx_array h({ fs.n_symbols, fs.n_subcarriers });
+                cm.factors(r, first_symbol, element).fill(h.mutable_data());
+                return h;
+            },
+            py::arg("realization"), py::arg("first_symbol"), py::arg("element"),
+            "H (N x M) of a drawn frame at one stream of the scene's array (channel_model::factors)")
+        .def("n_elements", &channel_model::n_elements, D(channel_model, n_elements))
         .def(
             "generate",
             [](channel_model& cm, size_t count, uint64_t first_frame) {

@@ -8,6 +8,7 @@
 namespace py = pybind11;
 
 void bind_core(py::module& m);
+void bind_array(py::module& m);
 void bind_pilot_mapper(py::module& m);
 void bind_target_channel(py::module& m);
 void bind_target_channel_td(py::module& m);
@@ -24,6 +25,7 @@ PYBIND11_MODULE(core_python, m)
     // Blocks derive from gr::sync_block etc.: make their base classes known first.
     py::module::import("gnuradio.gr");
 
+    bind_array(m); // before the scenes, which take an array
     bind_core(m);
     bind_pilot_mapper(m);
     bind_target_channel(m);

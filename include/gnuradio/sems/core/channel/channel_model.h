@@ -26,6 +26,7 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <complex>
@@ -54,6 +55,23 @@ struct SEMS_API channel_path {
     std::complex<double> gain{ 1.0, 0.0 }; ///< α_l
     double mean_power = 1.0;               ///< p_l, the mean of |α_l|²
     int body = -1; ///< index of the target's scatterer body in frame_realization::bodies (-1: a point target)
+    double azimuth_rad = 0.0;   ///< its direction from the array (array_geometry.h): φ
+    double elevation_rad = 0.0; ///< θ
+};
+
+/*!
+ * \brief Where the stream of one array element receives: the receive element's position plus
+ *        the transmit element's (steering.h), and the elements' pattern. The default, the
+ *        origin with an isotropic pattern, is the single-antenna model.
+ */
+struct SEMS_API array_element {
+    position3 offset{ 0.0, 0.0, 0.0 }; ///< p_k + q_j in m
+    element_pattern pattern = element_pattern::isotropic; ///< the elements' pattern
+    /*! \brief Whether the element changes nothing (the origin, isotropic). \return true then. */
+    bool is_origin() const
+    {
+        return offset[0] == 0.0 && offset[1] == 0.0 && offset[2] == 0.0 && pattern == element_pattern::isotropic;
+    }
 };
 
 /*!
@@ -64,6 +82,7 @@ struct SEMS_API scatterer_body {
     micro_motion motion;      ///< the model and its parameters
     double speed_mps = 0.0;   ///< the target's speed (the walker's gait and the wheels' spin follow it)
     double heading_rad = 0.0; ///< θ between its motion and the line towards the radar (0: approaching head-on)
+    double elevation_rad = 0.0; ///< its line of sight's elevation (a walker seen from above; the other models take 0)
 };
 
 /*! \brief Ground truth of one frame: the target of interest (its direct path). */
@@ -91,6 +110,14 @@ struct SEMS_API frame_truth {
     uint64_t track_id = 0;
     uint64_t frame_in_track = 0; ///< frames of the track before this one (0: its first; a fixed scene: the frame index)
 };
+
+/*!
+ * \brief The streams an array receives: one per receive and transmit element pair,
+ *        receive-element-major (stream k·N_t + j: receive element k, transmit element j).
+ * \param a the array.
+ * \return N_r·N_t elements.
+ */
+SEMS_API std::vector<array_element> virtual_elements(const array_geometry& a);
 
 /*! \brief One drawn frame: its paths and its truth. */
 struct SEMS_API frame_realization {
@@ -136,6 +163,16 @@ public:
      * \param fs the frame settings. \param r the frame. \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
      */
     frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol);
+    /*!
+     * \brief A drawn frame's factors as one array element receives it: each path's gain turned by
+     *        its steering phasor and pattern, its delay by the plane wave's delay at the element
+     *        (steering.h). Later update() calls keep the element.
+     * \param fs the frame settings. \param r the frame. \param first_symbol as above.
+     * \param element the element.
+     */
+    frame_channel(const frame_settings& fs, const frame_realization& r, uint64_t first_symbol, const array_element& element);
+    /*! \brief The element the factors are computed for. \return it (the origin by default). */
+    const array_element& element() const { return d_element; }
     ~frame_channel(); ///< Destructor.
     /*! \brief Copy constructor. \param o the factors to copy. */
     frame_channel(const frame_channel& o);
@@ -169,6 +206,7 @@ private:
     void fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk);
     struct scratch; // scatterer bodies' plans and moments (lib/core/channel/channel_model.cc)
     frame_settings d_fs;
+    array_element d_element;
     int d_n, d_m, d_l;
     std::vector<gr_complex> d_slow;  // N x L (a symbol's terms side by side), gain included
     std::vector<gr_complex> d_delay; // L x M (a scatterer body's path: its delay phasor and δk/δk_max)
@@ -234,6 +272,16 @@ public:
      * \return the factors.
      */
     frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
+    /*!
+     * \brief The frame's factors at one element of the scene's array (virtual_elements()).
+     * \param r a drawn frame. \param first_symbol as above.
+     * \param element the stream: 0 .. n_elements() − 1.
+     * \return the factors.
+     * \throws std::invalid_argument for an element beyond the array.
+     */
+    frame_channel factors(const frame_realization& r, uint64_t first_symbol, int element) const;
+    /*! \brief The streams the scene's array receives (1 without an array). \return N_r·N_t. */
+    int n_elements() const { return static_cast<int>(d_elements.size()); }
 
     /*!
      * \brief Adds noise: y += CN(0, σ²) per element; draws nothing when snr_db = +inf.
@@ -272,6 +320,7 @@ private:
     struct rngs; // generators and per-frame scratch (lib/core/channel/channel_model.cc)
     frame_settings d_fs;
     scene d_scene;
+    std::vector<array_element> d_elements; // the scene's array's streams (the origin without one)
     std::unique_ptr<rngs> d_rng;
 };
 

@@ -40,6 +40,9 @@ constexpr int max_rim_points = 64;          // point scatterers per rim
 constexpr int max_spokes = 64;              // spokes per wheel
 constexpr int max_scatterers = 256;         // point scatterers of a `scatterers` target
 constexpr int max_harmonics = 16;           // harmonics per point scatterer
+// Arrays (array_geometry.h): elements of one kind (receive or transmit). 1024 receive streams
+// are more than any flowgraph runs; a frame of the paper's 32 pilots then carries 32 768 values.
+constexpr int max_array_elements = 1024;
 
 } // namespace limits
 } // namespace sems

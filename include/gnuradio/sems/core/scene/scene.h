@@ -16,6 +16,7 @@
 #define INCLUDED_SEMS_CORE_SCENE_H
 
 #include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <gnuradio/sems/core/scene/link_budget.h>
 #include <gnuradio/sems/core/scene/micro_motion.h>
@@ -51,6 +52,15 @@ struct SEMS_API target_spec {
     std::vector<path_spec> paths{ path_spec{} }; ///< at least one; the first is the direct path
     /*! \brief Its mean RCS in dBsm: with a link budget, its power follows the radar equation (NaN: none given). */
     double rcs_dbsm = std::numeric_limits<double>::quiet_NaN();
+    /*! \brief Its line of sight's azimuth φ in [−π, π] (array_geometry.h's frame; 0: boresight). */
+    double azimuth_rad = 0.0;
+    /*!
+     * \brief Its line of sight's elevation in [−π/2, π/2]: the body moves in the ground plane, so
+     *        its radial velocity is speed·cos(heading)·cos(elevation), and a walker is seen from
+     *        above. Non-zero only for point targets, sinusoids and walkers (the other scatterer
+     *        models describe motion seen from the ground plane).
+     */
+    double elevation_rad = 0.0;
 };
 
 /*! \brief Static clutter: zero-Doppler scatterers at a clutter-to-signal power ratio. */
@@ -60,6 +70,11 @@ struct SEMS_API clutter_spec {
     double range_min_m = 0.0;           ///< drawn per frame, unless ranges_m is given
     double range_max_m = 200.0;         ///< upper end of the drawn ranges
     std::vector<double> ranges_m;       ///< fixed scatterer ranges (then n_paths = ranges_m.size())
+    /*!
+     * \brief With ranges_m and an array: each fixed scatterer's azimuth in [−π, π] (empty: all 0).
+     *        Drawn scatterers take an azimuth uniform on [−π/2, π/2) with their range.
+     */
+    std::vector<double> azimuths_rad;
 };
 
 /// Direction of a random target's motion. approaching: radial velocity = +speed (the
@@ -148,6 +163,13 @@ struct SEMS_API random_spec {
     heading_kind heading = heading_kind::approaching; ///< see heading_kind
     /*! \brief Tracks: targets kept over several frames; empty: drawn afresh every frame (the paper). */
     std::optional<track_draw_spec> tracks;
+    /*!
+     * \brief Each target's azimuth ~ U[min, max] in [−π, π]; drawn (last, after its paths) only
+     *        when min < max, so scenes without an interval keep their exact frames. A track keeps
+     *        its azimuth.
+     */
+    double azimuth_min_rad = 0.0;
+    double azimuth_max_rad = 0.0; ///< see azimuth_min_rad
 };
 
 /*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */
@@ -264,6 +286,14 @@ public:
      *         link_budget::min_range_m, naming it.
      */
     scene with_budget(link_budget b) const;
+    /*!
+     * \brief The receiving array, if the scene names one (array_geometry.h): then the emulator
+     *        gives one stream per receive element and draws each clutter scatterer's azimuth.
+     * \return the array (empty: one antenna, the paper's).
+     */
+    const std::optional<array_geometry>& array() const { return d_array; }
+    /*! \brief The same scene received by an array. \param a the array. \return the scene. */
+    scene with_array(array_geometry a) const;
     /*! \brief A class name in the scene's library. \param c the class id. \return its name. */
     std::string class_name(target_class c) const { return d_library->at(static_cast<int>(c)).name; }
 
@@ -282,6 +312,7 @@ private:
     std::optional<clutter_spec> d_clutter;
     std::optional<track_spec> d_track;
     std::optional<link_budget> d_budget;
+    std::optional<array_geometry> d_array;
     std::shared_ptr<const class_library> d_library = class_library::paper();
     int d_toi = 0;
     fading_kind d_fading = fading_kind::rayleigh;

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: Python bindings of arrays (core/array/array_geometry.h) and their steering
+ * (core/array/steering.h). Positions cross as (x, y, z) tuples in metres. */
+#include <gnuradio/sems/core/array/array_geometry.h>
+#include <gnuradio/sems/core/array/steering.h>
+
+#include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
+#include <pybind11/complex.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace gr::sems;
+
+void bind_array(py::module& m)
+{
+    py::enum_<element_pattern>(m, "element_pattern", D(element_pattern))
+        .value("isotropic", element_pattern::isotropic)
+        .value("cosine", element_pattern::cosine);
+
+    py::class_<array_geometry>(m, "array_geometry", D(array_geometry))
+        .def(py::init<>(), "One receive and one transmit element at the origin: the single-antenna model")
+        .def_static("ula", &array_geometry::ula, D(array_geometry, ula), py::arg("elements"), py::arg("spacing_m"),
+                    py::arg("pattern") = element_pattern::isotropic)
+        .def_static("ura", &array_geometry::ura, D(array_geometry, ura), py::arg("columns"), py::arg("rows"),
+                    py::arg("spacing_y_m"), py::arg("spacing_z_m"), py::arg("pattern") = element_pattern::isotropic)
+        .def_static("from_positions", &array_geometry::from_positions, D(array_geometry, from_positions),
+                    py::arg("receive"), py::arg("transmit") = std::vector<position3>{ position3{ 0.0, 0.0, 0.0 } },
+                    py::arg("pattern") = element_pattern::isotropic, py::arg("source") = "array")
+        .def_static("load", &array_geometry::load, D(array_geometry, load), py::arg("path"))
+        .def_static(
+            "parse",
+            [](const std::string& text, const std::string& source) {
+                return array_geometry::from_json(nlohmann::json::parse(text), source);
+            },
+            "Reads an array from its file's JSON text", py::arg("json_text"), py::arg("source") = "array text")
+        .def("to_json_string", [](const array_geometry& a) { return a.to_json().dump(); }, "The file's JSON text")
+        .def("save", &array_geometry::save, D(array_geometry, save), py::arg("path"))
+        .def("receive", &array_geometry::receive, D(array_geometry, receive))
+        .def("transmit", &array_geometry::transmit, D(array_geometry, transmit))
+        .def("pattern", &array_geometry::pattern, D(array_geometry, pattern))
+        .def("n_receive", &array_geometry::n_receive, D(array_geometry, n_receive))
+        .def("n_transmit", &array_geometry::n_transmit, D(array_geometry, n_transmit))
+        .def("is_single_antenna", &array_geometry::is_single_antenna, D(array_geometry, is_single_antenna))
+        .def("reach_m", &array_geometry::reach_m, D(array_geometry, reach_m))
+        .def("__eq__", [](const array_geometry& a, const array_geometry& b) { return a == b; });
+
+    m.def("direction_vector", &direction_vector, D(direction_vector), py::arg("azimuth_rad"), py::arg("elevation_rad"));
+    m.def("steering_vector", &steering_vector, D(steering_vector), py::arg("array"), py::arg("azimuth_rad"),
+          py::arg("elevation_rad"), py::arg("wavelength_m"));
+    m.def("narrowband_phase_error_rad", &narrowband_phase_error_rad, D(narrowband_phase_error_rad), py::arg("array"),
+          py::arg("fs"));
+}
