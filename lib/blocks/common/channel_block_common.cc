@@ -52,9 +52,14 @@ scene channel_block_scene(const char* who,
                                         "\" describes random scenes; a fixed scene (scene = file or JSON) "
                                         "names its own library in its \"classes\" key, so leave class_library at "
                                         "\"" + default_class_library + "\"");
-        if (text[first] == '{')
-            return scene::parse(text, std::string(who) + " scene JSON");
-        return scene::load(text);
+        scene sc = text[first] == '{' ? scene::parse(text, std::string(who) + " scene JSON") : scene::load(text);
+        // The blocks give one output stream: an array's streams are not silently cut to one.
+        if (const auto& a = sc.array(); a && !a->is_single_antenna())
+            throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(a->n_receive()) +
+                                        " receive x " + std::to_string(a->n_transmit()) +
+                                        " transmit elements, but this block gives 1 output stream (one antenna); "
+                                        "take an array's streams from channel_model::factors(frame, symbol, element)");
+        return sc;
     }
 
     std::shared_ptr<const class_library> lib;

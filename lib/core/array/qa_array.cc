@@ -375,6 +375,10 @@ public:
         channel_model cm(frame_settings{}, point_target(50, 1, 0, 0).with_array(array_geometry::ula(4, 0.05)), 1);
         const auto r = cm.draw(0);
         assert_error([&] { cm.factors(r, 0, 4); }, "element 4", "4 streams");
+        // Nor is one stream of several taken for the scene's channel without naming it.
+        assert_error([&] { cm.factors(r, 0); }, "4 streams", "element index");
+        std::vector<gr_complex> h(frame_settings{}.grid_size());
+        assert_error([&] { cm.generate(1, h.data()); }, "4 streams", "element index");
     }
 
     void bad_angles_are_refused_by_name()

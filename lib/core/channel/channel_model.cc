@@ -799,6 +799,10 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
 
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol) const
 {
+    if (n_elements() > 1) // one stream of several is never taken silently for the scene's channel
+        throw std::invalid_argument("channel_model::factors: the scene's array gives " + std::to_string(n_elements()) +
+                                    " streams; ask for one by its element index (0 .. " +
+                                    std::to_string(n_elements() - 1) + ")");
     return frame_channel(d_fs, r, first_symbol);
 }
 

@@ -38,12 +38,15 @@ class qa_array(gr_unittest.TestCase):
         fs = sems.frame_settings()
         a = sems.array_geometry.ula(4, 0.05)
         t = sems.target_spec(sems.target_class.car, 60.0, 8.0, azimuth_rad=-0.6)
-        sc = sems.scene.fixed([t], fading=sems.fading_kind.none).with_array(a)
-        cm = sems.channel_model(fs, sc, 1)
+        one = sems.scene.fixed([t], fading=sems.fading_kind.none)
+        cm = sems.channel_model(fs, one.with_array(a), 1)
         r = cm.draw(0)
         self.assertEqual(cm.n_elements(), 4)
         self.assertAlmostEqual(r.paths[0].azimuth_rad, -0.6)
-        h0 = cm.channel(r, 0)  # the origin's channel
+        single = sems.channel_model(fs, one, 1)  # the origin's channel: the same target, one antenna
+        h0 = single.channel(single.draw(0), 0)
+        with self.assertRaisesRegex(ValueError, "4 streams"):
+            cm.channel(r, 0)  # an array's channel is asked for by element
         u_y = math.sin(-0.6)
         m = np.arange(fs.n_subcarriers)
         for k, p in enumerate(a.receive()):
@@ -53,6 +56,14 @@ class qa_array(gr_unittest.TestCase):
             np.testing.assert_allclose(cm.channel(r, 0, k), want, atol=1e-5)
         with self.assertRaisesRegex(ValueError, "element 4"):
             cm.channel(r, 0, 4)
+
+    def test_one_stream_blocks_refuse_an_array_scene(self):
+        text = json.dumps({"format": "sems.scene", "version": 1,
+                           "array": {"receive": {"ula": {"elements": 4, "spacing_m": 0.05}}},
+                           "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8}]})
+        for block in (sems.target_channel, sems.target_channel_td):
+            with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements.*1 output stream"):
+                block(scene=text)
 
 
 if __name__ == "__main__":

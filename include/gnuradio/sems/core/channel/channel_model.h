@@ -270,6 +270,8 @@ public:
      * \param r a drawn frame.
      * \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
      * \return the factors.
+     * \throws std::invalid_argument when the scene's array gives more than one stream (then
+     *         name the element: the overload below).
      */
     frame_channel factors(const frame_realization& r, uint64_t first_symbol) const;
     /*!
