@@ -20,7 +20,8 @@ class qa_array(gr_unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "ula.json")
             a.save(path)
-            self.assertEqual(json.load(open(path))["format"], "sems.array")
+            with open(path) as f:
+                self.assertEqual(json.load(f)["format"], "sems.array")
             self.assertTrue(sems.array_geometry.load(path) == a)
         with self.assertRaisesRegex(ValueError, "spacing_m"):
             sems.array_geometry.ula(4, 0.0)
@@ -56,6 +57,23 @@ class qa_array(gr_unittest.TestCase):
             np.testing.assert_allclose(cm.channel(r, 0, k), want, atol=1e-5)
         with self.assertRaisesRegex(ValueError, "element 4"):
             cm.channel(r, 0, 4)
+
+    def test_beamforming_finds_the_emulated_target(self):
+        # The emulator's array channel and the angle baselines share one steering function: a
+        # noiseless target at -0.6 rad, its grid's resource elements as snapshots, is found there.
+        fs = sems.frame_settings()
+        a = sems.array_geometry.ula(8, 0.05)
+        t = sems.target_spec(sems.target_class.car, 60.0, 8.0, azimuth_rad=-0.6)
+        cm = sems.channel_model(fs, sems.scene.fixed([t]).with_array(a), 3)
+        r = cm.draw(0)
+        y = np.stack([cm.channel(r, 0, k)[:, :4].ravel() for k in range(8)])  # 8 x 128 snapshots
+        bf = sems.beamforming_angle_estimator(a, 0.0, fs.wavelength_m())
+        self.assertAlmostEqual(bf.estimate(y)[0], -0.6, delta=2e-3)  # the band's delay spread: < 1e-3 rad
+        music = sems.music_angle_estimator(a, 0.0, fs.wavelength_m(), 1)
+        self.assertAlmostEqual(music.estimate(y)[0], -0.6, delta=2e-3)
+        self.assertGreater(sems.angle_crb_rad2(a, -0.6, 0.0, fs.wavelength_m(), 1e3), 0.0)
+        with self.assertRaisesRegex(ValueError, "8 elements x snapshots"):
+            bf.estimate(y[:4])
 
     def test_one_stream_blocks_refuse_an_array_scene(self):
         text = json.dumps({"format": "sems.scene", "version": 1,

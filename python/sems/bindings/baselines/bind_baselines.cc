@@ -2,6 +2,7 @@
 /* gr-sems: Python bindings of the classical baselines (delay estimators, CRB,
  * Doppler features, feature SVM, MUSIC pilot patterns). Observations are 1-D
  * complex64 numpy arrays of length N_p in mask order. */
+#include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
 #include <gnuradio/sems/baselines/music_delay_estimator.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
@@ -24,6 +25,16 @@ using namespace gr::sems;
 namespace {
 
 using carray = py::array_t<gr_complex, py::array::c_style | py::array::forcecast>;
+
+// An array's observations: K x L (elements x snapshots), element-major as the extractor gives them.
+std::pair<const gr_complex*, int> array_obs(const carray& a, int elements, const char* who)
+{
+    if (a.ndim() != 2 || a.shape(0) != elements)
+        throw std::invalid_argument(std::string(who) + ": expected a 2-D array of " + std::to_string(elements) +
+                                    " elements x snapshots, got " + std::to_string(a.ndim()) + "-D with first size " +
+                                    std::to_string(a.ndim() > 0 ? a.shape(0) : 0));
+    return { a.data(), static_cast<int>(a.shape(1)) };
+}
 
 const gr_complex* obs_ptr(const carray& a, int n_pilots, const char* who)
 {
@@ -128,6 +139,41 @@ void bind_baselines(py::module& m)
         .def("predict", &feature_svm::predict)
         .def("n_features", &feature_svm::n_features)
         .def("n_support_vectors", &feature_svm::n_support_vectors);
+
+    py::class_<angle_search>(m, "angle_search", D(angle_search))
+        .def(py::init([](double min_rad, double max_rad, int grid) { return angle_search{ min_rad, max_rad, grid }; }),
+             py::arg("min_rad") = angle_search{}.min_rad, py::arg("max_rad") = angle_search{}.max_rad,
+             py::arg("grid") = angle_search{}.grid)
+        .def_readwrite("min_rad", &angle_search::min_rad)
+        .def_readwrite("max_rad", &angle_search::max_rad)
+        .def_readwrite("grid", &angle_search::grid);
+    m.def("angle_crb_rad2", &angle_crb_rad2, D(angle_crb_rad2), py::arg("array"), py::arg("azimuth_rad"),
+          py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("energy_to_noise"));
+    py::class_<beamforming_angle_estimator>(m, "beamforming_angle_estimator", D(beamforming_angle_estimator))
+        .def(py::init<const array_geometry&, double, double, angle_search>(), py::arg("array"),
+             py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("search") = angle_search{})
+        .def("estimate",
+             [](const beamforming_angle_estimator& e, const carray& y, int n_targets) {
+                 const auto [p, l] = array_obs(y, e.n_elements(), "estimate");
+                 return e.estimate(p, l, n_targets);
+             },
+             D(beamforming_angle_estimator, estimate), py::arg("y"), py::arg("n_targets") = 1)
+        .def("spectrum",
+             [](const beamforming_angle_estimator& e, const carray& y) {
+                 const auto [p, l] = array_obs(y, e.n_elements(), "spectrum");
+                 return e.spectrum(p, l);
+             },
+             D(beamforming_angle_estimator, spectrum), py::arg("y"));
+    py::class_<music_angle_estimator>(m, "music_angle_estimator", D(music_angle_estimator))
+        .def(py::init<const array_geometry&, double, double, int, int, angle_search>(), py::arg("array"),
+             py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("n_targets"), py::arg("subarray") = 0,
+             py::arg("search") = angle_search{})
+        .def("estimate",
+             [](const music_angle_estimator& e, const carray& y) {
+                 const auto [p, l] = array_obs(y, e.n_elements(), "estimate");
+                 return e.estimate(p, l);
+             },
+             D(music_angle_estimator, estimate), py::arg("y"));
 
     m.def("random_subcarrier_mask", &random_subcarrier_mask, D(random_subcarrier_mask), py::arg("n_symbols"), py::arg("n_subcarriers"),
           py::arg("count"), py::arg("seed"), "RP-MUSIC pattern: the uniform lattice's symbols, random subcarriers");

@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: the angle CRB, Bartlett beamforming and MUSIC over an array's pilots
+ * (angle_estimators.h). The steering is core/array/steering.h's, the one the emulator uses. */
+#include <gnuradio/sems/baselines/angle_estimators.h>
+#include <gnuradio/sems/core/array/steering.h>
+#include <gnuradio/sems/core/channel/channel_model.h>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+#include <string>
+
+namespace gr {
+namespace sems {
+
+namespace {
+
+using cd = std::complex<double>;
+using cmat = Eigen::MatrixXcd;
+
+std::string num(double x) { return std::to_string(x); }
+
+void check_common(const char* who, double wavelength_m, const angle_search& s)
+{
+    if (!(std::isfinite(wavelength_m) && wavelength_m > 0.0))
+        throw std::invalid_argument(std::string(who) + ": wavelength_m must be > 0, got " + num(wavelength_m));
+    if (!(std::isfinite(s.min_rad) && std::isfinite(s.max_rad) && s.min_rad >= -M_PI && s.max_rad <= M_PI &&
+          s.min_rad < s.max_rad))
+        throw std::invalid_argument(std::string(who) + ": the search interval [" + num(s.min_rad) + ", " +
+                                    num(s.max_rad) + "] rad must lie in [-pi, pi] with min < max");
+    if (s.grid < 8)
+        throw std::invalid_argument(std::string(who) + ": search.grid must be >= 8, got " + std::to_string(s.grid));
+}
+
+void check_input(const char* who, const gr_complex* y, int elements, int snapshots)
+{
+    if (snapshots < 1)
+        throw std::invalid_argument(std::string(who) + ": snapshots must be >= 1, got " + std::to_string(snapshots));
+    for (size_t i = 0; i < size_t(elements) * size_t(snapshots); ++i)
+        if (!std::isfinite(y[i].real()) || !std::isfinite(y[i].imag()))
+            throw std::invalid_argument(std::string(who) + ": observation " + std::to_string(i) + " is not finite");
+}
+
+// R = Σ_t y_t y_tᴴ over the snapshots (element-major input).
+cmat covariance(const gr_complex* y, int k, int l)
+{
+    cmat r = cmat::Zero(k, k);
+    for (int t = 0; t < l; ++t) {
+        Eigen::VectorXcd v(k);
+        for (int e = 0; e < k; ++e)
+            v[e] = cd(y[size_t(e) * l + t]);
+        r.noalias() += v * v.adjoint();
+    }
+    return r;
+}
+
+Eigen::VectorXcd steering(const array_geometry& a, double az, double el, double lambda, int first, int count)
+{
+    const auto s = steering_vector(a, az, el, lambda);
+    Eigen::VectorXcd v(count);
+    for (int i = 0; i < count; ++i)
+        v[i] = s[size_t(first + i)];
+    return v;
+}
+
+// Grid indices of the n largest local maxima (an end counts when above its one neighbour).
+std::vector<int> strongest_peaks(const std::vector<double>& p, int n)
+{
+    std::vector<int> peaks;
+    const int g = static_cast<int>(p.size());
+    for (int i = 0; i < g; ++i) {
+        const bool left = i == 0 || p[i] > p[i - 1];
+        const bool right = i == g - 1 || p[i] >= p[i + 1];
+        if (left && right)
+            peaks.push_back(i);
+    }
+    std::sort(peaks.begin(), peaks.end(), [&](int a, int b) { return p[a] > p[b]; });
+    if (static_cast<int>(peaks.size()) > n)
+        peaks.resize(size_t(n));
+    return peaks;
+}
+
+// The maximum of f between a grid peak's neighbours, by golden-section search.
+template <class F>
+double refine(F f, double lo, double hi)
+{
+    const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = lo, b = hi, c = b - r * (b - a), d = a + r * (b - a);
+    double fc = f(c), fd = f(d);
+    for (int it = 0; it < 60 && b - a > 1e-12; ++it) {
+        if (fc > fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    return 0.5 * (a + b);
+}
+
+// The virtual elements' offsets (receive plus transmit position), receive-major.
+std::vector<position3> offsets(const array_geometry& a)
+{
+    std::vector<position3> v;
+    for (const auto& e : virtual_elements(a))
+        v.push_back(e.offset);
+    return v;
+}
+
+double grid_angle(const angle_search& s, int i) { return s.min_rad + (s.max_rad - s.min_rad) * i / (s.grid - 1); }
+
+template <class F>
+std::vector<double> peak_angles(const angle_search& s, F f, int n)
+{
+    std::vector<double> p(size_t(s.grid));
+    for (int i = 0; i < s.grid; ++i)
+        p[size_t(i)] = f(grid_angle(s, i));
+    std::vector<double> out;
+    for (int i : strongest_peaks(p, n))
+        out.push_back(refine(f, grid_angle(s, std::max(0, i - 1)), grid_angle(s, std::min(s.grid - 1, i + 1))));
+    return out;
+}
+
+} // namespace
+
+double angle_crb_rad2(const array_geometry& a, double azimuth_rad, double elevation_rad, double wavelength_m,
+                      double energy_to_noise)
+{
+    if (!(std::isfinite(energy_to_noise) && energy_to_noise > 0.0))
+        throw std::invalid_argument("angle_crb_rad2: energy_to_noise must be > 0, got " + num(energy_to_noise));
+    if (!(std::isfinite(wavelength_m) && wavelength_m > 0.0))
+        throw std::invalid_argument("angle_crb_rad2: wavelength_m must be > 0, got " + num(wavelength_m));
+    // ȧ_k = ∂/∂φ [g(u) exp(j2π u·o_k/λ)]; the pattern's own slope is kept (a cosine element's
+    // amplitude carries angle information too).
+    const auto v = offsets(a);
+    const position3 u = direction_vector(azimuth_rad, elevation_rad);
+    const position3 du{ -std::cos(elevation_rad) * std::sin(azimuth_rad), std::cos(elevation_rad) * std::cos(azimuth_rad), 0.0 };
+    const double g = element_pattern_amplitude(a.pattern(), u);
+    const double dg = a.pattern() == element_pattern::cosine && u[0] > 0.0 ? 2.0 * u[0] * du[0] : 0.0;
+    cd ad = 0.0;
+    double aa = 0.0, dd = 0.0;
+    for (const auto& o : v) {
+        const cd e = element_phasor(u, o, wavelength_m);
+        const cd ak = g * e;
+        const cd dk = dg * e + g * e * cd(0.0, 2.0 * M_PI * projection_m(du, o) / wavelength_m);
+        aa += std::norm(ak);
+        ad += std::conj(ak) * dk;
+        dd += std::norm(dk);
+    }
+    if (aa <= 0.0)
+        throw std::invalid_argument("angle_crb_rad2: the array's pattern sees nothing at azimuth " + num(azimuth_rad));
+    const double perp = dd - std::norm(ad) / aa;
+    return 1.0 / (2.0 * energy_to_noise * perp);
+}
+
+beamforming_angle_estimator::beamforming_angle_estimator(const array_geometry& a, double elevation_rad,
+                                                         double wavelength_m, angle_search search)
+    : d_array(a), d_elevation(elevation_rad), d_lambda(wavelength_m), d_search(search)
+{
+    check_common("beamforming_angle_estimator", wavelength_m, search);
+    const int k = a.n_receive() * a.n_transmit();
+    d_steer.resize(size_t(search.grid) * size_t(k));
+    for (int i = 0; i < search.grid; ++i) {
+        const auto s = steering_vector(a, grid_angle(search, i), elevation_rad, wavelength_m);
+        double norm = 0.0;
+        for (const auto& x : s)
+            norm += std::norm(x);
+        for (int e = 0; e < k; ++e)
+            d_steer[size_t(i) * k + e] = norm > 0.0 ? std::conj(s[size_t(e)]) / std::sqrt(norm) : 0.0;
+    }
+}
+
+std::vector<double> beamforming_angle_estimator::spectrum(const gr_complex* y, int snapshots) const
+{
+    const int k = n_elements();
+    check_input("beamforming_angle_estimator", y, k, snapshots);
+    const cmat r = covariance(y, k, snapshots);
+    std::vector<double> p(size_t(d_search.grid));
+    for (int i = 0; i < d_search.grid; ++i) {
+        const Eigen::Map<const Eigen::VectorXcd> w(d_steer.data() + size_t(i) * k, k); // conj(a)/‖a‖
+        p[size_t(i)] = (w.transpose() * r * w.conjugate())(0, 0).real();
+    }
+    return p;
+}
+
+std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, int snapshots, int n_targets) const
+{
+    const int k = n_elements();
+    if (n_targets < 1)
+        throw std::invalid_argument("beamforming_angle_estimator: n_targets must be >= 1, got " + std::to_string(n_targets));
+    check_input("beamforming_angle_estimator", y, k, snapshots);
+    const cmat r = covariance(y, k, snapshots);
+    auto f = [&](double az) {
+        const Eigen::VectorXcd a = steering(d_array, az, d_elevation, d_lambda, 0, k);
+        const double n = a.squaredNorm();
+        return n > 0.0 ? (a.adjoint() * r * a)(0, 0).real() / n : 0.0;
+    };
+    return peak_angles(d_search, f, n_targets);
+}
+
+music_angle_estimator::music_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m,
+                                             int n_targets, int subarray, angle_search search)
+    : d_array(a), d_elevation(elevation_rad), d_lambda(wavelength_m), d_targets(n_targets), d_sub(subarray), d_search(search)
+{
+    const char* who = "music_angle_estimator";
+    check_common(who, wavelength_m, search);
+    const int k = a.n_receive() * a.n_transmit();
+    const int dim = subarray > 0 ? subarray : k;
+    if (subarray < 0 || subarray > k)
+        throw std::invalid_argument(std::string(who) + ": subarray must be 0 (none) or in [1, " + std::to_string(k) +
+                                    "] elements, got " + std::to_string(subarray));
+    if (n_targets < 1 || n_targets >= dim)
+        throw std::invalid_argument(std::string(who) + ": n_targets must be in [1, " + std::to_string(dim - 1) +
+                                    "] (fewer than the " + std::to_string(dim) + " elements it searches with), got " +
+                                    std::to_string(n_targets));
+    if (subarray > 0) { // smoothing needs a ULA: equal steps along y, in order
+        const auto v = offsets(a);
+        const double step = k > 1 ? v[1][1] - v[0][1] : 0.0;
+        bool ula = k > 1 && step > 0.0;
+        for (int e = 1; ula && e < k; ++e)
+            ula = std::fabs(v[size_t(e)][0] - v[0][0]) < 1e-9 && std::fabs(v[size_t(e)][2] - v[0][2]) < 1e-9 &&
+                  std::fabs((v[size_t(e)][1] - v[size_t(e) - 1][1]) - step) < 1e-9 * (1.0 + std::fabs(step));
+        if (!ula)
+            throw std::invalid_argument(std::string(who) +
+                                        ": spatial smoothing (subarray " + std::to_string(subarray) +
+                                        ") needs a ULA: elements equally spaced along y, in order");
+    }
+}
+
+double music_angle_estimator::pseudo_spectrum(const std::vector<std::complex<double>>& noise, int dim, double az) const
+{
+    const Eigen::VectorXcd a = steering(d_array, az, d_elevation, d_lambda, 0, dim);
+    const double n = a.squaredNorm();
+    if (n <= 0.0)
+        return 0.0;
+    const int cols = static_cast<int>(noise.size()) / dim;
+    const Eigen::Map<const cmat> en(noise.data(), dim, cols);
+    const double proj = (en.adjoint() * a).squaredNorm() / n;
+    return 1.0 / std::max(proj, 1e-300);
+}
+
+std::vector<double> music_angle_estimator::estimate(const gr_complex* y, int snapshots) const
+{
+    const int k = d_array.n_receive() * d_array.n_transmit();
+    check_input("music_angle_estimator", y, k, snapshots);
+    cmat r = covariance(y, k, snapshots);
+    int dim = k;
+    if (d_sub > 0) { // forward–backward smoothing: the mean of every subarray's R and its exchange-conjugate
+        dim = d_sub;
+        const int count = k - d_sub + 1;
+        cmat s = cmat::Zero(dim, dim);
+        for (int p = 0; p < count; ++p)
+            s += r.block(p, p, dim, dim);
+        const cmat j = Eigen::MatrixXcd::Identity(dim, dim).rowwise().reverse();
+        r = (s + j * s.conjugate() * j) / (2.0 * count);
+    }
+    Eigen::SelfAdjointEigenSolver<cmat> eig(r);
+    const cmat en = eig.eigenvectors().leftCols(dim - d_targets); // ascending eigenvalues: the noise
+    std::vector<std::complex<double>> noise(en.data(), en.data() + en.size());
+    return peak_angles(d_search, [&](double az) { return pseudo_spectrum(noise, dim, az); }, d_targets);
+}
+
+} // namespace sems
+} // namespace gr
