@@ -4,7 +4,8 @@
  * module refuses throws std::invalid_argument; one it accepts must give, per frame, what
  * check_realization() states, a finite H bounded by Σ|α_l| (every other factor has unit
  * modulus; float rounding allowed for),
- * |H| = 1 exactly when the frame has one path and no fading, and finite noisy values. Over
+ * |H| = 1 exactly when the frame has one path and no fading (with an array: at its last stream,
+ * its element pattern's amplitude in the path's direction), and finite noisy values. Over
  * 256 frames of a Rayleigh scene, H at one resource element is Σ_l α_l·b_l with independent
  * α_l ~ CN(0, p_l) and b_l the path's own factor there (unit modulus for a point target; a
  * scatterer body's return, whose power swings with its motion: a long rotor blade flashes
@@ -16,6 +17,7 @@
  * wider as a flash dominates; below k = 16 the check is left out. The noise's mean power
  * over 4096 values must lie within [0.88, 1.12] of σ² (below 1e-12). */
 #include "scene_input.h"
+#include <gnuradio/sems/core/array/steering.h>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -48,6 +50,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const int n = fs.n_symbols, m = fs.n_subcarriers;
         const size_t grid = static_cast<size_t>(fs.grid_size());
         std::vector<gr_complex> h(grid);
+        // A scene with an array: its last stream (the farthest element of a ULA), where the
+        // steering phasor and the element's delay are largest; without one, the one stream.
+        const int element = model.n_elements() - 1;
+        auto factors = [&](const frame_realization& fr, uint64_t first) {
+            return model.n_elements() > 1 ? model.factors(fr, first, element) : model.factors(fr, first);
+        };
 
         // Three frames in full (their grid, the noise on it), and their track bookkeeping.
         frame_realization r, prev;
@@ -62,20 +70,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
                                                   : std::numeric_limits<double>::infinity();
             if (double(r.paths.size()) * (n + m) + double(r.paths.size()) * grid > max_work)
                 break; // a frame this large is checked above, its grid is not computed
-            const auto fc = model.factors(r, f * static_cast<uint64_t>(n));
+            const auto fc = factors(r, f * static_cast<uint64_t>(n));
             fc.fill(h.data());
             const bool unit = r.paths.size() == 1 && r.bodies.empty() && sc.fading() == gr::sems::fading_kind::none;
+            // one unfaded path: |H| is its element pattern's amplitude in its direction (1 for one antenna)
+            const double unit_mag = unit && sc.array() ? gr::sems::element_pattern_amplitude(
+                                                             sc.array()->pattern(),
+                                                             gr::sems::direction_vector(r.paths[0].azimuth_rad,
+                                                                                        r.paths[0].elevation_rad))
+                                                       : 1.0;
             for (size_t i = 0; i < grid; ++i) {
                 const double a = std::abs(std::complex<double>(h[i]));
                 if (!std::isfinite(a))
                     fail("frame %llu: H[%zu] not finite", (unsigned long long)f, i);
                 if (a > bound + 1e-30)
                     fail("frame %llu: |H[%zu]| = %g beyond sum |gain| = %g", (unsigned long long)f, i, a, bound);
-                if (unit && !near(a, 1.0, 1e-5))
-                    fail("one path, no fading: |H[%zu]| = %.9g, not 1", i, a);
+                if (unit && !near(a, unit_mag, 1e-5))
+                    fail("one path, no fading: |H[%zu]| = %.9g, not %.9g", i, a, unit_mag);
             }
-            note("frame %llu: %zu paths, grid %dx%d checked%s", (unsigned long long)f, r.paths.size(), n, m,
-                 unit ? ", |H| = 1" : "");
+            if (unit)
+                note("frame %llu: 1 path, grid %dx%d checked, |H| = %.6g", (unsigned long long)f, n, m, unit_mag);
+            else
+                note("frame %llu: %zu paths, grid %dx%d checked", (unsigned long long)f, r.paths.size(), n, m);
             model.add_noise(h.data(), grid, in.snr_db);
             for (size_t i = 0; i < grid; ++i)
                 if (!std::isfinite(h[i].real()) || !std::isfinite(h[i].imag()))
@@ -96,13 +112,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
                 if (tracked(sc)) // a track's gains may be coherent: the first frame of another track each time
                     model.begin_track(1000 + static_cast<uint64_t>(f));
                 model.draw(3 + f, r);
-                model.factors(r, first).row(rn, row.data());
+                factors(r, first).row(rn, row.data());
                 sum += std::norm(std::complex<double>(row[rm]));
                 one.bodies = r.bodies;
                 for (const auto& p : r.paths) { // p_l·|b_l|² at this resource element
                     one.paths.assign(1, p);
                     one.paths[0].gain = 1.0;
-                    model.factors(one, first).row(rn, row.data());
+                    factors(one, first).row(rn, row.data());
                     const double w = p.mean_power * std::norm(std::complex<double>(row[rm]));
                     expected += w;
                     largest = std::max(largest, w);
