@@ -117,16 +117,23 @@ std::vector<position3> offsets(const array_geometry& a)
 
 double grid_angle(const angle_search& s, int i) { return s.min_rad + (s.max_rad - s.min_rad) * i / (s.grid - 1); }
 
+// The n strongest peaks of the grid values p, each refined on f between its neighbours.
+template <class F>
+std::vector<double> refined_peaks(const angle_search& s, const std::vector<double>& p, F f, int n)
+{
+    std::vector<double> out;
+    for (int i : strongest_peaks(p, n))
+        out.push_back(refine(f, grid_angle(s, std::max(0, i - 1)), grid_angle(s, std::min(s.grid - 1, i + 1))));
+    return out;
+}
+
 template <class F>
 std::vector<double> peak_angles(const angle_search& s, F f, int n)
 {
     std::vector<double> p(size_t(s.grid));
     for (int i = 0; i < s.grid; ++i)
         p[size_t(i)] = f(grid_angle(s, i));
-    std::vector<double> out;
-    for (int i : strongest_peaks(p, n))
-        out.push_back(refine(f, grid_angle(s, std::max(0, i - 1)), grid_angle(s, std::min(s.grid - 1, i + 1))));
-    return out;
+    return refined_peaks(s, p, f, n);
 }
 
 } // namespace
@@ -203,7 +210,8 @@ std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, i
         const double n = a.squaredNorm();
         return n > 0.0 ? (a.adjoint() * r * a)(0, 0).real() / n : 0.0;
     };
-    return peak_angles(d_search, f, n_targets);
+    // The grid from the steering vectors set up once (spectrum()), then f between neighbours.
+    return refined_peaks(d_search, spectrum(y, snapshots), f, n_targets);
 }
 
 music_angle_estimator::music_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m,
