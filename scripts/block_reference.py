@@ -330,6 +330,33 @@ d, q = np.unravel_index(np.argmax(first), first.shape)
 truth = [pmt.to_python(t.value) for t in sink.tags() if str(t.key) == sems.keys.truth_tag][0]
 print("peak at Doppler bin %d, delay index %d; truth: delay index %.1f" % (d - n // 2, q, truth["delay_index"]))
 '''),
+    "sems_range_angle_map": ("SemS Pilot Mapper (every cell a pilot) → SemS Target Channel (8 outputs) → SemS Pilot Extractor (8 inputs) → **SemS Range-Angle Map** → Vector Sink", '''
+import json
+import math
+import numpy as np
+from gnuradio import blocks, gr, sems
+
+n, m = 32, 64
+grid = list(range(n * m))  # the full grid: pilots only, the mapper needs no data
+ula = {"receive": {"ula": {"elements": 8, "spacing_m": 0.05}}}
+scene = {"format": "sems.scene", "version": 1, "array": ula,
+         "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8, "azimuth_rad": 0.4}]}
+tb = gr.top_block()
+mapper = sems.pilot_mapper(pilot_positions=grid)
+head = blocks.head(gr.sizeof_gr_complex * m, 2 * n)
+channel = sems.target_channel(scene=json.dumps(scene), seed=1, n_receive=8)
+extractor = sems.pilot_extractor(pilot_positions=grid, n_elements=8)
+ra = sems.range_angle_map(json.dumps(dict(ula, format="sems.array", version=1)), pilot_positions=grid)
+sink = blocks.vector_sink_f(64 * m)
+tb.connect(mapper, head, channel)
+for k in range(8):
+    tb.connect((channel, k), (extractor, k))
+tb.connect(extractor, ra, sink)
+tb.run()
+first = np.array(sink.data()[:64 * m]).reshape(64, m)
+a, q = np.unravel_index(np.argmax(first), first.shape)
+print("peak at azimuth %.2f rad, delay index %d; truth: 0.40 rad, delay index 12" % (-math.pi / 2 + math.pi * (a + 0.5) / 64, q))
+'''),
     "sems_tag_file_sink": ("SemS Pilot Mapper → SemS OFDM Tx → SemS Target Channel (time domain) → **SemS Tag File Sink**", '''
 import os
 import tempfile

@@ -40,6 +40,8 @@
 #include <thread>
 #include <vector>
 
+#include "count_list.h"
+
 namespace po = boost::program_options;
 using namespace gr::sems;
 
@@ -167,23 +169,6 @@ void two_at_once(const model_bundle& a,
     std::printf("%-28s %8d %12.0f %12.0f\n", b.directory.c_str(), threads_b, alone_b, with_b);
 }
 
-// Comma-separated positive integers of option `option` (batch sizes, thread counts).
-std::vector<int> parse_counts(const std::string& s, const std::string& option)
-{
-    std::vector<int> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        const int b = std::stoi(item);
-        if (b < 1)
-            throw std::invalid_argument(option + ": values must be >= 1, got " + item);
-        out.push_back(b);
-    }
-    if (out.empty())
-        throw std::invalid_argument(option + ": no value given");
-    return out;
-}
-
 } // namespace
 
 int main(int argc, char** argv)
@@ -216,7 +201,7 @@ int main(int argc, char** argv)
             throw std::invalid_argument("--frames must be >= 1");
         if (threads < 1)
             throw std::invalid_argument("--threads must be >= 1");
-        const std::vector<int> batches = parse_counts(batches_text, "--batches");
+        const std::vector<int> batches = apps::parse_counts(batches_text, "--batches");
 
         std::printf("%-28s %6s %7s %12s %12s %12s %12s\n", "bundle", "batch", "frames", "decoder fps",
                     "sink fps", "decoder/cpu", "sink/cpu");
@@ -259,7 +244,7 @@ int main(int argc, char** argv)
             }
         }
         if (!classifier_dir.empty() && !delay_dir.empty()) {
-            const std::vector<int> tt = parse_counts(together_text, "--together-threads");
+            const std::vector<int> tt = apps::parse_counts(together_text, "--together-threads");
             if (tt.size() != 2)
                 throw std::invalid_argument("--together-threads: give two counts, e.g. 1,1");
             two_at_once(model_bundle::load(classifier_dir), model_bundle::load(delay_dir), tt[0], tt[1],

@@ -3,7 +3,7 @@
 # Makes the screenshots the docs show: GNU Radio Companion opened on example flowgraphs under
 # a virtual X display (docs/guides/img/grc_*.png), and the running Qt examples
 # (docs/results/live_views.png, docs/results/sems_track_live.png,
-# docs/reference/micro_doppler_live.png).
+# docs/reference/micro_doppler_live.png, docs/reference/array_live.png).
 #
 #   bash docs/guides/make_screenshots.sh [BUILD_DIR]      (default ./build, built; as root)
 #
@@ -26,11 +26,12 @@ trap 'rm -rf "$tmp"' EXIT
 # fonts at 108 dpi instead of 96, to read at page width; the live views fill their 1500 pixels
 # at 96 already.
 ctest --test-dir "$build" --output-on-failure -R '^example_sems_live_views$'
-QT_FONT_DPI=108 ctest --test-dir "$build" --output-on-failure -R '^example_sems_(micro_doppler_live|track_live)$'
+QT_FONT_DPI=108 ctest --test-dir "$build" --output-on-failure -R '^example_sems_(micro_doppler_live|track_live|array_live)$'
 cp "$build/examples/sems_live_views.png" "$root/docs/results/live_views.png"
 cp "$build/examples/sems_track_live.png" "$root/docs/results/sems_track_live.png"
 cp "$build/examples/sems_micro_doppler_live.png" "$root/docs/reference/micro_doppler_live.png"
-echo "wrote docs/results/live_views.png docs/results/sems_track_live.png docs/reference/micro_doppler_live.png"
+cp "$build/examples/sems_array_live.png" "$root/docs/reference/array_live.png"
+echo "wrote docs/results/live_views.png docs/results/sems_track_live.png docs/reference/micro_doppler_live.png docs/reference/array_live.png"
 
 # GRC as a user sees it after `cmake --install build` to /usr/local: the build installed into a
 # throw-away prefix that a private mount namespace shows at /usr/local, so that GRC's console
@@ -72,3 +73,4 @@ EOF
 grc_shot sems_demo.grc "$out/grc_demo.png" 1950 760
 grc_shot sems_demo_td.grc "$out/grc_demo_td.png" 1950 760
 grc_shot sems_live_views.grc "$out/grc_live_views.png" 2600 1000
+grc_shot sems_array_live.grc "$out/grc_array_live.png" 1950 760

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the angle CRB, Bartlett beamforming and MUSIC over an array's pilots
+/* gr-sems: the angle CRB, Bartlett and Capon beamforming and MUSIC over an array's pilots
  * (angle_estimators.h). The steering is core/array/steering.h's, the one the emulator uses. */
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/core/array/steering.h>
-#include <gnuradio/sems/core/channel/channel_model.h>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -106,13 +105,38 @@ double refine(F f, double lo, double hi)
     return 0.5 * (a + b);
 }
 
-// The virtual elements' offsets (receive plus transmit position), receive-major.
-std::vector<position3> offsets(const array_geometry& a)
+// Smoothing needs a ULA: the virtual elements equally spaced along y, in order.
+void check_smoothing(const char* who, const array_geometry& a, int subarray)
 {
-    std::vector<position3> v;
-    for (const auto& e : virtual_elements(a))
-        v.push_back(e.offset);
-    return v;
+    const int k = a.n_receive() * a.n_transmit();
+    if (subarray < 0 || subarray > k)
+        throw std::invalid_argument(std::string(who) + ": subarray must be 0 (none) or in [1, " + std::to_string(k) +
+                                    "] elements, got " + std::to_string(subarray));
+    if (subarray == 0)
+        return;
+    const auto v = a.virtual_offsets();
+    const double step = k > 1 ? v[1][1] - v[0][1] : 0.0;
+    bool ula = k > 1 && step > 0.0;
+    for (int e = 1; ula && e < k; ++e)
+        ula = std::fabs(v[size_t(e)][0] - v[0][0]) < 1e-9 && std::fabs(v[size_t(e)][2] - v[0][2]) < 1e-9 &&
+              std::fabs((v[size_t(e)][1] - v[size_t(e) - 1][1]) - step) < 1e-9 * (1.0 + std::fabs(step));
+    if (!ula)
+        throw std::invalid_argument(std::string(who) + ": spatial smoothing (subarray " + std::to_string(subarray) +
+                                    ") needs a ULA: elements equally spaced along y, in order");
+}
+
+// Forward–backward smoothing: the mean of every m-element subarray's R and its
+// exchange-conjugate (m = 0: R itself).
+cmat smoothed(const cmat& r, int m)
+{
+    if (m == 0)
+        return r;
+    const int count = static_cast<int>(r.rows()) - m + 1;
+    cmat s = cmat::Zero(m, m);
+    for (int p = 0; p < count; ++p)
+        s += r.block(p, p, m, m);
+    const cmat j = Eigen::MatrixXcd::Identity(m, m).rowwise().reverse();
+    return (s + j * s.conjugate() * j) / (2.0 * count);
 }
 
 double grid_angle(const angle_search& s, int i) { return s.min_rad + (s.max_rad - s.min_rad) * i / (s.grid - 1); }
@@ -147,7 +171,7 @@ double angle_crb_rad2(const array_geometry& a, double azimuth_rad, double elevat
         throw std::invalid_argument("angle_crb_rad2: wavelength_m must be > 0, got " + num(wavelength_m));
     // ȧ_k = ∂/∂φ [g(u) exp(j2π u·o_k/λ)]; the pattern's own slope is kept (a cosine element's
     // amplitude carries angle information too).
-    const auto v = offsets(a);
+    const auto v = a.virtual_offsets();
     const position3 u = direction_vector(azimuth_rad, elevation_rad);
     const position3 du{ -std::cos(elevation_rad) * std::sin(azimuth_rad), std::cos(elevation_rad) * std::cos(azimuth_rad), 0.0 };
     const double g = element_pattern_amplitude(a.pattern(), u);
@@ -214,6 +238,44 @@ std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, i
     return refined_peaks(d_search, spectrum(y, snapshots), f, n_targets);
 }
 
+capon_angle_estimator::capon_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m,
+                                             double loading, int subarray, angle_search search)
+    : d_array(a), d_elevation(elevation_rad), d_lambda(wavelength_m), d_loading(loading), d_sub(subarray),
+      d_search(search)
+{
+    const char* who = "capon_angle_estimator";
+    check_common(who, wavelength_m, search);
+    if (!(std::isfinite(loading) && loading >= 0.0))
+        throw std::invalid_argument(std::string(who) + ": loading must be a finite number >= 0, got " + num(loading));
+    check_smoothing(who, a, subarray);
+}
+
+std::vector<double> capon_angle_estimator::estimate(const gr_complex* y, int snapshots, int n_targets) const
+{
+    const char* who = "capon_angle_estimator";
+    const int k = n_elements();
+    if (n_targets < 1)
+        throw std::invalid_argument(std::string(who) + ": n_targets must be >= 1, got " + std::to_string(n_targets));
+    check_input(who, y, k, snapshots);
+    cmat r = smoothed(covariance(y, k, snapshots), d_sub);
+    const int dim = static_cast<int>(r.rows());
+    const double delta = d_loading * r.trace().real() / dim;
+    r.diagonal().array() += delta;
+    const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<cmat>(r, Eigen::EigenvaluesOnly).eigenvalues();
+    const Eigen::LDLT<cmat> solve(r);
+    if (solve.info() != Eigen::Success || !(eig.minCoeff() > 1e-12 * eig.maxCoeff()))
+        throw std::invalid_argument(std::string(who) + ": the sample covariance is singular (" +
+                                    std::to_string(snapshots) + " snapshots, loading " + num(d_loading) +
+                                    "): give more snapshots or a loading > 0");
+    auto f = [&](double az) {
+        const Eigen::VectorXcd a = steering(d_array, az, d_elevation, d_lambda, 0, dim);
+        const double n = a.squaredNorm();
+        const double q = a.dot(solve.solve(a)).real(); // aᴴ R⁻¹ a
+        return n > 0.0 && q > 0.0 ? n / q : 0.0;
+    };
+    return peak_angles(d_search, f, n_targets);
+}
+
 music_angle_estimator::music_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m,
                                              int n_targets, int subarray, angle_search search)
     : d_array(a), d_elevation(elevation_rad), d_lambda(wavelength_m), d_targets(n_targets), d_sub(subarray), d_search(search)
@@ -222,25 +284,11 @@ music_angle_estimator::music_angle_estimator(const array_geometry& a, double ele
     check_common(who, wavelength_m, search);
     const int k = a.n_receive() * a.n_transmit();
     const int dim = subarray > 0 ? subarray : k;
-    if (subarray < 0 || subarray > k)
-        throw std::invalid_argument(std::string(who) + ": subarray must be 0 (none) or in [1, " + std::to_string(k) +
-                                    "] elements, got " + std::to_string(subarray));
+    check_smoothing(who, a, subarray);
     if (n_targets < 1 || n_targets >= dim)
         throw std::invalid_argument(std::string(who) + ": n_targets must be in [1, " + std::to_string(dim - 1) +
                                     "] (fewer than the " + std::to_string(dim) + " elements it searches with), got " +
                                     std::to_string(n_targets));
-    if (subarray > 0) { // smoothing needs a ULA: equal steps along y, in order
-        const auto v = offsets(a);
-        const double step = k > 1 ? v[1][1] - v[0][1] : 0.0;
-        bool ula = k > 1 && step > 0.0;
-        for (int e = 1; ula && e < k; ++e)
-            ula = std::fabs(v[size_t(e)][0] - v[0][0]) < 1e-9 && std::fabs(v[size_t(e)][2] - v[0][2]) < 1e-9 &&
-                  std::fabs((v[size_t(e)][1] - v[size_t(e) - 1][1]) - step) < 1e-9 * (1.0 + std::fabs(step));
-        if (!ula)
-            throw std::invalid_argument(std::string(who) +
-                                        ": spatial smoothing (subarray " + std::to_string(subarray) +
-                                        ") needs a ULA: elements equally spaced along y, in order");
-    }
 }
 
 double music_angle_estimator::pseudo_spectrum(const std::vector<std::complex<double>>& noise, int dim, double az) const
@@ -259,17 +307,8 @@ std::vector<double> music_angle_estimator::estimate(const gr_complex* y, int sna
 {
     const int k = d_array.n_receive() * d_array.n_transmit();
     check_input("music_angle_estimator", y, k, snapshots);
-    cmat r = covariance(y, k, snapshots);
-    int dim = k;
-    if (d_sub > 0) { // forward–backward smoothing: the mean of every subarray's R and its exchange-conjugate
-        dim = d_sub;
-        const int count = k - d_sub + 1;
-        cmat s = cmat::Zero(dim, dim);
-        for (int p = 0; p < count; ++p)
-            s += r.block(p, p, dim, dim);
-        const cmat j = Eigen::MatrixXcd::Identity(dim, dim).rowwise().reverse();
-        r = (s + j * s.conjugate() * j) / (2.0 * count);
-    }
+    const cmat r = smoothed(covariance(y, k, snapshots), d_sub);
+    const int dim = d_sub > 0 ? d_sub : k;
     Eigen::SelfAdjointEigenSolver<cmat> eig(r);
     const cmat en = eig.eigenvectors().leftCols(dim - d_targets); // ascending eigenvalues: the noise
     std::vector<std::complex<double>> noise(en.data(), en.data() + en.size());

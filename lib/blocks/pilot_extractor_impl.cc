@@ -5,7 +5,11 @@
 #include "blocks/common/stream_values.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/common/tags.h>
+#include <gnuradio/sems/core/common/limits.h>
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace gr {
 namespace sems {
@@ -16,21 +20,27 @@ pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
                                             const std::vector<int>& pilot_positions,
                                             int n_symbols,
                                             int n_subcarriers,
-                                            gr_complex pilot_symbol)
+                                            gr_complex pilot_symbol,
+                                            int n_elements)
 {
+    if (n_elements < 1 || n_elements > limits::max_array_elements)
+        throw std::invalid_argument(std::string(who) + ": n_elements must be in [1, " +
+                                    std::to_string(limits::max_array_elements) +
+                                    "] (one input per receive element), got " + std::to_string(n_elements));
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
-    return gnuradio::make_block_sptr<pilot_extractor_impl>(mask);
+    return gnuradio::make_block_sptr<pilot_extractor_impl>(mask, n_elements);
 }
 
-pilot_extractor_impl::pilot_extractor_impl(const super_frame_mask& mask)
+pilot_extractor_impl::pilot_extractor_impl(const super_frame_mask& mask, int n_elements)
     : gr::block(who,
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.n_subcarriers()),
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.pilots_per_frame())),
+                gr::io_signature::make(n_elements, n_elements, sizeof(gr_complex) * mask.n_subcarriers()),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.pilots_per_frame() * n_elements)),
       d_mask(mask),
       d_n(mask.n_symbols()),
       d_m(mask.n_subcarriers()),
       d_np(mask.pilots_per_frame()),
-      d_obs(d_np),
+      d_k(n_elements),
+      d_obs(size_t(d_np) * n_elements),
       d_frame_key(pmt::intern(keys::frame_tag))
 {
     for (const auto& set : d_mask.sets()) {
@@ -57,7 +67,8 @@ void pilot_extractor_impl::forecast(int noutput_items, gr_vector_int& ninput_ite
 {
     // The frame state persists across calls, so any input is progress; asking for a
     // whole frame could exceed a small upstream buffer.
-    ninput_items_required[0] = 1;
+    for (auto& n : ninput_items_required)
+        n = 1;
 }
 
 bool pilot_extractor_impl::stop()
@@ -85,9 +96,8 @@ int pilot_extractor_impl::general_work(int noutput_items,
                                        gr_vector_const_void_star& input_items,
                                        gr_vector_void_star& output_items)
 {
-    const auto* in = static_cast<const gr_complex*>(input_items[0]);
     auto* out = static_cast<gr_complex*>(output_items[0]);
-    const int avail = ninput_items[0];
+    const int avail = *std::min_element(ninput_items.begin(), ninput_items.end()); // the elements in lockstep
     const uint64_t nread = nitems_read(0), nwritten = nitems_written(0);
 
     get_tags_in_range(d_tags, 0, nread, nread + static_cast<uint64_t>(avail));
@@ -119,11 +129,14 @@ int pilot_extractor_impl::general_work(int noutput_items,
             if (!pmt::eqv(d_tags[t].key, d_frame_key))
                 d_frame_tags.push_back(d_tags[t]);
 
-        const gr_complex* y = in + static_cast<size_t>(consumed) * d_m;
-        d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
         const pilot_set& set = *d_set;
-        for (int k = set.first_of_row[d_row]; k < set.first_of_row[d_row + 1]; ++k)
-            d_obs[k] = y[set.cols[k]] / set.values[k];
+        for (int e = 0; e < d_k; ++e) {
+            const gr_complex* y = static_cast<const gr_complex*>(input_items[e]) + static_cast<size_t>(consumed) * d_m;
+            d_nonfinite = d_nonfinite || !detail::all_finite(y, d_m);
+            gr_complex* obs = d_obs.data() + static_cast<size_t>(e) * d_np;
+            for (int k = set.first_of_row[d_row]; k < set.first_of_row[d_row + 1]; ++k)
+                obs[k] = y[set.cols[k]] / set.values[k];
+        }
         ++consumed;
 
         if (++d_row < d_n)
@@ -133,7 +146,7 @@ int pilot_extractor_impl::general_work(int noutput_items,
             ++d_skipped_nonfinite;
         } else {
             const uint64_t out_offset = nwritten + static_cast<uint64_t>(produced);
-            std::copy(d_obs.begin(), d_obs.end(), out + static_cast<size_t>(produced) * d_np);
+            std::copy(d_obs.begin(), d_obs.end(), out + static_cast<size_t>(produced) * d_obs.size());
             add_item_tag(0, out_offset, d_frame_key, pmt::from_uint64(d_frame), alias_pmt());
             for (const auto& t : d_frame_tags)
                 add_item_tag(0, out_offset, t.key, t.value, t.srcid);
@@ -143,7 +156,7 @@ int pilot_extractor_impl::general_work(int noutput_items,
         d_row = 0;
         d_frame_tags.clear();
     }
-    consume(0, consumed);
+    consume_each(consumed);
     return produced;
 }
 

@@ -13,11 +13,12 @@ namespace sems {
 class pilot_extractor_impl : public pilot_extractor
 {
 public:
-    explicit pilot_extractor_impl(const super_frame_mask& mask);
+    pilot_extractor_impl(const super_frame_mask& mask, int n_elements);
 
     const pilot_mask& mask() const override { return d_mask.set(0); }
     const super_frame_mask& super_frame() const override { return d_mask; }
     int n_pilots() const override { return d_np; }
+    int n_elements() const override { return d_k; }
     uint64_t frames_out() const override { return d_frames_out; }
     uint64_t frames_dropped_partial() const override { return d_dropped_partial; }
     uint64_t frames_skipped_nonfinite() const override { return d_skipped_nonfinite; }
@@ -40,12 +41,12 @@ private:
     };
 
     const super_frame_mask d_mask;
-    const int d_n, d_m, d_np;
+    const int d_n, d_m, d_np, d_k; // N, M, N_p, the elements
     std::vector<pilot_set> d_sets; // per frame of the super-frame
     const pilot_set* d_set;        // the current frame's
 
     // The frame being collected.
-    std::vector<gr_complex> d_obs; // N_p
+    std::vector<gr_complex> d_obs; // K x N_p, element-major
     std::vector<gr::tag_t> d_frame_tags;
     int d_row = 0;           // symbols collected
     bool d_tagged = false;   // started at a frame tag

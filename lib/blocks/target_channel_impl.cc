@@ -33,7 +33,9 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           const std::string& class_library,
                                           int track_frames,
                                           const std::string& track_gains,
-                                          double track_coherence_time_s)
+                                          double track_coherence_time_s,
+                                          int n_receive,
+                                          int n_transmit)
 {
     detail::check_snr(who, snr_db);
     frame_settings fs;
@@ -46,23 +48,29 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     fs.validate();
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
                                           heading, clutter_paths, clutter_csr_db, class_library,
-                                          { track_frames, track_gains, track_coherence_time_s });
-    return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db);
+                                          { track_frames, track_gains, track_coherence_time_s },
+                                          { n_receive, n_transmit, true });
+    return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db, n_receive, n_transmit);
 }
 
-target_channel_impl::target_channel_impl(channel_model model, double snr_db)
+target_channel_impl::target_channel_impl(channel_model model, double snr_db, int n_receive, int n_transmit)
     : gr::sync_block(who,
-                     gr::io_signature::make(1, 1, sizeof(gr_complex) * model.settings().n_subcarriers),
-                     gr::io_signature::make(1, 1, sizeof(gr_complex) * model.settings().n_subcarriers)),
+                     gr::io_signature::make(n_transmit, n_transmit, sizeof(gr_complex) * model.settings().n_subcarriers),
+                     gr::io_signature::make(n_receive, n_receive, sizeof(gr_complex) * model.settings().n_subcarriers)),
       d_model(std::move(model)),
       d_n(d_model.settings().n_symbols),
       d_m(d_model.settings().n_subcarriers),
+      d_rx(n_receive),
+      d_tx(n_transmit),
+      d_channels(d_model.settings(), d_model.elements()),
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
       d_frame_key(pmt::intern(keys::frame_tag)),
       d_truth(d_model.scene_spec().library().name())
 {
     d_tags.reserve(16);
+    if (d_tx > 1)
+        d_sum.resize(size_t(d_m));
 }
 
 void target_channel_impl::set_snr_db(double snr_db)
@@ -80,23 +88,42 @@ void target_channel_impl::start_frame(uint64_t frame, uint64_t out_offset)
     d_model.draw(frame, d_realization); // no allocation once the buffers have grown
     const auto& r = d_realization;
     const uint64_t first_symbol = frame * static_cast<uint64_t>(d_n);
-    if (d_channel)
-        d_channel->update(r, first_symbol); // reuses the buffers
-    else
-        d_channel.emplace(d_model.factors(r, first_symbol));
+    d_channels.update(r, first_symbol); // reuses the buffers
     d_frame = frame;
     d_row = 0;
     d_started = true;
 
-    add_item_tag(0, out_offset, d_truth.tag_key(), d_truth.make(r, frame, d_frame_snr_db), alias_pmt());
+    const pmt::pmt_t truth = d_truth.make(r, frame, d_frame_snr_db);
+    for (int k = 0; k < d_rx; ++k)
+        add_item_tag(k, out_offset, d_truth.tag_key(), truth, alias_pmt());
+}
+
+void target_channel_impl::apply_symbol(const gr_vector_const_void_star& input_items,
+                                       gr_vector_void_star& output_items,
+                                       int i)
+{
+    const size_t at = static_cast<size_t>(i) * d_m;
+    for (int k = 0; k < d_rx; ++k) {
+        gr_complex* y = static_cast<gr_complex*>(output_items[k]) + at;
+        if (d_tx == 1) {
+            d_channels.element(k).apply_row(d_row, static_cast<const gr_complex*>(input_items[0]) + at, y);
+        } else { // receive element k hears every transmit element: Σ_j H_{k,j} ⊙ x_j
+            for (int j = 0; j < d_tx; ++j) {
+                const auto* x = static_cast<const gr_complex*>(input_items[j]) + at;
+                d_channels.element(k * d_tx + j).apply_row(d_row, x, j == 0 ? y : d_sum.data());
+                if (j > 0)
+                    for (int m = 0; m < d_m; ++m)
+                        y[m] += d_sum[size_t(m)];
+            }
+        }
+        d_model.add_noise(y, static_cast<size_t>(d_m), d_frame_snr_db);
+    }
 }
 
 int target_channel_impl::work(int noutput_items,
                               gr_vector_const_void_star& input_items,
                               gr_vector_void_star& output_items)
 {
-    const auto* in = static_cast<const gr_complex*>(input_items[0]);
-    auto* out = static_cast<gr_complex*>(output_items[0]);
     const uint64_t nread = nitems_read(0), nwritten = nitems_written(0);
 
     get_tags_in_window(d_tags, 0, 0, noutput_items, d_frame_key);
@@ -110,8 +137,6 @@ int target_channel_impl::work(int noutput_items,
             tagged = true;
             tagged_frame = index ? *index : (d_started ? d_frame + 1 : 0); // unreadable: keep counting
         }
-        const gr_complex* x = in + static_cast<size_t>(i) * d_m;
-        gr_complex* y = out + static_cast<size_t>(i) * d_m;
         // Nothing escapes work(): a frame whose computation throws goes out as NaN (the
         // extractor counts it as skipped), the fault is counted and logged once per kind.
         const char* where = "frame start";
@@ -125,10 +150,8 @@ int target_channel_impl::work(int noutput_items,
                 start_frame(frame, nwritten + i);
             }
             where = "channel";
-            if (!d_frame_faulted) {
-                d_channel->apply_row(d_row, x, y);
-                d_model.add_noise(y, static_cast<size_t>(d_m), d_frame_snr_db);
-            }
+            if (!d_frame_faulted)
+                apply_symbol(input_items, output_items, i);
         } catch (const std::exception& e) {
             if (!d_frame_faulted)
                 ++d_faulted;
@@ -138,10 +161,17 @@ int target_channel_impl::work(int noutput_items,
                                 "further faults of this kind are only counted",
                                 where, e.what(), d_frame);
         }
+        const size_t at = static_cast<size_t>(i) * d_m;
         if (d_frame_faulted)
-            std::fill(y, y + d_m, gr_complex(std::numeric_limits<float>::quiet_NaN(), 0.0f));
-        if (!detail::all_finite(x, d_m))
-            ++d_nonfinite;
+            for (int k = 0; k < d_rx; ++k) {
+                gr_complex* y = static_cast<gr_complex*>(output_items[k]) + at;
+                std::fill(y, y + d_m, gr_complex(std::numeric_limits<float>::quiet_NaN(), 0.0f));
+            }
+        for (int j = 0; j < d_tx; ++j)
+            if (!detail::all_finite(static_cast<const gr_complex*>(input_items[j]) + at, d_m)) {
+                ++d_nonfinite;
+                break;
+            }
         ++d_row;
     }
     return noutput_items;

@@ -17,7 +17,7 @@ namespace sems {
 class target_channel_impl : public target_channel
 {
 public:
-    target_channel_impl(channel_model model, double snr_db);
+    target_channel_impl(channel_model model, double snr_db, int n_receive, int n_transmit);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override;
@@ -33,14 +33,18 @@ public:
 
 private:
     void start_frame(uint64_t frame, uint64_t out_offset);
+    // Symbol i of the work call on every output: its channel, summed over the inputs, and noise.
+    void apply_symbol(const gr_vector_const_void_star& input_items, gr_vector_void_star& output_items, int i);
 
     channel_model d_model;
     const int d_n, d_m;
+    const int d_rx, d_tx; // outputs (receive elements), inputs (transmit elements)
     std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
     double d_frame_snr_db; // the current frame's
 
     frame_realization d_realization;        // the current frame's draw, buffers reused
-    std::optional<frame_channel> d_channel; // the current frame's factors
+    array_channel d_channels;               // the current frame's factors, one per stream
+    std::vector<gr_complex> d_sum;          // several transmit elements: one's contribution
     int d_row = 0;                           // next row of the current frame
     uint64_t d_frame = 0;
     bool d_started = false;

@@ -3,7 +3,7 @@
 
 Core (always loaded, no LibTorch): frame_settings, pilot_mask, scene, channel_model,
 keys, front_end_settings, front_end_frame; frame_of (a frame by name or file); blocks pilot_mapper, target_channel, target_channel_td, frame_sync,
-leakage_canceller, cfo_corrector, pilot_extractor, range_doppler_map, phase_noise_source; hier
+leakage_canceller, cfo_corrector, pilot_extractor, range_doppler_map, range_angle_map, phase_noise_source; hier
 blocks ofdm_tx / ofdm_rx / radio_front_end.
 
 Learning (LibTorch, loaded on first use of one of these names): classifier_sink,
@@ -37,7 +37,7 @@ _LAZY_MODULES = {
         "delay_search", "slow_time_model", "periodogram_delay_estimator",
         "omp_delay_estimator", "music_delay_estimator", "delay_crb", "doppler_features",
         "feature_svm", "random_subcarrier_mask", "nested_subcarrier_mask",
-        "angle_search", "angle_crb_rad2", "beamforming_angle_estimator", "music_angle_estimator",
+        "angle_search", "angle_crb_rad2", "beamforming_angle_estimator", "capon_angle_estimator", "music_angle_estimator",
     ),
 }
 _LAZY_NAMES = {name: module for module, names in _LAZY_MODULES.items() for name in names}

@@ -30,8 +30,35 @@ scene channel_block_scene(const char* who,
                           int clutter_paths,
                           double clutter_csr_db,
                           const std::string& class_library_name,
-                          const track_options& tracks)
+                          const track_options& tracks,
+                          const stream_counts& streams)
 {
+    if (streams.arrays)
+        for (const auto& [name, count] : { std::pair<const char*, int>{ "n_receive", streams.receive },
+                                           std::pair<const char*, int>{ "n_transmit", streams.transmit } })
+            if (count < 1 || count > limits::max_array_elements)
+                throw std::invalid_argument(std::string(who) + ": " + name + " must be in [1, " +
+                                            std::to_string(limits::max_array_elements) + "] (the array's elements), got " +
+                                            std::to_string(count));
+    // The block's streams against the scene's array (1 x 1 without one), both counts named.
+    auto check_streams = [&](const scene& sc) {
+        const int rx = sc.array() ? sc.array()->n_receive() : 1, tx = sc.array() ? sc.array()->n_transmit() : 1;
+        if (!streams.arrays) {
+            // A one-stream block: an array's streams are not silently cut to one.
+            if (sc.array() && !sc.array()->is_single_antenna())
+                throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(rx) +
+                                            " receive x " + std::to_string(tx) +
+                                            " transmit elements, but this block gives 1 output stream (one antenna); "
+                                            "use target_channel (one output per receive element) or "
+                                            "channel_model::factors(frame, symbol, element)");
+            return;
+        }
+        if (rx != streams.receive || tx != streams.transmit)
+            throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(rx) +
+                                        " receive x " + std::to_string(tx) + " transmit elements, but n_receive = " +
+                                        std::to_string(streams.receive) + " and n_transmit = " +
+                                        std::to_string(streams.transmit) + ": set them to the array's counts");
+    };
     const track_options no_tracks;
     const bool track_defaults = tracks.frames == no_tracks.frames && tracks.gains == no_tracks.gains &&
                                 tracks.coherence_time_s == no_tracks.coherence_time_s;
@@ -53,12 +80,7 @@ scene channel_block_scene(const char* who,
                                         "names its own library in its \"classes\" key, so leave class_library at "
                                         "\"" + default_class_library + "\"");
         scene sc = text[first] == '{' ? scene::parse(text, std::string(who) + " scene JSON") : scene::load(text);
-        // The blocks give one output stream: an array's streams are not silently cut to one.
-        if (const auto& a = sc.array(); a && !a->is_single_antenna())
-            throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(a->n_receive()) +
-                                        " receive x " + std::to_string(a->n_transmit()) +
-                                        " transmit elements, but this block gives 1 output stream (one antenna); "
-                                        "take an array's streams from channel_model::factors(frame, symbol, element)");
+        check_streams(sc);
         return sc;
     }
 
@@ -127,6 +149,7 @@ scene channel_block_scene(const char* who,
     }
     auto sc = scene::random(r, clutter, fading_kind::rayleigh, lib);
     sc.validate(std::string(who) + " random scene");
+    check_streams(sc);
     return sc;
 }
 

@@ -28,11 +28,20 @@ struct track_options {
     double coherence_time_s = track_draw_spec{}.coherence_time_s;
 };
 
+// A channel block's streams: outputs (receive elements) and inputs (transmit elements), and
+// whether the block gives an array's streams at all (a one-stream block refuses an array).
+struct stream_counts {
+    int receive = 1;
+    int transmit = 1;
+    bool arrays = false;
+};
+
 // The scene of a channel block's parameters: a scene file path or JSON text (starts with
 // '{'), or "" for a random scene from the random options, which must then keep their
 // defaults with a fixed scene. A random scene draws its classes (given by name) from
 // `class_library` (a library name or file, class_library::find); a fixed scene carries its
-// own ("classes" key). Throws std::invalid_argument prefixed by `who`.
+// own ("classes" key). The scene's array (none: 1 x 1) must match `streams`. Throws
+// std::invalid_argument prefixed by `who`.
 scene channel_block_scene(const char* who,
                           const std::string& text,
                           const std::vector<std::string>& classes,
@@ -43,7 +52,8 @@ scene channel_block_scene(const char* who,
                           int clutter_paths,
                           double clutter_csr_db,
                           const std::string& class_library,
-                          const track_options& tracks = {});
+                          const track_options& tracks = {},
+                          const stream_counts& streams = {});
 
 // The channel blocks' default class library (the paper's table).
 constexpr const char* default_class_library = "paper";

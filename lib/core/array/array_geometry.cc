@@ -248,6 +248,16 @@ double array_geometry::reach_m() const
     return r;
 }
 
+std::vector<position3> array_geometry::virtual_offsets() const
+{
+    std::vector<position3> o;
+    o.reserve(d_rx.size() * d_tx.size());
+    for (const auto& p : d_rx)
+        for (const auto& q : d_tx)
+            o.push_back({ p[0] + q[0], p[1] + q[1], p[2] + q[2] });
+    return o;
+}
+
 bool operator==(const array_geometry& a, const array_geometry& b)
 {
     return a.receive() == b.receive() && a.transmit() == b.transmit() && a.pattern() == b.pattern();

@@ -34,19 +34,16 @@ steering_vector(const array_geometry& a, double azimuth_rad, double elevation_ra
     const position3 u = direction_vector(azimuth_rad, elevation_rad);
     const double g = element_pattern_amplitude(a.pattern(), u);
     std::vector<std::complex<double>> s;
-    s.reserve(a.receive().size() * a.transmit().size());
-    for (const auto& p : a.receive())
-        for (const auto& q : a.transmit())
-            s.push_back(g * element_phasor(u, { p[0] + q[0], p[1] + q[1], p[2] + q[2] }, wavelength_m));
+    for (const auto& o : a.virtual_offsets())
+        s.push_back(g * element_phasor(u, o, wavelength_m));
     return s;
 }
 
 double narrowband_phase_error_rad(const array_geometry& a, const frame_settings& fs)
 {
     double reach = 0.0; // the farthest virtual element, max |p_k + q_j|
-    for (const auto& p : a.receive())
-        for (const auto& q : a.transmit())
-            reach = std::max(reach, std::hypot(p[0] + q[0], p[1] + q[1], p[2] + q[2]));
+    for (const auto& o : a.virtual_offsets())
+        reach = std::max(reach, std::hypot(o[0], o[1], o[2]));
     return 2.0 * M_PI * (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz() * reach / speed_of_light_mps;
 }
 

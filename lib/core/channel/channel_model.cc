@@ -158,7 +158,18 @@ void draw_target(target_spec& t,
 
 // --- frame_channel --------------------------------------------------------------
 
+// The frame's scatterer bodies as every element of an array shares them (array_channel): each
+// body's model and its snapshot with cross-range offsets, taken by the first element's update.
+struct body_share {
+    bool cross_range = false; // some element is off the origin: the snapshots carry cross-range offsets
+    std::vector<detail::body_model> models;
+    std::vector<detail::body_snapshot> snaps;
+    std::vector<char> taken; // per body: its snapshot is this frame's
+};
+
 struct frame_channel::scratch {
+    body_share* shared = nullptr;                     // an array_channel's shared bodies, or none
+    detail::body_snapshot steered;                    // a snapshot as this element sees it
     std::vector<detail::expansion_plan> plans;        // per body
     std::vector<size_t> g_offset;                     // per body: its moments in g
     std::vector<std::complex<double>> g;              // per body: N x S x (P+1), scaled by δk_max^p
@@ -244,28 +255,57 @@ void frame_channel::update(const std::vector<channel_path>& paths,
     sc.dk_scale.resize(n_bodies);
     size_t g_size = 0;
     const double dk = 4.0 * M_PI * fs.subcarrier_spacing_hz() / speed_of_light_mps;
-    if (sc.models.size() > n_bodies)
-        sc.models.erase(sc.models.begin() + n_bodies, sc.models.end());
+    // An array element (steering.h) turns each path's gain by its steering phasor and pattern
+    // and moves its delay by the plane wave's delay at the element; a body's scatterers each from
+    // their own direction. The origin skips this, so a single antenna's factors are today's, bit
+    // for bit.
+    const bool steered = !d_element.is_origin();
+    std::vector<detail::body_model>& models = sc.shared ? sc.shared->models : sc.models;
+    if (sc.shared && sc.shared->taken.size() < n_bodies) {
+        sc.shared->taken.resize(n_bodies, 0);
+        sc.shared->snaps.resize(n_bodies);
+    }
     for (size_t b = 0; b < n_bodies; ++b) {
-        // A fixed scene's bodies are the same every frame: set up once (a walker's takes ~0.1 ms).
-        if (b >= sc.models.size())
-            sc.models.emplace_back((*bodies)[b], fs);
-        else if (!detail::same_body(sc.models[b].body(), (*bodies)[b]))
-            sc.models[b] = detail::body_model((*bodies)[b], fs);
-        const detail::body_model& model = sc.models[b];
-        // The frame's scatterers, every symbol in one pass; the expansion's order from their own
-        // amplitudes and reaches (the same bound); per symbol the body's terms G_p δk_max^p.
-        sc.times.resize(size_t(d_n));
-        for (int n = 0; n < d_n; ++n)
-            sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
-        model.snapshots(sc.times.data(), d_n, sc.snap);
-        const auto plan = detail::plan_expansion(fs, sc.snap);
+        // The frame's scatterers, every symbol in one pass (once per frame for all of an array's
+        // elements); the expansion's order from their own amplitudes and reaches (the same
+        // bound); per symbol the body's terms G_p δk_max^p.
+        detail::body_snapshot* snap = sc.shared ? &sc.shared->snaps[b] : &sc.snap;
+        if (!sc.shared || !sc.shared->taken[b]) {
+            if (models.size() > n_bodies)
+                models.erase(models.begin() + n_bodies, models.end());
+            // A fixed scene's bodies are the same every frame: set up once (a walker's takes ~0.1 ms).
+            if (b >= models.size())
+                models.emplace_back((*bodies)[b], fs);
+            else if (!detail::same_body(models[b].body(), (*bodies)[b]))
+                models[b] = detail::body_model((*bodies)[b], fs);
+            sc.times.resize(size_t(d_n));
+            for (int n = 0; n < d_n; ++n)
+                sc.times[n] = static_cast<double>(first_symbol + static_cast<uint64_t>(n)) * T;
+            models[b].snapshots(sc.times.data(), d_n, *snap, steered || (sc.shared && sc.shared->cross_range));
+            if (sc.shared)
+                sc.shared->taken[b] = 1;
+        }
+        if (steered) { // where the body is: its first path's range and direction
+            const channel_path* at = nullptr;
+            for (const auto& p : paths)
+                if (p.body == static_cast<int>(b)) {
+                    at = &p;
+                    break;
+                }
+            if (at) {
+                const auto g = detail::make_body_steering(0.5 * speed_of_light_mps * at->delay_s, at->azimuth_rad,
+                                                          at->elevation_rad, d_element);
+                detail::steer_snapshot(*snap, g, sc.steered);
+                snap = &sc.steered;
+            }
+        }
+        const auto plan = detail::plan_expansion(fs, *snap);
         sc.plans[b] = plan;
         sc.g_offset[b] = g_size;
         sc.dk_scale[b] = detail::band_scale(fs, plan);
         g_size += size_t(d_n) * plan.terms();
         sc.g.resize(g_size);
-        detail::snapshot_terms(sc.snap, plan, fs, sc.g.data() + sc.g_offset[b]);
+        detail::snapshot_terms(*snap, plan, fs, sc.g.data() + sc.g_offset[b]);
     }
 
     // Rows: one per point path, then plan.terms() per scatterer-body path (its terms side by
@@ -291,10 +331,6 @@ void frame_channel::update(const std::vector<channel_path>& paths,
     // delay rows are the same every frame (the same values, not an approximation of them).
     d_delay_key.resize(size_t(d_l) * 3, std::numeric_limits<double>::quiet_NaN());
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
-    // An array element (steering.h): each path's gain turned by its steering phasor and pattern,
-    // its delay moved by the plane wave's delay at the element, on every subcarrier. The origin
-    // skips this, so a single antenna's factors are today's, bit for bit.
-    const bool steered = !d_element.is_origin();
     const double lambda = fs.wavelength_m();
     int row = 0, body_row = rows;
     for (const auto& p : paths) {
@@ -303,7 +339,9 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         double delay_s = p.delay_s;
         if (steered) {
             const position3 u = direction_vector(p.azimuth_rad, p.elevation_rad);
-            gain *= element_pattern_amplitude(d_element.pattern, u) * element_phasor(u, d_element.offset, lambda);
+            gain *= element_phasor(u, d_element.offset, lambda);
+            if (p.body < 0) // a body's pattern is its scatterers' own (steer_snapshot)
+                gain *= element_pattern_amplitude(d_element.pattern, u);
             delay_s += element_delay_s(u, d_element.offset);
         }
         // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
@@ -338,6 +376,39 @@ void frame_channel::update(const std::vector<channel_path>& paths,
         fill_delay_row(row, delay_s);
         ++row;
     }
+}
+
+array_channel::array_channel(const frame_settings& fs, const std::vector<array_element>& elements)
+    : d_share(std::make_unique<body_share>())
+{
+    if (elements.empty())
+        throw std::invalid_argument("array_channel: an array needs at least one stream, got none");
+    d_channels.reserve(elements.size());
+    for (const auto& e : elements) {
+        d_share->cross_range = d_share->cross_range || !e.is_origin();
+        d_channels.emplace_back(fs, std::vector<channel_path>{}, 0);
+        d_channels.back().d_element = e;
+        d_channels.back().d_scratch->shared = d_share.get();
+    }
+}
+
+array_channel::~array_channel() = default;
+array_channel::array_channel(array_channel&&) noexcept = default;
+array_channel& array_channel::operator=(array_channel&&) noexcept = default;
+
+void array_channel::update(const frame_realization& r, uint64_t first_symbol)
+{
+    std::fill(d_share->taken.begin(), d_share->taken.end(), 0);
+    for (auto& c : d_channels)
+        c.update(r, first_symbol);
+}
+
+const frame_channel& array_channel::element(int k) const
+{
+    if (k < 0 || k >= n_elements())
+        throw std::invalid_argument("array_channel: stream " + std::to_string(k) + " is beyond the array's " +
+                                std::to_string(n_elements()));
+    return d_channels[size_t(k)];
 }
 
 void frame_channel::fill_delay_row(int row, double delay_s)
@@ -711,7 +782,7 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
             b.motion = *t.motion; // the same model's assignment reuses its lists' capacity
             b.speed_mps = sh.first;
             b.heading_rad = sh.second;
-            b.elevation_rad = t.elevation_rad;
+            b.elevation_rad = -t.elevation_rad; // the radar seen from the body
         }
         const double power = target_power(t);
         budget_sum += power;
@@ -803,7 +874,7 @@ frame_channel channel_model::factors(const frame_realization& r, uint64_t first_
         throw std::invalid_argument("channel_model::factors: the scene's array gives " + std::to_string(n_elements()) +
                                     " streams; ask for one by its element index (0 .. " +
                                     std::to_string(n_elements() - 1) + ")");
-    return frame_channel(d_fs, r, first_symbol);
+    return frame_channel(d_fs, r, first_symbol, d_elements.front()); // a lone element may be off the origin
 }
 
 frame_channel channel_model::factors(const frame_realization& r, uint64_t first_symbol, int element) const
@@ -817,10 +888,8 @@ frame_channel channel_model::factors(const frame_realization& r, uint64_t first_
 std::vector<array_element> virtual_elements(const array_geometry& a)
 {
     std::vector<array_element> e;
-    e.reserve(a.receive().size() * a.transmit().size());
-    for (const auto& p : a.receive())
-        for (const auto& q : a.transmit())
-            e.push_back({ position3{ p[0] + q[0], p[1] + q[1], p[2] + q[2] }, a.pattern() });
+    for (const auto& o : a.virtual_offsets())
+        e.push_back({ o, a.pattern() });
     return e;
 }
 

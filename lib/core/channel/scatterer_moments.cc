@@ -28,17 +28,40 @@ inline double wheel_angle(const wheels_motion& w, double speed, double t, int wh
     return two_pi * (turns - std::floor(turns)) + w.phase_rad + golden_angle * wheel;
 }
 
-// Hub w's radial displacement from the body's centre: axles spread over the wheelbase, two
-// wheels per axle (left, right), an odd last wheel in the middle; r = −(x cos θ + y sin θ).
-inline double wheel_hub_displacement(const wheels_motion& w, int wheel, double heading)
+// Hub w's position in the body frame (x forward, y left, m): axles spread over the wheelbase,
+// two wheels per axle (left, right), an odd last wheel in the middle.
+inline std::pair<double, double> wheel_hub(const wheels_motion& w, int wheel)
 {
     const int axles = (w.wheels + 1) / 2;
     const int axle = wheel / 2;
     const double x = axles > 1 ? w.wheelbase_m * (0.5 - double(axle) / (axles - 1)) : 0.0;
     const bool alone = (w.wheels % 2 == 1) && wheel == w.wheels - 1;
     const double y = alone ? 0.0 : (wheel % 2 == 0 ? 0.5 : -0.5) * w.track_m;
+    return { x, y };
+}
+
+// Hub w's radial displacement from the body's centre: r = −(x cos θ + y sin θ).
+inline double wheel_hub_displacement(const wheels_motion& w, int wheel, double heading)
+{
+    const auto [x, y] = wheel_hub(w, wheel);
     return -(x * std::cos(heading) + y * std::sin(heading));
 }
+
+// A body-frame point's offsets across the line of sight (x forward, y left, z up; the radar
+// in direction (cos ε cos θ, cos ε sin θ, sin ε)): h along e_h = (sin θ, −cos θ, 0), v along
+// e_v = (−sin ε cos θ, −sin ε sin θ, cos ε). Seen from the array these are the directions of
+// increasing azimuth and elevation at the body (the body's z is the array's, its line of sight
+// the array's reversed).
+struct cross_axes {
+    double hx, hy, vx, vy, vz;
+    cross_axes(double heading, double elevation)
+        : hx(std::sin(heading)), hy(-std::cos(heading)), vx(-std::sin(elevation) * std::cos(heading)),
+          vy(-std::sin(elevation) * std::sin(heading)), vz(std::cos(elevation))
+    {
+    }
+    double h(double x, double y) const { return hx * x + hy * y; }
+    double v(double x, double y, double z) const { return vx * x + vy * y + vz * z; }
+};
 
 } // namespace
 
@@ -333,10 +356,12 @@ void sincos_args(body_snapshot& s, int count) { sincos_batch(s.arg.data(), s.sn.
 
 } // namespace
 
-void body_model::snapshots(const double* t, int count, body_snapshot& out) const
+void body_model::snapshots(const double* t, int count, body_snapshot& out, bool cross_range) const
 {
     out.clear();
     out.count = count;
+    out.cross_range = cross_range;
+    const cross_axes axes(d_b.heading_rad, d_b.elevation_rad);
     const size_t c = size_t(count);
     for (auto* v : { &out.arg, &out.sn, &out.cs, &out.x, &out.y })
         if (v->size() < c)
@@ -344,6 +369,13 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
     if (const auto* r = std::get_if<rotor_motion>(&d_b.motion)) {
         append_constant(out.point_r, 0.0, count);
         append_constant(out.point_a, d_body_a, count);
+        // Across the line of sight (the rotor's frame: the radar along x at elevation β over the
+        // blades' plane): the tip −l(cos ψ, sin ψ, 0) is offset h = l sin ψ, v = l sin β cos ψ.
+        const double h_reach = r->blade_length_m, v_reach = r->blade_length_m * std::sin(r->elevation_rad);
+        if (cross_range) {
+            append_constant(out.point_h, 0.0, count);
+            append_constant(out.point_v, 0.0, count);
+        }
         // Rotors that turn alike sit on the same hub (the body's reference point): one set of
         // blades with their summed amplitude, the same return.
         const double reach = r->blade_length_m * std::cos(r->elevation_rad);
@@ -357,10 +389,25 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
                 append_constant(out.line_a, d_elem_a * g.rotors, count);
                 out.line_e.resize(out.line_e.size() + c); // keeps the capacity: written below
                 double* e = out.line_e.data() + size_t(first + b) * c;
+                double *he = nullptr, *ve = nullptr;
+                if (cross_range) {
+                    append_constant(out.line_h0, 0.0, count);
+                    append_constant(out.line_v0, 0.0, count);
+                    out.line_he.resize(out.line_e.size());
+                    out.line_ve.resize(out.line_e.size());
+                    he = out.line_he.data() + size_t(first + b) * c;
+                    ve = out.line_ve.data() + size_t(first + b) * c;
+                }
                 if (b >= half) {
-                    const double* from = out.line_e.data() + size_t(first + b - half) * c;
+                    const size_t from_at = size_t(first + b - half) * c;
+                    const double* from = out.line_e.data() + from_at;
                     for (int n = 0; n < count; ++n)
                         e[n] = -from[n];
+                    if (cross_range)
+                        for (int n = 0; n < count; ++n) {
+                            he[n] = -out.line_he[from_at + size_t(n)];
+                            ve[n] = -out.line_ve[from_at + size_t(n)];
+                        }
                     out.line_mirror.resize(size_t(first + b + 1), -1);
                     out.line_mirror[size_t(first + b - half)] = first + b;
                     out.line_mirror[size_t(first + b)] = first + b - half;
@@ -370,21 +417,39 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
                 sincos_args(out, count);
                 for (int n = 0; n < count; ++n)
                     e[n] = reach * out.cs[n];
+                if (cross_range)
+                    for (int n = 0; n < count; ++n) {
+                        he[n] = h_reach * out.sn[n];
+                        ve[n] = v_reach * out.cs[n];
+                    }
             }
         }
     } else if (const auto* w = std::get_if<wheels_motion>(&d_b.motion)) {
         append_constant(out.point_r, 0.0, count);
         append_constant(out.point_a, d_body_a, count);
         const double c = std::cos(d_b.heading_rad);
+        const double radius = w->wheel_radius_m;
+        if (cross_range) { // the body's own point at its reference
+            append_constant(out.point_h, 0.0, count);
+            append_constant(out.point_v, 0.0, count);
+        }
         for (int k = 0; k < w->wheels; ++k) {
             const double hub = wheel_hub_displacement(*w, k, d_b.heading_rad);
+            const auto [hub_x, hub_y] = wheel_hub(*w, k);
+            // Rim point at angle φ: the hub plus (R sin φ, 0, R cos φ) in the body frame.
             for (int i = 0; i < w->rim_points; ++i) {
                 for (int n = 0; n < count; ++n)
                     out.arg[n] = wheel_angle(*w, d_b.speed_mps, t[n], k) + two_pi * i / w->rim_points;
                 sincos_args(out, count);
                 for (int n = 0; n < count; ++n)
-                    out.point_r.push_back(hub - w->wheel_radius_m * c * out.sn[n]);
+                    out.point_r.push_back(hub - radius * c * out.sn[n]);
                 append_constant(out.point_a, d_elem_a, count);
+                if (cross_range)
+                    for (int n = 0; n < count; ++n) {
+                        const double x = hub_x + radius * out.sn[n], z = radius * out.cs[n];
+                        out.point_h.push_back(axes.h(x, hub_y));
+                        out.point_v.push_back(axes.v(x, hub_y, z));
+                    }
             }
             for (int i = 0; i < w->spokes; ++i) {
                 for (int n = 0; n < count; ++n)
@@ -392,8 +457,17 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
                 sincos_args(out, count);
                 append_constant(out.line_r0, hub, count);
                 for (int n = 0; n < count; ++n)
-                    out.line_e.push_back(-w->wheel_radius_m * c * out.sn[n]);
+                    out.line_e.push_back(-radius * c * out.sn[n]);
                 append_constant(out.line_a, d_spoke_a, count);
+                if (cross_range) {
+                    append_constant(out.line_h0, axes.h(hub_x, hub_y), count);
+                    append_constant(out.line_v0, axes.v(hub_x, hub_y, 0.0), count);
+                    for (int n = 0; n < count; ++n) {
+                        const double x = radius * out.sn[n], z = radius * out.cs[n];
+                        out.line_he.push_back(axes.h(x, 0.0));
+                        out.line_ve.push_back(axes.v(x, 0.0, z));
+                    }
+                }
             }
         }
     } else if (const auto* s = std::get_if<scatterers_motion>(&d_b.motion)) {
@@ -412,16 +486,135 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out) const
             }
             append_constant(out.point_a, d_point_a[i], count);
         }
+        if (cross_range) { // each at (x, 0, 0) in the body frame, x = −r / cos θ: from its harmonics
+            out.point_h.assign(out.point_r.size(), 0.0);
+            out.point_v.assign(out.point_r.size(), 0.0);
+            for (size_t i = 0; i < s->scatterers.size(); ++i)
+                for (const auto& h : s->scatterers[i].harmonics) {
+                    turning_angles(t, h.rate_hz, h.phase_rad, 0.0, out.arg.data(), c);
+                    sincos_args(out, count);
+                    for (int n = 0; n < count; ++n) {
+                        const double x = h.amplitude_m * out.sn[n];
+                        out.point_h[i * c + size_t(n)] += axes.h(x, 0.0);
+                        out.point_v[i * c + size_t(n)] += axes.v(x, 0.0, 0.0);
+                    }
+                }
+        }
     } else {
         out.point_r.resize(size_t(walker::n_segments) * c);
         out.point_a.resize(size_t(walker::n_segments) * c);
-        d_walker->scatterers(t, count, out.point_r.data(), out.point_a.data());
+        if (!cross_range) {
+            d_walker->scatterers(t, count, out.point_r.data(), out.point_a.data());
+        } else {
+            out.x.resize(size_t(3 * walker::n_segments) * c); // the segment centres
+            d_walker->scatterers(t, count, out.point_r.data(), out.point_a.data(), out.x.data());
+            out.point_h.resize(out.point_r.size());
+            out.point_v.resize(out.point_r.size());
+            for (int seg = 0; seg < walker::n_segments; ++seg) {
+                const double* p = out.x.data() + size_t(3 * seg) * c;
+                for (size_t n = 0; n < c; ++n) {
+                    out.point_h[size_t(seg) * c + n] = axes.h(p[n], p[c + n]);
+                    out.point_v[size_t(seg) * c + n] = axes.v(p[n], p[c + n], p[2 * c + n]);
+                }
+            }
+        }
     }
     if (d_scale != 1.0) {
         for (auto& a : out.point_a)
             a *= d_scale;
         for (auto& a : out.line_a)
             a *= d_scale;
+    }
+}
+
+body_steering make_body_steering(double range_m, double azimuth_rad, double elevation_rad, const array_element& element)
+{
+    body_steering g;
+    g.range_m = range_m;
+    g.u = direction_vector(azimuth_rad, elevation_rad);
+    const double sa = std::sin(azimuth_rad), ca = std::cos(azimuth_rad);
+    const double se = std::sin(elevation_rad), ce = std::cos(elevation_rad);
+    g.e_h = { -sa, ca, 0.0 };
+    g.e_v = { -se * ca, -se * sa, ce };
+    g.offset = element.offset;
+    g.pattern = element.pattern;
+    return g;
+}
+
+namespace {
+
+// One scatterer point (r, h, v) as the element sees it: its displacement moved by the plane
+// wave's delay from its own direction, and its pattern amplitude.
+struct steered_point {
+    double r, gain;
+};
+
+class point_steering
+{
+public:
+    explicit point_steering(const body_steering& g)
+        : d_g(g), d_c0(projection_m(g.u, g.offset)), d_ch(projection_m(g.e_h, g.offset)),
+          d_cv(projection_m(g.e_v, g.offset))
+    {
+    }
+    steered_point operator()(double r, double h, double v) const
+    {
+        const double along = d_g.range_m + r;
+        const double norm = std::sqrt(along * along + h * h + v * v);
+        if (!(norm > 0.0)) // at the phase centre: the body's own direction
+            return { r, element_pattern_amplitude(d_g.pattern, d_g.u) };
+        const double inv = 1.0 / norm;
+        const double us_o = (along * d_c0 + h * d_ch + v * d_cv) * inv;
+        double gain = 1.0;
+        if (d_g.pattern != element_pattern::isotropic) {
+            position3 us;
+            for (int i = 0; i < 3; ++i)
+                us[i] = (along * d_g.u[i] + h * d_g.e_h[i] + v * d_g.e_v[i]) * inv;
+            gain = element_pattern_amplitude(d_g.pattern, us);
+        }
+        return { r - 0.5 * (us_o - d_c0), gain };
+    }
+
+private:
+    const body_steering& d_g;
+    double d_c0, d_ch, d_cv; // u·o, e_h·o, e_v·o
+};
+
+} // namespace
+
+void steer_snapshot(const body_snapshot& base, const body_steering& geometry, body_snapshot& out)
+{
+    if (!base.cross_range)
+        throw std::logic_error("steer_snapshot: the snapshot was taken without its cross-range offsets");
+    const size_t count = size_t(base.count);
+    out.clear();
+    out.count = base.count;
+    out.cross_range = false;
+    for (auto* v : { &out.arg, &out.sn, &out.cs, &out.x, &out.y })
+        if (v->size() < count)
+            v->resize(count);
+    const point_steering steer(geometry);
+    out.point_r.resize(base.point_r.size());
+    out.point_a.resize(base.point_a.size());
+    for (size_t k = 0; k < base.point_r.size(); ++k) {
+        const steered_point p = steer(base.point_r[k], base.point_h[k], base.point_v[k]);
+        out.point_r[k] = p.r;
+        out.point_a[k] = base.point_a[k] * p.gain;
+    }
+    out.line_r0.resize(base.line_r0.size());
+    out.line_e.resize(base.line_e.size());
+    out.line_a.resize(base.line_a.size());
+    for (size_t k = 0; k < base.line_e.size(); ++k) {
+        const double r0 = base.line_r0[k], h0 = base.line_h0[k], v0 = base.line_v0[k];
+        const double e = base.line_e[k], he = base.line_he[k], ve = base.line_ve[k];
+        const steered_point a = steer(r0, h0, v0);
+        const steered_point b = steer(r0 + e, h0 + he, v0 + ve);
+        out.line_r0[k] = a.r;
+        out.line_e[k] = b.r - a.r;
+        const double gain = geometry.pattern == element_pattern::isotropic
+                                ? 1.0
+                                : steer(r0 + 0.5 * e, h0 + 0.5 * he, v0 + 0.5 * ve).gain;
+        out.line_a[k] = base.line_a[k] * gain;
     }
 }
 

@@ -23,6 +23,7 @@
 #ifndef INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
 #define INCLUDED_SEMS_LIB_CORE_SCATTERER_MOMENTS_H
 
+#include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/scene/walker_model.h>
@@ -61,6 +62,11 @@ struct body_snapshot {
     // both starting at r0 = 0), or −1; moments() computes such a pair once. Shorter than the
     // lines (or empty): the lines beyond it have no mirror.
     std::vector<int> line_mirror;
+    // With cross_range (what an array needs): each scatterer's offset across the line of sight,
+    // laid out as its displacement, h along increasing azimuth and v along increasing elevation
+    // (m); for a line, its start's (h0, v0) and its extent's (he, ve). Empty otherwise.
+    bool cross_range = false;
+    std::vector<double> point_h, point_v, line_h0, line_v0, line_he, line_ve;
     std::vector<double> arg, sn, cs, x, y; // count values each: phases, their sines and cosines, scratch
     std::vector<double> re, im;            // moments: (order + 1) x count
     std::vector<double> e_re, e_im, l_re, l_im; // a line's integrals E_p, moments L_p: (order + 1) x count
@@ -72,6 +78,8 @@ struct body_snapshot {
         line_e.clear();
         line_a.clear();
         line_mirror.clear();
+        for (auto* v : { &point_h, &point_v, &line_h0, &line_v0, &line_he, &line_ve })
+            v->clear();
     }
 };
 
@@ -85,7 +93,9 @@ class body_model
 public:
     explicit body_model(const scatterer_body& b, const frame_settings& fs);
     void snapshot(double t_s, body_snapshot& out) const { snapshots(&t_s, 1, out); }
-    void snapshots(const double* t_s, int count, body_snapshot& out) const;
+    /* The scatterers at count instants; with cross_range also their offsets across the line of
+     * sight (body_snapshot::point_h ...), which an array element's steering needs. */
+    void snapshots(const double* t_s, int count, body_snapshot& out, bool cross_range = false) const;
     double extent_m() const { return d_extent; }
     double amplitude_sum() const { return d_amp_sum; }
     const scatterer_body& body() const { return d_b; }
@@ -106,6 +116,29 @@ private:
     std::vector<rotor_group> d_rotor_groups;
     std::vector<double> d_point_a; // scatterers: each one's amplitude
 };
+
+/* Where a body is seen from and by which array element: its reference point at range_m in
+ * direction u (azimuth, elevation), e_h and e_v the unit vectors of increasing azimuth and
+ * elevation there, and the element's offset and pattern (steering.h). */
+struct body_steering {
+    double range_m = 0.0;
+    position3 u{ 1.0, 0.0, 0.0 }, e_h{ 0.0, 1.0, 0.0 }, e_v{ 0.0, 0.0, 1.0 };
+    position3 offset{ 0.0, 0.0, 0.0 };
+    element_pattern pattern = element_pattern::isotropic;
+};
+
+/* The geometry of a body in direction (azimuth, elevation) at range_m, seen by `element`. */
+body_steering make_body_steering(double range_m, double azimuth_rad, double elevation_rad, const array_element& element);
+
+/* A snapshot (taken with cross_range) as one array element sees it, beyond the body's own
+ * steering phasor and delay (which its path carries): every scatterer from its own direction.
+ * Scatterer s sits at P_s = (R + r_s)·u + h_s·e_h + v_s·e_v; its direction u_s = P_s/|P_s| moves
+ * its displacement by −(u_s − u)·o/2 (the plane wave's delay at offset o, two-way as r is) and
+ * scales its amplitude by the element pattern g(u_s) (the path carries no pattern then). A line
+ * keeps its straightness: its two ends are moved, the pattern taken at its middle. A scatterer
+ * at the array's phase centre (|P_s| = 0) keeps the body's direction. out's mirror pairs are
+ * dropped (the ends move apart). */
+void steer_snapshot(const body_snapshot& base, const body_steering& geometry, body_snapshot& out);
 
 /* δk_max of a plan's sub-bands (rad/m): its subcarrier rows hold (δk_m/δk_max)^p ∈ [−1, 1]. */
 double band_scale(const frame_settings& fs, const expansion_plan& plan);

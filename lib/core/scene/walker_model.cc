@@ -474,7 +474,7 @@ void walker_model::pose(double t_s, body_pose& pose) const
     cycle_pose(frac(t_s * d_inv_cycle + d_phase_cycles), pose);
 }
 
-void walker_model::scatterers(const double* t_s, int count, double* r_m, double* amplitude) const
+void walker_model::scatterers(const double* t_s, int count, double* r_m, double* amplitude, double* centre_m) const
 {
     // A chunk of instants at a time: their gait states, then the sines and cosines of all their
     // joint angles in one vectorised pass, then the poses.
@@ -503,6 +503,10 @@ void walker_model::scatterers(const double* t_s, int count, double* r_m, double*
                 r_m[size_t(s) * count + n0 + i] = r[s];
                 amplitude[size_t(s) * count + n0 + i] = amp[s] * d_scale;
             }
+            if (centre_m)
+                for (int s = 0; s < n_segments; ++s)
+                    for (int k = 0; k < 3; ++k)
+                        centre_m[size_t(3 * s + k) * count + n0 + i] = bp.centre[s][k];
         }
     }
 }

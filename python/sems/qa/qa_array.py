@@ -23,6 +23,10 @@ class qa_array(gr_unittest.TestCase):
             with open(path) as f:
                 self.assertEqual(json.load(f)["format"], "sems.array")
             self.assertTrue(sems.array_geometry.load(path) == a)
+        # A MIMO array's streams: receive element k with transmit element j at p_k + q_j, k-major.
+        mimo = sems.array_geometry.from_positions([(0, -0.05, 0), (0, 0.05, 0)], [(0, 0, 0), (0, 0.2, 0)])
+        np.testing.assert_allclose(np.array(mimo.virtual_offsets()),
+                                   [(0, -0.05, 0), (0, 0.15, 0), (0, 0.05, 0), (0, 0.25, 0)], atol=1e-15)
         with self.assertRaisesRegex(ValueError, "spacing_m"):
             sems.array_geometry.ula(4, 0.0)
         with self.assertRaisesRegex(ValueError, "coincide"):
@@ -71,17 +75,87 @@ class qa_array(gr_unittest.TestCase):
         self.assertAlmostEqual(bf.estimate(y)[0], -0.6, delta=2e-3)  # the band's delay spread: < 1e-3 rad
         music = sems.music_angle_estimator(a, 0.0, fs.wavelength_m(), 1)
         self.assertAlmostEqual(music.estimate(y)[0], -0.6, delta=2e-3)
+        capon = sems.capon_angle_estimator(a, 0.0, fs.wavelength_m())
+        self.assertAlmostEqual(capon.estimate(y)[0], -0.6, delta=2e-3)
         self.assertGreater(sems.angle_crb_rad2(a, -0.6, 0.0, fs.wavelength_m(), 1e3), 0.0)
         with self.assertRaisesRegex(ValueError, "8 elements x snapshots"):
             bf.estimate(y[:4])
 
-    def test_one_stream_blocks_refuse_an_array_scene(self):
+    def test_stream_counts_must_match_the_array(self):
         text = json.dumps({"format": "sems.scene", "version": 1,
                            "array": {"receive": {"ula": {"elements": 4, "spacing_m": 0.05}}},
                            "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8}]})
-        for block in (sems.target_channel, sems.target_channel_td):
-            with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements.*1 output stream"):
-                block(scene=text)
+        with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements.*1 output stream"):
+            sems.target_channel_td(scene=text)  # one stream: the time-domain emulator has no array yet
+        with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements, but n_receive = 1 and n_transmit = 1"):
+            sems.target_channel(scene=text)
+        with self.assertRaisesRegex(ValueError, "1 receive x 1 transmit elements, but n_receive = 3"):
+            sems.target_channel(n_receive=3)  # a random scene has no array
+        with self.assertRaisesRegex(ValueError, "n_transmit must be in"):
+            sems.target_channel(scene=text, n_receive=4, n_transmit=0)
+        self.assertEqual(sems.target_channel(scene=text, n_receive=4).output_signature().max_streams(), 4)
+
+    def test_each_receive_output_sums_its_transmit_inputs(self):
+        # 2 receive x 2 transmit elements, noiseless: output k is Σ_j H_{k,j} ⊙ x_j, H_{k,j} the
+        # model's stream k·2 + j; every output carries the frame's truth.
+        from gnuradio import blocks, gr
+        fs = sems.frame_settings()
+        array = {"receive": {"positions_m": [[0, -0.025, 0], [0, 0.025, 0]]},
+                 "transmit": {"positions_m": [[0, 0, 0], [0, 0.1, 0]]}}
+        scene = {"format": "sems.scene", "version": 1, "array": array,
+                 "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8, "azimuth_rad": 0.4}]}
+        text = json.dumps(scene)
+        rng = np.random.default_rng(3)
+        n, m = fs.n_symbols, fs.n_subcarriers
+        x = [(rng.standard_normal(n * m) + 1j * rng.standard_normal(n * m)).astype(np.complex64) for _ in range(2)]
+        tb = gr.top_block()
+        ch = sems.target_channel(scene=text, seed=7, n_receive=2, n_transmit=2)
+        sinks = [blocks.vector_sink_c(m) for _ in range(2)]
+        for j in range(2):
+            tb.connect(blocks.vector_source_c(x[j].tolist(), False, m), (ch, j))
+        for k in range(2):
+            tb.connect((ch, k), sinks[k])
+        tb.run()
+        cm = sems.channel_model(fs, sems.scene.parse(text), 7)
+        r = cm.draw(0)
+        for k in range(2):
+            want = sum(np.asarray(cm.channel(r, 0, 2 * k + j)).reshape(-1) * x[j] for j in range(2))
+            np.testing.assert_allclose(np.asarray(sinks[k].data()), want, atol=2e-5)
+            tags = [t for t in sinks[k].tags() if str(t.key) == "sems_truth"]
+            self.assertEqual([t.offset for t in tags], [0])
+
+    def test_extractor_reads_every_element_at_the_pilots(self):
+        # A 3-element ULA's streams into one extractor: per frame, element-major, element k's
+        # pilots equal its channel there (noiseless, x = 1); two frames, each with its truth.
+        from gnuradio import blocks, gr
+        fs = sems.frame_settings()
+        n, m = fs.n_symbols, fs.n_subcarriers
+        scene = {"format": "sems.scene", "version": 1,
+                 "array": {"receive": {"ula": {"elements": 3, "spacing_m": 0.05}}},
+                 "targets": [{"class": "car", "range_m": 45, "velocity_mps": -6, "azimuth_rad": -0.3}]}
+        text = json.dumps(scene)
+        positions = [3, 70, 64 * 5 + 11, 64 * 31 + 63]
+        tb = gr.top_block()
+        src = blocks.vector_source_c([1 + 0j] * (2 * n * m), False, m)
+        ch = sems.target_channel(scene=text, seed=2, n_receive=3)
+        ex = sems.pilot_extractor(pilot_positions=positions, n_elements=3)
+        sink = blocks.vector_sink_c(3 * len(positions))
+        tb.connect(src, ch)
+        for k in range(3):
+            tb.connect((ch, k), (ex, k))
+        tb.connect(ex, sink)
+        tb.run()
+        self.assertEqual((ex.n_elements(), ex.n_pilots(), ex.frames_out()), (3, 4, 2))
+        got = np.asarray(sink.data()).reshape(2, 3, len(positions))
+        cm = sems.channel_model(fs, sems.scene.parse(text), 2)
+        for f in range(2):
+            r = cm.draw(f)
+            for k in range(3):
+                h = np.asarray(cm.channel(r, f * n, k)).reshape(-1)
+                np.testing.assert_allclose(got[f, k], h[positions], atol=1e-5)
+        self.assertEqual(len([t for t in sink.tags() if str(t.key) == "sems_truth"]), 2)
+        with self.assertRaisesRegex(ValueError, "n_elements must be in"):
+            sems.pilot_extractor(pilot_positions=positions, n_elements=0)
 
 
 if __name__ == "__main__":

@@ -64,6 +64,9 @@ def cxx_defaults():
         "track_frames": spec.get("tracks", {}).get("frames", 0),
         "track_gains": sems.gain_coherence_name(sems.track_draw_spec().gains),
         "track_coherence_time_s": sems.track_draw_spec().coherence_time_s,
+        # streams: one of each without an array (what the default block has).
+        "n_receive": ch.output_signature().max_streams(),
+        "n_transmit": ch.input_signature().max_streams(),
     })
     # pilot_mapper / pilot_extractor: built with one pilot, every other argument defaulted.
     mapper = sems.pilot_mapper(pilot_positions=[0])
@@ -73,7 +76,7 @@ def cxx_defaults():
                     pilot_power=mapper.pilot_power(), data_power=mapper.data_power(),
                     guard_subcarriers=bound_default(sems.pilot_mapper, "guard_subcarriers"))
     assert (mapper.mask().n_symbols(), mapper.mask().n_subcarriers()) == (fs.n_symbols, fs.n_subcarriers)
-    extractor_d = dict(pilot_frame, pilot_symbol=extractor.mask().pilot_symbol())
+    extractor_d = dict(pilot_frame, pilot_symbol=extractor.mask().pilot_symbol(), n_elements=extractor.n_elements())
     sink = dict(pilot_frame, batch_size=sems.sink_defaults.batch_size, threads=sems.sink_defaults.threads,
                 metrics_period=sems.sink_defaults.metrics_period,
                 frame=bound_default(sems.classifier_sink, "frame"))
@@ -100,6 +103,8 @@ def cxx_defaults():
     # range_doppler_map: no getters for its settings; the bindings' defaults (make()'s).
     rd_map = {name: bound_default(sems.range_doppler_map, name)
               for name in ("window", "n_symbols", "n_subcarriers")}
+    ra_map = {name: bound_default(sems.range_angle_map, name)
+              for name in ("window", "n_symbols", "n_subcarriers", "n_angles")}
     # tag_file_sink / tag_file_replay: Python blocks, their constructors' defaults.
     from gnuradio.sems.tag_file import tag_file_replay, tag_file_sink
     tag_files = {cls.__name__: {name: p.default for name, p in inspect.signature(cls.__init__).parameters.items()
@@ -117,7 +122,7 @@ def cxx_defaults():
     # The Frame parameter: compared as the frame it names (test_defaults_agree); the C++ default
     # of the blocks with numbers is frame_settings(), the sinks' is their `frame` argument's.
     # The prefix of the time-domain blocks is the frame's there (GRC_ONLY, test_one_cp_default).
-    for d in (front_end, channel, mapper_d, extractor_d, ofdm, channel_td, sync, rd_map):
+    for d in (front_end, channel, mapper_d, extractor_d, ofdm, channel_td, sync, rd_map, ra_map):
         d["frame"] = fs
         d.pop("cp_len", None)
     return {
@@ -139,6 +144,7 @@ def cxx_defaults():
         "sems_leakage_canceller": {name: bound_default(sems.leakage_canceller, name)
                                    for name in ("taps", "window", "forgetting", "widely_linear", "dc", "clip_level")},
         "sems_range_doppler_map": rd_map,
+        "sems_range_angle_map": ra_map,
         "sems_tag_file_sink": tag_files["tag_file_sink"],
         "sems_tag_file_replay": tag_files["tag_file_replay"],
     }
@@ -159,7 +165,8 @@ def bound_default(cls, name):
 TIME_DOMAIN = ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_frame_sync",
                "sems_radio_front_end", "sems_cfo_corrector")
 FRAME_BLOCKS = TIME_DOMAIN + ("sems_pilot_mapper", "sems_pilot_extractor", "sems_target_channel",
-                              "sems_range_doppler_map", "sems_classifier_sink", "sems_delay_estimator_sink")
+                              "sems_range_doppler_map", "sems_range_angle_map", "sems_classifier_sink",
+                              "sems_delay_estimator_sink")
 
 # GRC-only parameters (no C++ default to agree with), and why.
 GRC_ONLY = {
@@ -189,6 +196,12 @@ GRC_ONLY = {
     ("sems_range_doppler_map", "mask_file"): "required in C++ (one of mask_file / positions)",
     ("sems_range_doppler_map", "pilot_positions"): "required in C++ (one of mask_file / positions)",
     ("sems_range_doppler_map", "n_pilots"): "GRC-side vector length; C++ takes it from the mask",
+    ("sems_range_angle_map", "array"): "required in C++",
+    ("sems_range_angle_map", "n_elements"): "GRC-side vector length; C++ takes it from the array",
+    ("sems_range_angle_map", "mask_source"): "GRC chooser between a mask file and positions",
+    ("sems_range_angle_map", "mask_file"): "required in C++ (one of mask_file / positions)",
+    ("sems_range_angle_map", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_range_angle_map", "n_pilots"): "GRC-side vector length; C++ takes it from the mask",
     ("sems_tag_file_sink", "path"): "required in Python",
     ("sems_tag_file_replay", "path"): "required in Python",
     ("sems_radio_front_end", "settings"): "GRC-side dict of front_end_settings fields (Python **settings)",

@@ -2,7 +2,8 @@
 /*!
  * \file
  * \brief The classical angle references: the Cramér–Rao bound of a target's azimuth, FFT
- *        (Bartlett) beamforming and MUSIC with forward–backward spatial smoothing.
+ *        (Bartlett) beamforming, Capon (MVDR) beamforming and MUSIC with forward–backward
+ *        spatial smoothing.
  *
  * \details The observations are an array's pilots, element-major as the pilot extractor gives
  * them: y[k·L + t] is element k's observation of snapshot t (a pilot), k < K elements (the
@@ -79,6 +80,45 @@ private:
     double d_elevation, d_lambda;
     angle_search d_search;
     std::vector<std::complex<double>> d_steer; // grid x K, each a(φ_g)/‖a(φ_g)‖, conjugated
+};
+
+/*!
+ * \brief Capon (minimum-variance distortionless response) beamforming: the azimuths of the n
+ *        strongest peaks of P(φ) = ‖a‖² / (a(φ)ᴴ (R + δI)⁻¹ a(φ)), R the sample covariance, δ
+ *        its diagonal loading. Its beam adapts to the data, so it resolves incoherent targets
+ *        closer than a beamwidth, where beamforming sees one; coherent ones (the same snapshot
+ *        phases) cancel in it, as in MUSIC, unless spatially smoothed.
+ */
+class SEMS_BASELINES_API capon_angle_estimator
+{
+public:
+    /*!
+     * \brief An estimator for an array.
+     * \param a the array. \param elevation_rad θ, known. \param wavelength_m λ.
+     * \param loading δ relative to the mean eigenvalue, tr(R)/K (≥ 0; 0: none, which needs at
+     *        least K snapshots).
+     * \param subarray 0: no smoothing; m: forward–backward smoothing over a ULA's subarrays of m
+     *        elements, as music_angle_estimator.
+     * \param search where to search.
+     * \throws std::invalid_argument naming a bad setting.
+     */
+    capon_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m, double loading = 1e-3,
+                          int subarray = 0, angle_search search = {});
+    /*!
+     * \brief The azimuths of the n_targets strongest peaks.
+     * \param y K·L observations, element-major. \param snapshots L ≥ 1. \param n_targets ≥ 1.
+     * \return up to n_targets azimuths in rad, strongest first.
+     * \throws std::invalid_argument on non-finite input or bad counts.
+     */
+    std::vector<double> estimate(const gr_complex* y, int snapshots, int n_targets = 1) const;
+    /*! \brief K, the streams. \return the elements. */
+    int n_elements() const { return d_array.n_receive() * d_array.n_transmit(); }
+
+private:
+    array_geometry d_array;
+    double d_elevation, d_lambda, d_loading;
+    int d_sub;
+    angle_search d_search;
 };
 
 /*!

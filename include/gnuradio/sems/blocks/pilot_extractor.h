@@ -39,6 +39,12 @@ namespace sems {
  * set f mod F, f the frame's index (its keys::frame_tag, or the count), so the output is
  * N_p observations in that set's mask order, as the mapper placed them.
  *
+ * Arrays: with n_elements inputs (one per receive element, as target_channel's outputs) the
+ * output is gr_complex[n_elements·N_p] per frame, element-major (element k's pilots at
+ * k·N_p .. k·N_p + N_p − 1), all elements read at the same pilots. The inputs advance in
+ * lockstep; frames align to input 0's tags (which ride with the output), and a NaN/Inf on any
+ * input skips the frame.
+ *
  * Frame check: a mask file carries only its grid, refused unless it is n_symbols x n_subcarriers
  * (pilot_mask::check_frame names the field and both values); the block has no guard, bandwidth,
  * carrier, symbol-interval or CP parameter, so it cannot compare those (pilot_mapper refuses a
@@ -56,6 +62,7 @@ public:
      * \param n_symbols        N
      * \param n_subcarriers    M (input vector length)
      * \param pilot_symbol     s_p, the observations are divided by it; must match the file's
+     * \param n_elements       inputs, one per receive element (1..limits::max_array_elements)
      * \return the block.
      * \throws std::invalid_argument naming the parameter and the problem.
      */
@@ -63,14 +70,17 @@ public:
                      const std::vector<int>& pilot_positions = {},
                      int n_symbols = frame_settings{}.n_symbols,
                      int n_subcarriers = frame_settings{}.n_subcarriers,
-                     gr_complex pilot_symbol = gr_complex(1.0f, 0.0f));
+                     gr_complex pilot_symbol = gr_complex(1.0f, 0.0f),
+                     int n_elements = 1);
 
     /*! \brief The pilot mask of frame 0 (the only one unless the mask spans a super-frame). \return the mask. */
     virtual const pilot_mask& mask() const = 0;
     /*! \brief The pilot sets of every frame of the super-frame (F = 1 for one frame's mask). \return the masks. */
     virtual const super_frame_mask& super_frame() const = 0;
-    /*! \brief N_p. \return the output vector length. */
+    /*! \brief N_p, the pilots per element. \return them (the output vector is n_elements()·N_p). */
     virtual int n_pilots() const = 0;
+    /*! \brief The inputs, one per receive element. \return their number. */
+    virtual int n_elements() const = 0;
 
     /*! \brief Frames written. \return the count. */
     virtual uint64_t frames_out() const = 0;

@@ -22,6 +22,13 @@ namespace sems {
  * \brief The frequency-domain target channel emulator (docs/design.md §1, §3): y = H[n,:] ⊙ x + V per OFDM symbol.
  *
  * \details gr_complex[M] in and out, one OFDM symbol per item: y = H[n,:] ⊙ x + V.
+ *
+ * With an array in the scene (array_geometry.h), one input per transmit element and one output
+ * per receive element, as GNU Radio's multi-channel sources give theirs: receive element k
+ * gives y_k = Σ_j H_{k,j}[n,:] ⊙ x_j + V_k, H_{k,j} the channel of receive element k with
+ * transmit element j (channel_model::factors with element k·N_t + j), V_k its own noise. Every
+ * output carries the truth tag. n_receive and n_transmit must be the array's counts (1 and 1
+ * without an array): a mismatch is refused, naming both.
  * A thin adapter over channel_model: per frame draw(frame) and factors(r, frame·N),
  * per symbol apply_row and add_noise. Everything per frame happens at the frame
  * start; nothing is allocated per item.
@@ -80,6 +87,8 @@ public:
      * \param track_gains      tracks: how the gains evolve, "frame" (independent per frame),
      *                         "track" (constant) or "gauss_markov" (gain_coherence)
      * \param track_coherence_time_s tracks with "gauss_markov" gains: the coherence time τ_c in s
+     * \param n_receive        output streams: the scene's array's receive elements (1 without one)
+     * \param n_transmit       input streams: the scene's array's transmit elements (1 without one)
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -101,7 +110,9 @@ public:
                      const std::string& class_library = "paper",
                      int track_frames = 0,
                      const std::string& track_gains = "frame",
-                     double track_coherence_time_s = track_draw_spec{}.coherence_time_s);
+                     double track_coherence_time_s = track_draw_spec{}.coherence_time_s,
+                     int n_receive = 1,
+                     int n_transmit = 1);
 
     /*!
      * \brief Sets the SNR from the next frame.

@@ -164,6 +164,16 @@ void bind_baselines(py::module& m)
                  return e.spectrum(p, l);
              },
              D(beamforming_angle_estimator, spectrum), py::arg("y"));
+    py::class_<capon_angle_estimator>(m, "capon_angle_estimator", D(capon_angle_estimator))
+        .def(py::init<const array_geometry&, double, double, double, int, angle_search>(), py::arg("array"),
+             py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("loading") = 1e-3, py::arg("subarray") = 0,
+             py::arg("search") = angle_search{})
+        .def("estimate",
+             [](const capon_angle_estimator& e, const carray& y, int n_targets) {
+                 const auto [p, l] = array_obs(y, e.n_elements(), "estimate");
+                 return e.estimate(p, l, n_targets);
+             },
+             D(capon_angle_estimator, estimate), py::arg("y"), py::arg("n_targets") = 1);
     py::class_<music_angle_estimator>(m, "music_angle_estimator", D(music_angle_estimator))
         .def(py::init<const array_geometry&, double, double, int, int, angle_search>(), py::arg("array"),
              py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("n_targets"), py::arg("subarray") = 0,

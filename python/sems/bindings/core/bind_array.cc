@@ -43,6 +43,7 @@ void bind_array(py::module& m)
         .def("n_transmit", &array_geometry::n_transmit, D(array_geometry, n_transmit))
         .def("is_single_antenna", &array_geometry::is_single_antenna, D(array_geometry, is_single_antenna))
         .def("reach_m", &array_geometry::reach_m, D(array_geometry, reach_m))
+        .def("virtual_offsets", &array_geometry::virtual_offsets, D(array_geometry, virtual_offsets))
         .def("__eq__", [](const array_geometry& a, const array_geometry& b) { return a == b; });
 
     m.def("direction_vector", &direction_vector, D(direction_vector), py::arg("azimuth_rad"), py::arg("elevation_rad"));

@@ -17,6 +17,7 @@ void bind_leakage_canceller(py::module& m);
 void bind_cfo_corrector(py::module& m);
 void bind_pilot_extractor(py::module& m);
 void bind_range_doppler_map(py::module& m);
+void bind_range_angle_map(py::module& m);
 void bind_front_end(py::module& m);
 
 PYBIND11_MODULE(core_python, m)
@@ -35,5 +36,6 @@ PYBIND11_MODULE(core_python, m)
     bind_cfo_corrector(m);
     bind_pilot_extractor(m);
     bind_range_doppler_map(m);
+    bind_range_angle_map(m);
     bind_front_end(m);
 }

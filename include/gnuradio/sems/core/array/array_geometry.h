@@ -136,6 +136,13 @@ public:
      * \return the reach in m.
      */
     double reach_m() const;
+    /*!
+     * \brief Where each stream receives: receive element k with transmit element j at
+     *        p_k + q_j (the virtual element of a monostatic MIMO array), receive-element-major
+     *        (stream k·N_t + j). The one place that order and sum are written.
+     * \return N_r·N_t offsets in m.
+     */
+    std::vector<position3> virtual_offsets() const;
 
 private:
     std::vector<position3> d_rx, d_tx;

@@ -82,7 +82,11 @@ struct SEMS_API scatterer_body {
     micro_motion motion;      ///< the model and its parameters
     double speed_mps = 0.0;   ///< the target's speed (the walker's gait and the wheels' spin follow it)
     double heading_rad = 0.0; ///< θ between its motion and the line towards the radar (0: approaching head-on)
-    double elevation_rad = 0.0; ///< its line of sight's elevation (a walker seen from above; the other models take 0)
+    /*!
+     * \brief The radar's elevation seen from the body: minus its line of sight's elevation (a
+     *        walker below the array is seen from above; the other models take 0).
+     */
+    double elevation_rad = 0.0;
 };
 
 /*! \brief Ground truth of one frame: the target of interest (its direct path). */
@@ -201,6 +205,7 @@ public:
     void fill(gr_complex* grid) const;
 
 private:
+    friend class array_channel;
     void update(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
     void fill_delay_row(int row, double delay_s);
     void fill_body_rows(int row, double delay_s, const detail::expansion_plan& plan, double dk_scale, double dk);
@@ -212,6 +217,50 @@ private:
     std::vector<gr_complex> d_delay; // L x M (a scatterer body's path: its delay phasor and δk/δk_max)
     std::vector<double> d_delay_key; // per row: the delay (and term) its delay row was computed for
     std::unique_ptr<scratch> d_scratch;
+};
+
+struct body_share; // the scatterer bodies an array's elements share (lib/core/channel/channel_model.cc)
+
+/*!
+ * \brief One frame's factors at every stream of an array (virtual_elements()): what the array
+ *        emulators compute once per frame.
+ * \details Element k's factors equal frame_channel(fs, r, first_symbol, elements[k]); the
+ * scatterer bodies' kinematics (a walker's pose, a rotor's blades) are taken once per frame and
+ * shared, so an array of K elements costs K times the expansion and the rows, not K times the
+ * bodies.
+ */
+class SEMS_API array_channel
+{
+public:
+    /*!
+     * \brief The factors of a frame format at an array's streams (empty until update()).
+     * \param fs the frame settings. \param elements the streams (at least one).
+     * \throws std::invalid_argument for no elements.
+     */
+    array_channel(const frame_settings& fs, const std::vector<array_element>& elements);
+    ~array_channel(); ///< Destructor.
+    /*! \brief Move constructor. */
+    array_channel(array_channel&&) noexcept;
+    /*! \brief Move assignment. \return *this. */
+    array_channel& operator=(array_channel&&) noexcept;
+    /*!
+     * \brief Every element's factors of a drawn frame, in place.
+     * \param r the frame. \param first_symbol the absolute slow-time index of row 0 (r.clock_symbol instead, when set).
+     */
+    void update(const frame_realization& r, uint64_t first_symbol);
+    /*! \brief The streams. \return their number. */
+    int n_elements() const { return static_cast<int>(d_channels.size()); }
+    /*!
+     * \brief One stream's factors.
+     * \param k the stream, 0 .. n_elements() − 1.
+     * \return its factors.
+     * \throws std::out_of_range beyond the streams.
+     */
+    const frame_channel& element(int k) const;
+
+private:
+    std::vector<frame_channel> d_channels;
+    std::unique_ptr<body_share> d_share;
 };
 
 /*!
@@ -284,6 +333,8 @@ public:
     frame_channel factors(const frame_realization& r, uint64_t first_symbol, int element) const;
     /*! \brief The streams the scene's array receives (1 without an array). \return N_r·N_t. */
     int n_elements() const { return static_cast<int>(d_elements.size()); }
+    /*! \brief Those streams (virtual_elements(); the origin without an array). \return them. */
+    const std::vector<array_element>& elements() const { return d_elements; }
 
     /*!
      * \brief Adds noise: y += CN(0, σ²) per element; draws nothing when snr_db = +inf.

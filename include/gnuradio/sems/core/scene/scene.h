@@ -56,9 +56,9 @@ struct SEMS_API target_spec {
     double azimuth_rad = 0.0;
     /*!
      * \brief Its line of sight's elevation in [−π/2, π/2]: the body moves in the ground plane, so
-     *        its radial velocity is speed·cos(heading)·cos(elevation), and a walker is seen from
-     *        above. Non-zero only for point targets, sinusoids and walkers (the other scatterer
-     *        models describe motion seen from the ground plane).
+     *        its radial velocity is speed·cos(heading)·cos(elevation); a walker below the array
+     *        (elevation < 0) is seen from above. Non-zero only for point targets, sinusoids and
+     *        walkers (the other scatterer models describe motion seen from the ground plane).
      */
     double elevation_rad = 0.0;
 };

@@ -211,9 +211,12 @@ public:
      * \param count the number of instants.
      * \param r_m out: n_segments x count radial displacements in m, segment s at t_s[n] in r_m[s·count + n].
      * \param amplitude out: n_segments x count amplitudes, laid out as r_m.
+     * \param centre_m optional out (nullptr: not written): the segment centres in the body frame,
+     *        3·n_segments x count values, coordinate i of segment s at t_s[n] in
+     *        centre_m[(3·s + i)·count + n] (what an array needs: each segment's own direction).
      * \throws std::invalid_argument if a time is not finite.
      */
-    void scatterers(const double* t_s, int count, double* r_m, double* amplitude) const;
+    void scatterers(const double* t_s, int count, double* r_m, double* amplitude, double* centre_m = nullptr) const;
 
     /*!
      * \brief The body at time t: segment centres and axes in the body frame.

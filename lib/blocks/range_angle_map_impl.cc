@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/* gr-sems: range_angle_map implementation (see range_angle_map.h). */
+#include "blocks/common/block_mask.h"
+#include "blocks/range_angle_map_impl.h"
+#include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/array/array_geometry.h>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <stdexcept>
+
+namespace gr {
+namespace sems {
+
+static const char* const who = "range_angle_map";
+
+range_angle_map::sptr range_angle_map::make(const std::string& array,
+                                            const std::string& mask_file,
+                                            const std::vector<int>& pilot_positions,
+                                            int n_symbols,
+                                            int n_subcarriers,
+                                            double carrier_hz,
+                                            int n_angles,
+                                            const std::string& window)
+{
+    const auto first = array.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos)
+        throw std::invalid_argument(std::string(who) + ": array is empty: give an array file (format sems.array) "
+                                                       "or its JSON text");
+    array_geometry a;
+    if (array[first] == '{') {
+        nlohmann::json j;
+        try {
+            j = nlohmann::json::parse(array);
+        } catch (const nlohmann::json::exception& e) {
+            throw std::invalid_argument(std::string(who) + ": array JSON text does not parse: " + e.what());
+        }
+        a = array_geometry::from_json(j, std::string(who) + " array JSON");
+    } else {
+        a = array_geometry::load(array);
+    }
+    frame_settings fs;
+    fs.carrier_hz = carrier_hz;
+    if (!(std::isfinite(carrier_hz) && carrier_hz > 0.0))
+        throw std::invalid_argument(std::string(who) + ": carrier_hz must be > 0, got " + std::to_string(carrier_hz));
+    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, gr_complex(1.0f, 0.0f));
+    try {
+        return gnuradio::make_block_sptr<range_angle_map_impl>(mask, a, fs.wavelength_m(), n_angles, window);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(who) + ": " + e.what());
+    }
+}
+
+range_angle_map_impl::range_angle_map_impl(const pilot_mask& mask, const array_geometry& array, double wavelength_m,
+                                           int n_angles, const std::string& window)
+    : gr::block(who,
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.size() * array.n_receive() * array.n_transmit()),
+                gr::io_signature::make(1, 1, sizeof(float) * size_t(n_angles > 0 ? n_angles : 1) * mask.n_subcarriers())),
+      frame_map_block(mask.size() * array.n_receive() * array.n_transmit(), mask, array, wavelength_m, n_angles, window),
+      d_k(array.n_receive() * array.n_transmit()),
+      d_np(mask.size())
+{
+}
+
+} // namespace sems
+} // namespace gr
