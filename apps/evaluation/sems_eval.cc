@@ -30,6 +30,10 @@
  *     exp8_predictions.csv   every method's decision on every test track (paired statistics);
  *     exp8_truth.csv         the test tracks' classes and lengths
  *   (experiment 8 runs only when asked: --experiments 8)
+ *   9 exp9_angle.csv         an array's angle estimates (8-element ULA): RMSE against SNR next to
+ *                            the CRB for one target (beamforming, Capon, MUSIC), and how often
+ *                            two coherent targets 1.5 beamwidths apart are both found (run only
+ *                            when asked: --experiments 9)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
  *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
  *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
@@ -151,6 +155,8 @@ void apply_size(config& c)
         c.exp8_cnn_epochs = 20;
         c.exp8_svm_tracks = 600;
         c.exp8_np_sweep = { 8, 128 };
+        c.exp9_frames = 2000;
+        c.exp9_snrs = { -10, -5, 0, 5, 10, 15, 20, 25, 30 };
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
     }
@@ -171,7 +177,7 @@ int main(int argc, char** argv)
         ("help,h", "this help")
         ("size", po::value(&c.size)->default_value(c.size), "test (seconds, CI) | full (the documented run)")
         ("out", po::value(&c.out_dir), "output directory (CSVs, masks, cached bundles); required unless --model-card")
-        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..8 (8 only when named)")
+        ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..9 (8 and 9 only when named)")
         ("seed", po::value(&c.seed)->default_value(c.seed), "seed of the test frames and the first training seed")
         ("seeds", po::value<int>(), "override: training seeds per learned method (seed, seed + 1, ...; test 1, full 3)")
         ("first-seed", po::value(&c.first_seed)->default_value(c.first_seed),
@@ -365,8 +371,8 @@ int main(int argc, char** argv)
         }
         c.experiments.clear();
         for (double e : parse_list(experiments)) {
-            if (e < 1 || e > 8 || e != static_cast<int>(e))
-                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..8");
+            if (e < 1 || e > 9 || e != static_cast<int>(e))
+                throw std::invalid_argument("--experiments: " + std::to_string(e) + " is not one of 1..9");
             c.experiments.insert(static_cast<int>(e));
         }
         // Each scene's test frames are held in memory (H and W: 16 bytes per resource element each).
@@ -445,6 +451,7 @@ int main(int argc, char** argv)
         run_recognition(rest, std::cout);
         write_cost(c, std::cout);
         run_tracks(c, std::cout);
+        run_angle(c, std::cout);
         std::cout << "[" << now_utc() << "] done" << std::endl;
         return 0;
     } catch (const po::error& e) {

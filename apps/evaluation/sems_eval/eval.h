@@ -80,6 +80,10 @@ struct config {
     std::set<std::string> exp8_parts{ "main", "budget" }; // "superframe" only when named
     int exp8_super_frames = 4;                    // experiment 8, superframe part: F of the learned super-frame masks
     std::string exp8_super_frame_start = "frame"; // experiment 8, superframe part: where its sets start (frame | random)
+    int exp9_elements = 8;                        // experiment 9 (angle): the ULA's elements
+    int exp9_np = 32;                             // experiment 9: pilots per element
+    int exp9_frames = 40;                         // experiment 9: test frames per SNR (one and two targets)
+    std::vector<double> exp9_snrs{ -10, 0, 10, 20, 30 }; // experiment 9's SNR points
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -223,6 +227,7 @@ void run_delay(const config& c, std::ostream& log);         // 4
 void run_pilot_budget(const config& c, std::ostream& log);  // 5
 void write_cost(const config& c, std::ostream& log);        // 6
 void run_tracks(const config& c, std::ostream& log);        // 8
+void run_angle(const config& c, std::ostream& log);         // 9 (angle part)
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 void run_model_cards(const config& c, std::ostream& log);     // --model-card
 

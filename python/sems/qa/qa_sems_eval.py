@@ -531,7 +531,7 @@ class qa_sems_eval(gr_unittest.TestCase):
 
     def test_002_bad_options_fail_clearly(self):
         with tempfile.TemporaryDirectory() as out:
-            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "9"], "--experiments"),
+            for args, word in ((["--size", "huge"], "--size"), (["--experiments", "10"], "--experiments"),
                               (["--exp8-frames", "0"], "--exp8-frames"), (["--exp8-np-sweep", "5000"], "--exp8-np-sweep"),
                               (["--exp8-parts", "all"], "--exp8-parts"), (["--first-seed", "-1"], "--first-seed"),
                               (["--exp8-super-frames", "1"], "--exp8-super-frames"),
@@ -923,6 +923,36 @@ class qa_sems_eval(gr_unittest.TestCase):
                                env=env)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("unknown option --test-frames", r.stderr)
+
+    def test_012_experiment_9_angle(self):
+        """Experiment 9's angle part: every method at every SNR for one and two targets, each
+        one-target row's bound the ULA's closed form at the mean over its frames (positive,
+        falling 10 dB per 10 dB of SNR in variance), beamforming near it at 30 dB, and the plot
+        and table written."""
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--out", out],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            with open(os.path.join(out, "exp9_angle.csv")) as f:
+                rows = list(csv.DictReader(f))
+            one = [x for x in rows if x["part"] == "one_target"]
+            two = [x for x in rows if x["part"] == "two_targets"]
+            snrs = sorted({float(x["snr_db"]) for x in rows})
+            self.assertEqual(len(one), 3 * len(snrs))
+            self.assertEqual(len(two), 3 * len(snrs))
+            crb = {float(x["snr_db"]): float(x["crb_rad"]) for x in one if x["method"] == "beamforming"}
+            for lo, hi in zip(snrs, snrs[1:]):
+                self.assertAlmostEqual(crb[lo] ** 2 / crb[hi] ** 2, 10 ** ((hi - lo) / 10), delta=3e-5 * 10 ** ((hi - lo) / 10))  # 6 significant digits each
+            bf30 = [x for x in one if x["method"] == "beamforming" and float(x["snr_db"]) == 30.0][0]
+            self.assertLess(float(bf30["rmse_over_crb"]), 1.5)
+            for x in two:
+                self.assertTrue(0.0 <= float(x["both_found"]) <= 1.0, x)
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_angle.py"), out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.getsize(os.path.join(out, "exp9_angle.png")) > 1000)
+            with open(os.path.join(out, "exp9_angle.md")) as f:
+                self.assertEqual(len([l for l in f if l.startswith("| ")]), 2 * (1 + len(snrs)))
 
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside

@@ -1,0 +1,103 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Experiment 9's angle part: an array's azimuth estimates against SNR (exp9_angle.csv from
+`sems_eval --experiments 9`).
+
+    plot_angle.py RESULTS [--table FILE]
+
+Writes RESULTS/exp9_angle.png (left: one target's RMSE against SNR for each method next to
+the Cramér–Rao bound; right: how often both of two coherent targets 1.5 beamwidths apart are
+found) and the table FILE (default RESULTS/exp9_angle.md). A "both found" rate is a share of n
+frames: its standard error sqrt(p(1 - p)/n) is given in the table and drawn as a band. An RMSE
+over n frames has a relative standard error of about 1/sqrt(2n) for Gaussian errors (more with
+outliers, which a threshold region has).
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    if not os.path.exists(path):
+        sys.exit("plot_angle.py: %s is missing: `sems_eval --experiments 9 --out DIR` writes it" % path)
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("results")
+    ap.add_argument("--table")
+    a = ap.parse_args()
+    rows = read(os.path.join(a.results, "exp9_angle.csv"))
+    one = [r for r in rows if r["part"] == "one_target"]
+    two = [r for r in rows if r["part"] == "two_targets"]
+    if not one or not two:
+        sys.exit("plot_angle.py: exp9_angle.csv has no %s rows" % ("one_target" if not one else "two_targets"))
+    k, np_, frames = one[0]["elements"], one[0]["n_pilots"], int(one[0]["frames"])
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    methods = list(dict.fromkeys(r["method"] for r in one))
+    for m in methods:
+        rs = [r for r in one if r["method"] == m]
+        ax.semilogy([float(r["snr_db"]) for r in rs], [float(r["rmse_rad"]) for r in rs], marker="o", label=m)
+    ax.semilogy([float(r["snr_db"]) for r in one if r["method"] == methods[0]],
+                [float(r["crb_rad"]) for r in one if r["method"] == methods[0]], "k--", label="CRB")
+    ax.set_xlabel("SNR per resource element (dB)")
+    ax.set_ylabel("azimuth RMSE (rad)")
+    ax.set_title("one target, %s-element ULA, %s pilots per element" % (k, np_), fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    for m in dict.fromkeys(r["method"] for r in two):
+        rs = [r for r in two if r["method"] == m]
+        x = [float(r["snr_db"]) for r in rs]
+        p = [float(r["both_found"]) for r in rs]
+        se = [math.sqrt(v * (1 - v) / int(r["frames"])) for v, r in zip(p, rs)]
+        line, = ax2.plot(x, p, marker="o", label=m)
+        ax2.fill_between(x, [v - 2 * s for v, s in zip(p, se)], [v + 2 * s for v, s in zip(p, se)],
+                         color=line.get_color(), alpha=0.15)
+    ax2.axhline(0.95, color="grey", lw=0.8, ls=":", label="95 %")
+    ax2.set_xlabel("SNR per resource element (dB)")
+    ax2.set_ylabel("share of frames, both found (± 2 SE)")
+    ax2.set_ylim(0, 1.02)
+    ax2.set_title("two coherent targets 1.5 beamwidths apart: both within ¼ beamwidth", fontsize=10)
+    ax2.grid(alpha=0.3)
+    ax2.legend(fontsize=8)
+    fig.suptitle("Experiment 9: azimuth from an array's pilots (%d test frames per point)" % frames, fontsize=11)
+    fig.tight_layout()
+    png = os.path.join(a.results, "exp9_angle.png")
+    fig.savefig(png, dpi=110)
+
+    snrs = list(dict.fromkeys(r["snr_db"] for r in one))
+    lines = ["| SNR (dB) | CRB (mrad) | " + " | ".join("%s RMSE (mrad, × CRB)" % m for m in methods) + " |",
+             "|---|---|" + "---|" * len(methods)]
+    for s in snrs:
+        rs = {r["method"]: r for r in one if r["snr_db"] == s}
+        crb = float(rs[methods[0]]["crb_rad"])
+        cells = ["%.2f (%.2f)" % (1e3 * float(rs[m]["rmse_rad"]), float(rs[m]["rmse_over_crb"])) for m in methods]
+        lines.append("| %s | %.2f | %s |" % (s, 1e3 * crb, " | ".join(cells)))
+    two_methods = list(dict.fromkeys(r["method"] for r in two))
+    lines += ["", "| SNR (dB) | " + " | ".join("%s: both found (± SE)" % m for m in two_methods) + " |",
+              "|---|" + "---|" * len(two_methods)]
+    for s in snrs:
+        rs = {r["method"]: r for r in two if r["snr_db"] == s}
+        cells = []
+        for m in two_methods:
+            p, n = float(rs[m]["both_found"]), int(rs[m]["frames"])
+            cells.append("%.3f (± %.3f)" % (p, math.sqrt(p * (1 - p) / n)))
+        lines.append("| %s | %s |" % (s, " | ".join(cells)))
+    table = a.table or os.path.join(a.results, "exp9_angle.md")
+    with open(table, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("plot_angle.py: wrote %s and %s" % (png, table))
+
+
+if __name__ == "__main__":
+    main()
