@@ -17,7 +17,7 @@ namespace sems {
 class target_channel_td_impl : public target_channel_td
 {
 public:
-    target_channel_td_impl(channel_model model, double snr_db);
+    target_channel_td_impl(channel_model model, double snr_db, int n_receive, int n_transmit);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override;
@@ -34,8 +34,10 @@ private:
     void start_frame(uint64_t frame, uint64_t out_offset);
 
     channel_model d_model;
-    td_channel d_td;
+    std::vector<td_channel> d_td; // one per stream (channel_model::elements())
+    const int d_rx, d_tx;         // outputs (receive elements), inputs (transmit elements)
     const int d_n, d_s;
+    std::vector<gr_complex> d_sum; // several transmit elements: one's contribution
     std::atomic<double> d_snr_db; // requested (setters and getters run on other threads)
     double d_frame_snr_db;        // the current frame's
 

@@ -333,17 +333,13 @@ void frame_channel::update(const std::vector<channel_path>& paths,
     const double md_scale = 4.0 * M_PI / fs.wavelength_m();
     const double lambda = fs.wavelength_m();
     int row = 0, body_row = rows;
-    for (const auto& p : paths) {
-        const bool has_md = p.md_rate_hz > 0.0 && p.md_amplitude_m > 0.0;
-        std::complex<double> gain = p.gain;
-        double delay_s = p.delay_s;
-        if (steered) {
-            const position3 u = direction_vector(p.azimuth_rad, p.elevation_rad);
-            gain *= element_phasor(u, d_element.offset, lambda);
-            if (p.body < 0) // a body's pattern is its scatterers' own (steer_snapshot)
-                gain *= element_pattern_amplitude(d_element.pattern, u);
-            delay_s += element_delay_s(u, d_element.offset);
-        }
+    for (const auto& path : paths) {
+        const bool has_md = path.md_rate_hz > 0.0 && path.md_amplitude_m > 0.0;
+        // At an element, the path as it arrives there (its scatterers' own directions are in
+        // the body's snapshot, above).
+        const channel_path p = steered ? detail::steered_path(path, d_element, lambda) : path;
+        const std::complex<double> gain = p.gain;
+        const double delay_s = p.delay_s;
         // Doppler and delay phasors by recurrence in double precision: two sin/cos per path
         // instead of N + M. The frame's first phase is anchored to the absolute symbol
         // index, so the rounding of 32 or 64 products (~1e-14) never accumulates across frames.

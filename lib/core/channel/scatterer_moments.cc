@@ -527,6 +527,19 @@ void body_model::snapshots(const double* t, int count, body_snapshot& out, bool 
     }
 }
 
+channel_path steered_path(const channel_path& p, const array_element& element, double wavelength_m)
+{
+    if (element.is_origin())
+        return p;
+    channel_path q = p;
+    const position3 u = direction_vector(p.azimuth_rad, p.elevation_rad);
+    q.gain *= element_phasor(u, element.offset, wavelength_m);
+    if (p.body < 0)
+        q.gain *= element_pattern_amplitude(element.pattern, u);
+    q.delay_s += element_delay_s(u, element.offset);
+    return q;
+}
+
 body_steering make_body_steering(double range_m, double azimuth_rad, double elevation_rad, const array_element& element)
 {
     body_steering g;

@@ -127,6 +127,12 @@ struct body_steering {
     element_pattern pattern = element_pattern::isotropic;
 };
 
+/* A path as `element` receives it (steering.h): its gain turned by the steering phasor, and for
+ * a point path (body < 0) by the element pattern (a body's pattern is its scatterers', in
+ * steer_snapshot); its delay moved by the plane wave's delay at the element. What both
+ * emulators apply; the origin gives the path back unchanged. */
+channel_path steered_path(const channel_path& p, const array_element& element, double wavelength_m);
+
 /* The geometry of a body in direction (azimuth, elevation) at range_m, seen by `element`. */
 body_steering make_body_steering(double range_m, double azimuth_rad, double elevation_rad, const array_element& element);
 

@@ -10,6 +10,7 @@
 #include <gnuradio/sems/core/scene/walker_model.h>
 #include <volk/volk.h>
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -99,6 +100,7 @@ struct td_channel::impl {
         std::vector<std::complex<double>> g; // anchors x terms (double: exact anchors)
         std::vector<gr_complex> gf;          // the same in float, 3 anchors of zeros after
         uint64_t symbol = ~uint64_t(0);      // the symbol g holds
+        std::optional<detail::body_steering> steering; // at an array element: where it is seen from
         body(const scatterer_body& b, const frame_settings& fs) : model(b, fs) {}
     };
 
@@ -136,8 +138,9 @@ struct td_channel::impl {
     frame_settings fs;
     std::vector<body> bodies;
     size_t n_bodies = 0;
-    detail::body_snapshot snap;
+    detail::body_snapshot snap, steered_snap;
     std::vector<gr_complex> acc; // a body path's terms summed before its Doppler
+    std::vector<channel_path> steered; // at an array element: the frame's paths as it receives them
 
     impl(const frame_settings& fs)
         : m(fs.n_subcarriers),
@@ -168,7 +171,14 @@ struct td_channel::impl {
         for (size_t j = 0; j < bd.anchor_k.size(); ++j) {
             const double k = bd.anchor_k[j];
             std::complex<double>* g = bd.g.data() + j * terms;
-            detail::body_terms(bd.model, bd.plan, fs, k == 0.0 ? t0 : t0 + k / b, snap, g);
+            const double at = k == 0.0 ? t0 : t0 + k / b;
+            if (bd.steering) { // each scatterer from its own direction (steer_snapshot)
+                bd.model.snapshots(&at, 1, snap, true);
+                detail::steer_snapshot(snap, *bd.steering, steered_snap);
+                detail::snapshot_terms(steered_snap, bd.plan, fs, g);
+            } else {
+                detail::body_terms(bd.model, bd.plan, fs, at, snap, g);
+            }
             for (int i = 0; i < terms; ++i)
                 bd.gf[size_t(j) * terms + i] = gr_complex(g[i]);
         }
@@ -374,6 +384,11 @@ td_channel::td_channel(const frame_settings& fs) : d_fs(fs), d_s(fs.n_subcarrier
     d = std::make_unique<impl>(d_fs);
 }
 
+td_channel::td_channel(const frame_settings& fs, const array_element& element) : td_channel(fs)
+{
+    d_element = element;
+}
+
 td_channel::~td_channel() = default;
 td_channel::td_channel(td_channel&&) noexcept = default;
 td_channel& td_channel::operator=(td_channel&&) noexcept = default;
@@ -401,12 +416,21 @@ void td_channel::set_frame(const frame_realization& r, uint64_t first_symbol)
     set_paths(r.paths, &r.bodies, r.clock_symbol.value_or(first_symbol));
 }
 
-void td_channel::set_paths(const std::vector<channel_path>& paths,
+void td_channel::set_paths(const std::vector<channel_path>& frame_paths,
                            const std::vector<scatterer_body>* bodies,
                            uint64_t first_symbol)
 {
     auto& I = *d;
     const int m = I.m;
+    // At an array element: the paths as it receives them (steered_path, the frequency-domain
+    // model's); each body seen from its first path's range and direction.
+    const bool steered = !d_element.is_origin();
+    if (steered) {
+        I.steered.resize(frame_paths.size());
+        for (size_t l = 0; l < frame_paths.size(); ++l)
+            I.steered[l] = detail::steered_path(frame_paths[l], d_element, d_fs.wavelength_m());
+    }
+    const std::vector<channel_path>& paths = steered ? I.steered : frame_paths;
     // Scatterer bodies: a model, its expansion and its anchors, kept while its parameters stay
     // (a fixed scene's are set up once).
     const size_t n_bodies = bodies ? bodies->size() : 0;
@@ -423,11 +447,29 @@ void td_channel::set_paths(const std::vector<channel_path>& paths,
         else
             continue;
         auto& bd = I.bodies[b];
-        bd.plan = detail::plan_expansion(d_fs, bd.model.extent_m(), bd.model.amplitude_sum());
+        // At an element a scatterer's displacement moves by at most the element's reach, |o|.
+        const double reach = steered ? std::hypot(d_element.offset[0], d_element.offset[1], d_element.offset[2]) : 0.0;
+        bd.plan = detail::plan_expansion(d_fs, bd.model.extent_m() + reach, bd.model.amplitude_sum());
         const double v = micro_motion_peak_speed_mps(rb.motion, rb.speed_mps);
         I.plan_anchors(bd, bd.model.amplitude_sum(), kappa_max * v, motion_rate(rb, v));
     }
     I.n_bodies = n_bodies;
+    for (size_t b = 0; b < n_bodies; ++b) { // where each body is seen from (its first path)
+        auto& bd = I.bodies[b];
+        const std::optional<detail::body_steering> before = bd.steering;
+        bd.steering.reset();
+        if (steered)
+            for (const auto& p : frame_paths)
+                if (p.body == static_cast<int>(b)) {
+                    bd.steering = detail::make_body_steering(0.5 * speed_of_light_mps * p.delay_s, p.azimuth_rad,
+                                                             p.elevation_rad, d_element);
+                    break;
+                }
+        const bool same = before.has_value() == bd.steering.has_value() &&
+                          (!before || (before->range_m == bd.steering->range_m && before->u == bd.steering->u));
+        if (!same)
+            bd.symbol = ~uint64_t(0); // its anchors were for another geometry
+    }
 
     // Rows: one per point path, plan.terms() per body path.
     size_t rows = 0;

@@ -85,10 +85,10 @@ class qa_array(gr_unittest.TestCase):
         text = json.dumps({"format": "sems.scene", "version": 1,
                            "array": {"receive": {"ula": {"elements": 4, "spacing_m": 0.05}}},
                            "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8}]})
-        with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements.*1 output stream"):
-            sems.target_channel_td(scene=text)  # one stream: the time-domain emulator has no array yet
-        with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements, but n_receive = 1 and n_transmit = 1"):
-            sems.target_channel(scene=text)
+        for block in (sems.target_channel, sems.target_channel_td):
+            with self.assertRaisesRegex(ValueError, "4 receive x 1 transmit elements, but n_receive = 1 and n_transmit = 1"):
+                block(scene=text)
+            self.assertEqual(block(scene=text, n_receive=4).output_signature().max_streams(), 4)
         with self.assertRaisesRegex(ValueError, "1 receive x 1 transmit elements, but n_receive = 3"):
             sems.target_channel(n_receive=3)  # a random scene has no array
         with self.assertRaisesRegex(ValueError, "n_transmit must be in"):
@@ -123,6 +123,36 @@ class qa_array(gr_unittest.TestCase):
             np.testing.assert_allclose(np.asarray(sinks[k].data()), want, atol=2e-5)
             tags = [t for t in sinks[k].tags() if str(t.key) == "sems_truth"]
             self.assertEqual([t.offset for t in tags], [0])
+
+    def test_time_domain_outputs_are_each_elements_channel(self):
+        # The sample-level emulator with 3 receive elements, noiseless, a still target inside the
+        # prefix: each output's prefix-free window, transformed, is that element's H times the
+        # transmitted window's spectrum (the frequency-domain model at the element).
+        from gnuradio import blocks, gr
+        fs = sems.frame_settings()
+        n, m, cp = fs.n_symbols, fs.n_subcarriers, fs.cp_len
+        scene = {"format": "sems.scene", "version": 1, "fading": "none",
+                 "array": {"receive": {"ula": {"elements": 3, "spacing_m": 0.1}}},
+                 "targets": [{"class": "car", "range_m": 33, "velocity_mps": 0, "azimuth_rad": 0.7}]}
+        text = json.dumps(scene)
+        rng = np.random.default_rng(4)
+        x = (rng.standard_normal(n * (m + cp)) + 1j * rng.standard_normal(n * (m + cp))).astype(np.complex64)
+        tb = gr.top_block()
+        ch = sems.target_channel_td(scene=text, seed=3, n_receive=3)
+        sinks = [blocks.vector_sink_c() for _ in range(3)]
+        tb.connect(blocks.vector_source_c(x.tolist(), False), ch)
+        for k in range(3):
+            tb.connect((ch, k), sinks[k])
+        tb.run()
+        cm = sems.channel_model(fs, sems.scene.parse(text), 3)
+        r = cm.draw(0)
+        for k in range(3):
+            h = np.asarray(cm.channel(r, 0, k))
+            y = np.asarray(sinks[k].data())
+            for s in (1, 17, 31):  # symbols whose previous symbol is in the stream
+                win = slice(s * (m + cp) + cp, (s + 1) * (m + cp))
+                want = h[s] * np.fft.fft(x[win])
+                np.testing.assert_allclose(np.fft.fft(y[win]), want, atol=2e-4 * np.abs(want).max())
 
     def test_extractor_reads_every_element_at_the_pilots(self):
         # A 3-element ULA's streams into one extractor: per frame, element-major, element k's

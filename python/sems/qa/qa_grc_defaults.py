@@ -95,6 +95,8 @@ def cxx_defaults():
         "micro_doppler": td_rnd["random"]["micro_doppler"],
         "seed": bound_default(sems.target_channel_td, "seed"),
         "clutter_csr_db": bound_default(sems.target_channel_td, "clutter_csr_db"),
+        "n_receive": td.output_signature().max_streams(),
+        "n_transmit": td.input_signature().max_streams(),
     })
     # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
     sync = {name: bound_default(sems.frame_sync, name)

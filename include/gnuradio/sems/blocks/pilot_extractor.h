@@ -19,7 +19,7 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in, one gr_complex[N_p] of pilot observations Y/(sqrt(p_k)·s_p) per frame out.
+ * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in (one input per receive element), one gr_complex[n_elements·N_p] of pilot observations Y/(sqrt(p_k)·s_p) per frame out.
  *
  * \details The output is the pilot observations Y[n,m]/(sqrt(p_k)·s_p) at the mask
  * positions, in mask order (row-major, sorted by (n, m)), with p_k pilot k's relative

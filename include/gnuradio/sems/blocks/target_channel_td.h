@@ -23,6 +23,11 @@
  *
  * Work sizes: the block asks the scheduler for whole symbols (output multiple S); any
  * number of symbols per call gives the same output.
+ *
+ * Arrays: with an array in the scene, one input per transmit element and one output per
+ * receive element, as target_channel: output k = Σ_j (element k·N_t + j's td_channel of input j)
+ * + its own noise; every output carries the truth tag; n_receive and n_transmit must be the
+ * array's counts (1 and 1 without an array).
  */
 #ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
 #define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
@@ -71,6 +76,8 @@ public:
      *                         name ("paper", "kinematic") or file (class_library::find); a fixed
      *                         scene names its own in its "classes" key
      * \return the block.
+     * \param n_receive        output streams: the scene's array's receive elements (1 without one)
+     * \param n_transmit       input streams: the scene's array's transmit elements (1 without one)
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
     static sptr make(const std::string& scene = "",
@@ -88,7 +95,9 @@ public:
                      double carrier_hz = frame_settings{}.carrier_hz,
                      double symbol_interval_s = frame_settings{}.symbol_interval_s,
                      int cp_len = frame_settings{}.cp_len,
-                     const std::string& class_library = "paper");
+                     const std::string& class_library = "paper",
+                     int n_receive = 1,
+                     int n_transmit = 1);
 
     /*!
      * \brief Sets the SNR from the next frame.

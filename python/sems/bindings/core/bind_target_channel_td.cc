@@ -39,6 +39,8 @@ void bind_target_channel_td(py::module& m)
              py::arg("symbol_interval_s") = defaults.symbol_interval_s,
              py::arg("cp_len") = defaults.cp_len,
              py::arg("class_library") = "paper",
+             py::arg("n_receive") = 1,
+             py::arg("n_transmit") = 1,
              D(target_channel_td, make))
         .def("set_snr_db", &target_channel_td::set_snr_db, D(target_channel_td, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel_td::snr_db, D(target_channel_td, snr_db))

@@ -106,6 +106,17 @@ public:
      * \throws std::invalid_argument when T < (M + cp_len)/B (a symbol longer than its interval).
      */
     explicit td_channel(const frame_settings& fs);
+    /*!
+     * \brief The same at one element of an array (channel_model::elements()): every path turned
+     *        by its steering phasor and moved by the plane wave's exact delay at the element
+     *        (within the fractional delay, so wide apertures and bands stay exact), each body's
+     *        scatterers from their own directions, as frame_channel does at that element.
+     * \param fs frame settings. \param element the element (the origin: the single antenna).
+     * \throws std::invalid_argument as above.
+     */
+    td_channel(const frame_settings& fs, const array_element& element);
+    /*! \brief The element the samples are computed for. \return it (the origin by default). */
+    const array_element& element() const { return d_element; }
     ~td_channel(); ///< Destructor.
     /*! \brief Move constructor. */
     td_channel(td_channel&&) noexcept;
@@ -151,6 +162,7 @@ private:
     void set_paths(const std::vector<channel_path>& paths, const std::vector<scatterer_body>* bodies, uint64_t first_symbol);
     struct impl;
     frame_settings d_fs;
+    array_element d_element;
     int d_s;
     std::unique_ptr<impl> d;
 };
