@@ -62,9 +62,9 @@ target_channel_impl::target_channel_impl(channel_model model, double snr_db, int
       d_m(d_model.settings().n_subcarriers),
       d_rx(n_receive),
       d_tx(n_transmit),
-      d_channels(d_model.settings(), d_model.elements()),
       d_snr_db(snr_db),
       d_frame_snr_db(snr_db),
+      d_channels(d_model.settings(), d_model.elements()),
       d_frame_key(pmt::intern(keys::frame_tag)),
       d_truth(d_model.scene_spec().library().name())
 {
