@@ -223,7 +223,7 @@ class qa_micro_motion(gr_unittest.TestCase):
         t = sems.target_spec(sems.class_from_name("car"), 40.0, 3.0, rcs_dbsm=10.0)
         sc2 = sems.scene.fixed([t]).with_budget(b)
         r = sems.channel_model(fs, sc2, SEED).draw(0)
-        self.assertAlmostEqual(r.truth["link_snr_db"], want, places=9)
+        self.assertAlmostEqual(r.truth[sems.keys.link_snr_db], want, places=9)
         with self.assertRaisesRegex(ValueError, "rcs_dbsm"):
             sems.scene.fixed([sems.target_spec(sems.class_from_name("car"), 40.0, 3.0)]).with_budget(b)
 

@@ -36,7 +36,7 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::velocity_mps] = t.velocity_mps;
     d[keys::snr_db] = t.snr_db;
     if (!std::isnan(t.link_snr_db)) // a scene with a link budget: the radar equation's SNR (frame_truth::link_snr_db)
-        d["link_snr_db"] = t.link_snr_db;
+        d[keys::link_snr_db] = t.link_snr_db;
     d[keys::n_paths] = t.n_paths;
     d[keys::micro_motion] = t.micro_motion;
     d[keys::track_id] = t.track_id;
@@ -57,6 +57,7 @@ void bind_keys(py::module& m)
     k.attr("range_m") = keys::range_m;
     k.attr("velocity_mps") = keys::velocity_mps;
     k.attr("snr_db") = keys::snr_db;
+    k.attr("link_snr_db") = keys::link_snr_db;
     k.attr("n_paths") = keys::n_paths;
     k.attr("micro_motion") = keys::micro_motion;
     k.attr("micro_motion_params") = keys::micro_motion_params;

@@ -27,6 +27,9 @@ constexpr const char* delay_index = "delay_index";   ///< delay in delay-index u
 constexpr const char* range_m = "range_m";           ///< range in m
 constexpr const char* velocity_mps = "velocity_mps"; ///< radial velocity in m/s
 constexpr const char* snr_db = "snr_db";             ///< SNR per resource element in dB
+/*! \brief With a link budget: the radar equation's SNR of the target of interest alone, without
+ *         the emulator's setting (frame_truth::link_snr_db; in a drawn frame's truth dict only). */
+constexpr const char* link_snr_db = "link_snr_db";
 constexpr const char* n_paths = "n_paths";           ///< number of channel paths of the frame
 constexpr const char* micro_motion = "micro_motion"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", "walker", "wheels", "scatterers")
 /*! \brief The drawn parameters of the target of interest's scatterer body: a dict holding
