@@ -49,7 +49,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
                                           heading, clutter_paths, clutter_csr_db, class_library,
                                           { track_frames, track_gains, track_coherence_time_s },
-                                          { n_receive, n_transmit, true });
+                                          { n_receive, n_transmit });
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db, n_receive, n_transmit);
 }
 

@@ -48,7 +48,7 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
     // (No heading parameter here yet: random scenes use the default heading; a scene JSON may set "any".)
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
                                           heading_name(random_spec{}.heading), clutter_paths, clutter_csr_db, class_library,
-                                          {}, { n_receive, n_transmit, true });
+                                          {}, { n_receive, n_transmit });
     try { // the model checks the scene against the frame, td_channel T against the symbol length
         return gnuradio::make_block_sptr<target_channel_td_impl>(channel_model(fs, sc, seed), snr_db, n_receive,
                                                                   n_transmit);

@@ -33,26 +33,15 @@ scene channel_block_scene(const char* who,
                           const track_options& tracks,
                           const stream_counts& streams)
 {
-    if (streams.arrays)
-        for (const auto& [name, count] : { std::pair<const char*, int>{ "n_receive", streams.receive },
-                                           std::pair<const char*, int>{ "n_transmit", streams.transmit } })
-            if (count < 1 || count > limits::max_array_elements)
-                throw std::invalid_argument(std::string(who) + ": " + name + " must be in [1, " +
-                                            std::to_string(limits::max_array_elements) + "] (the array's elements), got " +
-                                            std::to_string(count));
+    for (const auto& [name, count] : { std::pair<const char*, int>{ "n_receive", streams.receive },
+                                       std::pair<const char*, int>{ "n_transmit", streams.transmit } })
+        if (count < 1 || count > limits::max_array_elements)
+            throw std::invalid_argument(std::string(who) + ": " + name + " must be in [1, " +
+                                        std::to_string(limits::max_array_elements) + "] (the array's elements), got " +
+                                        std::to_string(count));
     // The block's streams against the scene's array (1 x 1 without one), both counts named.
     auto check_streams = [&](const scene& sc) {
         const int rx = sc.array() ? sc.array()->n_receive() : 1, tx = sc.array() ? sc.array()->n_transmit() : 1;
-        if (!streams.arrays) {
-            // A one-stream block: an array's streams are not silently cut to one.
-            if (sc.array() && !sc.array()->is_single_antenna())
-                throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(rx) +
-                                            " receive x " + std::to_string(tx) +
-                                            " transmit elements, but this block gives 1 output stream (one antenna); "
-                                            "use target_channel (one output per receive element) or "
-                                            "channel_model::factors(frame, symbol, element)");
-            return;
-        }
         if (rx != streams.receive || tx != streams.transmit)
             throw std::invalid_argument(std::string(who) + ": the scene's array has " + std::to_string(rx) +
                                         " receive x " + std::to_string(tx) + " transmit elements, but n_receive = " +

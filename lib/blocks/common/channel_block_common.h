@@ -28,12 +28,10 @@ struct track_options {
     double coherence_time_s = track_draw_spec{}.coherence_time_s;
 };
 
-// A channel block's streams: outputs (receive elements) and inputs (transmit elements), and
-// whether the block gives an array's streams at all (a one-stream block refuses an array).
+// A channel block's streams: outputs (receive elements) and inputs (transmit elements).
 struct stream_counts {
     int receive = 1;
     int transmit = 1;
-    bool arrays = false;
 };
 
 // The scene of a channel block's parameters: a scene file path or JSON text (starts with
