@@ -6,6 +6,7 @@
 #define SEMS_APPS_MODEL_CARD_SPEED_H
 
 #include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/learning/array/position_estimator.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/bundles/model_card.h>
 #include <gnuradio/sems/learning/sinks/sink_defaults.h>
@@ -23,6 +24,12 @@ namespace gr {
 namespace sems {
 namespace apps {
 
+//! A position bundle's receive elements (its array's, from bundle.json's position record).
+inline int where_is_elements(const model_bundle& b)
+{
+    return array_geometry::from_json(b.position.at("array"), b.directory + ": position.array", "", true).n_receive();
+}
+
 //! The anchor every card's decoder is timed beside: the same work for every bundle, so the
 //! ratios compare across cards.
 inline std::string card_anchor()
@@ -34,7 +41,8 @@ inline std::string card_anchor()
 /*!
  * The sink's decoder timed beside the anchor, interleaved, on one thread, in process CPU time:
  * `frames` frames of the bundle's training scene at `snr_db` decoded in the sinks' batches (a
- * track bundle: their evidence, then one track step per frame), and as many frames drawn by the
+ * track bundle: their evidence, then one track step per frame; a position bundle: its array's
+ * pilots, through position_estimator), and as many frames drawn by the
  * anchor (card_anchor()), `repeats` times each; the fastest run of each counts.
  */
 inline model_card::speed_record
@@ -43,8 +51,12 @@ measure_card_speed(const model_bundle& b, double snr_db, int frames, int repeats
     if (frames < 1 || repeats < 1)
         throw std::invalid_argument("model card speed: frames and repeats must be >= 1, got " + std::to_string(frames) +
                                     " and " + std::to_string(repeats));
-    const std::string where = b.directory + "/" + model_bundle::bundle_file + ": training.scene";
-    if (!b.training.is_object() || !b.training.contains("scene") || b.training.at("scene").is_null())
+    // A position bundle's frames are its array's (position.training.scene), the others' one antenna's.
+    const bool position = !b.position.is_null();
+    const nlohmann::json& record = position ? b.position.value("training", nlohmann::json()) : b.training;
+    const std::string where =
+        b.directory + "/" + model_bundle::bundle_file + (position ? ": position.training.scene" : ": training.scene");
+    if (!record.is_object() || !record.contains("scene") || record.at("scene").is_null())
         throw std::invalid_argument(where + ": missing (the card's frames are drawn from the bundle's training scene)");
     model_card::speed_record s;
     s.threads = 1;
@@ -54,10 +66,23 @@ measure_card_speed(const model_bundle& b, double snr_db, int frames, int repeats
     s.repeats = repeats;
     s.anchor = card_anchor();
 
-    // The frames to decode: pilot observations (frames x N_p, mask order).
+    // The frames to decode: pilot observations (frames x N_p, mask order; a position bundle's
+    // frames x N_r·N_p, element-major).
     std::vector<gr_complex> obs;
-    {
-        channel_model cm(b.frame, scene::from_json(b.training.at("scene"), where), seed);
+    if (position) {
+        channel_model cm(b.frame, scene::from_json(record.at("scene"), where), seed);
+        std::vector<gr_complex> h(size_t(b.frame.grid_size()));
+        for (int f = 0; f < frames; ++f) {
+            const auto r = cm.draw(uint64_t(f));
+            for (int e = 0; e < cm.n_elements(); ++e) {
+                cm.factors(r, uint64_t(f) * uint64_t(b.frame.n_symbols), e).fill(h.data());
+                for (int i : b.mask.flat_indices())
+                    obs.push_back(h[size_t(i)]);
+            }
+        }
+        cm.add_noise(obs.data(), obs.size(), snr_db);
+    } else {
+        channel_model cm(b.frame, scene::from_json(record.at("scene"), where), seed);
         const size_t grid = static_cast<size_t>(b.frame.grid_size());
         std::vector<gr_complex> h(size_t(frames) * grid);
         cm.generate(size_t(frames), h.data());
@@ -66,17 +91,22 @@ measure_card_speed(const model_bundle& b, double snr_db, int frames, int repeats
             for (int i : b.mask.flat_indices())
                 obs.push_back(h[size_t(f) * grid + size_t(i)]);
     }
-    const int np = b.mask.size();
     std::unique_ptr<bundle_decoder> dec;
     std::unique_ptr<track_classifier> track;
-    if (track_classifier::is_track_bundle(b))
+    std::unique_ptr<position_estimator> where_is;
+    const int np = b.mask.size() * (position ? where_is_elements(b) : 1);
+    if (position)
+        where_is = std::make_unique<position_estimator>(b, 1);
+    else if (track_classifier::is_track_bundle(b))
         track = std::make_unique<track_classifier>(b, 1);
     else
         dec = std::make_unique<bundle_decoder>(b, 1);
     std::vector<float> probs(b.class_names.size() + 1);
     auto decode = [&](int f0, int n) {
         const gr_complex* y = obs.data() + size_t(f0) * np;
-        if (track) { // the sink in track mode: the frames' evidence, then one step per frame
+        if (where_is) {
+            where_is->estimate(y, n);
+        } else if (track) { // the sink in track mode: the frames' evidence, then one step per frame
             const auto ev = track->evidence(y, n);
             auto st = track->begin();
             for (int i = 0; i < n; ++i)

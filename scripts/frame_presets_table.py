@@ -30,12 +30,33 @@ def num(x, digits=4):
     return f"{x:.{digits}g}"
 
 
+def array(source, name):
+    """The array preset a frame names: its name, element counts and spacing."""
+    if not name:
+        return ""
+    a = json.load(open(os.path.join(source, "models", "arrays", name + ".json")))
+    def side(s):
+        g = a[s]
+        if "ula" in g:
+            return g["ula"]["elements"], f"{num(g['ula']['spacing_m'] * 1e3)} mm"
+        if "ura" in g:
+            u = g["ura"]
+            return u["columns"] * u["rows"], f"{u['columns']} × {u['rows']}, {num(u['spacing_m'][0] * 1e3)} mm"
+        return len(g["positions_m"]), "positions"
+    rx, rx_layout = side("receive")
+    text = f"`{name}`: {rx} receive ({rx_layout})"
+    if "transmit" in a:
+        tx, tx_layout = side("transmit")
+        text += f", {tx} transmit ({tx_layout})"
+    return text
+
+
 def table(source):
     files = glob.glob(os.path.join(source, "models", "frames", "*.json"))
     presets = [json.load(open(f)) for f in files]
     presets.sort(key=lambda p: (ORDER.index(p["name"]) if p["name"] in ORDER else len(ORDER), p["name"]))
-    rows = ["| preset | N × M (used) | B | f_c | Δf | T | CP | unambiguous range | unambiguous speed | classes |",
-            "|---|---|---|---|---|---|---|---|---|---|"]
+    rows = ["| preset | N × M (used) | B | f_c | Δf | T | CP | unambiguous range | unambiguous speed | classes | array |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in presets:
         f = p["frame"]
         n, m = f["n_symbols"], f["n_subcarriers"]
@@ -44,7 +65,7 @@ def table(source):
         rows.append(
             f"| `{p['name']}` | {n} × {m} ({m - guards(f)}) | {num(b / 1e6)} MHz | {num(fc / 1e9)} GHz "
             f"| {num(df / 1e3)} kHz | {num(t * 1e3)} ms | {f['cp_len']} | {num(C / (2 * df))} m "
-            f"| ±{num(C / fc / (4 * t), 3)} m/s | `{p.get('classes', '')}` |")
+            f"| ±{num(C / fc / (4 * t), 3)} m/s | `{p.get('classes', '')}` | {array(source, p.get('array', ''))} |")
     return "\n".join(rows)
 
 

@@ -31,7 +31,10 @@ def load(path):
 def figure(card, row):
     """One SNR's figure as the demo's table prints it (scripts/demo.sh)."""
     if card["task"] == "delay":
-        return f"{row['mae_index']:.3f} ({row['mae_m']:.2f} m)"
+        delay = f"{row['mae_index']:.3f} ({row['mae_m']:.2f} m)"
+        if "rmse_azimuth_rad" in row:  # a position bundle: its azimuth first
+            return f"{1e3 * row['rmse_azimuth_rad']:.2f} mrad, {delay}"
+        return delay
     text = f"{100 * row['accuracy']:.1f} %"
     if "first_frame_accuracy" in row:
         text += f" ({100 * row['first_frame_accuracy']:.1f} %)"
@@ -106,7 +109,7 @@ def catalogue(source):
            "measure the cards again (sems_eval --model-card) and run scripts/models_catalogue.py . --write -->", "",
            "Each folder below with a `bundle.json` is a model bundle ([design §4](../docs/design.md#4-files)):",
            "`bundle.json` (task, classes, decoder, frame, and the training record with its command, scene and",
-           "history), `mask.json` (the pilots), `decoder.pt` (the weights; a track bundle adds `temporal.pt`)",
+           "history), `mask.json` (the pilots), `decoder.pt` (the weights; a track bundle adds `temporal.pt`, a position bundle `angle.pt`)",
            "and `model_card.json`, its card: what it is for, its figures per SNR with the test set and the",
            "command that measured them, its speed, and how to retrain it. A sink's *Model bundle* parameter",
            "takes a bundle's name (`classifier`) from any folder; from C++ `gr::sems::model_bundle::load(dir)`",
@@ -115,6 +118,8 @@ def catalogue(source):
     for n, c in cards.items():
         row = cited(c)
         what = "accuracy" if c["task"] == "classify" else "delay MAE (index)"
+        if "rmse_azimuth_rad" in row:
+            what = "azimuth RMSE, delay MAE (index)"
         if c["test"].get("track_frames"):
             what = f"accuracy after {c['test']['track_frames']} frames (after 1)"
         out.append(f"| [`{n}`]({n}/model_card.json) | {c['summary']} | **{figure(c, row)}** {what} "
@@ -125,7 +130,7 @@ def catalogue(source):
         sizes[n] = sum(os.path.getsize(f) for f in files) / 1e3
     small, large = min(sizes, key=sizes.get), max(sizes, key=sizes.get)
     out += ["", "The figure to cite is each card's at its `cite_snr_db`; a delay figure is the mean |error| in",
-            "delay index, with metres of range in brackets. `classifier` and `delay_single` are measured on the",
+            "delay index, with metres of range in brackets; a position bundle's adds the azimuth's RMSE. `classifier` and `delay_single` are measured on the",
             "very frames `scripts/demo.sh` streams (same scenes, seeds and noise), so the demo's table in",
             "the [README](../README.md#quick-start) and their cards give the same figures. A `_fast` bundle reads",
             "the same pilots as its accurate pair, so a flowgraph switches between them by the bundle's name",

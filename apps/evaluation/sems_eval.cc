@@ -31,7 +31,9 @@
  *     exp8_truth.csv         the test tracks' classes and lengths
  *   (experiment 8 runs only when asked: --experiments 8)
  *   9 exp9_angle.csv         an array's angle estimates (8-element ULA): RMSE against SNR next to
- *                            the CRB for one target (beamforming, Capon, MUSIC), and how often
+ *                            the CRB for one target (beamforming, Capon, MUSIC, and with
+ *                            --exp9-position-bundle the learned position decoder on its mask
+ *                            and array), and how often
  *                            two coherent targets 1.5 beamwidths apart are both found (run only
  *                            when asked: --experiments 9)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
@@ -229,6 +231,7 @@ int main(int argc, char** argv)
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
         ("shipped-track", po::value(&c.shipped_track), "experiment 8: also score this shipped track bundle (and its frame decoder's fusion)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
+        ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle (learned angle), every method then on its mask and array")
         ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
         ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no settings check)")
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
@@ -412,7 +415,8 @@ int main(int argc, char** argv)
         for (const auto& [flag, dir] : { std::pair<std::string, std::string>{ "shipped-classifier", c.shipped_classifier },
                                          { "shipped-delay-single", c.shipped_delay_single },
                                          { "shipped-delay-multipath", c.shipped_delay_multi },
-                                         { "shipped-track", c.shipped_track } })
+                                         { "shipped-track", c.shipped_track },
+                                         { "exp9-position-bundle", c.exp9_position_bundle } })
             if (!dir.empty()) {
                 model_bundle b;
                 try {

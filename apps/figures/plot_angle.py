@@ -11,6 +11,13 @@ found) and the table FILE (default RESULTS/exp9_angle.md). A "both found" rate i
 frames: its standard error sqrt(p(1 - p)/n) is given in the table and drawn as a band. An RMSE
 over n frames has a relative standard error of about 1/sqrt(2n) for Gaussian errors (more with
 outliers, which a threshold region has).
+
+With the learned position decoder in the run (`sems_eval --exp9-position-bundle`), its one-target
+estimates are compared frame by frame with each classical method's on the same frames and noise
+(exp9_angle_predictions.csv): the mean difference of the squared errors, its bootstrap standard
+error over the frames, and Holm's correction over every SNR and method (paired_stats.py). The
+predictions are packed into RESULTS/exp9_angle_predictions.npz (each method's estimates, the
+truth and each frame's bound, per SNR), which the table is then made from; the CSV may go.
 """
 import argparse
 import csv
@@ -19,9 +26,70 @@ import os
 import sys
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paired_stats  # noqa: E402
+
+LEARNED = "SemS position (learned)"
+CLASSICAL = ("beamforming", "Capon", "MUSIC")
+
+
+def predictions(results):
+    """{method: (snrs x frames) estimates}, truth (snrs x frames), snrs, from the npz (packed
+    from the CSV when the CSV is newer or the npz is missing); None without either."""
+    csv_path = os.path.join(results, "exp9_angle_predictions.csv")
+    npz_path = os.path.join(results, "exp9_angle_predictions.npz")
+    if os.path.exists(csv_path) and (not os.path.exists(npz_path) or
+                                     os.path.getmtime(csv_path) > os.path.getmtime(npz_path)):
+        rows = read(csv_path)
+        snrs = sorted({float(r["snr_db"]) for r in rows})
+        frames = 1 + max(int(r["frame"]) for r in rows)
+        methods = list(dict.fromkeys(r["method"] for r in rows))
+        est = {m: np.full((len(snrs), frames), np.nan) for m in methods}
+        truth = np.full((len(snrs), frames), np.nan)
+        crb = np.full((len(snrs), frames), np.nan)
+        for r in rows:
+            i, f = snrs.index(float(r["snr_db"])), int(r["frame"])
+            est[r["method"]][i, f] = float(r["azimuth_rad"])
+            truth[i, f], crb[i, f] = float(r["truth_rad"]), float(r["crb_rad"])
+        np.savez_compressed(npz_path, snr_db=np.array(snrs), truth_rad=truth, crb_rad=crb,
+                            methods=np.array(methods), **{"est_%d" % k: est[m] for k, m in enumerate(methods)})
+    if not os.path.exists(npz_path):
+        return None
+    z = np.load(npz_path)
+    methods = [str(m) for m in z["methods"]]
+    return {m: z["est_%d" % k] for k, m in enumerate(methods)}, z["truth_rad"], [float(s) for s in z["snr_db"]]
+
+
+def paired_table(results):
+    """The learned decoder against each classical method, frame by frame (squared errors)."""
+    got = predictions(results)
+    if got is None or LEARNED not in got[0]:
+        return []
+    est, truth, snrs = got
+    family = paired_stats.Family("exp9 learned azimuth against each classical method", lower_is_better=True)
+    for i, s in enumerate(snrs):
+        learned = (est[LEARNED][i] - truth[i]) ** 2
+        for m in CLASSICAL:
+            d = learned - (est[m][i] - truth[i]) ** 2
+            family.add((s, m), paired_stats.one_level(d, paired_stats.rng_for(9, (s, m)), 2000))
+    res = {k: (r, adj, v) for k, r, adj, v in family.results()}
+    lines = ["", "Paired, on the same frames: the learned decoder's squared azimuth error minus each method's, "
+             "mean ± 2 SE (mrad²), and whether it is ahead (lower), tied or behind after the correction; " +
+             family.describe() + ".", "",
+             "| SNR (dB) | " + " | ".join("against %s" % m for m in CLASSICAL) + " |",
+             "|---|" + "---|" * len(CLASSICAL)]
+    for s in snrs:
+        cells = []
+        for m in CLASSICAL:
+            r, adj, v = res[(s, m)]
+            cells.append("%+.4g ± %.2g (%s)" % (1e6 * r["diff"], 2e6 * r["se"], v))
+        lines.append("| %g | %s |" % (s, " | ".join(cells)))
+    return lines
 
 
 def read(path):
@@ -93,6 +161,7 @@ def main():
             p, n = float(rs[m]["both_found"]), int(rs[m]["frames"])
             cells.append("%.3f (± %.3f)" % (p, math.sqrt(p * (1 - p) / n)))
         lines.append("| %s | %s |" % (s, " | ".join(cells)))
+    lines += paired_table(a.results)
     table = a.table or os.path.join(a.results, "exp9_angle.md")
     with open(table, "w") as f:
         f.write("\n".join(lines) + "\n")

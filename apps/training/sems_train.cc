@@ -12,6 +12,8 @@
  *   sems_train --frame-bundle models/classifier_kinematic --track-frames 32 --out track_bundle
  *       (a decision over a track on a trained per-frame classifier: learning/temporal/track_trainer.h)
  *   sems_train --frame-bundle b8 --super-frames 4 --out sf_bundle   (4 pilot sets learned across frames)
+ *   sems_train --delay-bundle delay_single --array ula8_3g --out position_ula8
+ *       (a position bundle: an angle network over an array's pilots: learning/array/position_trainer.h)
  *
  * See include/gnuradio/sems/learning/training/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
@@ -21,6 +23,7 @@
 #include <gnuradio/sems/core/radio/front_end.h>
 #include <gnuradio/sems/core/scene/scene.h>
 #include <gnuradio/sems/core/scene/target_class.h>
+#include <gnuradio/sems/learning/array/position_trainer.h>
 #include <gnuradio/sems/learning/bundles/model_card.h>
 #include <gnuradio/sems/learning/temporal/track_trainer.h>
 #include <gnuradio/sems/learning/training/trainer.h>
@@ -102,6 +105,85 @@ void write_card(const model_bundle& written, model_card::test_record test)
 
 // --frame-bundle: a decision over a track on a trained per-frame classifier. Only the flags
 // that mean something for it may be given; the track trainer's own defaults apply to the rest.
+// --delay-bundle and --array: a position bundle on a trained delay bundle. Only the flags that
+// mean something for it may be given; the position trainer's own defaults apply to the rest.
+int train_positions(const po::variables_map& vm, const std::string& command_line)
+{
+    static const std::set<std::string> allowed = { "delay-bundle", "array", "scene", "frames", "snr", "snr-min", "snr-max",
+                                                    "epochs", "batch", "lr", "patience", "seed", "threads",
+                                                    "eval-snr", "angle-grid", "out", "quiet" };
+    for (const auto& [name, value] : vm)
+        if (!value.defaulted() && !allowed.count(name))
+            throw std::invalid_argument("--" + name + " does not apply to --delay-bundle (a position bundle on a "
+                                        "trained delay bundle: its mask, frame and delay decoder are the bundle's)");
+    position_training_settings p;
+    p.delay_bundle = vm["delay-bundle"].as<std::string>();
+    if (!vm.count("array"))
+        throw std::invalid_argument("--delay-bundle needs --array (a preset's name, e.g. ula8_3g, or an array file)");
+    p.array = vm["array"].as<std::string>();
+    p.out_dir = vm["out"].as<std::string>();
+    auto given = [&](const char* flag) { return vm.count(flag) && !vm[flag].defaulted(); };
+    if (given("frames"))
+        p.frames = vm["frames"].as<int>();
+    if (given("epochs"))
+        p.epochs = vm["epochs"].as<int>();
+    if (given("batch"))
+        p.batch = vm["batch"].as<int>();
+    if (given("lr"))
+        p.lr = vm["lr"].as<double>();
+    if (given("patience"))
+        p.patience = vm["patience"].as<int>();
+    if (given("seed"))
+        p.seed = vm["seed"].as<uint64_t>();
+    if (given("threads"))
+        p.threads = vm["threads"].as<int>();
+    if (given("angle-grid"))
+        p.angle.grid = vm["angle-grid"].as<int>();
+    if (given("snr")) {
+        p.snr_min_db = p.snr_max_db = parse_snr(vm["snr"].as<std::string>());
+    } else {
+        if (given("snr-min"))
+            p.snr_min_db = parse_snr(vm["snr-min"].as<std::string>());
+        if (given("snr-max"))
+            p.snr_max_db = parse_snr(vm["snr-max"].as<std::string>());
+    }
+    if (given("eval-snr")) {
+        p.eval_snr_db.clear();
+        for (const auto& v : split_list(vm["eval-snr"].as<std::string>()))
+            p.eval_snr_db.push_back(parse_snr(v));
+    }
+    if (given("scene")) {
+        p.scene_spec = scene::load(vm["scene"].as<std::string>());
+        p.scene_source = vm["scene"].as<std::string>();
+    }
+    p.verbose = !vm.count("quiet");
+    p.command_line = command_line;
+    const auto r = train_position(p, &std::cout);
+    // The card: its test split's figures per SNR.
+    model_card::test_record test;
+    test.measured_by = "sems_train test split";
+    test.command = command_line;
+    test.frames = "the trainer's test split (a tenth of --frames), the same noise scaled to each SNR";
+    test.scene = p.scene_source;
+    test.seed = p.seed;
+    const frame_settings& fs = r.bundle.frame;
+    for (const auto& m : r.metrics.at("by_snr")) {
+        model_card::snr_figures f;
+        f.snr_db = m.at("snr_db").get<double>();
+        f.frames = m.at("frames").get<int>();
+        f.mae_index = m.at("mae_index").get<double>();
+        f.mae_m = *f.mae_index * fs.range_per_delay_index_m();
+        f.median_abs_error_index = m.at("median_abs_error_index").get<double>();
+        f.rmse_azimuth_rad = m.at("rmse_azimuth_rad").get<double>();
+        if (m.contains("crb_azimuth_rad"))
+            f.crb_azimuth_rad = m.at("crb_azimuth_rad").get<double>();
+        test.by_snr.push_back(f);
+    }
+    write_card(r.bundle, test);
+    std::cout << "position bundle written to " << p.out_dir << " (" << r.seconds << " s)" << std::endl;
+    return 0;
+}
+
 int train_tracks(const po::variables_map& vm, const std::string& command_line)
 {
     static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
@@ -301,6 +383,12 @@ int main(int argc, char** argv)
         ("conv-slope", po::value(&s.classifier.conv_slope)->default_value(s.classifier.conv_slope), "spectral classifier: leaky-ReLU slope of the convolutions (0 = ReLU, as bundles trained before this setting)")
         ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
+        ("delay-bundle", po::value<std::string>(), "train a position bundle on this trained delay bundle (a directory or name, e.g. "
+                                                   "delay_single): an angle network over the pilots of --array, whose beamformed pilots the "
+                                                   "bundle's delay decoder reads (learning/array/position_trainer.h); takes --scene, --frames, "
+                                                   "--epochs, --batch, --lr, --patience, --seed, --threads, --snr*, --eval-snr, --angle-grid, --out")
+        ("array", po::value<std::string>(), "--delay-bundle: the array, a preset's name (ula8_3g, ula8_3g5, ura4x2_2g4, ula4_5g) or an array file")
+        ("angle-grid", po::value<int>()->default_value(nn::angle_settings{}.grid), "--delay-bundle: azimuths of the angle network's spectrum grid")
         ("frame-bundle", po::value<std::string>(), "train a decision over a track on this trained per-frame classifier bundle "
             "(a directory or name): a GRU over its per-frame evidence, started from the fusion of independent frames; "
             "the track flags below and --scene, --snr*, --epochs, --batch, --lr, --patience, --seed, --threads, --eval-snr, --out apply")
@@ -340,6 +428,8 @@ int main(int argc, char** argv)
         s.verbose = !vm.count("quiet");
         if (vm.count("frame-bundle"))
             return train_tracks(vm, command_of(argc, argv));
+        if (vm.count("delay-bundle"))
+            return train_positions(vm, command_of(argc, argv));
         frame_file frame; // the frame trained on, printed before training
         if (!from.empty()) {
             // The bundle's own settings; only sizes, output and where it runs may change.

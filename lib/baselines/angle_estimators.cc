@@ -160,6 +160,17 @@ std::vector<double> peak_angles(const angle_search& s, F f, int n)
     return refined_peaks(s, p, f, n);
 }
 
+// Beamforming's P(φ) = a(φ)ᴴ r a(φ) / ‖a(φ)‖² on the exact steering vectors (r and the array
+// must outlive it).
+auto beam_power(const array_geometry& arr, double elevation, double lambda, const cmat& r, int k)
+{
+    return [&arr, elevation, lambda, &r, k](double az) {
+        const Eigen::VectorXcd a = steering(arr, az, elevation, lambda, 0, k);
+        const double n = a.squaredNorm();
+        return n > 0.0 ? (a.adjoint() * r * a)(0, 0).real() / n : 0.0;
+    };
+}
+
 } // namespace
 
 double angle_crb_rad2(const array_geometry& a, double azimuth_rad, double elevation_rad, double wavelength_m,
@@ -229,13 +240,21 @@ std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, i
         throw std::invalid_argument("beamforming_angle_estimator: n_targets must be >= 1, got " + std::to_string(n_targets));
     check_input("beamforming_angle_estimator", y, k, snapshots);
     const cmat r = covariance(y, k, snapshots);
-    auto f = [&](double az) {
-        const Eigen::VectorXcd a = steering(d_array, az, d_elevation, d_lambda, 0, k);
-        const double n = a.squaredNorm();
-        return n > 0.0 ? (a.adjoint() * r * a)(0, 0).real() / n : 0.0;
-    };
+    const auto f = beam_power(d_array, d_elevation, d_lambda, r, k);
     // The grid from the steering vectors set up once (spectrum()), then f between neighbours.
     return refined_peaks(d_search, spectrum(y, snapshots), f, n_targets);
+}
+
+double beamforming_angle_estimator::refine(const gr_complex* y, int snapshots, double lo, double hi) const
+{
+    const int k = n_elements();
+    if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
+        throw std::invalid_argument("beamforming_angle_estimator::refine: needs lo < hi, got [" + std::to_string(lo) +
+                                    ", " + std::to_string(hi) + "]");
+    check_input("beamforming_angle_estimator", y, k, snapshots);
+    const cmat r = covariance(y, k, snapshots);
+    const auto f = beam_power(d_array, d_elevation, d_lambda, r, k);
+    return ::gr::sems::refine(f, lo, hi);
 }
 
 capon_angle_estimator::capon_angle_estimator(const array_geometry& a, double elevation_rad, double wavelength_m,

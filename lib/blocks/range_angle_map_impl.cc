@@ -53,10 +53,10 @@ range_angle_map::sptr range_angle_map::make(const std::string& array,
 range_angle_map_impl::range_angle_map_impl(const pilot_mask& mask, const array_geometry& array, double wavelength_m,
                                            int n_angles, const std::string& window)
     : gr::block(who,
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.size() * array.n_receive() * array.n_transmit()),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.size() * array.n_receive()),
                 gr::io_signature::make(1, 1, sizeof(float) * size_t(n_angles > 0 ? n_angles : 1) * mask.n_subcarriers())),
-      frame_map_block(mask.size() * array.n_receive() * array.n_transmit(), mask, array, wavelength_m, n_angles, window),
-      d_k(array.n_receive() * array.n_transmit()),
+      frame_map_block(mask.size() * array.n_receive(), mask, array, wavelength_m, n_angles, window),
+      d_k(array.n_receive()),
       d_np(mask.size())
 {
 }

@@ -32,6 +32,8 @@ _LAZY_MODULES = {
         "training_settings", "training_result", "train", "classifier_sink",
         "delay_estimator_sink", "sink_defaults", "classifier_chirp_rates",
         "track_training_settings", "track_training_result", "train_track", "track_state", "track_classifier",
+        "position_sink", "position_training_settings", "position_training_result", "train_position",
+        "position_estimate", "position_estimator",
     ),
     "baselines_python": (
         "delay_search", "slow_time_model", "periodogram_delay_estimator",

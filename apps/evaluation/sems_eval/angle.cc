@@ -18,12 +18,20 @@
  * 1.5 beamwidths apart about a random centre in [−0.5, 0.5] rad; "both found" counts the
  * frames where both azimuths are estimated within a quarter beamwidth: beamforming (two
  * peaks), Capon and MUSIC with forward–backward smoothing over subarrays of K − 2 elements.
+ * With --exp9-position-bundle, the learned position decoder (position_estimator: its angle
+ * network and the polish) joins the one-target rows, and every method reads that bundle's mask
+ * and array instead (the same frames for all). Its network alone (without the polish) is a row
+ * of its own.
  * Output: exp9_angle.csv (part, method, snr_db, frames, rmse_rad, crb_rad, rmse_over_crb,
- * both_found). The learned position sink's rows join it when it exists. */
+ * both_found) and exp9_angle_predictions.csv (one target: every method's estimate of every
+ * frame at every SNR, with the truth and the frame's bound: paired comparisons). */
 #include "eval.h"
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/core/array/array_geometry.h>
+#include <gnuradio/sems/core/array/steering.h>
+#include <gnuradio/sems/learning/array/position_estimator.h>
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <random>
 
@@ -75,22 +83,27 @@ void run_angle(const config& c, std::ostream& log)
     if (!c.experiments.count(9))
         return;
     const frame_settings& fs = c.fs;
-    const int k = c.exp9_elements, np = c.exp9_np;
-    const auto a = array_geometry::ula(k, 0.5 * fs.wavelength_m());
-    const auto mask = pilot_mask::uniform(fs.n_symbols, fs.n_subcarriers, np);
+    // The learned position decoder, when given: its mask and array are every method's.
+    std::unique_ptr<position_estimator> learned;
+    if (!c.exp9_position_bundle.empty())
+        learned = std::make_unique<position_estimator>(model_bundle::load(c.exp9_position_bundle), 1);
+    const int k = learned ? learned->n_elements() : c.exp9_elements;
+    const int np = learned ? learned->n_pilots() : c.exp9_np;
+    const auto a = learned ? learned->array() : array_geometry::ula(k, 0.5 * fs.wavelength_m());
+    const auto mask = learned ? learned->bundle().mask : pilot_mask::uniform(fs.n_symbols, fs.n_subcarriers, np);
     // The estimators' best narrowband form: the wavelength at the pilots' mean frequency
     // (subcarrier m sits at f_c + mΔf; at f_c itself every estimate would be scaled by the band's
     // offset, 0.5 % on the paper's frame). The bound uses the same.
-    double mean_m = 0.0;
-    for (const auto& p : mask.positions())
-        mean_m += double(p.m) / np;
-    const double lambda = speed_of_light_mps / (fs.carrier_hz + mean_m * fs.subcarrier_spacing_hz());
+    const double lambda = pilot_wavelength_m(fs, mask);
     const double beamwidth = 0.886 * 2.0 / k; // a broadside λ/2 ULA's half-power beamwidth (rad)
     csv_file csv(c.out_dir + "/exp9_angle.csv",
                  { "part", "method", "elements", "n_pilots", "snr_db", "frames", "rmse_rad", "crb_rad", "rmse_over_crb",
                    "both_found" });
-    log << "[" << now_utc() << "] experiment 9 (angle): " << k << "-element ULA, N_p " << np << " per element, "
-        << c.exp9_frames << " frames per point" << std::endl;
+    csv_file predictions(c.out_dir + "/exp9_angle_predictions.csv",
+                         { "snr_db", "frame", "method", "azimuth_rad", "truth_rad", "crb_rad" });
+    log << "[" << now_utc() << "] experiment 9 (angle): " << k << "-element array, N_p " << np << " per element ("
+        << (learned ? "the mask and array of " + c.exp9_position_bundle : std::string("a uniform mask, a half-wavelength ULA"))
+        << "), " << c.exp9_frames << " frames per point" << std::endl;
 
     // One target.
     random_spec rs;
@@ -102,22 +115,30 @@ void run_angle(const config& c, std::ostream& log)
     const beamforming_angle_estimator bf(a, 0.0, lambda);
     const capon_angle_estimator capon(a, 0.0, lambda);
     const music_angle_estimator music(a, 0.0, lambda, 1);
+    const int methods = learned ? 5 : 3;
+    const char* names[5] = { "beamforming", "Capon", "MUSIC", "SemS position (learned)", "SemS angle network (no polish)" };
     for (double snr : c.exp9_snrs) {
         const double sigma2 = std::pow(10.0, -snr / 10.0);
-        double crb = 0.0, se[3] = { 0, 0, 0 };
+        double crb = 0.0, se[5] = { 0, 0, 0, 0, 0 };
         for (int f = 0; f < c.exp9_frames; ++f) {
             const auto& p = frames.r[size_t(f)].paths[0];
             const auto y = at_snr(frames.y[size_t(f)], frames.w[size_t(f)], std::sqrt(sigma2));
             const double az = p.azimuth_rad;
-            crb += angle_crb_rad2(a, az, 0.0, lambda, std::max(np * std::norm(p.gain) / sigma2, 1e-300));
-            const double est[3] = { bf.estimate(y.data(), np)[0], capon.estimate(y.data(), np)[0],
-                                    music.estimate(y.data(), np)[0] };
-            for (int m = 0; m < 3; ++m)
+            const double bound = angle_crb_rad2(a, az, 0.0, lambda, std::max(np * std::norm(p.gain) / sigma2, 1e-300));
+            crb += bound;
+            double est[5] = { bf.estimate(y.data(), np)[0], capon.estimate(y.data(), np)[0],
+                              music.estimate(y.data(), np)[0], 0.0, 0.0 };
+            if (learned) {
+                est[3] = learned->estimate_azimuth(y.data(), 1, true)[0];
+                est[4] = learned->estimate_azimuth(y.data(), 1, false)[0];
+            }
+            for (int m = 0; m < methods; ++m) {
                 se[m] += (est[m] - az) * (est[m] - az);
+                predictions.row({ num(snr), std::to_string(f), names[m], num(est[m], 9), num(az, 9), num(std::sqrt(bound), 6) });
+            }
         }
         const double crb_rad = std::sqrt(crb / c.exp9_frames);
-        const char* names[3] = { "beamforming", "Capon", "MUSIC" };
-        for (int m = 0; m < 3; ++m) {
+        for (int m = 0; m < methods; ++m) {
             const double rmse = std::sqrt(se[m] / c.exp9_frames);
             csv.row({ "one_target", names[m], std::to_string(k), std::to_string(np), num(snr), std::to_string(c.exp9_frames),
                       num(rmse), num(crb_rad), num(rmse / crb_rad), "" });

@@ -84,6 +84,7 @@ struct config {
     int exp9_np = 32;                             // experiment 9: pilots per element
     int exp9_frames = 40;                         // experiment 9: test frames per SNR (one and two targets)
     std::vector<double> exp9_snrs{ -10, 0, 10, 20, 30 }; // experiment 9's SNR points
+    std::string exp9_position_bundle; // experiment 9: a position bundle scored on the same frames (its mask and array)
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;

@@ -11,10 +11,17 @@
  * a radio (bundle.json's training.radio) is scored through that radio (front_end_frame).
  * Track bundles: tracks 0 .. n - 1 of the track's training scene, seed S, each decided frame by
  * frame as the classifier sink does in track mode: accuracy after the first frame and after
- * the whole track. */
+ * the whole track.
+ * Position bundles: frames 0 .. n - 1 of the position record's scene (with its array), seed
+ * S + 3, each element's pilots noised as the pilot extractor reads them, decoded by
+ * position_estimator in the sinks' batches: the delay's errors as a delay bundle's and the
+ * azimuth's RMSE beside its Cramér–Rao bound (frames whose target is one path). */
 #include "eval.h"
 #include "model_card_speed.h"
 #include <gnuradio/sems/core/radio/front_end_frame.h>
+#include <gnuradio/sems/baselines/angle_estimators.h>
+#include <gnuradio/sems/core/array/steering.h>
+#include <gnuradio/sems/learning/array/position_estimator.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/bundles/model_card.h>
 #include <gnuradio/sems/learning/sinks/sink_defaults.h>
@@ -143,6 +150,76 @@ void measure_frames(const config& c, const model_bundle& b, model_card::test_rec
     }
 }
 
+// Position figures: delay and azimuth of the frames of the position record's scene.
+void measure_positions(const config& c, const model_bundle& b, model_card::test_record& test)
+{
+    const std::string where = b.directory + "/bundle.json: position.training.scene";
+    const auto& record = b.position.at("training");
+    const scene sc = scene::from_json(record.at("scene"), where);
+    const uint64_t seed = c.card_seed + 3;
+    const position_estimator pos(b, 1);
+    const int k = pos.n_elements(), np = pos.n_pilots(), count = c.card_frames;
+    const double lambda = pilot_wavelength_m(b.frame, b.mask);
+    const auto idx = b.mask.flat_indices();
+    test.seed = seed;
+    test.scene = "the position bundle's training scene (bundle.json position.training.scene: " +
+                 record.value("scene_source", std::string("recorded")) + ")";
+    std::ostringstream how;
+    how << "frames 0.." << count - 1 << " of channel_model on the bundle's frame, scene and array, seed " << seed
+        << ", noise CN(0, sigma^2) per pilot and element; decoded in batches of " << batch << " on one thread";
+    test.frames = how.str();
+    std::vector<gr_complex> clean(size_t(count) * k * np), h(size_t(b.frame.grid_size()));
+    std::vector<frame_realization> frames;
+    {
+        channel_model cm(b.frame, sc, seed);
+        for (int f = 0; f < count; ++f) {
+            frames.push_back(cm.draw(uint64_t(f)));
+            for (int e = 0; e < k; ++e) {
+                cm.factors(frames.back(), uint64_t(f) * uint64_t(b.frame.n_symbols), e).fill(h.data());
+                for (int i = 0; i < np; ++i)
+                    clean[(size_t(f) * k + size_t(e)) * np + size_t(i)] = h[size_t(idx[size_t(i)])];
+            }
+        }
+    }
+    for (double snr : c.card_snrs) {
+        channel_model noise(b.frame, sc, seed); // a new generator per SNR, as a new flowgraph run
+        auto obs = clean;
+        noise.add_noise(obs.data(), obs.size(), snr);
+        std::vector<double> err, az_err;
+        for (int f0 = 0; f0 < count; f0 += batch) {
+            const int nb = std::min(batch, count - f0);
+            const auto e = pos.estimate(obs.data() + size_t(f0) * k * np, nb);
+            for (int i = 0; i < nb; ++i) {
+                const auto& t = frames[size_t(f0 + i)].truth;
+                err.push_back(std::abs(e[size_t(i)].delay_index - t.delay_index));
+                az_err.push_back(e[size_t(i)].azimuth_rad - t.azimuth_rad);
+            }
+        }
+        model_card::snr_figures fig;
+        fig.snr_db = snr;
+        fig.frames = count;
+        double sum = 0.0, sq = 0.0, crb = 0.0;
+        bool bounded = true;
+        for (int f = 0; f < count; ++f) {
+            sum += err[size_t(f)];
+            sq += az_err[size_t(f)] * az_err[size_t(f)];
+            const auto& r = frames[size_t(f)];
+            bounded = bounded && r.paths.size() == 1;
+            if (bounded)
+                crb += angle_crb_rad2(pos.array(), r.truth.azimuth_rad, 0.0, lambda,
+                                      np * std::norm(r.paths[0].gain) / channel_model::noise_variance(snr));
+        }
+        fig.mae_index = sum / count;
+        fig.mae_m = *fig.mae_index * b.frame.range_per_delay_index_m();
+        std::nth_element(err.begin(), err.begin() + count / 2, err.end());
+        fig.median_abs_error_index = err[size_t(count / 2)];
+        fig.rmse_azimuth_rad = std::sqrt(sq / count);
+        if (bounded)
+            fig.crb_azimuth_rad = std::sqrt(crb / count);
+        test.by_snr.push_back(fig);
+    }
+}
+
 // Track figures: the track decision after the first frame and after the whole track.
 void measure_tracks(const config& c, const model_bundle& b, model_card::test_record& test)
 {
@@ -255,6 +332,8 @@ void run_model_cards(const config& c, std::ostream& log)
         const auto t0 = std::chrono::steady_clock::now();
         if (track_classifier::is_track_bundle(b))
             measure_tracks(c, b, card.test);
+        else if (!b.position.is_null())
+            measure_positions(c, b, card.test);
         else
             measure_frames(c, b, card.test);
         const auto t1 = std::chrono::steady_clock::now();
@@ -263,6 +342,8 @@ void run_model_cards(const config& c, std::ostream& log)
         card.save(b.directory);
         const auto& cited = card.cited();
         log << "[" << now_utc() << "] " << file << ": ";
+        if (cited.rmse_azimuth_rad)
+            log << "azimuth RMSE " << num(1e3 * *cited.rmse_azimuth_rad, 4) << " mrad, ";
         if (cited.mae_index)
             log << "delay MAE " << num(*cited.mae_index, 4) << " index (" << num(*cited.mae_m, 3) << " m)";
         else

@@ -158,6 +158,8 @@ truth_dict::truth_dict(const std::string& library)
       d_class_library(pmt::intern(keys::class_library)),
       d_track_id(pmt::intern(keys::track_id)),
       d_frame_in_track(pmt::intern(keys::frame_in_track)),
+      d_azimuth_rad(pmt::intern(keys::azimuth_rad)),
+      d_elevation_rad(pmt::intern(keys::elevation_rad)),
       d_library_symbol(pmt::string_to_symbol(library)),
       d_no_params(pmt::PMT_NIL)
 {
@@ -229,6 +231,8 @@ pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double s
                            same_bits(t.delay_index, d_tail_truth.delay_index) &&
                            same_bits(t.range_m, d_tail_truth.range_m) &&
                            same_bits(t.velocity_mps, d_tail_truth.velocity_mps) && same_bits(snr_db, d_tail_snr_db) &&
+                           same_bits(t.azimuth_rad, d_tail_truth.azimuth_rad) &&
+                           same_bits(t.elevation_rad, d_tail_truth.elevation_rad) &&
                            t.micro_motion == d_tail_truth.micro_motion && same_body(d_tail_body, body);
     if (!same_tail) {
         if (t.class_id < 0)
@@ -246,6 +250,10 @@ pmt::pmt_t truth_dict::make(const frame_realization& r, uint64_t frame, double s
         tail = pmt::acons(d_range_m, pmt::from_double(t.range_m), tail);
         tail = pmt::acons(d_velocity_mps, pmt::from_double(t.velocity_mps), tail);
         tail = pmt::acons(d_snr_db, pmt::from_double(snr_db), tail);
+        if (!std::isnan(t.azimuth_rad)) { // a scene with an array: the target's direction
+            tail = pmt::acons(d_azimuth_rad, pmt::from_double(t.azimuth_rad), tail);
+            tail = pmt::acons(d_elevation_rad, pmt::from_double(t.elevation_rad), tail);
+        }
         tail = pmt::acons(d_n_paths, pmt::from_long(t.n_paths), tail);
         auto& model = d_motion_symbols[t.micro_motion]; // a handful of model names: interned once each
         if (!model)

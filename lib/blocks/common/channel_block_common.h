@@ -77,7 +77,7 @@ public:
 private:
     const pmt::pmt_t d_truth_key, d_frame, d_class, d_class_name, d_delay_s, d_delay_index, d_range_m,
         d_velocity_mps, d_snr_db, d_n_paths, d_micro_motion, d_micro_motion_params, d_class_library, d_track_id,
-        d_frame_in_track;
+        d_frame_in_track, d_azimuth_rad, d_elevation_rad;
     pmt::pmt_t d_library_symbol; // the scene's library name, interned once
     std::vector<pmt::pmt_t> d_class_symbols; // by class id
     std::map<std::string, pmt::pmt_t> d_motion_symbols; // by micro-motion model name

@@ -2,10 +2,18 @@
 /* gr-sems: an antenna array as data — ULA, URA or positions, checked (array_geometry.h). */
 #include "core/common/checks.h"
 #include "core/common/json_object.h"
+#include "core/common/named_files.h"
 #include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/common/limits.h>
 #include <cmath>
 #include <string>
+
+#ifndef SEMS_SOURCE_ARRAYS_DIR
+#define SEMS_SOURCE_ARRAYS_DIR ""
+#endif
+#ifndef SEMS_INSTALLED_ARRAYS_DIR
+#define SEMS_INSTALLED_ARRAYS_DIR ""
+#endif
 
 namespace gr {
 namespace sems {
@@ -198,6 +206,17 @@ array_geometry array_geometry::from_positions(std::vector<position3> receive,
 
 array_geometry array_geometry::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
 
+array_geometry array_geometry::find(const std::string& name_or_path)
+{
+    std::string searched;
+    const std::string path = detail::find_named_file(name_or_path, "SEMS_ARRAYS_PATH", "arrays",
+                                                     { SEMS_SOURCE_ARRAYS_DIR, SEMS_INSTALLED_ARRAYS_DIR }, searched);
+    if (!path.empty())
+        return load(path);
+    throw std::invalid_argument("array \"" + name_or_path + "\": no such file (searched " + searched +
+                                "; SEMS_ARRAYS_PATH adds folders)");
+}
+
 array_geometry array_geometry::from_json(const json& j, const std::string& source, const std::string& field, bool top_level)
 {
     object_reader r = top_level ? json_read::file_object(j, format_name, format_version, source)
@@ -206,6 +225,7 @@ array_geometry array_geometry::from_json(const json& j, const std::string& sourc
     std::vector<position3> tx{ position3{ 0.0, 0.0, 0.0 } };
     if (r.has("transmit"))
         tx = read_elements(r.object("transmit"));
+    (void)r.string_or("description", ""); // free text for people (the presets have one)
     element_pattern pattern = element_pattern::isotropic;
     if (r.has("pattern")) {
         const std::string name = r.string("pattern");

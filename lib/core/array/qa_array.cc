@@ -88,6 +88,7 @@ class qa_array : public CppUnit::TestFixture
     CPPUNIT_TEST(cosine_elements_see_nothing_behind);
     CPPUNIT_TEST(clutter_scatterers_come_from_their_own_azimuths);
     CPPUNIT_TEST(random_targets_draw_their_azimuths_and_tracks_keep_them);
+    CPPUNIT_TEST(random_targets_draw_their_elevations);
     CPPUNIT_TEST(array_files_round_trip);
     CPPUNIT_TEST(bad_arrays_are_refused_by_name);
     CPPUNIT_TEST(bad_angles_are_refused_by_name);
@@ -315,6 +316,64 @@ public:
         for (uint64_t f = 1; f < 8; ++f)
             CPPUNIT_ASSERT_EQUAL(first, tracked.draw(f).paths[0].azimuth_rad);
         CPPUNIT_ASSERT(tracked.draw(8).paths[0].azimuth_rad != first); // the next track draws again
+    }
+
+    // random.elevation_rad: drawn last, so the first frame is the ground-plane one's with its
+    // radial velocity projected (v·cos ε); every frame's radial velocity is its body's speed
+    // projected, speed·cos(heading)·cos ε, its walker seen from −ε, its truth at ε; a track keeps it.
+    void random_targets_draw_their_elevations()
+    {
+        const std::string walkers = R"({"format": "sems.scene", "version": 1, "classes": "kinematic",
+            "array": {"receive": {"ula": {"elements": 2, "spacing_m": 0.05}}},
+            "random": {"classes": ["adult", "child"], "heading": "any", )";
+        const auto ground = scene::parse(walkers + R"("azimuth_rad": [-1, 1]}})");
+        const auto raised = scene::parse(walkers + R"("azimuth_rad": [-1, 1], "elevation_rad": [-0.6, -0.1]}})");
+        CPPUNIT_ASSERT(scene::parse(raised.to_json_string()).to_json_string() == raised.to_json_string());
+        channel_model flat(frame_settings{}, ground, 9), tilted(frame_settings{}, raised, 9);
+        double lo = 0.0, hi = -1.0;
+        {
+            const auto a = flat.draw(0), b = tilted.draw(0);
+            CPPUNIT_ASSERT_EQUAL(a.truth.azimuth_rad, b.truth.azimuth_rad);
+            CPPUNIT_ASSERT_EQUAL(a.truth.range_m, b.truth.range_m);
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(a.truth.velocity_mps * std::cos(b.truth.elevation_rad), b.truth.velocity_mps, 1e-12);
+        }
+        for (uint64_t f = 0; f < 100; ++f) {
+            const auto b = tilted.draw(f);
+            const double e = b.truth.elevation_rad;
+            CPPUNIT_ASSERT(e >= -0.6 && e <= -0.1);
+            lo = std::min(lo, e);
+            hi = std::max(hi, e);
+            const auto& body = b.bodies.at(static_cast<size_t>(b.truth_body));
+            CPPUNIT_ASSERT_DOUBLES_EQUAL(body.speed_mps * std::cos(body.heading_rad) * std::cos(e), b.truth.velocity_mps, 1e-9);
+            CPPUNIT_ASSERT_EQUAL(e, b.paths[0].elevation_rad);
+            CPPUNIT_ASSERT_EQUAL(-e, body.elevation_rad);
+        }
+        CPPUNIT_ASSERT(lo < -0.55 && hi > -0.15); // spread over the interval
+        channel_model tracked(frame_settings{}, scene::parse(walkers + R"("elevation_rad": [-1, 0],
+            "tracks": {"frames": 8}}})"), 4);
+        const double first = tracked.draw(0).truth.elevation_rad;
+        for (uint64_t f = 1; f < 8; ++f)
+            CPPUNIT_ASSERT_EQUAL(first, tracked.draw(f).truth.elevation_rad);
+        CPPUNIT_ASSERT(tracked.draw(8).truth.elevation_rad != first);
+        // A rotor or wheels is modelled from the ground plane: refused by name, unless drawn
+        // without micro-motion; the interval is checked like the azimuth's.
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "classes": "kinematic",
+                "random": {"classes": ["adult", "quadcopter"], "elevation_rad": 0.2}})", "s.json");
+        }, "random.elevation_rad", "quadcopter");
+        scene::parse(R"({"format": "sems.scene", "version": 1, "classes": "kinematic",
+            "random": {"classes": ["adult", "quadcopter"], "elevation_rad": 0.2, "micro_doppler": false}})");
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "random": {"elevation_rad": [-2, 0]}})", "s.json");
+        }, "random.elevation_rad", "[-pi/2, pi/2]");
+        assert_error([] {
+            scene::parse(R"({"format": "sems.scene", "version": 1, "random": {"elevation_rad": [0.3, 0.2]}})", "s.json");
+        }, "random.elevation_rad", "min exceeds max");
+        // Without an array the truth names no direction.
+        channel_model single(frame_settings{}, scene::parse(R"({"format": "sems.scene", "version": 1,
+            "random": {"elevation_rad": 0.3}})"), 4);
+        CPPUNIT_ASSERT(std::isnan(single.draw(0).truth.elevation_rad));
+        CPPUNIT_ASSERT(std::isnan(single.draw(0).truth.azimuth_rad));
     }
 
     void array_files_round_trip()

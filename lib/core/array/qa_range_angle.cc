@@ -134,6 +134,9 @@ public:
         assert_error([&] { range_angle(mask, a, fs.wavelength_m(), 1); }, "n_angles", "got 1");
         assert_error([&] { range_angle(mask, a, 0.0, 64); }, "wavelength_m", "> 0");
         assert_error([&] { range_angle(mask, a, fs.wavelength_m(), 64, "kaiser"); }, "window", "kaiser");
+        const auto mimo = array_geometry::from_positions({ { 0, -0.025, 0 }, { 0, 0.025, 0 } },
+                                                         { { 0, 0, 0 }, { 0, 0.1, 0 } });
+        assert_error([&] { range_angle(mask, mimo, fs.wavelength_m(), 64); }, "2 transmit elements", "with one");
     }
 };
 

@@ -42,7 +42,7 @@ range_angle::range_angle(const pilot_mask& mask,
       d_n(mask.n_symbols()),
       d_m(mask.n_subcarriers()),
       d_np(mask.size()),
-      d_k(array.n_receive() * array.n_transmit()),
+      d_k(array.n_receive()),
       d_a(n_angles),
       d_wm(subcarrier_window(window, d_m)),
       d_wsum(std::accumulate(d_wm.begin(), d_wm.end(), 0.0f)),
@@ -50,6 +50,13 @@ range_angle::range_angle(const pilot_mask& mask,
       d_power(size_t(n_angles) * d_m),
       d_plans(std::make_unique<plans>(d_m))
 {
+    // One transmit element: the pilot extractor's streams are the receive elements', each the
+    // sum over the transmit elements (a MIMO array's virtual streams would need each transmit
+    // element's pilots apart).
+    if (array.n_transmit() != 1)
+        throw std::invalid_argument("range_angle: the array has " + std::to_string(array.n_transmit()) +
+                                    " transmit elements; the map takes an array with one (the pilot extractor's "
+                                    "N_r·N_p observations)");
     if (n_angles < 2 || n_angles > 4096)
         throw std::invalid_argument("range_angle: n_angles must be in [2, 4096], got " + std::to_string(n_angles));
     if (!(std::isfinite(wavelength_m) && wavelength_m > 0.0))

@@ -47,5 +47,13 @@ double narrowband_phase_error_rad(const array_geometry& a, const frame_settings&
     return 2.0 * M_PI * (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz() * reach / speed_of_light_mps;
 }
 
+double pilot_wavelength_m(const frame_settings& fs, const pilot_mask& mask)
+{
+    double mean_m = 0.0;
+    for (const auto& p : mask.positions())
+        mean_m += double(p.m) / double(mask.size());
+    return speed_of_light_mps / (fs.carrier_hz + mean_m * fs.subcarrier_spacing_hz());
+}
+
 } // namespace sems
 } // namespace gr

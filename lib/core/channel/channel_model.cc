@@ -152,6 +152,12 @@ void draw_target(target_spec& t,
     // The azimuth after everything else, and drawn only for an interval, for the same reason.
     t.azimuth_rad = r.azimuth_min_rad < r.azimuth_max_rad ? g.uniform(r.azimuth_min_rad, r.azimuth_max_rad)
                                                           : r.azimuth_min_rad;
+    // The elevation after the azimuth, drawn only for an interval; the radial velocity is the
+    // ground-plane velocity's projection on the line of sight.
+    t.elevation_rad = r.elevation_min_rad < r.elevation_max_rad ? g.uniform(r.elevation_min_rad, r.elevation_max_rad)
+                                                                : r.elevation_min_rad;
+    if (t.elevation_rad != 0.0)
+        t.velocity_mps *= std::cos(t.elevation_rad);
 }
 
 } // namespace
@@ -851,6 +857,9 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     truth.velocity_mps = toi.velocity_mps;
     truth.snr_db = std::numeric_limits<double>::infinity();
     truth.link_snr_db = budget ? budget->snr_db(d_fs, toi.range_m, toi.rcs_dbsm) : std::numeric_limits<double>::quiet_NaN();
+    const double no_angle = std::numeric_limits<double>::quiet_NaN();
+    truth.azimuth_rad = d_scene.array() ? toi.azimuth_rad : no_angle;
+    truth.elevation_rad = d_scene.array() ? toi.elevation_rad : no_angle;
     truth.n_paths = static_cast<int>(out.paths.size());
     if (tracked) {
         truth.track_id = tr.index;

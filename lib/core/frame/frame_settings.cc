@@ -232,6 +232,7 @@ frame_file frame_file::find(const std::string& name_or_path)
         f.name = builtin_name;
         f.description = "The paper's frame: 32 symbols x 64 subcarriers, 30 MHz at 3 GHz, T = 1 ms";
         f.classes = "paper";
+        f.array = "ula8_3g";
         return f;
     }
     std::string searched;
@@ -255,6 +256,7 @@ frame_file frame_file::from_json(const nlohmann::json& j, const std::string& sou
     f.name = r.string_or("name", "");
     f.description = r.string_or("description", "");
     f.classes = r.string_or("classes", "");
+    f.array = r.string_or("array", "");
     f.frame = frame_settings::from_json(r.require("frame"), source + ": frame");
     r.finish();
     return f;
@@ -267,6 +269,8 @@ nlohmann::json frame_file::to_json() const
         j["description"] = description;
     if (!classes.empty())
         j["classes"] = classes;
+    if (!array.empty())
+        j["array"] = array;
     j["frame"] = frame.to_json();
     return j;
 }

@@ -2,6 +2,7 @@
 /* gr-sems: frames as data — guard subcarriers, frame files, the field-by-field comparison,
  * and masks that keep off the guards. */
 #include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/scene/scene.h>
@@ -10,9 +11,12 @@
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <set>
 #include <string>
+#include <vector>
 
 using namespace gr::sems;
 using gr::sems::qa::assert_error;
@@ -198,7 +202,30 @@ public:
             channel_model cm(small, scene::random(every, std::nullopt, fading_kind::rayleigh, lib), 1);
             for (uint64_t k = 0; k < 8; ++k)
                 CPPUNIT_ASSERT(!cm.draw(k).paths.empty());
+            // Its array: neighbouring receive elements half the carrier's wavelength apart (no
+            // grating lobe over the whole half space), and a scene of the two draws per element.
+            CPPUNIT_ASSERT_MESSAGE(name, !f.array.empty());
+            const auto a = array_geometry::find(f.array);
+            double nearest = std::numeric_limits<double>::infinity();
+            for (size_t i = 0; i < a.receive().size(); ++i)
+                for (size_t k = i + 1; k < a.receive().size(); ++k) {
+                    const auto& p = a.receive()[i];
+                    const auto& q = a.receive()[k];
+                    nearest = std::min(nearest, std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+                }
+            CPPUNIT_ASSERT_DOUBLES_EQUAL_MESSAGE(name + " / " + f.array, 0.5 * f.frame.wavelength_m(), nearest,
+                                                 1e-5 * f.frame.wavelength_m());
+            channel_model arrayed(small, scene::random(every, std::nullopt, fading_kind::rayleigh, lib).with_array(a), 1);
+            CPPUNIT_ASSERT_EQUAL(a.n_receive() * a.n_transmit(), arrayed.n_elements());
+            std::vector<gr_complex> h(static_cast<size_t>(small.n_symbols) * small.n_subcarriers);
+            arrayed.factors(arrayed.draw(0), 0, arrayed.n_elements() - 1).fill(h.data());
         }
+        // A preset is found by name from a scene too; an unknown name lists where it was looked for.
+        CPPUNIT_ASSERT_EQUAL(12, scene::parse(R"({"format": "sems.scene", "version": 1, "array": "mimo3x4_77g",
+            "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8}]})").array()->n_receive() * 3);
+        assert_error([] { scene::parse(R"({"format": "sems.scene", "version": 1, "array": "no_such_array",
+            "targets": [{"class": "car", "range_m": 60, "velocity_mps": 8}]})", "s.json"); },
+                     "s.json", "array \"no_such_array\": no such file (searched");
         // The paper's file is the built-in default.
         CPPUNIT_ASSERT(frame_file::load(std::string(src) + "/models/frames/paper.json").frame == frame_settings{});
         // A library that does not fit the frame is refused, naming the class and the limit:

@@ -10,10 +10,11 @@
  *    "random": {"classes": ["pedestrian", "car", "drone"], "targets": 1, "paths_per_target": 1,
  *               "excess_range_m": [2, 30], "path_power_decay_db": 3, "micro_doppler": true,
  *               "heading": "approaching" | "any", "azimuth_rad": [lo, hi] | value,
+ *               "elevation_rad": [lo, hi] | value (point, sinusoid and walker classes),
  *               "tracks": {"frames": 64 | [16, 64], "gains": "frame" | "track" | "gauss_markov",
  *                          "coherence_time_s": 0.1}},
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]},
- *    "array": {"receive": {"ula": {...}}, ...} | "file.json"}   (array_geometry.h; targets add
+ *    "array": {"receive": {"ula": {...}}, ...} | "file.json" | "preset name"}   (array_geometry.h; targets add
  *    "azimuth_rad" and "elevation_rad")
  */
 #include "core/common/checks.h"
@@ -315,6 +316,23 @@ void scene::validate(const std::string& source) const
                                                    ", " + checks::text(r.azimuth_max_rad) + "]");
         if (r.azimuth_min_rad > r.azimuth_max_rad)
             fail(source, "random.azimuth_rad", "min exceeds max");
+        if (!(checks::finite(r.elevation_min_rad) && checks::finite(r.elevation_max_rad) &&
+              r.elevation_min_rad >= -M_PI / 2 && r.elevation_max_rad <= M_PI / 2))
+            fail(source, "random.elevation_rad", "must lie in [-pi/2, pi/2] rad, got [" +
+                                                     checks::text(r.elevation_min_rad) + ", " +
+                                                     checks::text(r.elevation_max_rad) + "]");
+        if (r.elevation_min_rad > r.elevation_max_rad)
+            fail(source, "random.elevation_rad", "min exceeds max");
+        if (r.micro_doppler && (r.elevation_min_rad != 0.0 || r.elevation_max_rad != 0.0))
+            for (auto c : label_classes()) { // a drawn body must be one modelled from any elevation
+                const auto& def = d_library->at(static_cast<int>(c));
+                const std::string model = def.motion_model();
+                if (model != "none" && model != "sinusoid" && model != "walker")
+                    fail(source, "random.elevation_rad",
+                         "class \"" + def.name + "\" of class library " + d_library->name() + " is a " + model +
+                             ", modelled as seen from the ground plane: only point, sinusoid and walker targets take an "
+                             "elevation other than 0 (or set micro_doppler false)");
+            }
         if (r.tracks) {
             const auto& t = *r.tracks;
             const std::string bound = "[1, " + std::to_string(limits::max_track_frames) + "]";
@@ -424,6 +442,8 @@ json scene::to_json() const
                         { "heading", heading_name(r.heading) } };
         if (r.azimuth_min_rad != 0.0 || r.azimuth_max_rad != 0.0)
             j["random"]["azimuth_rad"] = range_pair(r.azimuth_min_rad, r.azimuth_max_rad);
+        if (r.elevation_min_rad != 0.0 || r.elevation_max_rad != 0.0)
+            j["random"]["elevation_rad"] = range_pair(r.elevation_min_rad, r.elevation_max_rad);
         if (r.tracks) {
             const auto& t = *r.tracks;
             json jt = { { "frames", t.frames_min == t.frames_max ? json(t.frames_min)
@@ -571,9 +591,12 @@ scene scene::from_json(const json& j, const std::string& source)
             else
                 spec.azimuth_min_rad = spec.azimuth_max_rad = finite_number(*az, "random.azimuth_rad", source);
         }
-        if (r.has("elevation_rad"))
-            fail(source, "random.elevation_rad",
-                 "random scenes draw targets in the ground plane (elevation 0); give elevations in a fixed scene's targets");
+        if (const auto* el = r.find("elevation_rad")) {
+            if (el->is_array())
+                std::tie(spec.elevation_min_rad, spec.elevation_max_rad) = read_pair(*el, "random.elevation_rad", source);
+            else
+                spec.elevation_min_rad = spec.elevation_max_rad = finite_number(*el, "random.elevation_rad", source);
+        }
         if (r.has("tracks")) {
             object_reader rt = r.object("tracks");
             track_draw_spec t;
@@ -689,8 +712,13 @@ scene scene::from_json(const json& j, const std::string& source)
     if (const json* b = top.find("link_budget"))
         s.d_budget = link_budget::from_json(*b, source, "link_budget");
     if (const json* a = top.find("array")) {
-        if (a->is_string()) // a file: scene::load has made a relative name relative to the scene's folder
-            s.d_array = array_geometry::load(a->get<std::string>());
+        if (a->is_string()) { // a preset's name or a file (scene::load made a relative path the scene folder's)
+            try {
+                s.d_array = array_geometry::find(a->get<std::string>());
+            } catch (const std::invalid_argument& e) {
+                fail(source, "array", e.what());
+            }
+        }
         else
             s.d_array = array_geometry::from_json(*a, source, "array", false);
     }
@@ -742,7 +770,7 @@ scene scene::load(const std::string& path)
     if (j.is_object() && j.contains("array") && j["array"].is_string()) {
         const std::string file = j["array"].get<std::string>();
         const auto slash = path.rfind('/');
-        if (!file.empty() && file.front() != '/' && slash != std::string::npos)
+        if (!file.empty() && file.front() != '/' && slash != std::string::npos && detail::names_a_path(file))
             j["array"] = path.substr(0, slash + 1) + file;
     }
     return from_json(j, path);

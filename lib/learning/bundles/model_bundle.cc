@@ -108,6 +108,8 @@ nlohmann::json model_bundle::to_json() const
         j["class_library"] = library->to_json();
     if (!track.is_null())
         j["track"] = track;
+    if (!position.is_null())
+        j["position"] = position;
     return j;
 }
 
@@ -283,6 +285,13 @@ model_bundle model_bundle::load(const std::string& name)
         if (!track->is_object())
             json_read::fail(path, "track", "expected a JSON object, got " + json_read::object_reader::short_dump(*track));
         b.track = *track;
+    }
+    if (const auto* position = r.find("position")) { // checked in full by position_estimator
+        if (b.task != task_kind::delay)
+            json_read::fail(path, "position", "a position bundle is a delay bundle with an angle decoder");
+        if (!position->is_object())
+            json_read::fail(path, "position", "expected a JSON object, got " + json_read::object_reader::short_dump(*position));
+        b.position = *position;
     }
     r.finish();
     b.training = j.value("training", nlohmann::json::object());

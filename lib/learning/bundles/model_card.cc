@@ -67,6 +67,8 @@ json figures_json(const model_card::snr_figures& f)
     put("mae_index", f.mae_index);
     put("mae_m", f.mae_m);
     put("median_abs_error_index", f.median_abs_error_index);
+    put("rmse_azimuth_rad", f.rmse_azimuth_rad);
+    put("crb_azimuth_rad", f.crb_azimuth_rad);
     return j;
 }
 } // namespace
@@ -80,10 +82,15 @@ std::string model_card::default_summary(const model_bundle& b)
             s << (i ? ", " : " ") << b.class_names[i];
         if (b.library)
             s << " (class library " << b.library->name() << ")";
+    } else if (!b.position.is_null()) {
+        const auto& array = b.position.value("array", nlohmann::json::object());
+        s << "position (delay and azimuth) of the target of interest";
+        if (array.contains("receive") && array.at("receive").contains("positions_m"))
+            s << " with an array of " << array.at("receive").at("positions_m").size() << " receive elements";
     } else {
         s << "delay of the target of interest's first path";
     }
-    s << " from " << b.mask.size() << " pilots";
+    s << " from " << b.mask.size() << " pilots" << (b.position.is_null() ? "" : " per element");
     if (!b.track.is_null())
         s << ", decided over the target's track";
     return s.str();
@@ -126,6 +133,9 @@ model_card model_card::of_bundle(const model_bundle& b)
     if (!b.track.is_null()) {
         // `sems_train --from` retrains the frame classifier; the track's own command trains the decision.
         c.retrain_recorded = "track.training.command_line";
+    } else if (!b.position.is_null()) {
+        // `sems_train --from` retrains the delay decoder; the position record's command trains the angle network.
+        c.retrain_recorded = "position.training.command_line";
     } else {
         c.retrain_command = "sems_train --from " + b.directory + " --out retrained/" + c.bundle;
         c.retrain_recorded = "training.command_line";
@@ -263,6 +273,8 @@ model_card model_card::from_json(const json& j, const std::string& source)
             f.mae_index = in("mae_index", 0.0, HUGE_VAL, delay_only);
             f.mae_m = in("mae_m", 0.0, HUGE_VAL, delay_only);
             f.median_abs_error_index = in("median_abs_error_index", 0.0, HUGE_VAL, delay_only);
+            f.rmse_azimuth_rad = in("rmse_azimuth_rad", 0.0, HUGE_VAL, cls ? need::refused : need::optional);
+            f.crb_azimuth_rad = in("crb_azimuth_rad", 0.0, HUGE_VAL, cls ? need::refused : need::optional);
             r.finish();
             c.test.by_snr.push_back(f);
         }

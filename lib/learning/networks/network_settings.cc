@@ -261,6 +261,49 @@ reconstruction_settings reconstruction_settings::from_json(const json& json_in, 
     return s;
 }
 
+void angle_settings::validate(const std::string& source) const
+{
+    if (grid < 8 || grid > 4096)
+        json_read::fail(source, "grid", "must be in [8, 4096], got " + std::to_string(grid));
+    if (!(std::isfinite(azimuth_min_rad) && std::isfinite(azimuth_max_rad) && azimuth_min_rad >= -M_PI / 2 &&
+          azimuth_max_rad <= M_PI / 2 && azimuth_min_rad < azimuth_max_rad))
+        json_read::fail(source, "azimuth_min_rad", "the grid must run from -pi/2 <= min < max <= pi/2 rad, got [" +
+                                                       std::to_string(azimuth_min_rad) + ", " +
+                                                       std::to_string(azimuth_max_rad) + "]");
+    if (channels < 1 || blocks < 0 || blocks > 12)
+        json_read::fail(source, "channels", "needs channels >= 1 and blocks in [0, 12]");
+    if (kernel < 1 || kernel % 2 == 0)
+        json_read::fail(source, "kernel", "must be odd and >= 1, got " + std::to_string(kernel));
+    if (window < 0 || 2 * window + 1 > grid)
+        json_read::fail(source, "window", "must be in [0, (grid - 1) / 2], got " + std::to_string(window));
+    if (!(std::isfinite(polish_steps) && polish_steps >= 0.0))
+        json_read::fail(source, "polish_steps", "must be a finite number >= 0");
+}
+
+json angle_settings::to_json() const
+{
+    return { { "grid", grid },       { "azimuth_min_rad", azimuth_min_rad }, { "azimuth_max_rad", azimuth_max_rad },
+             { "channels", channels }, { "blocks", blocks },                 { "kernel", kernel },
+             { "window", window },   { "polish_steps", polish_steps } };
+}
+
+angle_settings angle_settings::from_json(const json& json_in, const std::string& source)
+{
+    reader j = open(json_in, source);
+    angle_settings s;
+    s.grid = int_or(j, "grid", s.grid, source, 8);
+    s.azimuth_min_rad = j.number_or("azimuth_min_rad", s.azimuth_min_rad);
+    s.azimuth_max_rad = j.number_or("azimuth_max_rad", s.azimuth_max_rad);
+    s.channels = int_or(j, "channels", s.channels, source, 1);
+    s.blocks = int_or(j, "blocks", s.blocks, source, 0);
+    s.kernel = int_or(j, "kernel", s.kernel, source, 1);
+    s.window = int_or(j, "window", s.window, source, 0);
+    s.polish_steps = j.number_or("polish_steps", s.polish_steps);
+    j.finish();
+    s.validate(source);
+    return s;
+}
+
 } // namespace nn
 } // namespace sems
 } // namespace gr

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: delay_estimator_sink implementation. */
 #include "learning/sinks/delay_estimator_sink_impl.h"
-#include "core/common/checks.h"
 
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/common/tags.h>
@@ -40,13 +39,7 @@ std::vector<pmt::pmt_t> delay_task::decode(const gr_complex* obs, int batch, con
 bool delay_task::score(pmt::pmt_t& result, const pmt::pmt_t& truth)
 {
     double truth_index;
-    if (!detail::dict_number(truth, keys::delay_index, truth_index)) {
-        double truth_s;
-        if (!detail::dict_number(truth, keys::delay_s, truth_s))
-            return false;
-        truth_index = d_fs.delay_index(truth_s);
-    }
-    if (!checks::finite(truth_index))
+    if (!detail::truth_delay_index(truth, d_fs, truth_index))
         return false;
     const double estimate = pmt::to_double(pmt::dict_ref(result, pmt::intern(keys::delay_index), pmt::PMT_NIL));
     const double err = std::abs(estimate - truth_index);

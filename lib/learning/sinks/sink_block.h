@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the block half both sinks share (internal).
  *
- * A sink is a sync block with one gr_complex[N_p] input and no output whose work()
+ * A sink is a sync block with one gr_complex[N_p] input (N_r·N_p for an array's: the task's
+ * elements()) and no output whose work()
  * hands every item and tag to detail::sink_core; the task (classifier_task,
  * delay_task) decodes and scores. This template holds that adapter once; the sink
  * impls add only their task-specific getters.
@@ -82,7 +83,8 @@ protected:
                TaskArgs&&... task_args)
         : d_task(load_decoder(name, bundle_dir, kind, n_pilots, n_symbols, n_subcarriers, frame, threads),
                  std::forward<TaskArgs>(task_args)...),
-          d_core(n_pilots, batch_size, metrics_period, d_task, [this](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
+          d_core(n_pilots * d_task.elements(), batch_size, metrics_period, d_task,
+                 [this](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
               this->message_port_pub(port, msg);
           })
     {

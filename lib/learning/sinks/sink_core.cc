@@ -2,6 +2,7 @@
 /* gr-sems: shared bookkeeping of the classifier and delay-estimator sinks. */
 #include "learning/sinks/sink_core.h"
 #include "blocks/common/stream_values.h"
+#include "core/common/checks.h"
 
 #include <gnuradio/sems/core/common/tags.h>
 #include <algorithm>
@@ -85,6 +86,17 @@ bool dict_number(const pmt::pmt_t& dict, const char* key, double& out)
         return true;
     }
     return false;
+}
+
+bool truth_delay_index(const pmt::pmt_t& truth, const frame_settings& fs, double& index)
+{
+    if (!dict_number(truth, keys::delay_index, index)) {
+        double delay_s;
+        if (!dict_number(truth, keys::delay_s, delay_s))
+            return false;
+        index = fs.delay_index(delay_s);
+    }
+    return checks::finite(index);
 }
 
 bool is_truth(const pmt::pmt_t& v)

@@ -84,6 +84,9 @@ public:
     // Adds the task's running metrics to `dict` and returns it.
     virtual pmt::pmt_t add_metrics(pmt::pmt_t dict) const = 0;
     virtual void reset_metrics() = 0;
+    // The streams of a frame's observations: an item is elements() x N_p values (an array's
+    // receive elements, element-major; 1 for one antenna).
+    virtual int elements() const { return 1; }
 };
 
 class sink_core
@@ -181,6 +184,9 @@ private:
 bool dict_number(const pmt::pmt_t& dict, const char* key, double& out);
 // A non-empty PMT dict (PMT_NIL, the empty dict, marks a frame without truth).
 bool is_truth(const pmt::pmt_t& v);
+// The truth's delay index into `index`: its delay_index, else its delay_s·B on `fs`; false when
+// it has neither or the value is not finite (the delay and position sinks score against it).
+bool truth_delay_index(const pmt::pmt_t& truth, const frame_settings& fs, double& index);
 
 } // namespace detail
 } // namespace sems

@@ -8,6 +8,7 @@ import os
 import tempfile
 
 import numpy as np
+import pmt
 from gnuradio import gr_unittest, sems
 
 
@@ -123,6 +124,21 @@ class qa_array(gr_unittest.TestCase):
             np.testing.assert_allclose(np.asarray(sinks[k].data()), want, atol=2e-5)
             tags = [t for t in sinks[k].tags() if str(t.key) == "sems_truth"]
             self.assertEqual([t.offset for t in tags], [0])
+            truth = pmt.to_python(tags[0].value)  # with an array: the target's direction
+            self.assertEqual((truth[sems.keys.azimuth_rad], truth[sems.keys.elevation_rad]), (0.4, 0.0))
+        self.assertEqual((r.truth[sems.keys.azimuth_rad], r.truth[sems.keys.elevation_rad]), (0.4, 0.0))
+        # Without an array a direction changes nothing, and neither the tag nor the truth has one.
+        del scene["array"]
+        one = sems.channel_model(fs, sems.scene.parse(json.dumps(scene)), 7).draw(0).truth
+        self.assertNotIn(sems.keys.azimuth_rad, one)
+        self.assertNotIn(sems.keys.elevation_rad, one)
+        tb = gr.top_block()
+        single = blocks.vector_sink_c(m)
+        tb.connect(blocks.vector_source_c(x[0].tolist(), False, m), sems.target_channel(scene=json.dumps(scene)), single)
+        tb.run()
+        truth = pmt.to_python([t for t in single.tags() if str(t.key) == "sems_truth"][0].value)
+        self.assertNotIn(sems.keys.azimuth_rad, truth)
+        self.assertEqual(truth[sems.keys.class_name], "car")
 
     def test_time_domain_outputs_are_each_elements_channel(self):
         # The sample-level emulator with 3 receive elements, noiseless, a still target inside the

@@ -136,6 +136,8 @@ def cxx_defaults():
         "sems_classifier_sink": dict(sink, track_idle_s=bound_default(sems.classifier_sink, "track_idle_s"),
                                      super_frames=bound_default(sems.classifier_sink, "super_frames")),
         "sems_delay_estimator_sink": sink,
+        "sems_position_sink": {name: sink[name] for name in ("batch_size", "threads", "metrics_period")} |
+        {"frame": bound_default(sems.position_sink, "frame")},
         "sems_ofdm_tx": ofdm,
         "sems_ofdm_rx": ofdm,
         "sems_metrics_printer": {},
@@ -168,7 +170,7 @@ TIME_DOMAIN = ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_f
                "sems_radio_front_end", "sems_cfo_corrector")
 FRAME_BLOCKS = TIME_DOMAIN + ("sems_pilot_mapper", "sems_pilot_extractor", "sems_target_channel",
                               "sems_range_doppler_map", "sems_range_angle_map", "sems_classifier_sink",
-                              "sems_delay_estimator_sink")
+                              "sems_delay_estimator_sink", "sems_position_sink")
 
 # GRC-only parameters (no C++ default to agree with), and why.
 GRC_ONLY = {
@@ -187,6 +189,9 @@ GRC_ONLY = {
     ("sems_classifier_sink", "n_pilots"): "required in C++",
     ("sems_delay_estimator_sink", "bundle_dir"): "required in C++",
     ("sems_delay_estimator_sink", "n_pilots"): "required in C++",
+    ("sems_position_sink", "bundle_dir"): "required in C++",
+    ("sems_position_sink", "n_elements"): "required in C++",
+    ("sems_position_sink", "n_pilots"): "required in C++",
     ("sems_metrics_printer", "label"): "Python-only block",
     ("sems_target_channel_td", "scene_kind"): "GRC chooser between random / file / JSON scene",
     ("sems_target_channel_td", "scene_file"): "the chosen scene's path",

@@ -74,6 +74,15 @@ public:
      * \return grid values of P(φ).
      */
     std::vector<double> spectrum(const gr_complex* y, int snapshots) const;
+    /*!
+     * \brief The maximum of P(φ) on [lo, hi], by golden-section search on the exact steering
+     *        vectors (the search grid plays no part): the polish a learned estimate ends with.
+     * \param y as above. \param snapshots L. \param lo first azimuth. \param hi last (> lo).
+     * \return the azimuth of the largest P found, in [lo, hi]; an end of the interval when P
+     *         rises towards it (no peak inside).
+     * \throws std::invalid_argument on non-finite input, bad counts or lo >= hi.
+     */
+    double refine(const gr_complex* y, int snapshots, double lo, double hi) const;
 
 private:
     array_geometry d_array;

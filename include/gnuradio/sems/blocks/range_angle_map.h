@@ -22,8 +22,9 @@ namespace sems {
 
 /*!
  * \brief Range–angle map of each frame of an array's pilot observations (core/array/range_angle.h), in dB.
- * \details The array is the scene's (an array file, or its JSON text); its streams, N_r·N_t,
- * must be the extractor's elements. Frame check: a mask file carries only its grid, refused
+ * \details The array is the scene's (an array file, or its JSON text); its receive elements,
+ * N_r, must be the extractor's elements, and it has one transmit element (an array with more is
+ * refused: the extractor's streams are each receive element's sum over the transmit elements). Frame check: a mask file carries only its grid, refused
  * unless it is n_symbols x n_subcarriers.
  * \ingroup sems_blocks
  */

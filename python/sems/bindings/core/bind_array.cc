@@ -28,6 +28,7 @@ void bind_array(py::module& m)
                     py::arg("receive"), py::arg("transmit") = std::vector<position3>{ position3{ 0.0, 0.0, 0.0 } },
                     py::arg("pattern") = element_pattern::isotropic, py::arg("source") = "array")
         .def_static("load", &array_geometry::load, D(array_geometry, load), py::arg("path"))
+        .def_static("find", &array_geometry::find, D(array_geometry, find), py::arg("name_or_path"))
         .def_static(
             "parse",
             [](const std::string& text, const std::string& source) {

@@ -37,6 +37,10 @@ py::dict truth_dict(const frame_truth& t)
     d[keys::snr_db] = t.snr_db;
     if (!std::isnan(t.link_snr_db)) // a scene with a link budget: the radar equation's SNR (frame_truth::link_snr_db)
         d[keys::link_snr_db] = t.link_snr_db;
+    if (!std::isnan(t.azimuth_rad)) { // a scene with an array: the line of sight's direction
+        d[keys::azimuth_rad] = t.azimuth_rad;
+        d[keys::elevation_rad] = t.elevation_rad;
+    }
     d[keys::n_paths] = t.n_paths;
     d[keys::micro_motion] = t.micro_motion;
     d[keys::track_id] = t.track_id;
@@ -58,6 +62,8 @@ void bind_keys(py::module& m)
     k.attr("velocity_mps") = keys::velocity_mps;
     k.attr("snr_db") = keys::snr_db;
     k.attr("link_snr_db") = keys::link_snr_db;
+    k.attr("azimuth_rad") = keys::azimuth_rad;
+    k.attr("elevation_rad") = keys::elevation_rad;
     k.attr("n_paths") = keys::n_paths;
     k.attr("micro_motion") = keys::micro_motion;
     k.attr("micro_motion_params") = keys::micro_motion_params;
@@ -73,6 +79,7 @@ void bind_keys(py::module& m)
     k.attr("truth") = keys::truth;
     k.attr("correct") = keys::correct;
     k.attr("abs_error_index") = keys::abs_error_index;
+    k.attr("abs_error_azimuth_rad") = keys::abs_error_azimuth_rad;
     k.attr("frames") = keys::frames;
     k.attr("frames_scored") = keys::frames_scored;
     k.attr("frames_skipped") = keys::frames_skipped;
@@ -80,6 +87,8 @@ void bind_keys(py::module& m)
     k.attr("accuracy") = keys::accuracy;
     k.attr("mae_index") = keys::mae_index;
     k.attr("mae_m") = keys::mae_m;
+    k.attr("rmse_azimuth_rad") = keys::rmse_azimuth_rad;
+    k.attr("frames_scored_azimuth") = keys::frames_scored_azimuth;
     k.attr("confusion") = keys::confusion;
     k.attr("result_port") = keys::result_port;
     k.attr("metrics_port") = keys::metrics_port;
@@ -143,6 +152,7 @@ void bind_frame_settings(py::module& m)
         .def_readwrite("name", &frame_file::name)
         .def_readwrite("description", &frame_file::description)
         .def_readwrite("classes", &frame_file::classes)
+        .def_readwrite("array", &frame_file::array)
         .def_readwrite("frame", &frame_file::frame)
         .def_static("find", &frame_file::find, py::arg("name_or_path"), D(frame_file, find))
         .def_static("load", &frame_file::load, py::arg("path"), D(frame_file, load))

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: Python bindings for classifier_sink and delay_estimator_sink. */
+/* gr-sems: Python bindings for classifier_sink, delay_estimator_sink and position_sink. */
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/sinks/position_sink.h>
 #include <gnuradio/sems/learning/sinks/sink_defaults.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
@@ -77,4 +78,21 @@ void bind_sinks(py::module& m)
     bind_make(delay, D(delay_estimator_sink, make));
     delay.def("mae_index", &delay_estimator_sink::mae_index, D(delay_estimator_sink, mae_index))
         .def("mae_m", &delay_estimator_sink::mae_m, D(delay_estimator_sink, mae_m));
+
+    using gr::sems::position_sink;
+    auto position = bind_sink<position_sink>(m, "position_sink", D(position_sink));
+    position
+        .def(py::init(&position_sink::make),
+             py::arg("bundle_dir"),
+             py::arg("n_elements"),
+             py::arg("n_pilots"),
+             py::arg("batch_size") = sink_defaults::batch_size,
+             py::arg("threads") = sink_defaults::threads,
+             py::arg("metrics_period") = sink_defaults::metrics_period,
+             py::arg("frame") = std::string(),
+             D(position_sink, make))
+        .def("mae_index", &position_sink::mae_index, D(position_sink, mae_index))
+        .def("mae_m", &position_sink::mae_m, D(position_sink, mae_m))
+        .def("frames_scored_azimuth", &position_sink::frames_scored_azimuth, D(position_sink, frames_scored_azimuth))
+        .def("rmse_azimuth_rad", &position_sink::rmse_azimuth_rad, D(position_sink, rmse_azimuth_rad));
 }

@@ -10,6 +10,7 @@ namespace py = pybind11;
 void bind_learning(py::module& m);
 void bind_sinks(py::module& m);
 void bind_temporal(py::module& m);
+void bind_position(py::module& m);
 
 PYBIND11_MODULE(learning_python, m)
 {
@@ -21,4 +22,5 @@ PYBIND11_MODULE(learning_python, m)
     bind_learning(m);
     bind_sinks(m);
     bind_temporal(m);
+    bind_position(m);
 }

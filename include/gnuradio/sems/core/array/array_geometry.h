@@ -100,6 +100,15 @@ public:
      */
     static array_geometry load(const std::string& path);
     /*!
+     * \brief An array by name or path: an existing file, or `<name>.json` in $SEMS_ARRAYS_PATH,
+     *        the user's folder, the source tree's models/arrays, the installed
+     *        share/gr-sems/models/arrays (the presets the frame presets name, docs/reference/arrays.md).
+     * \param name_or_path the name or file (a name with a '/' or ending in ".json" is a path).
+     * \return the array.
+     * \throws std::invalid_argument listing every place searched, or naming the file and the field.
+     */
+    static array_geometry find(const std::string& name_or_path);
+    /*!
      * \brief Reads an array from JSON (a file's top level, or a scene's `array` object).
      * \param j the object. \param source names the origin in errors.
      * \param field the object's path in the file ("" at the top level).

@@ -2,7 +2,7 @@
 /*!
  * \file
  * \brief The range–angle map of one frame of an array's pilots: each element's delay profile
- *        per symbol, beamformed over the elements, its power summed over the symbols, in dB.
+ *        per symbol, beamformed over the elements, its power averaged over the symbols, in dB.
  *
  * \details With element k's pilot grid X_k[n,m] (the pilot extractor's element-major output
  * placed on the N×M grid, zero off the pilots), its windowed delay profile per symbol
@@ -12,7 +12,7 @@
  * in dB, row a = azimuth φ_a = −π/2 + π(a + ½)/A (A rows over the front half-plane, centres),
  * column q = delay index q. A unit point target at an integer delay index k and azimuth φ_a
  * on a full grid reads 0 dB at cell (a, k) with isotropic elements, whatever its Doppler (the
- * symbols are summed in power); with cosine elements it reads its pattern's power there,
+ * symbols are averaged in power); with cosine elements it reads its pattern's power there,
  * 20·log10 g(φ_a). Off-pilot cells are zero: a sparse mask lowers the peak to the mean over the symbols
  * of each symbol's windowed fill squared, (Σ_{pilot m} w_m / Σ_m w_m)².
  * An empty cell reads floor_db (−300 dB), never −inf.

@@ -22,6 +22,7 @@
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -135,6 +136,16 @@ steering_vector(const array_geometry& a, double azimuth_rad, double elevation_ra
  * \return the bound in rad (0 for the single-antenna model).
  */
 SEMS_API double narrowband_phase_error_rad(const array_geometry& a, const frame_settings& fs);
+
+/*!
+ * \brief The wavelength a narrowband steering vector is best taken at for a mask's pilots: at
+ *        their mean frequency f_c + m̄Δf (subcarrier m sits at f_c + mΔf). At f_c itself every
+ *        angle estimate from those pilots would be off by the band's offset (0.5 % on the paper's
+ *        frame). The angle references, the learned position decoder and experiment 9 use it.
+ * \param fs the frame. \param mask the pilots.
+ * \return c / (f_c + m̄Δf) in m.
+ */
+SEMS_API double pilot_wavelength_m(const frame_settings& fs, const pilot_mask& mask);
 
 } // namespace sems
 } // namespace gr

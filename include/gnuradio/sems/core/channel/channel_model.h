@@ -105,6 +105,14 @@ struct SEMS_API frame_truth {
      *        SNR setting adds to it). NaN without a link budget.
      */
     double link_snr_db = std::numeric_limits<double>::quiet_NaN();
+    /*!
+     * \brief With an array (scene::array()): the target of interest's line-of-sight azimuth in rad
+     *        (array_geometry.h's frame, 0 on boresight). NaN without an array, where a direction
+     *        changes nothing in the channel.
+     */
+    double azimuth_rad = std::numeric_limits<double>::quiet_NaN();
+    /*! \brief With an array: its line of sight's elevation in rad. NaN without an array. */
+    double elevation_rad = std::numeric_limits<double>::quiet_NaN();
     int n_paths = 0;          ///< all paths of the realization, clutter included
     std::string micro_motion = "none"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", ...)
     /*!

@@ -30,6 +30,10 @@ constexpr const char* snr_db = "snr_db";             ///< SNR per resource eleme
 /*! \brief With a link budget: the radar equation's SNR of the target of interest alone, without
  *         the emulator's setting (frame_truth::link_snr_db; in a drawn frame's truth dict only). */
 constexpr const char* link_snr_db = "link_snr_db";
+/*! \brief With an array: the target of interest's azimuth and elevation in rad (frame_truth::azimuth_rad,
+ *         elevation_rad; absent without an array). */
+constexpr const char* azimuth_rad = "azimuth_rad";
+constexpr const char* elevation_rad = "elevation_rad"; ///< see azimuth_rad
 constexpr const char* n_paths = "n_paths";           ///< number of channel paths of the frame
 constexpr const char* micro_motion = "micro_motion"; ///< the target of interest's micro-motion model ("none", "sinusoid", "rotor", "walker", "wheels", "scatterers")
 /*! \brief The drawn parameters of the target of interest's scatterer body: a dict holding
@@ -48,6 +52,7 @@ constexpr const char* probs = "probs";               ///< class probabilities (f
 constexpr const char* truth = "truth";               ///< the frame's truth dict, when tagged
 constexpr const char* correct = "correct";           ///< prediction matches the truth (bool)
 constexpr const char* abs_error_index = "abs_error_index"; ///< |estimated - true| delay index
+constexpr const char* abs_error_azimuth_rad = "abs_error_azimuth_rad"; ///< |estimated - true| azimuth (position sink)
 
 // Running-metric dictionary keys.
 constexpr const char* frames = "frames";                 ///< frames handled
@@ -57,6 +62,8 @@ constexpr const char* frames_faulted = "frames_faulted"; ///< skipped because de
 constexpr const char* accuracy = "accuracy";             ///< fraction of scored frames classified correctly
 constexpr const char* mae_index = "mae_index";           ///< mean absolute delay error in delay indices
 constexpr const char* mae_m = "mae_m";                   ///< mean absolute range error in m
+constexpr const char* rmse_azimuth_rad = "rmse_azimuth_rad"; ///< root-mean-square azimuth error in rad (position sink)
+constexpr const char* frames_scored_azimuth = "frames_scored_azimuth"; ///< frames whose truth had an azimuth (position sink)
 constexpr const char* confusion = "confusion"; ///< rows: truth class, columns: predicted class
 
 // Message ports.

@@ -30,7 +30,7 @@
  *
  * false_lock_probability(). The block searches once per frame until it locks, so this is
  * also the false locks per frame of noise. The default T = 25 gives 3.6e-8 coherently at
- * L = 2560; non-coherently with F = 4 it gives 1.1e-4, so use threshold_for(1e-6, ...) = 30.2
+ * L = 2560; non-coherently with F = 4 it gives 1.0e-4, so use threshold_for(1e-6, ...) = 30.2
  * there. apps/evaluation/sems_sync_false_lock.cc measures both on noise (docs/reference/sdr_receiver.md).
  * The best lag fixes the frame phase; the first frame is then the first of the F whose own
  * metric L·ρ_f (z_f) passes threshold/F (the stream may begin inside the window, after

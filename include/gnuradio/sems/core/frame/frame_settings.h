@@ -168,6 +168,7 @@ struct SEMS_API frame_file {
     std::string name;        ///< the frame's name (a preset's is its file name)
     std::string description; ///< free text for people
     std::string classes;     ///< the class library made for this frame (name or file); "" = none named
+    std::string array;       ///< the array preset it suits (array_geometry::find: name or file); "" = none named
     frame_settings frame;    ///< the frame itself
 
     /*!

@@ -170,6 +170,15 @@ struct SEMS_API random_spec {
      */
     double azimuth_min_rad = 0.0;
     double azimuth_max_rad = 0.0; ///< see azimuth_min_rad
+    /*!
+     * \brief Each target's elevation ~ U[min, max] in [−π/2, π/2]; drawn after its azimuth, only
+     *        when min < max (a single value is every target's). Its radial velocity becomes
+     *        speed·cos(heading)·cos(elevation). Only classes seen from any elevation take one other
+     *        than 0: point, sinusoid and walker classes (scene::validate refuses the others by name). A track
+     *        keeps its elevation.
+     */
+    double elevation_min_rad = 0.0;
+    double elevation_max_rad = 0.0; ///< see elevation_min_rad
 };
 
 /*! \brief The gains' fading: Rayleigh (α_l ~ CN(0, p_l)) or none (|α_l|² = p_l). */

@@ -75,6 +75,14 @@ struct SEMS_LEARNING_API model_bundle {
      */
     nlohmann::json track;
     /*!
+     * \brief A position bundle's angle decoder over an array (bundle.json's `position`; null for
+     *        a one-antenna bundle): the array, the angle network's settings, its weights file and
+     *        how it was trained, read and checked by position_estimator
+     *        (learning/array/position_estimator.h). The bundle itself is a delay bundle: its
+     *        decoder estimates the delay from the array's pilots beamformed towards the angle.
+     */
+    nlohmann::json position;
+    /*!
      * \brief The pilot mask's file name, as bundle.json records it (`mask_file`; relative to
      *        directory, no folders). load() reads this file, save() writes it.
      */

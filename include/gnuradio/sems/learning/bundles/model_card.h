@@ -41,6 +41,8 @@ struct SEMS_LEARNING_API model_card {
         std::optional<double> mae_index;              ///< delay: mean |error| in delay index
         std::optional<double> mae_m;                  ///< delay: the same in metres of range
         std::optional<double> median_abs_error_index; ///< delay: median |error| in delay index
+        std::optional<double> rmse_azimuth_rad;       ///< a position bundle: root-mean-square azimuth error
+        std::optional<double> crb_azimuth_rad;        ///< a position bundle: the azimuth's Cramér–Rao bound (RMS over the frames)
     };
 
     /*! \brief How the figures were measured. */

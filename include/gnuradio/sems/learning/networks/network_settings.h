@@ -253,6 +253,38 @@ struct SEMS_LEARNING_API reconstruction_settings {
     static reconstruction_settings from_json(const nlohmann::json& j, const std::string& source);
 };
 
+/*!
+ * \brief The angle decoder of a position bundle (learning/array/angle_network.h): the
+ *        beamforming spectrum of an array's pilots on a grid of azimuths, a 1-D residual CNN over
+ *        it, a local soft-argmax, then the spectrum's own maximum near that estimate.
+ */
+struct SEMS_LEARNING_API angle_settings {
+    int grid = 128;                ///< Q, azimuths of the spectrum, evenly spaced over [azimuth_min_rad, azimuth_max_rad]
+    double azimuth_min_rad = -1.0; ///< the grid's first azimuth (≥ −π/2)
+    double azimuth_max_rad = 1.0;  ///< its last (≤ π/2, > azimuth_min_rad)
+    int channels = 32;             ///< CNN width
+    int blocks = 4;                ///< residual blocks; block i dilates by 2^i
+    int kernel = 5;                ///< odd kernel size
+    int window = 6;                ///< soft-argmax: ±window grid points around the arg-max (0: global)
+    /*!
+     * \brief The polish: the beamforming spectrum's maximum within ±polish_steps grid steps of the
+     *        network's estimate, kept only when it lies inside that interval (0: no polish).
+     */
+    double polish_steps = 1.0;
+
+    /*! \brief Checks the values. \param source names the context. \throws std::invalid_argument naming the key. */
+    void validate(const std::string& source) const;
+    /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
+    nlohmann::json to_json() const;
+    /*!
+     * \brief Reads settings from JSON; missing keys keep their defaults.
+     * \param j the JSON object. \param source names the file or context in errors.
+     * \return the settings (validated).
+     * \throws std::invalid_argument naming `source` and the bad key.
+     */
+    static angle_settings from_json(const nlohmann::json& j, const std::string& source);
+};
+
 } // namespace nn
 } // namespace sems
 } // namespace gr
