@@ -7,7 +7,7 @@
 # $SEMS_FUZZ_BUILD_DIR/artifacts/<harness>/ and the log in .../<harness>.log.
 #
 #   scripts/fuzz.sh              # 60 s each
-#   scripts/fuzz.sh 40           # what CI runs
+#   scripts/fuzz.sh 25           # what CI runs
 #   scripts/fuzz.sh 600          # 10 minutes each
 #   scripts/fuzz.sh 600 scene    # one harness
 # Every fuzz/fuzz_<name>.cc is a harness <name>, seeded from fuzz/corpus/<name>/.

@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # ThreadSanitizer run (docs/reference/hardening.md): builds the learning library and the CppUnit
 # runner qa_sems_threads with -DSEMS_SANITIZE=thread in their own tree and runs qa_thread_access, which
-# calls every setter and getter of every C++ block from another thread while two
+# calls every setter and getter of every C++ block from another thread while three
 # flowgraphs stream (frequency domain: mapper -> channel -> extractors -> both sinks and
-# the range-Doppler map; time domain: mapper -> IFFT -> target_channel_td -> frame_sync).
+# the range-Doppler map; time domain: mapper -> IFFT -> target_channel_td -> frame_sync; an
+# array: mapper -> 8-element channel -> extractor -> position sink and range-angle map).
 # Fails on the first data race in our code (halt_on_error). GNU Radio, LibTorch and Boost
 # are not instrumented: cmake/tsan.supp lists, with the reason, what is provably not ours.
 #

@@ -13,11 +13,13 @@
 #include <gnuradio/sems/blocks/frame_sync.h>
 #include <gnuradio/sems/blocks/pilot_extractor.h>
 #include <gnuradio/sems/blocks/pilot_mapper.h>
+#include <gnuradio/sems/blocks/range_angle_map.h>
 #include <gnuradio/sems/blocks/range_doppler_map.h>
 #include <gnuradio/sems/blocks/target_channel.h>
 #include <gnuradio/sems/blocks/target_channel_td.h>
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
+#include <gnuradio/sems/learning/sinks/position_sink.h>
 #include <gnuradio/sems/learning/bundles/model_bundle.h>
 #include <gnuradio/top_block.h>
 #include <cppunit/TestAssert.h>
@@ -87,7 +89,32 @@ public:
         tb_td->connect(channel_td, 0, sync, 0);
         tb_td->connect(sync, 0, gr::blocks::null_sink::make(sizeof(gr_complex)), 0);
 
+        // An array's chain: an 8-element ULA's streams into one extractor, the position sink and
+        // the range-angle map (the position bundle's mask and array).
+        const uint64_t n_frames_array = 40;
+        const std::string position = models + "position_ula8";
+        const std::string ula = models + "arrays/ula8_3g.json";
+        auto mapper_a = pilot_mapper::make(position + "/mask.json", {}, fs.n_symbols, m);
+        auto head_a = gr::blocks::head::make(sizeof(gr_complex) * m, n_frames_array * fs.n_symbols);
+        auto channel_a = target_channel::make(R"({"format": "sems.scene", "version": 1, "array": "ula8_3g",
+            "random": {"classes": ["car"], "azimuth_rad": [-0.8, 0.8]}})", {}, 1, 1, true, "approaching", 0, 0.0, 20.0,
+                                              7, fs.n_symbols, m, fs.bandwidth_hz, fs.carrier_hz, fs.symbol_interval_s,
+                                              "paper", 0, "frame", 0.1, 8);
+        auto ex_a = pilot_extractor::make(position + "/mask.json", {}, fs.n_symbols, m, gr_complex(1.0f, 0.0f), 8);
+        auto sink_p = position_sink::make(position, 8, ex_a->n_pilots(), 8, 1, 16);
+        auto ram = range_angle_map::make(ula, position + "/mask.json", {}, fs.n_symbols, m, fs.carrier_hz, 32);
+        auto tb_a = gr::make_top_block("thread_access_array");
+        tb_a->connect(gr::blocks::null_source::make(sizeof(gr_complex)), 0, mapper_a, 0);
+        tb_a->connect(mapper_a, 0, head_a, 0);
+        tb_a->connect(head_a, 0, channel_a, 0);
+        for (int k = 0; k < 8; ++k)
+            tb_a->connect(channel_a, k, ex_a, k);
+        tb_a->connect(ex_a, 0, sink_p, 0);
+        tb_a->connect(ex_a, 0, ram, 0);
+        tb_a->connect(ram, 0, gr::blocks::null_sink::make(sizeof(float) * 32 * m), 0);
+
         tb_td->start();
+        tb_a->start();
         std::atomic<bool> stop{ false };
         std::atomic<uint64_t> calls{ 0 };
         std::thread poker([&] {
@@ -119,9 +146,17 @@ public:
                         channel_td->nonfinite_symbols() + channel_td->misaligned_tags() +
                         channel_td->settings().cp_len + channel_td->scene_json().size();
                 sink += sync->locked() + sync->offset() + sync->metric() + sync->failures() + sync->frame_len();
+                channel_a->set_snr_db(i % 2 ? 20.0 : 30.0);
+                sink_p->set_metrics_period(i % 3);
+                sink += ex_a->frames_out() + ex_a->n_elements() + sink_p->frames() + sink_p->frames_scored() +
+                        sink_p->frames_skipped() + sink_p->frames_faulted() + sink_p->mae_index() + sink_p->mae_m() +
+                        sink_p->frames_scored_azimuth() + sink_p->rmse_azimuth_rad() + sink_p->batch_size() +
+                        sink_p->metrics_period();
+                sink += ram->n_elements() + ram->n_pilots() + ram->frames_out() + ram->frames_skipped_nonfinite();
                 if (i % 50 == 49) {
                     sink_c->reset_metrics();
                     sink_d->reset_metrics();
+                    sink_p->reset_metrics();
                 }
                 calls++;
                 std::this_thread::yield();
@@ -130,6 +165,7 @@ public:
         });
         tb->run();
         tb_td->wait();
+        tb_a->wait();
         stop = true;
         poker.join();
         CPPUNIT_ASSERT(calls > 0);
@@ -141,6 +177,9 @@ public:
         CPPUNIT_ASSERT_EQUAL(n_frames, rdm->frames_out());
         CPPUNIT_ASSERT_EQUAL(n_frames_td, channel_td->frames());
         CPPUNIT_ASSERT(sync->locked());
+        CPPUNIT_ASSERT_EQUAL(n_frames_array, ex_a->frames_out());
+        CPPUNIT_ASSERT_EQUAL(n_frames_array, ram->frames_out());
+        CPPUNIT_ASSERT_EQUAL(uint64_t(0), sink_p->frames_faulted());
         CPPUNIT_ASSERT(sync->offset() >= 0);
     }
 };

@@ -953,6 +953,32 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertTrue(os.path.getsize(os.path.join(out, "exp9_angle.png")) > 1000)
             with open(os.path.join(out, "exp9_angle.md")) as f:
                 self.assertEqual(len([l for l in f if l.startswith("| ")]), 2 * (1 + len(snrs)))
+        # With the shipped position bundle: its learned rows on its mask and array, beside the same
+        # references on the same frames, and the paired table from the packed predictions.
+        with tempfile.TemporaryDirectory() as out:
+            bundle = os.path.join(SOURCE, "models", "position_ula8")
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-position-bundle", bundle,
+                                "--out", out], capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            self.assertIn("the mask and array of", r.stdout)
+            with open(os.path.join(out, "exp9_angle.csv")) as f:
+                one = [x for x in csv.DictReader(f) if x["part"] == "one_target"]
+            self.assertEqual(len(one), 5 * len(snrs))
+            at = {(x["method"], float(x["snr_db"])): float(x["rmse_rad"]) for x in one}
+            crb30 = [float(x["crb_rad"]) for x in one if float(x["snr_db"]) == 30.0][0]
+            for s in snrs:
+                if s >= 0:  # the polish ends on beamforming's maximum: the same estimate to rounding
+                    self.assertAlmostEqual(at[("SemS position (learned)", s)], at[("beamforming", s)], delta=1e-6)
+            self.assertLess(at[("SemS position (learned)", 30.0)], 1.5 * crb30)
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_angle.py"), out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.exists(os.path.join(out, "exp9_angle_predictions.npz")))
+            with open(os.path.join(out, "exp9_angle.md")) as f:
+                text = f.read()
+            self.assertEqual(len([l for l in text.splitlines() if l.startswith("| ")]), 3 * (1 + len(snrs)))
+            self.assertIn("Holm's step-down correction over all of them", text)
+            self.assertIn("15 tests", text)  # 5 SNRs x 3 references
 
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside
