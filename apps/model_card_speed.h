@@ -24,12 +24,6 @@ namespace gr {
 namespace sems {
 namespace apps {
 
-//! A position bundle's receive elements (its array's, from bundle.json's position record).
-inline int where_is_elements(const model_bundle& b)
-{
-    return array_geometry::from_json(b.position.at("array"), b.directory + ": position.array", "", true).n_receive();
-}
-
 //! The anchor every card's decoder is timed beside: the same work for every bundle, so the
 //! ratios compare across cards.
 inline std::string card_anchor()
@@ -94,13 +88,13 @@ measure_card_speed(const model_bundle& b, double snr_db, int frames, int repeats
     std::unique_ptr<bundle_decoder> dec;
     std::unique_ptr<track_classifier> track;
     std::unique_ptr<position_estimator> where_is;
-    const int np = b.mask.size() * (position ? where_is_elements(b) : 1);
     if (position)
         where_is = std::make_unique<position_estimator>(b, 1);
     else if (track_classifier::is_track_bundle(b))
         track = std::make_unique<track_classifier>(b, 1);
     else
         dec = std::make_unique<bundle_decoder>(b, 1);
+    const int np = b.mask.size() * (where_is ? where_is->n_elements() : 1); // observations per frame
     std::vector<float> probs(b.class_names.size() + 1);
     auto decode = [&](int f0, int n) {
         const gr_complex* y = obs.data() + size_t(f0) * np;
