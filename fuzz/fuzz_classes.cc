@@ -2,7 +2,9 @@
 /* libFuzzer harness: the class-library reader and the random scenes drawn from a library.
  * Any input either loads or is refused with std::invalid_argument; a library that loads
  * survives its own round trip, and when it fits the paper's frame its random scene draws
- * frames that are finite, labelled with one of its classes, inside its intervals. */
+ * frames that are finite, labelled with one of its classes, inside its intervals (seen by an
+ * array, its angles too). */
+#include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <cmath>
@@ -52,6 +54,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         } catch (const std::invalid_argument&) {
             // the library does not fit the paper's frame: refused, naming the class
         }
+    }
+    // Seen by a two-element array the truth carries the drawn angles: inside the class's own
+    // intervals where it gives them.
+    try {
+        random_spec r;
+        r.classes.clear();
+        channel_model cm(frame_settings{},
+                         scene::random(r, std::nullopt, fading_kind::none, lib).with_array(array_geometry::ula(2, 0.05)),
+                         size);
+        for (uint64_t f = 0; f < 2; ++f) {
+            const auto t = cm.draw(f * 1000003).truth;
+            const auto& c = lib->at(t.class_id);
+            if (c.has_azimuth() && !(t.azimuth_rad >= c.azimuth_min_rad && t.azimuth_rad <= c.azimuth_max_rad))
+                std::abort();
+            if (c.has_elevation() && !(t.elevation_rad >= c.elevation_min_rad && t.elevation_rad <= c.elevation_max_rad))
+                std::abort();
+        }
+    } catch (const std::invalid_argument&) {
+        // as above
     }
     return 0;
 }

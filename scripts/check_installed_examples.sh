@@ -99,7 +99,7 @@ run sems_radio_replay --recording radio
 # The Qt examples run until closed: offscreen, side by side (they mostly wait on their throttles),
 # stopped after 10 s; none may fail or raise before. sems_micro_doppler_live must find its
 # scene files in the prefix (none are beside the copied .grc).
-qt_examples="sems_live_views sems_micro_doppler_live sems_track_live"
+qt_examples="sems_live_views sems_micro_doppler_live sems_track_live sems_array_live"
 for name in $qt_examples; do
   ( status=0
     QT_QPA_PLATFORM=offscreen LD_PRELOAD="$run_preload" timeout 10 "$python" -u "out/$name/$name.py" \

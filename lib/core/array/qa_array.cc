@@ -5,6 +5,7 @@
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <gnuradio/sems/core/common/limits.h>
+#include <gnuradio/sems/core/scene/class_library.h>
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -89,6 +90,7 @@ class qa_array : public CppUnit::TestFixture
     CPPUNIT_TEST(clutter_scatterers_come_from_their_own_azimuths);
     CPPUNIT_TEST(random_targets_draw_their_azimuths_and_tracks_keep_them);
     CPPUNIT_TEST(random_targets_draw_their_elevations);
+    CPPUNIT_TEST(class_libraries_give_their_own_angles);
     CPPUNIT_TEST(array_files_round_trip);
     CPPUNIT_TEST(bad_arrays_are_refused_by_name);
     CPPUNIT_TEST(bad_angles_are_refused_by_name);
@@ -374,6 +376,64 @@ public:
             "random": {"elevation_rad": 0.3}})"), 4);
         CPPUNIT_ASSERT(std::isnan(single.draw(0).truth.elevation_rad));
         CPPUNIT_ASSERT(std::isnan(single.draw(0).truth.azimuth_rad));
+    }
+
+    // A class of a library may give its own azimuth and elevation (values or intervals): its
+    // targets draw from them in place of the scene's intervals, the other classes' from the
+    // scene's; the library writes them back; bad ones are refused naming the class and field.
+    void class_libraries_give_their_own_angles()
+    {
+        const auto lib_json = nlohmann::json::parse(R"({"format": "sems.classes", "version": 1, "name": "sides",
+            "classes": [{"name": "left", "range_m": [5, 50], "speed_mps": [0.5, 1.5], "azimuth_rad": [0.2, 0.3],
+                         "elevation_rad": [-0.2, -0.1], "micro_motion": {"model": "walker", "height_m": [1.6, 1.9]}},
+                        {"name": "ahead", "range_m": [5, 50], "speed_mps": [0.5, 1.5], "azimuth_rad": 0.05},
+                        {"name": "any", "range_m": [5, 50], "speed_mps": [0.5, 1.5]}]})");
+        const auto lib = class_library::from_json(lib_json, "sides.json");
+        CPPUNIT_ASSERT(class_library::from_json(lib->to_json(), "again.json")->to_json() == lib->to_json());
+        CPPUNIT_ASSERT(!lib->at(2).has_azimuth() && !lib->at(2).has_elevation());
+        random_spec r;
+        r.classes.clear();
+        r.azimuth_min_rad = -1.0;
+        r.azimuth_max_rad = -0.5;
+        r.heading = heading_kind::any;
+        const auto ula = array_geometry::ula(4, 0.05);
+        channel_model cm(frame_settings{}, scene::random(r, std::nullopt, fading_kind::none, lib).with_array(ula), 3);
+        int seen[3] = { 0, 0, 0 };
+        for (uint64_t f = 0; f < 300; ++f) {
+            const auto d = cm.draw(f);
+            const double az = d.truth.azimuth_rad, el = d.truth.elevation_rad;
+            if (d.truth.class_name == "left") {
+                CPPUNIT_ASSERT(az >= 0.2 && az <= 0.3 && el >= -0.2 && el <= -0.1);
+                const auto& body = d.bodies.at(static_cast<size_t>(d.truth_body));
+                CPPUNIT_ASSERT_DOUBLES_EQUAL(body.speed_mps * std::cos(body.heading_rad) * std::cos(el),
+                                             d.truth.velocity_mps, 1e-9);
+                ++seen[0];
+            } else if (d.truth.class_name == "ahead") {
+                CPPUNIT_ASSERT_EQUAL(0.05, az);
+                CPPUNIT_ASSERT_EQUAL(0.0, el);
+                ++seen[1];
+            } else {
+                CPPUNIT_ASSERT(az >= -1.0 && az <= -0.5);
+                CPPUNIT_ASSERT_EQUAL(0.0, el);
+                ++seen[2];
+            }
+        }
+        CPPUNIT_ASSERT(seen[0] > 50 && seen[1] > 50 && seen[2] > 50);
+        const auto with_class = [&](const std::string& extra) {
+            auto j = lib_json;
+            j["classes"][1].update(nlohmann::json::parse(extra));
+            return j;
+        };
+        assert_error([&] { class_library::from_json(with_class(R"({"azimuth_rad": [-4, 0]})"), "sides.json"); },
+                     "classes[1] (\"ahead\").azimuth_rad", "[-pi, pi]");
+        assert_error([&] { class_library::from_json(with_class(R"({"elevation_rad": [0.3, 0.2]})"), "sides.json"); },
+                     "classes[1].elevation_rad", "empty interval");
+        assert_error([&] { class_library::from_json(with_class(R"({"elevation_rad": 1.7})"), "sides.json"); },
+                     "classes[1] (\"ahead\").elevation_rad", "[-pi/2, pi/2]");
+        assert_error([&] {
+            class_library::from_json(with_class(R"({"elevation_rad": 0.2, "micro_motion": {"model": "rotor", "rotors": 4,
+                "blades": 2, "blade_length_m": 0.1, "rotation_hz": 90}})"), "sides.json");
+        }, "classes[1] (\"ahead\").elevation_rad", "rotor");
     }
 
     void array_files_round_trip()

@@ -149,13 +149,16 @@ void draw_target(target_spec& t,
                             db_to_linear(-k * r.path_power_decay_db) });
     // Last, and only with a link budget, so scenes without one keep their exact frames.
     t.rcs_dbsm = budget ? g.uniform(spec.rcs_min_dbsm, spec.rcs_max_dbsm) : target_spec{}.rcs_dbsm;
-    // The azimuth after everything else, and drawn only for an interval, for the same reason.
-    t.azimuth_rad = r.azimuth_min_rad < r.azimuth_max_rad ? g.uniform(r.azimuth_min_rad, r.azimuth_max_rad)
-                                                          : r.azimuth_min_rad;
-    // The elevation after the azimuth, drawn only for an interval; the radial velocity is the
-    // ground-plane velocity's projection on the line of sight.
-    t.elevation_rad = r.elevation_min_rad < r.elevation_max_rad ? g.uniform(r.elevation_min_rad, r.elevation_max_rad)
-                                                                : r.elevation_min_rad;
+    // The azimuth after everything else, and drawn only for an interval, for the same reason:
+    // the class's own interval where its library gives one, else the scene's.
+    const double az_lo = spec.has_azimuth() ? spec.azimuth_min_rad : r.azimuth_min_rad;
+    const double az_hi = spec.has_azimuth() ? spec.azimuth_max_rad : r.azimuth_max_rad;
+    t.azimuth_rad = az_lo < az_hi ? g.uniform(az_lo, az_hi) : az_lo;
+    // The elevation after the azimuth, drawn only for an interval (the class's, else the
+    // scene's); the radial velocity is the ground-plane velocity's projection on the line of sight.
+    const double el_lo = spec.has_elevation() ? spec.elevation_min_rad : r.elevation_min_rad;
+    const double el_hi = spec.has_elevation() ? spec.elevation_max_rad : r.elevation_max_rad;
+    t.elevation_rad = el_lo < el_hi ? g.uniform(el_lo, el_hi) : el_lo;
     if (t.elevation_rad != 0.0)
         t.velocity_mps *= std::cos(t.elevation_rad);
 }

@@ -4,7 +4,8 @@
  * File format:
  *   {"format": "sems.classes", "version": 1, "name": "kinematic", "description": "...",
  *    "classes": [{"name": "adult", "description": "...", "range_m": [5, 150], "speed_mps": [0.5, 2.0],
- *                 "micro_motion": {"model": "walker", "height_m": [1.6, 1.95]}}, ...]}
+ *                 "micro_motion": {"model": "walker", "height_m": [1.6, 1.95]},
+ *                 "azimuth_rad": [-0.5, 0.5], "elevation_rad": 0}, ...]}   (both optional)
  * Every micro-motion value is a number or an interval [min, max] drawn uniformly per frame;
  * a phase not given is drawn over [0, 2π).
  */
@@ -170,6 +171,20 @@ std::shared_ptr<const class_library> class_library::from_json(const json& j, con
                                                    std::to_string(c.speed_min_mps));
         if (r.has("rcs_dbsm")) // uniform in dB per frame where a link budget uses it
             std::tie(c.rcs_min_dbsm, c.rcs_max_dbsm) = read_interval(r, "rcs_dbsm");
+        if (r.has("azimuth_rad")) { // the line of sight's, in place of the scene's interval
+            std::tie(c.azimuth_min_rad, c.azimuth_max_rad) = read_interval(r, "azimuth_rad");
+            if (!(c.azimuth_min_rad >= -M_PI && c.azimuth_max_rad <= M_PI))
+                fail(source, where + ".azimuth_rad", "must lie in [-pi, pi] rad, got [" +
+                                                         checks::text(c.azimuth_min_rad) + ", " +
+                                                         checks::text(c.azimuth_max_rad) + "]");
+        }
+        if (r.has("elevation_rad")) {
+            std::tie(c.elevation_min_rad, c.elevation_max_rad) = read_interval(r, "elevation_rad");
+            if (!(c.elevation_min_rad >= -M_PI / 2 && c.elevation_max_rad <= M_PI / 2))
+                fail(source, where + ".elevation_rad", "must lie in [-pi/2, pi/2] rad, got [" +
+                                                           checks::text(c.elevation_min_rad) + ", " +
+                                                           checks::text(c.elevation_max_rad) + "]");
+        }
         if (const json* m = r.find("micro_motion")) {
             c.motion = std::make_shared<const detail::motion_template>(
                 detail::read_motion_template(*m, source, where + ".micro_motion", true, c.speed_min_mps, c.speed_max_mps));
@@ -180,6 +195,14 @@ std::shared_ptr<const class_library> class_library::from_json(const json& j, con
                         detail::walker_check_speed(w.height_m, v, source, where + ".speed_mps");
                 }
         }
+        // A body is modelled from any elevation only as a point, a sinusoid or a walker (rotors,
+        // wheels and user scatterers are seen from the ground plane), as for a scene's interval.
+        const std::string model = c.motion_model();
+        if (c.has_elevation() && (c.elevation_min_rad != 0.0 || c.elevation_max_rad != 0.0) && model != "none" &&
+            model != "sinusoid" && model != "walker")
+            fail(source, where + ".elevation_rad",
+                 "a " + model + " class is modelled as seen from the ground plane: only point, sinusoid and walker "
+                 "classes take an elevation other than 0");
         r.finish();
         lib->d_classes.push_back(std::move(c));
     }
@@ -198,6 +221,11 @@ json class_library::to_json() const
             jc["description"] = c.description;
         if (c.has_rcs())
             jc["rcs_dbsm"] = c.rcs_min_dbsm == c.rcs_max_dbsm ? json(c.rcs_min_dbsm) : json({ c.rcs_min_dbsm, c.rcs_max_dbsm });
+        const auto value_or_interval = [](double lo, double hi) { return lo == hi ? json(lo) : json({ lo, hi }); };
+        if (c.has_azimuth())
+            jc["azimuth_rad"] = value_or_interval(c.azimuth_min_rad, c.azimuth_max_rad);
+        if (c.has_elevation())
+            jc["elevation_rad"] = value_or_interval(c.elevation_min_rad, c.elevation_max_rad);
         if (c.motion)
             jc["micro_motion"] = c.motion->source_json;
         classes.push_back(jc);

@@ -42,6 +42,22 @@ struct SEMS_API class_definition {
     double rcs_max_dbsm = std::numeric_limits<double>::quiet_NaN(); ///< upper end of its mean RCS in dBsm
     /*! \brief Whether it gives an RCS (a scene with a link budget needs one). \return true when given. */
     bool has_rcs() const { return !std::isnan(rcs_min_dbsm); }
+    /*!
+     * \brief Lower end of the azimuth of its line of sight in rad, drawn per target in place of the
+     *        scene's `random.azimuth_rad` (NaN: not given, the scene's applies).
+     */
+    double azimuth_min_rad = std::numeric_limits<double>::quiet_NaN();
+    double azimuth_max_rad = std::numeric_limits<double>::quiet_NaN(); ///< upper end of its azimuth in rad
+    /*!
+     * \brief Lower end of the elevation of its line of sight in rad, drawn per target in place of
+     *        the scene's `random.elevation_rad` (NaN: not given, the scene's applies).
+     */
+    double elevation_min_rad = std::numeric_limits<double>::quiet_NaN();
+    double elevation_max_rad = std::numeric_limits<double>::quiet_NaN(); ///< upper end of its elevation in rad
+    /*! \brief Whether it gives its own azimuth. \return true when given. */
+    bool has_azimuth() const { return !std::isnan(azimuth_min_rad); }
+    /*! \brief Whether it gives its own elevation. \return true when given. */
+    bool has_elevation() const { return !std::isnan(elevation_min_rad); }
     /*! \brief The micro-motion model. \return "none", "sinusoid", "rotor", "walker", "wheels" or "scatterers". */
     std::string motion_model() const;
     /*! \brief The largest extent |r_s| any draw of its micro-motion reaches. \return the bound in m. */
