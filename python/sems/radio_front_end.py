@@ -9,13 +9,15 @@ from gnuradio import analog, blocks, channels, filter, gr
 
 from .core_python import frame_settings as _frame_settings
 from .core_python import channel_model, front_end_settings, oscillator_from_name, oscillator_kind
+from .core_python import element_oscillator_from_name, element_oscillator_kind
 from .core_python import phase_noise_source, target_channel_td
 
 _FRAME = _frame_settings()  # the frame defaults' one place (include/gnuradio/sems/core/frame/frame_settings.h)
 _IDEAL = front_end_settings()  # the defaults' one place (include/gnuradio/sems/core/radio/front_end.h)
 _SETTINGS = tuple(k for k in dir(_IDEAL) if not k.startswith("_") and not callable(getattr(_IDEAL, k)))
-# Seeds of the oscillators, apart from the channel's own draws of the same seed.
-_TX_OSC, _RX_OSC = 0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9
+# Seeds of the oscillators, apart from the channel's own draws of the same seed (receive element
+# k > 0 with its own oscillator: the receiver's seed plus k times _ELEMENT_OSC).
+_TX_OSC, _RX_OSC, _ELEMENT_OSC = 0x9E3779B97F4A7C15, 0xBF58476D1CE4E5B9, 0x94D049BB133111EB
 _MMSE_CENTRE = 3  # filter.mmse_resampler_cc: output 0 is input 3 (qa_radio_front_end checks it)
 
 
@@ -37,6 +39,8 @@ def radio_settings(radio="", **overrides):
             raise TypeError(f"radio_front_end: unknown setting {key!r} (known: {', '.join(sorted(_SETTINGS))})")
         if key == "oscillator" and isinstance(value, str):
             value = oscillator_from_name(value)
+        if key == "element_oscillators" and isinstance(value, str):
+            value = element_oscillator_from_name(value)
         setattr(s, key, value)
     s.validate()
     return s
@@ -143,7 +147,9 @@ class radio_front_end(gr.hier_block2):
     """The time-domain target channel (target_channel_td) inside an SDR front end: the
     transmitted samples in, what the receiver's converter delivers out.
 
-    Complex samples in (what ofdm_tx emits), complex samples out, sample-aligned 1:1:
+    Complex samples in (what ofdm_tx emits), complex samples out, sample-aligned 1:1; with an
+    array in the scene (n_receive > 1), one output per receive element, each through its own
+    receiver chain below:
 
         x -> [x TX oscillator] -> target_channel_td (echo + noise) -+-> [x conj RX oscillator]
                               \\-> leakage FIR --------------------/
@@ -151,7 +157,10 @@ class radio_front_end(gr.hier_block2):
 
     The oscillators are sems.phase_noise_source streams: one (shared, monostatic) multiplies
     the transmitted samples and, conjugated, the received ones, so the echo at delay tau sees
-    phi(t - tau) - phi(t); two with independent seeds when separate (bistatic). The leakage
+    phi(t - tau) - phi(t); two with independent seeds when separate (bistatic). Receive
+    elements down-convert with the receiver's oscillator (element_oscillators "shared", a
+    phase-synchronised array) or element k > 0 with its own of the same phase noise ("own");
+    CFO, SFO, IQ imbalance, DC and converter settings are every element's. The leakage
     path (front_end_settings.leakage_response, causal, first tap at delay 0) is added to the
     echo; the echo itself goes through nothing but the channel, so the chain stays sample-
     aligned 1:1. The converter scales so that each rail's full scale is adc_full_scale_rms
@@ -171,7 +180,8 @@ class radio_front_end(gr.hier_block2):
     **settings: fields of front_end_settings overriding the file's; tx_power: mean power of
     the transmitted samples (1 for unit-power resource elements on every subcarrier, (M - G)/M
     with G guard subcarriers);
-    the other arguments are target_channel_td's.
+    n_receive: the scene's receive elements (1 without an array; a mismatch is refused naming
+    both counts); the other arguments are target_channel_td's (one transmit element).
     """
 
     def __init__(self, radio="", scene="", classes=(), n_targets=1, paths_per_target=1,
@@ -180,11 +190,11 @@ class radio_front_end(gr.hier_block2):
                  n_symbols=_FRAME.n_symbols, n_subcarriers=_FRAME.n_subcarriers,
                  bandwidth_hz=_FRAME.bandwidth_hz, carrier_hz=_FRAME.carrier_hz,
                  symbol_interval_s=_FRAME.symbol_interval_s, cp_len=_FRAME.cp_len,
-                 class_library="paper", tx_power=1.0, **settings):
+                 class_library="paper", tx_power=1.0, n_receive=1, **settings):
         gr.hier_block2.__init__(
             self, "sems_radio_front_end",
             gr.io_signature(1, 1, gr.sizeof_gr_complex),
-            gr.io_signature(1, 1, gr.sizeof_gr_complex))
+            gr.io_signature(n_receive, n_receive, gr.sizeof_gr_complex))
         self.settings = radio_settings(radio, **settings)
         s = self.settings
         _check_tx_power(tx_power)
@@ -192,11 +202,17 @@ class radio_front_end(gr.hier_block2):
         self.channel = target_channel_td(scene, list(classes), n_targets, paths_per_target, micro_doppler,
                                          clutter_paths, clutter_csr_db, snr_db, seed, n_symbols,
                                          n_subcarriers, bandwidth_hz, carrier_hz, symbol_interval_s,
-                                         cp_len, class_library)
+                                         cp_len, class_library, n_receive, 1)
+        self.n_receive = n_receive
         fs = bandwidth_hz
         mask = (1 << 64) - 1
         #: The seeds of the TX and RX oscillators (phase_noise_process regenerates their phases).
         self.oscillator_seeds = ((seed + _TX_OSC) & mask, (seed + _RX_OSC) & mask)
+        #: Each receive element's oscillator seed: the receiver's (the TX's when shared), and with
+        #: element_oscillators "own" element k's own beyond element 0.
+        own = s.element_oscillators == element_oscillator_kind.own
+        rx_seed = self.oscillator_seeds[1 if s.oscillator == oscillator_kind.separate else 0]
+        self.element_oscillator_seeds = [(rx_seed + (k * _ELEMENT_OSC if own else 0)) & mask for k in range(n_receive)]
 
         # Transmitter: up-conversion by the TX oscillator.
         tx = (self, 0)
@@ -213,73 +229,92 @@ class radio_front_end(gr.hier_block2):
                 self.rx_osc = phase_noise_source(fs, s.phase_noise_dbc_hz, s.phase_noise_offset_hz,
                                                  self.oscillator_seeds[1])
         self.connect(tx, self.channel)
-        rx = (self.channel, 0)
-
-        # Leakage: the transmitted samples through a short causal path, added to the echo.
+        # Leakage: the transmitted samples through a short causal path, added to each element's echo.
         taps = s.leakage_response()
+        self.leakage = None
         if taps:
             self.leakage = filter.fir_filter_ccc(1, taps)
             self.leakage.set_tag_propagation_policy(gr.TPP_DONT)  # the echo path carries the tags
-            self.add_leakage = blocks.add_cc()
-            self.connect(tx, self.leakage, (self.add_leakage, 1))
-            self.connect(rx, (self.add_leakage, 0))
-            rx = (self.add_leakage, 0)
+            self.connect(tx, self.leakage)
+        #: Each receive element's chain (dict of its blocks); element 0's also as attributes.
+        self.elements = []
+        for k in range(n_receive):
+            osc = self.rx_osc
+            if k > 0 and own:
+                osc = phase_noise_source(fs, s.phase_noise_dbc_hz, s.phase_noise_offset_hz,
+                                         self.element_oscillator_seeds[k])
+            chain = self._receive_chain(s, fs, (self.channel, k), osc)
+            self.connect(chain.pop("out"), (self, k))
+            self.elements.append(chain)
+        for name, block in self.elements[0].items():
+            setattr(self, name, block)
+        self._set_levels(snr_db)
 
-        # Receiver: down-conversion by the RX oscillator, CFO.
-        if self.rx_osc is not None:
-            self.rx_mix = blocks.multiply_conjugate_cc()
-            self.connect(rx, (self.rx_mix, 0))
-            self.connect(self.rx_osc, (self.rx_mix, 1))
-            rx = (self.rx_mix, 0)
+    def _receive_chain(self, s, fs, rx, osc):
+        """One receive element's chain from its echo rx to its converter: the blocks by name,
+        and "out", its last port."""
+        b = {"rx_osc": osc}
+        if self.leakage is not None:
+            b["add_leakage"] = blocks.add_cc()
+            self.connect(rx, (b["add_leakage"], 0))
+            self.connect(self.leakage, (b["add_leakage"], 1))
+            rx = (b["add_leakage"], 0)
+
+        # Receiver: down-conversion by the element's oscillator, CFO.
+        if osc is not None:
+            b["rx_mix"] = blocks.multiply_conjugate_cc()
+            self.connect(rx, (b["rx_mix"], 0))
+            self.connect(osc, (b["rx_mix"], 1))
+            rx = (b["rx_mix"], 0)
         if s.cfo_hz != 0.0:
-            self.cfo = blocks.rotator_cc(2.0 * math.pi * s.cfo_hz / fs)
-            self.connect(rx, self.cfo)
-            rx = (self.cfo, 0)
+            b["cfo"] = blocks.rotator_cc(2.0 * math.pi * s.cfo_hz / fs)
+            self.connect(rx, b["cfo"])
+            rx = (b["cfo"], 0)
 
         # IQ imbalance: GNU Radio's receiver model, I' = g (I cos p + Q sin p), Q' = Q.
         if s.iq_gain_db != 0.0 or s.iq_phase_deg != 0.0:
-            self.iq = channels.iqbal_gen(s.iq_gain_db, s.iq_phase_deg, 1)
+            b["iq"] = channels.iqbal_gen(s.iq_gain_db, s.iq_phase_deg, 1)
             # Inside, Q reaches the output both directly and through the adder: keep one copy of each tag.
-            self.iq.adder.set_tag_propagation_policy(gr.TPP_DONT)
-            self.connect(rx, self.iq)
-            rx = (self.iq, 0)
+            b["iq"].adder.set_tag_propagation_policy(gr.TPP_DONT)
+            self.connect(rx, b["iq"])
+            rx = (b["iq"], 0)
 
-        self.dc = None
+        b["dc"] = None
         if s.dc_offset_db is not None:
-            self.dc = blocks.add_const_cc(0j)
-            self.connect(rx, self.dc)
-            rx = (self.dc, 0)
+            b["dc"] = blocks.add_const_cc(0j)
+            self.connect(rx, b["dc"])
+            rx = (b["dc"], 0)
 
         # Sample clock offset: the converter samples at fs (1 + sfo), output k at input time k / (1 + sfo).
         # filter.mmse_resampler_cc's output k is the input at 3 + k * ratio (its 8-tap interpolator's
         # centre): 3 samples of silence ahead of the stream make it k * ratio, so nothing is shifted.
         if s.sfo_ppm != 0.0:
-            self.sfo_align = blocks.delay(gr.sizeof_gr_complex, _MMSE_CENTRE)
-            self.sfo = filter.mmse_resampler_cc(0.0, 1.0 / (1.0 + 1e-6 * s.sfo_ppm))
-            self.connect(rx, self.sfo_align, self.sfo)
-            rx = (self.sfo, 0)
+            b["sfo_align"] = blocks.delay(gr.sizeof_gr_complex, _MMSE_CENTRE)
+            b["sfo"] = filter.mmse_resampler_cc(0.0, 1.0 / (1.0 + 1e-6 * s.sfo_ppm))
+            self.connect(rx, b["sfo_align"], b["sfo"])
+            rx = (b["sfo"], 0)
 
-        self.to_scale = None
+        b["to_scale"] = None
         if s.adc_enob is not None:
-            self.to_scale = blocks.multiply_const_cc(1.0)  # full scale -> 1 (set_snr_db sets both gains)
-            self.to_rails = blocks.complex_to_float(1)
-            self.clip_i, self.clip_q = analog.rail_ff(-1.0, 1.0), analog.rail_ff(-1.0, 1.0)
-            self.clip_q.set_tag_propagation_policy(gr.TPP_DONT)  # the I rail carries the tags
+            b["to_scale"] = blocks.multiply_const_cc(1.0)  # full scale -> 1 (set_snr_db sets both gains)
+            b["to_rails"] = blocks.complex_to_float(1)
+            b["clip_i"], b["clip_q"] = analog.rail_ff(-1.0, 1.0), analog.rail_ff(-1.0, 1.0)
+            b["clip_q"].set_tag_propagation_policy(gr.TPP_DONT)  # the I rail carries the tags
             # Rounding to 2^(ENOB-1) steps per unit full scale through 32-bit integers
             # (channels.quantizer goes through 16-bit shorts, so above 15 bits it saturates
             # below full scale).
             steps = 2.0 ** (s.adc_enob - 1.0)
-            self.quant_i, self.quant_q = (blocks.float_to_int(1, steps), blocks.float_to_int(1, steps))
-            self.dequant_i, self.dequant_q = (blocks.int_to_float(1, steps), blocks.int_to_float(1, steps))
-            self.from_rails = blocks.float_to_complex(1)
-            self.from_scale = blocks.multiply_const_cc(1.0)
-            self.connect(rx, self.to_scale, self.to_rails)
-            self.connect((self.to_rails, 0), self.clip_i, self.quant_i, self.dequant_i, (self.from_rails, 0))
-            self.connect((self.to_rails, 1), self.clip_q, self.quant_q, self.dequant_q, (self.from_rails, 1))
-            self.connect(self.from_rails, self.from_scale)
-            rx = (self.from_scale, 0)
-        self.connect(rx, (self, 0))
-        self._set_levels(snr_db)
+            b["quant_i"], b["quant_q"] = (blocks.float_to_int(1, steps), blocks.float_to_int(1, steps))
+            b["dequant_i"], b["dequant_q"] = (blocks.int_to_float(1, steps), blocks.int_to_float(1, steps))
+            b["from_rails"] = blocks.float_to_complex(1)
+            b["from_scale"] = blocks.multiply_const_cc(1.0)
+            self.connect(rx, b["to_scale"], b["to_rails"])
+            self.connect((b["to_rails"], 0), b["clip_i"], b["quant_i"], b["dequant_i"], (b["from_rails"], 0))
+            self.connect((b["to_rails"], 1), b["clip_q"], b["quant_q"], b["dequant_q"], (b["from_rails"], 1))
+            self.connect(b["from_rails"], b["from_scale"])
+            rx = (b["from_scale"], 0)
+        b["out"] = rx
+        return b
 
     def expected_rms(self, snr_db=None):
         """The rms the converter expects (complex, DC included) at an SNR (default: the channel's),
@@ -295,12 +330,13 @@ class radio_front_end(gr.hier_block2):
 
     def _set_levels(self, snr_db):
         _, dc = self.expected_rms(snr_db)
-        if self.dc is not None:
-            self.dc.set_k(cmath.rect(dc, math.pi / 4))
-        if self.to_scale is not None:
-            a = self.full_scale(snr_db)
-            self.to_scale.set_k(1.0 / a)
-            self.from_scale.set_k(a)
+        for b in self.elements:
+            if b["dc"] is not None:
+                b["dc"].set_k(cmath.rect(dc, math.pi / 4))
+            if b["to_scale"] is not None:
+                a = self.full_scale(snr_db)
+                b["to_scale"].set_k(1.0 / a)
+                b["from_scale"].set_k(a)
 
     def set_snr_db(self, snr_db):
         """Sets the channel's SNR (from its next frame) and the DC and converter levels (at once)."""

@@ -48,6 +48,20 @@ oscillator_kind oscillator_from_name(const std::string& name)
     throw std::invalid_argument("front end: oscillator must be \"shared\" or \"separate\", got \"" + name + "\"");
 }
 
+std::string element_oscillator_name(element_oscillator_kind k)
+{
+    return k == element_oscillator_kind::shared ? "shared" : "own";
+}
+
+element_oscillator_kind element_oscillator_from_name(const std::string& name)
+{
+    if (name == "shared")
+        return element_oscillator_kind::shared;
+    if (name == "own")
+        return element_oscillator_kind::own;
+    throw std::invalid_argument("front end: element_oscillators must be \"shared\" or \"own\", got \"" + name + "\"");
+}
+
 void front_end_settings::validate() const
 {
     if (leakage_db)
@@ -81,6 +95,9 @@ void front_end_settings::validate() const
         refuse("adc_full_scale_rms", "positive and finite", adc_full_scale_rms);
     check_finite("cfo_hz", cfo_hz);
     check_range("sfo_ppm", sfo_ppm, -1000.0, 1000.0, "in [-1000, 1000] ppm");
+    if (element_oscillators == element_oscillator_kind::own && !phase_noise_dbc_hz)
+        throw std::invalid_argument("front end: element_oscillators \"own\" needs phase noise (phase_noise.dbc_hz): "
+                                    "without it every element's oscillator is the same clean one");
     if (oscillator == oscillator_kind::shared) {
         if (cfo_hz != 0.0)
             refuse("cfo_hz", "0 with a shared oscillator (set oscillator to separate)", cfo_hz);
@@ -165,6 +182,8 @@ nlohmann::json front_end_settings::to_json() const
     if (phase_noise_dbc_hz)
         j["phase_noise"] = { { "dbc_hz", *phase_noise_dbc_hz }, { "offset_hz", phase_noise_offset_hz } };
     j["oscillator"] = oscillator_name(oscillator);
+    if (element_oscillators != element_oscillator_kind::shared) // absent: shared (radio files before arrays)
+        j["element_oscillators"] = element_oscillator_name(element_oscillators);
     j["iq_imbalance"] = { { "gain_db", iq_gain_db }, { "phase_deg", iq_phase_deg } };
     if (dc_offset_db)
         j["dc_offset_db"] = *dc_offset_db;
@@ -196,6 +215,13 @@ front_end_settings front_end_settings::from_json(const nlohmann::json& j, const 
     if (top.has("oscillator")) {
         try {
             s.oscillator = oscillator_from_name(top.string("oscillator"));
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(source + ": " + e.what());
+        }
+    }
+    if (top.has("element_oscillators")) {
+        try {
+            s.element_oscillators = element_oscillator_from_name(top.string("element_oscillators"));
         } catch (const std::invalid_argument& e) {
             throw std::invalid_argument(source + ": " + e.what());
         }
@@ -244,6 +270,7 @@ bool front_end_settings::operator==(const front_end_settings& o) const
     return leakage_db == o.leakage_db && leakage_taps == o.leakage_taps &&
            leakage_decay_samples == o.leakage_decay_samples && phase_noise_dbc_hz == o.phase_noise_dbc_hz &&
            phase_noise_offset_hz == o.phase_noise_offset_hz && oscillator == o.oscillator &&
+           element_oscillators == o.element_oscillators &&
            iq_gain_db == o.iq_gain_db && iq_phase_deg == o.iq_phase_deg && dc_offset_db == o.dc_offset_db &&
            adc_enob == o.adc_enob && adc_full_scale_rms == o.adc_full_scale_rms && cfo_hz == o.cfo_hz &&
            sfo_ppm == o.sfo_ppm;

@@ -100,6 +100,13 @@ public:
         refused([](auto& s) { s.cfo_hz = 100; }, "cfo_hz", "shared");
         refused([](auto& s) { s.sfo_ppm = 1; }, "sfo_ppm", "shared");
         assert_error([] { oscillator_from_name("common"); }, "oscillator", "common");
+        // An array's own oscillators need phase noise (else they are all the same clean one).
+        assert_error([] {
+            front_end_settings s;
+            s.element_oscillators = element_oscillator_kind::own;
+            s.validate();
+        }, "element_oscillators", "phase noise");
+        assert_error([] { element_oscillator_from_name("each"); }, "element_oscillators", "each");
     }
 
     void radio_file_round_trips()
@@ -118,6 +125,7 @@ public:
         s.adc_full_scale_rms = 3.3;
         s.cfo_hz = -1234.5;
         s.sfo_ppm = 2.5;
+        s.element_oscillators = element_oscillator_kind::own;
         s.validate();
         const std::string path = "qa_front_end_round_trip.json";
         s.save(path);
@@ -127,7 +135,9 @@ public:
         // The ideal radio writes no optional group and reads back ideal.
         const front_end_settings ideal;
         const auto j = ideal.to_json();
-        CPPUNIT_ASSERT(!j.contains("leakage") && !j.contains("phase_noise") && !j.contains("converter"));
+        CPPUNIT_ASSERT(!j.contains("leakage") && !j.contains("phase_noise") && !j.contains("converter") &&
+                       !j.contains("element_oscillators"));
+        CPPUNIT_ASSERT(s.to_json().at("element_oscillators") == "own");
         CPPUNIT_ASSERT(front_end_settings::parse(ideal.to_json_string()).is_ideal());
     }
 
@@ -142,6 +152,10 @@ public:
         assert_error([&] { front_end_settings::parse(head + R"("phase_noise": {"dbc_hz": 10}})", "my.json"); },
                      "my.json", "phase_noise_dbc_hz");
         assert_error([&] { front_end_settings::parse(head + R"("oscillator": "both"})", "my.json"); }, "my.json", "both");
+        assert_error([&] { front_end_settings::parse(head + R"("element_oscillators": "each"})", "my.json"); }, "my.json",
+                     "each");
+        assert_error([&] { front_end_settings::parse(head + R"("element_oscillators": "own"})", "my.json"); }, "my.json",
+                     "needs phase noise");
         assert_error([&] { front_end_settings::parse(R"({"format": "sems.scene", "version": 1})", "my.json"); },
                      "my.json", "format");
         assert_error([&] { front_end_settings::parse(R"({"format": "sems.radio", "version": 2})", "my.json"); },

@@ -23,6 +23,12 @@ void bind_front_end(py::module& m)
         .value("separate", oscillator_kind::separate);
     m.def("oscillator_name", &oscillator_name, py::arg("kind"), D(oscillator_name));
     m.def("oscillator_from_name", &oscillator_from_name, py::arg("name"), D(oscillator_from_name));
+    py::enum_<element_oscillator_kind>(m, "element_oscillator_kind", D(element_oscillator_kind))
+        .value("shared", element_oscillator_kind::shared)
+        .value("own", element_oscillator_kind::own);
+    m.def("element_oscillator_name", &element_oscillator_name, py::arg("kind"), D(element_oscillator_name));
+    m.def("element_oscillator_from_name", &element_oscillator_from_name, py::arg("name"),
+          D(element_oscillator_from_name));
 
     using fe = front_end_settings;
     py::class_<fe>(m, "front_end_settings", D(front_end_settings))
@@ -33,6 +39,7 @@ void bind_front_end(py::module& m)
         .def_readwrite("phase_noise_dbc_hz", &fe::phase_noise_dbc_hz)
         .def_readwrite("phase_noise_offset_hz", &fe::phase_noise_offset_hz)
         .def_readwrite("oscillator", &fe::oscillator)
+        .def_readwrite("element_oscillators", &fe::element_oscillators)
         .def_readwrite("iq_gain_db", &fe::iq_gain_db)
         .def_readwrite("iq_phase_deg", &fe::iq_phase_deg)
         .def_readwrite("dc_offset_db", &fe::dc_offset_db)

@@ -38,6 +38,20 @@ SEMS_API std::string oscillator_name(oscillator_kind k);
  */
 SEMS_API oscillator_kind oscillator_from_name(const std::string& name);
 
+/*! \brief Whether the receive elements of an array down-convert with one oscillator or each with its own. */
+enum class element_oscillator_kind {
+    shared, ///< the receiver's one oscillator distributed to every element (a phase-synchronised array)
+    own     ///< each element its own oscillator of the same phase noise: element 0 the receiver's, the others independent
+};
+
+/*! \brief The name in radio files. \param k the kind. \return "shared" or "own". */
+SEMS_API std::string element_oscillator_name(element_oscillator_kind k);
+/*!
+ * \brief The kind from its name. \param name "shared" or "own".
+ * \return the kind. \throws std::invalid_argument naming the value.
+ */
+SEMS_API element_oscillator_kind element_oscillator_from_name(const std::string& name);
+
 /*!
  * \brief The impairments of an SDR front end. The defaults are the ideal radio: every
  *        impairment off, so the front end passes the channel's output through unchanged.
@@ -65,6 +79,13 @@ struct SEMS_API front_end_settings {
     double phase_noise_offset_hz = 100e3;
     /*! \brief One oscillator for both ends (monostatic) or two (bistatic). */
     oscillator_kind oscillator = oscillator_kind::shared;
+    /*!
+     * \brief With several receive elements: every element down-converts with the receiver's
+     *        oscillator (shared) or each with its own (own: independent phase noise of the same
+     *        L(f), the same CFO and SFO, as receivers locked to one reference clock). Element 0
+     *        keeps the receiver's oscillator either way. "own" needs phase noise.
+     */
+    element_oscillator_kind element_oscillators = element_oscillator_kind::shared;
 
     /*! \brief Receiver IQ gain imbalance in dB, I rail over Q rail (|x| < 20 dB). */
     double iq_gain_db = 0.0;
