@@ -28,7 +28,7 @@ if [[ -z "$cxx" ]]; then
   exit 2
 fi
 mkdir -p "$build"
-cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build/configure.log"
+cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release > "$build/configure.log"
 cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 fuzz_one() { # harness: fuzzes, then prints its summary; exit 1 on a crash

@@ -14,7 +14,7 @@ export SEMS_BUILD_DIR="${SEMS_BUILD_DIR:-$default_build}"
 "$root/scripts/install_deps.sh"
 # A new tree compiles the learning library and the core Python extension in batches, as the
 # demo's does (SEMS_UNITY_BUILD), so the suite also proves that the batches compile (CI's tree
-# is new; scripts/sanitize_thread.sh's tree compiles the same files one by one).
+# is new).
 if [ ! -f "$SEMS_BUILD_DIR/CMakeCache.txt" ]; then
   export SEMS_UNITY_BUILD="${SEMS_UNITY_BUILD:-ON}"
 fi

@@ -88,7 +88,7 @@ SEMS_LEARNING_API torch::Tensor gumbel_topk_st(const torch::Tensor& scores,
  * \details Row i's relaxation is e_j / Z_i over the elements j not picked before it, with
  * e = exp((scores + g)/τ) and Z_i = U + Σ_{t ≥ i} e_{pick t} (U: the sum over unpicked
  * elements), so column j sums to e_j·Σ_{i ≤ t} 1/Z_i when j is pick t and e_j·Σ_i 1/Z_i when
- * it is not picked. The dense k x K rows need 4·k·K bytes per temporary (16 GiB at
+ * it is not picked. The dense k x K rows need 4·k·K bytes per temporary (4 GiB at
  * k = 1 024 pilots of a 256 x 4 096 grid); this needs a few K-vectors. Equal to the dense
  * column sums up to float rounding (same draws from `uniform` or the global generator).
  */
