@@ -4,7 +4,7 @@
 # and runs each for SECONDS seconds (default 60) on its seed corpus, as many at once as there
 # are cores (each harness is one process on one core; $SEMS_FUZZ_JOBS overrides the count).
 # Exit status 1 when a harness finds a crash; the reproducer is left in
-# $SEMS_FUZZ_BUILD_DIR/artifacts/<harness>/ and the log in .../<harness>.log.
+# $SEMS_FUZZ_BUILD_DIR/artifacts/<harness>/ and the log in $SEMS_FUZZ_BUILD_DIR/fuzz_<harness>.log.
 #
 #   scripts/fuzz.sh              # 60 s each
 #   scripts/fuzz.sh 25           # what CI runs

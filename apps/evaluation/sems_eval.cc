@@ -191,7 +191,7 @@ int main(int argc, char** argv)
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
         ("epochs", po::value<int>(), "override: mask-learning epochs (decoder epochs on fixed masks)")
         ("decoder-epochs", po::value<int>(), "override: decoder epochs after a learned mask")
-        ("classifier-epochs", po::value<int>(), "override: mask-learning epochs of the classification networks (experiments 1-3)")
+        ("classifier-epochs", po::value<int>(), "override: mask-learning epochs of every classification network (experiments 1-3, 7 and 8)")
         ("svm-train-frames", po::value<int>(), "override: feature-SVM training frames")
         ("tsne-frames", po::value<int>(), "override: frames in the t-SNE features")
         ("snrs", po::value(&snrs), "override: recognition SNR points (dB), comma-separated")
@@ -205,8 +205,9 @@ int main(int argc, char** argv)
         ("exp7-np-sweep", po::value(&exp7_np_sweep), "override: experiment 7's pilot budgets besides 32 (test 8; full 128,64,16,8)")
         ("exp7-parts", po::value(&exp7_parts)->default_value(exp7_parts),
          "experiment 7: comma-separated subset of main (N_p 32, every method), budget (the N_p sweep), power (SemS with "
-         "learned pilot energies), bank (SemS and the Doppler pattern's decoder, each with a template bank, at N_p 16 and 64), "
-         "burst (the decoder on the burst pattern at N_p 8 and 16, beside the budget part's), to split a run over processes; "
+         "learned pilot energies), bank (SemS and the Doppler pattern's decoder, each with a template bank, at N_p 8 in test, "
+         "16 and 64 in full), burst (the decoder on the burst pattern at N_p 8 in test, 8 and 16 in full, beside the budget "
+         "part's), to split a run over processes; "
          "range (a shipped classifier against range under a link budget, only when named: --exp7-range-bundle, --exp7-range-scene)")
         ("exp7-range-bundle", po::value(&c.exp7_range_bundle), "experiment 7's range part: the classifier bundle (its frame is used)")
         ("exp7-range-scene", po::value(&c.exp7_range_scene), "experiment 7's range part: a scene with a link budget, of the bundle's class library")
@@ -233,7 +234,7 @@ int main(int argc, char** argv)
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
         ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle (learned angle), every method then on its mask and array")
         ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
-        ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no settings check)")
+        ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no check of the training settings; a bundle of another frame is refused)")
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
         ("no-any-heading", "experiment 1: skip the \"any\" heading scene")
         ("no-hand-patterns", "experiment 1: skip the SemS decoder on the hand patterns (doppler, uniform, random)")
@@ -247,7 +248,7 @@ int main(int argc, char** argv)
          "--model-card: frames of a test track (0: the track bundle's training length)")
         ("card-snrs", po::value<std::string>()->default_value("0,10,20,30"), "--model-card: SNRs (dB), comma-separated")
         ("card-seed", po::value(&c.card_seed)->default_value(c.card_seed), "--model-card: seed of the test frames "
-         "(a delay bundle's: this + 1, as the demo's delay channel)")
+         "(a delay bundle's: this + 1, as the demo's delay channel; a position bundle's: this + 3)")
         ("card-speed-frames", po::value(&c.card_speed_frames)->default_value(c.card_speed_frames),
          "--model-card: frames per timing run of the decoder and of the anchor")
         ("card-summary", po::value(&c.card_summary), "--model-card: the card's one-line summary (default: the card's own, "

@@ -306,7 +306,7 @@ int main(int argc, char** argv)
     // clang-format off
     opts.add_options()
         ("help,h", "this help")
-        ("task", po::value(&task), "classify | delay (required unless --from)")
+        ("task", po::value(&task), "classify | delay (required unless --from, --frame-bundle or --delay-bundle, which refuse it)")
         ("from", po::value(&from), "train again from this bundle's recorded settings (a bundle directory or name, e.g. classifier): "
                                    "same settings and seed (a bundle made by this version of sems_train comes out with the same mask and "
                                    "weights, bit for bit; one made by an earlier version need not); only --out, --frames, --epochs, "
@@ -353,7 +353,7 @@ int main(int argc, char** argv)
         ("out", po::value(&s.out_dir)->required(), "bundle directory to write")
         // Network sizes (defaults: include/gnuradio/sems/learning/networks/network_settings.h).
         ("width", po::value<int>(), "decoder width (classifier: first-stage channels; delay: 1-D CNN channels)")
-        ("depth", po::value<int>(), "decoder depth (classifier: residual stages; delay: residual blocks)")
+        ("depth", po::value<int>(), "decoder depth (resnet classifier: residual stages; delay: residual blocks; the spectral classifier has none)")
         ("hidden", po::value(&s.classifier.hidden)->default_value(s.classifier.hidden), "classifier MLP width")
         ("projections", po::value(&s.delay.projections)->default_value(s.delay.projections), "delay: complex time projections")
         ("kernel", po::value(&s.delay.kernel)->default_value(s.delay.kernel), "delay: 1-D kernel size (odd)")

@@ -24,8 +24,8 @@ _MMSE_CENTRE = 3  # filter.mmse_resampler_cc: output 0 is input 3 (qa_radio_fron
 def radio_settings(radio="", **overrides):
     """The front end's settings: a radio file path, radio JSON text, "" (the ideal radio) or a
     front_end_settings (copied), then any field of front_end_settings given by keyword
-    (leakage_db=40, adc_enob=12, oscillator="separate", ...). Validated: ValueError names the
-    parameter and its value."""
+    (leakage_db=40, adc_enob=12, oscillator="separate", ...). Validated: a bad value raises
+    ValueError naming the parameter and the value, an unknown setting TypeError naming it."""
     if isinstance(radio, front_end_settings):
         s = front_end_settings.parse(radio.to_json_string())
     elif not radio:
@@ -79,7 +79,8 @@ def converter_full_scale(radio="", snr_db=float("inf"), tx_power=1.0, **settings
     (tx_power * (1 + leakage) + noise after the IQ imbalance, plus the DC): the level at which
     radio_front_end with the same arguments clips each rail (its full_scale()). An ideal
     converter (adc_enob None) quantizes and clips nothing, so it has no full scale: 0.0, the
-    canceller's "no clipping handled". Bad settings or tx_power: ValueError naming them.
+    canceller's "no clipping handled". A bad value or tx_power: ValueError naming it; an unknown
+    setting: TypeError.
     """
     s = radio_settings(radio, **settings)
     _check_tx_power(tx_power)

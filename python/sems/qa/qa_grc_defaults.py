@@ -119,7 +119,7 @@ def cxx_defaults():
     front_end = {name: fe_params[name].default
                  for name in ("radio", "tx_power", "class_library", "classes", "n_targets", "snr_db", "seed",
                               "n_symbols", "n_subcarriers", "bandwidth_hz", "carrier_hz", "symbol_interval_s",
-                              "cp_len")}
+                              "cp_len", "n_receive")}
     front_end["classes"] = list(front_end["classes"])
     # The Frame parameter: compared as the frame it names (test_defaults_agree); the C++ default
     # of the blocks with numbers is frame_settings(), the sinks' is their `frame` argument's.
