@@ -237,7 +237,7 @@ class radio_front_end(gr.hier_block2):
             self.leakage = filter.fir_filter_ccc(1, taps)
             self.leakage.set_tag_propagation_policy(gr.TPP_DONT)  # the echo path carries the tags
             self.connect(tx, self.leakage)
-        #: Each receive element's chain (dict of its blocks); element 0's also as attributes.
+        #: Each receive element's chain: a dict of its blocks by name.
         self.elements = []
         for k in range(n_receive):
             osc = self.rx_osc
@@ -247,8 +247,6 @@ class radio_front_end(gr.hier_block2):
             chain = self._receive_chain(s, fs, (self.channel, k), osc)
             self.connect(chain.pop("out"), (self, k))
             self.elements.append(chain)
-        for name, block in self.elements[0].items():
-            setattr(self, name, block)
         self._set_levels(snr_db)
 
     def _receive_chain(self, s, fs, rx, osc):
@@ -331,11 +329,11 @@ class radio_front_end(gr.hier_block2):
 
     def _set_levels(self, snr_db):
         _, dc = self.expected_rms(snr_db)
+        a = self.full_scale(snr_db)  # every element's converter has the same level
         for b in self.elements:
             if b["dc"] is not None:
                 b["dc"].set_k(cmath.rect(dc, math.pi / 4))
             if b["to_scale"] is not None:
-                a = self.full_scale(snr_db)
                 b["to_scale"].set_k(1.0 / a)
                 b["from_scale"].set_k(a)
 

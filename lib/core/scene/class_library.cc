@@ -195,14 +195,12 @@ std::shared_ptr<const class_library> class_library::from_json(const json& j, con
                         detail::walker_check_speed(w.height_m, v, source, where + ".speed_mps");
                 }
         }
-        // A body is modelled from any elevation only as a point, a sinusoid or a walker (rotors,
-        // wheels and user scatterers are seen from the ground plane), as for a scene's interval.
-        const std::string model = c.motion_model();
-        if (c.has_elevation() && (c.elevation_min_rad != 0.0 || c.elevation_max_rad != 0.0) && model != "none" &&
-            model != "sinusoid" && model != "walker")
+        // The rule a scene's interval follows (scene.cc).
+        if (c.has_elevation() && (c.elevation_min_rad != 0.0 || c.elevation_max_rad != 0.0) &&
+            !detail::modelled_from_any_elevation(c.motion_model()))
             fail(source, where + ".elevation_rad",
-                 "a " + model + " class is modelled as seen from the ground plane: only point, sinusoid and walker "
-                 "classes take an elevation other than 0");
+                 "a " + c.motion_model() + " class is modelled as seen from the ground plane: only point, sinusoid and "
+                 "walker classes take an elevation other than 0");
         r.finish();
         lib->d_classes.push_back(std::move(c));
     }

@@ -81,6 +81,14 @@ micro_motion motion_at(const motion_template& t, endpoint e);
 /*! Writes a concrete motion's keys in the reader's format. */
 nlohmann::json sinusoid_to_json(const micro_doppler& md);
 
+/*! Whether a body of this micro-motion model (class_definition::motion_model()) is modelled from
+ *  any elevation: a point, a sinusoid and a walker are; rotors, wheels and user scatterers are
+ *  seen from the ground plane, so they take no elevation but 0. */
+inline bool modelled_from_any_elevation(const std::string& model)
+{
+    return model == "none" || model == "sinusoid" || model == "walker";
+}
+
 } // namespace detail
 } // namespace sems
 } // namespace gr

@@ -327,7 +327,7 @@ void scene::validate(const std::string& source) const
             for (auto c : label_classes()) { // a drawn body must be one modelled from any elevation
                 const auto& def = d_library->at(static_cast<int>(c));
                 const std::string model = def.motion_model();
-                if (model != "none" && model != "sinusoid" && model != "walker")
+                if (!detail::modelled_from_any_elevation(model))
                     fail(source, "random.elevation_rad",
                          "class \"" + def.name + "\" of class library " + d_library->name() + " is a " + model +
                              ", modelled as seen from the ground plane: only point, sinusoid and walker targets take an "
