@@ -49,6 +49,7 @@ selftest  runs the checks on a small made-up repository with known faults.
 Prints each problem as FILE:LINE: what, then a summary line; exits 1 if any problem was found.
 """
 import argparse
+import ast
 import functools
 import glob
 import os
@@ -248,8 +249,9 @@ ENV = re.compile(r"^[A-Z_][A-Z0-9_]*=\S*$")
 WRAPPERS = {"nice", "time", "bash", "sh", "/usr/bin/python3", "python3", "sudo", "env"}
 
 
-def doc_commands(src):
-    """(doc, line, program) for every command in a code block whose program is ours."""
+def doc_commands(src, with_env=False):
+    """(doc, line, program) for every command in a code block whose program is ours; with
+    with_env, (doc, line, program, the variables the command sets before it)."""
     for doc in documents(src):
         text = open(os.path.join(src, doc), encoding="utf-8").read()
         for n, line, code in prose_lines(text):
@@ -262,16 +264,39 @@ def doc_commands(src):
                 words = shlex.split(s, comments=True)
             except ValueError:
                 words = s.split()
+            env = set()
             while words and (ENV.match(words[0]) or words[0] in WRAPPERS or words[0].startswith("-")):
+                if ENV.match(words[0]):
+                    env.add(words[0].split("=", 1)[0])
                 words.pop(0)
-            if words and re.match(r"^(build/apps|apps|scripts)/[\w.\-]+$", words[0]):
-                yield doc, n, words[0]
+            if words and re.match(r"^(build/apps/[\w.\-/]+|(apps|scripts|docs)/[\w.\-/]+\.(py|sh))$", words[0]):
+                yield (doc, n, words[0], env) if with_env else (doc, n, words[0])
+
+
+def imports_sems_at_top(path):
+    """True when the script's module body imports gnuradio.sems: run from the build tree it
+    needs the staged package on PYTHONPATH (check_commands sets it itself, so its --help run
+    would not notice a command without it)."""
+    try:
+        tree = ast.parse(open(path, encoding="utf-8").read())
+    except SyntaxError:
+        return False
+    for node in tree.body:
+        if isinstance(node, ast.ImportFrom) and node.module == "gnuradio" and any(a.name == "sems" for a in node.names):
+            return True
+        if isinstance(node, ast.Import) and any(a.name.startswith("gnuradio.sems") for a in node.names):
+            return True
+    return False
 
 
 def check_commands(src, build, problems, skipped):
     seen = {}
-    for doc, n, prog in doc_commands(src):
+    for doc, n, prog, env_set in doc_commands(src, with_env=True):
         seen.setdefault(prog, (doc, n))
+        path = os.path.join(src, prog)
+        if prog.endswith(".py") and os.path.isfile(path) and "PYTHONPATH" not in env_set and imports_sems_at_top(path):
+            problems.append(f"{doc}:{n}: {prog} imports gnuradio.sems: the command needs "
+                            "PYTHONPATH=build/python_pkg (or the installed module)")
     env = dict(os.environ)
     if build and os.path.isdir(os.path.join(build, "python_pkg")):
         env["PYTHONPATH"] = os.path.join(build, "python_pkg") + os.pathsep + env.get("PYTHONPATH", "")
@@ -302,6 +327,14 @@ def check_commands(src, build, problems, skipped):
                 continue
             cmd = ["bash", path, "--help"]
         elif path.endswith(".py"):
+            body = open(path, encoding="utf-8").read()
+            if "argparse" not in body and "--help" not in body:
+                r = subprocess.run(["/usr/bin/python3", "-m", "py_compile", path], capture_output=True, text=True)
+                if r.returncode != 0:
+                    problems.append(f"{where}: {prog}: py_compile: {r.stderr.strip()}")
+                else:
+                    skipped.append(f"{where}: {prog}: has no --help option; syntax checked only")
+                continue
             cmd = ["/usr/bin/python3", path, "--help"]
         else:
             cmd = [path, "--help"]
@@ -1114,7 +1147,9 @@ def selftest():
         with open(os.path.join(src, "scripts", "ok.py"), "w") as f:
             f.write("import argparse\nargparse.ArgumentParser().parse_args()\n")
         with open(os.path.join(src, "scripts", "bad.py"), "w") as f:
-            f.write("import sys\nsys.exit(3)\n")
+            f.write("import argparse\nimport sys\nsys.exit(3)\n")
+        with open(os.path.join(src, "scripts", "needs_sems.py"), "w") as f:
+            f.write("import argparse\nfrom gnuradio import sems\n")
         with open(os.path.join(src, "docs", "page.md"), "w") as f:
             f.write("# A page\n\n## Two words\n")
         with open(os.path.join(src, "README.md"), "w") as f:
@@ -1123,7 +1158,8 @@ def selftest():
                     "The bar of issue 12 is not met (Nov 24 2026, run C).\n\n"
                     "    /usr/bin/python3 scripts/ok.py --x\n"
                     "    PYTHONPATH=x nice /usr/bin/python3 scripts/bad.py\n"
-                    "    bash scripts/absent.sh\n")
+                    "    bash scripts/absent.sh\n"
+                    "    /usr/bin/python3 scripts/needs_sems.py\n")
         with open(os.path.join(src, "docs", "results", "notes", "old.md"), "w") as f:
             f.write("issue 3 [x](nowhere.md)\n")
         os.makedirs(os.path.join(src, "models"))
@@ -1160,7 +1196,8 @@ def selftest():
                     "  <!-- excerpt -->\n      export X=1\n\nAnd after the list:\n\n    print(len('ok'))\n")
         expect = {
             "links": ["docs/missing.png", "#three-words", "scripts/gone.sh"],
-            "commands": ["scripts/bad.py --help: exit status 3", "scripts/absent.sh: no such file"],
+            "commands": ["scripts/bad.py --help: exit status 3", "scripts/absent.sh: no such file",
+                         "scripts/needs_sems.py imports gnuradio.sems: the command needs PYTHONPATH"],
             "wording": ["README.md:3: an issue number", "lib/a.cc:1: an issue number (#N)",
                         "lib/a.cc:3: names docs/gone.md", "docs/guides.md:5: run history",
                         "docs/results/run.log:2: a folder of the machine"],

@@ -168,7 +168,7 @@ def catalogue(source):
             "SNRs; `--help` lists the options, and each card's `test.command` is the command that measured",
             "it); `sems_train` writes a card at the end of training from its test split. Each command below",
             "trains the bundle again from the settings its `bundle.json` records (`sems_train --from`; a track",
-            "bundle: the command its `bundle.json` records):", ""]
+            "or position bundle: the command its `bundle.json` records):", ""]
     for n, c in cards.items():
         out.append(f"    {retrain(source, n, c)}")
     out += ["", "## Other shipped files", ""]

@@ -4,8 +4,9 @@
 # runner qa_sems_threads with -DSEMS_SANITIZE=thread in their own tree and runs qa_thread_access, which
 # calls every setter and getter of every C++ block from another thread while three
 # flowgraphs stream (frequency domain: mapper -> channel -> extractors -> both sinks and
-# the range-Doppler map; time domain: mapper -> IFFT -> target_channel_td -> frame_sync; an
-# array: mapper -> 8-element channel -> extractor -> position sink and range-angle map).
+# the range-Doppler map; time domain: mapper -> IFFT -> target_channel_td -> frame_sync, and
+# -> leakage canceller -> CFO corrector, beside a phase-noise source; an array: mapper ->
+# 8-element channel -> extractor -> position sink and range-angle map).
 # Fails on the first data race in our code (halt_on_error). GNU Radio, LibTorch and Boost
 # are not instrumented: cmake/tsan.supp lists, with the reason, what is provably not ours.
 #

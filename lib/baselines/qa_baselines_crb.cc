@@ -2,6 +2,7 @@
 /* gr-sems: the delay CRB — closed form against a numeric inversion of the Fisher
  * matrix, and against a Monte-Carlo of the maximum-likelihood estimator (the fine
  * periodogram with parabolic refinement) at high SNR. */
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <cppunit/TestAssert.h>

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the Doppler-spectrum features against closed forms for synthetic tones,
  * and the feature SVM (libsvm) on separable data and on bad input. */
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/baselines/feature_svm.h>
 #include <cppunit/TestAssert.h>

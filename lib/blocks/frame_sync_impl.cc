@@ -40,7 +40,7 @@ frame_sync_impl::frame_sync_impl(frame_search search, int n_symbols, int n_subca
                 gr::io_signature::make(1, 1, sizeof(gr_complex))),
       d_search(std::move(search)),
       d_frame_key(pmt::intern(keys::frame_tag)),
-      d_port(pmt::intern("sync")),
+      d_port(pmt::intern(keys::sync_port)),
       d_spacing(who, n_symbols, n_subcarriers, cp_len)
 {
     message_port_register_out(d_port);
@@ -115,9 +115,9 @@ int frame_sync_impl::general_work(int noutput_items,
             d_locked = true;
             d_pending_pos = static_cast<size_t>(r.lag);
             pmt::pmt_t dict = pmt::make_dict();
-            dict = pmt::dict_add(dict, pmt::intern("offset"), pmt::from_long(d_offset));
-            dict = pmt::dict_add(dict, pmt::intern("metric"), pmt::from_double(r.metric));
-            dict = pmt::dict_add(dict, pmt::intern("failures"), pmt::from_uint64(d_failures));
+            dict = pmt::dict_add(dict, pmt::intern(keys::sync_offset), pmt::from_long(d_offset));
+            dict = pmt::dict_add(dict, pmt::intern(keys::sync_metric), pmt::from_double(r.metric));
+            dict = pmt::dict_add(dict, pmt::intern(keys::sync_failures), pmt::from_uint64(d_failures));
             message_port_pub(d_port, dict);
         }
         if (!d_locked)

@@ -15,6 +15,94 @@ namespace gr {
 namespace sems {
 namespace qa {
 
+/* CppUnit's assertion macros build their message and source line (several std::string, a
+ * std::deque and, for CPPUNIT_ASSERT_DOUBLES_EQUAL, the delta printed with sprintf) on every
+ * call, passed or not. In a loop over a frame's cells that was most of a test's time under
+ * AddressSanitizer (one test: 210 s, of which the allocator and its stack traces took over
+ * half). The macros below, which replace CppUnit's for every suite that includes this header,
+ * decide first and build the same message only when the assertion fails: the same checks,
+ * the same semantics (the same comparisons and template deduction, each argument evaluated
+ * once), the same report; a message argument is evaluated only on failure. */
+template <class T>
+inline void lazy_assert_equal(const T& expected, const T& actual, const char* file, int line)
+{
+    if (!CppUnit::assertion_traits<T>::equal(expected, actual))
+        CppUnit::assertEquals(expected, actual, CppUnit::SourceLine(file, line), "");
+}
+
+template <class T, class M>
+inline void lazy_assert_equal_message(const T& expected, const T& actual, const char* file, int line, M message)
+{
+    if (!CppUnit::assertion_traits<T>::equal(expected, actual))
+        CppUnit::assertEquals(expected, actual, CppUnit::SourceLine(file, line), message());
+}
+
+// CppUnit's own rule (TestAssert.cpp): finite values are equal within delta; otherwise its
+// assertDoubleEquals decides (equal infinities pass, a NaN fails).
+template <class M>
+inline void lazy_assert_doubles_equal(double expected, double actual, double delta, const char* file, int line, M message)
+{
+    if (std::isfinite(expected) && std::isfinite(actual) && std::fabs(expected - actual) <= delta)
+        return;
+    CppUnit::assertDoubleEquals(expected, actual, delta, CppUnit::SourceLine(file, line), message());
+}
+
+template <class T>
+inline void lazy_assert_less(const T& expected, const T& actual, const char* file, int line)
+{
+    if (!CppUnit::assertion_traits<T>::less(actual, expected))
+        CppUnit::assertLess(expected, actual, CppUnit::SourceLine(file, line), "");
+}
+
+template <class T>
+inline void lazy_assert_greater(const T& expected, const T& actual, const char* file, int line)
+{
+    if (!CppUnit::assertion_traits<T>::less(expected, actual))
+        CppUnit::assertGreater(expected, actual, CppUnit::SourceLine(file, line), "");
+}
+
+} // namespace qa
+} // namespace sems
+} // namespace gr
+
+#undef CPPUNIT_ASSERT
+#define CPPUNIT_ASSERT(condition)                                                                                \
+    ((condition) ? (void)0                                                                                      \
+                 : CPPUNIT_NS::Asserter::fail(CPPUNIT_NS::Message("assertion failed", "Expression: " #condition), \
+                                              CPPUNIT_SOURCELINE()))
+#undef CPPUNIT_ASSERT_MESSAGE
+#define CPPUNIT_ASSERT_MESSAGE(message, condition)                                                    \
+    ((condition) ? (void)0                                                                           \
+                 : CPPUNIT_NS::Asserter::fail(CPPUNIT_NS::Message("assertion failed",                \
+                                                                  "Expression: " #condition,         \
+                                                                  CPPUNIT_NS::message_to_string(message)), \
+                                              CPPUNIT_SOURCELINE()))
+#undef CPPUNIT_ASSERT_EQUAL
+#define CPPUNIT_ASSERT_EQUAL(expected, actual) \
+    (::gr::sems::qa::lazy_assert_equal((expected), (actual), __FILE__, __LINE__))
+#undef CPPUNIT_ASSERT_EQUAL_MESSAGE
+#define CPPUNIT_ASSERT_EQUAL_MESSAGE(message, expected, actual)                      \
+    (::gr::sems::qa::lazy_assert_equal_message((expected), (actual), __FILE__, __LINE__, \
+                                               [&] { return CPPUNIT_NS::message_to_string(message); }))
+#undef CPPUNIT_ASSERT_DOUBLES_EQUAL
+#define CPPUNIT_ASSERT_DOUBLES_EQUAL(expected, actual, delta)                                                 \
+    (::gr::sems::qa::lazy_assert_doubles_equal((expected), (actual), (delta), __FILE__, __LINE__, \
+                                               [] { return std::string(); }))
+#undef CPPUNIT_ASSERT_DOUBLES_EQUAL_MESSAGE
+#define CPPUNIT_ASSERT_DOUBLES_EQUAL_MESSAGE(message, expected, actual, delta)                     \
+    (::gr::sems::qa::lazy_assert_doubles_equal((expected), (actual), (delta), __FILE__, __LINE__, \
+                                               [&] { return CPPUNIT_NS::message_to_string(message); }))
+#undef CPPUNIT_ASSERT_LESS
+#define CPPUNIT_ASSERT_LESS(expected, actual) \
+    (::gr::sems::qa::lazy_assert_less((expected), (actual), __FILE__, __LINE__))
+#undef CPPUNIT_ASSERT_GREATER
+#define CPPUNIT_ASSERT_GREATER(expected, actual) \
+    (::gr::sems::qa::lazy_assert_greater((expected), (actual), __FILE__, __LINE__))
+
+namespace gr {
+namespace sems {
+namespace qa {
+
 // Asserts that f() throws std::invalid_argument whose message contains every needle:
 // errors must name the file or parameter and the problem, so tests check the words.
 template <typename F>

@@ -4,6 +4,7 @@
  * past the track's end), and the network: it learns two separable classes from a seeded toy
  * set, answers -1 for a track shorter than the time asked, and refuses bad shapes by name. */
 #include "spectrogram_cnn.h"
+#include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model against closed forms (docs/design.md §1). */
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

@@ -4,6 +4,7 @@
  * around the vector width; the scatterer models' vectorised sine and cosine against libm. */
 #include "core/kernels/complex_kernels.h"
 #include "core/kernels/vector_math.h"
+#include "qa/qa_assert.h"
 #include <cmath>
 #include <limits>
 #include <cppunit/TestAssert.h>

@@ -15,6 +15,7 @@
  *   histograms (64 bins): χ² with 63 dof, mean 63, sd 11.2 -> below 63 + 5·11.2 = 119
  */
 #include "core/kernels/gaussian_generator.h"
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

@@ -2,6 +2,7 @@
 /* gr-sems: two decoders in one process keep their own intra-op thread counts.
  * Before, the constructor set LibTorch's count for the process and the last decoder
  * built won; now each inference sets it in the calling thread (OpenMP: per thread). */
+#include "qa/qa_assert.h"
 #include "qa/qa_files.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <ATen/Parallel.h>

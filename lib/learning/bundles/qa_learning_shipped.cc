@@ -13,6 +13,7 @@
  * (the mean with the bundle's refine_global_fit check); the fast bundles within 1 point of the accurate classifier's
  * accuracy and 1.5x the accurate single-path delay MAE at 10, 20 and 30 dB. Frames are drawn from each bundle's own training scene with a seed the
  * trainer never used, noise from channel_model::add_noise (or the radio's front_end_frame). */
+#include "qa/qa_assert.h"
 #include "qa/qa_files.h"
 #include <gnuradio/sems/baselines/delay_crb.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>

@@ -5,6 +5,7 @@
  * accurate delay decoder faulted its temporaries in again (~25 000 faults per call). Tensors
  * above glibc's largest mmap threshold (32 MiB: a training batch of large frames) are taken
  * from the heap, not mapped per call, in the main thread and in a thread of its own. */
+#include "qa/qa_assert.h"
 #include "qa/qa_files.h"
 #include "learning/memory/malloc_tuning.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>

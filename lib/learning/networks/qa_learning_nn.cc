@@ -7,6 +7,7 @@
 #include "learning/networks/reconstruction_decoder.h"
 #include "learning/training/semantic_encoder.h"
 #include "learning/networks/spectral_classifier_decoder.h"
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

@@ -4,6 +4,7 @@
  * its settings' errors. */
 #include "learning/networks/spectral_classifier_decoder.h"
 #include "learning/networks/template_bank.h"
+#include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
 #include <cmath>

@@ -3,6 +3,7 @@
  * batches, order, frame indices, truth, skipped frames and metrics messages are exact
  * whatever the sizes of the work() calls. */
 #include "learning/sinks/sink_core.h"
+#include "qa/qa_assert.h"
 #include <gnuradio/sems/core/common/tags.h>
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>

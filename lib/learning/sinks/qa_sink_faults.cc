@@ -4,6 +4,7 @@
  * touched are counted as skipped and faulted, and every frame is accounted for
  * (frames in = answered + skipped). Faults are injected through sink_core's test hook
  * into the real sinks (shipped bundles) in a real flowgraph. */
+#include "qa/qa_assert.h"
 #include "qa/qa_files.h"
 #include "learning/sinks/classifier_sink_impl.h"
 #include "learning/sinks/delay_estimator_sink_impl.h"

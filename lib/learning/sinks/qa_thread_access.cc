@@ -2,15 +2,22 @@
 /* gr-sems: every setter and getter of every C++ block, called from another thread while
  * flowgraphs stream (the Python/GRC case):
  *   frequency domain: mapper -> channel -> extractors -> both sinks, and -> range_doppler_map
- *   time domain:      mapper -> inverse FFT -> target_channel_td -> frame_sync
+ *   time domain:      mapper -> inverse FFT -> target_channel_td -> frame_sync, and with the
+ *                     transmitted stream -> leakage_canceller -> cfo_corrector;
+ *                     phase_noise_source -> head
+ *   an array:         mapper -> 8-element channel -> extractor -> position sink, range-angle map
  * Under ThreadSanitizer (scripts/sanitize_thread.sh) this is the race test; in the normal
  * and ASan builds it checks that the streams still end with every frame accounted for. */
+#include "qa/qa_assert.h"
 #include <gnuradio/blocks/head.h>
 #include <gnuradio/blocks/null_sink.h>
 #include <gnuradio/blocks/null_source.h>
 #include <gnuradio/blocks/vector_to_stream.h>
 #include <gnuradio/fft/fft_v.h>
+#include <gnuradio/sems/blocks/cfo_corrector.h>
 #include <gnuradio/sems/blocks/frame_sync.h>
+#include <gnuradio/sems/blocks/leakage_canceller.h>
+#include <gnuradio/sems/blocks/phase_noise_source.h>
 #include <gnuradio/sems/blocks/pilot_extractor.h>
 #include <gnuradio/sems/blocks/pilot_mapper.h>
 #include <gnuradio/sems/blocks/range_angle_map.h>
@@ -88,6 +95,22 @@ public:
         tb_td->connect(serial, 0, channel_td, 0);
         tb_td->connect(channel_td, 0, sync, 0);
         tb_td->connect(sync, 0, gr::blocks::null_sink::make(sizeof(gr_complex)), 0);
+        // The radio blocks: the received stream less the transmitted one's leakage, then the
+        // CFO estimate (the stream's M-sample symbols read as M - 1 samples behind a 1-sample
+        // prefix, one frame per window: the windows line up, the estimate is not the point); an
+        // oscillator's phase noise.
+        const int frame_len = fs.n_symbols * m;
+        auto canceller = leakage_canceller::make(4, frame_len, 0.5, true, true, 0.0);
+        auto cfo = cfo_corrector::make(m - 1, 1, fs.n_symbols, 0.5, 10.0);
+        const uint64_t noise_samples = n_frames_td * frame_len;
+        auto noise = phase_noise_source::make(fs.bandwidth_hz, -90.0, 100e3, 1);
+        tb_td->connect(channel_td, 0, canceller, 0);
+        tb_td->connect(serial, 0, canceller, 1);
+        tb_td->connect(canceller, 0, cfo, 0);
+        tb_td->connect(cfo, 0, gr::blocks::null_sink::make(sizeof(gr_complex)), 0);
+        auto head_noise = gr::blocks::head::make(sizeof(gr_complex), noise_samples);
+        tb_td->connect(noise, 0, head_noise, 0);
+        tb_td->connect(head_noise, 0, gr::blocks::null_sink::make(sizeof(gr_complex)), 0);
 
         // An array's chain: an 8-element ULA's streams into one extractor, the position sink and
         // the range-angle map (the position bundle's mask and array).
@@ -146,6 +169,9 @@ public:
                         channel_td->nonfinite_symbols() + channel_td->misaligned_tags() +
                         channel_td->settings().cp_len + channel_td->scene_json().size();
                 sink += sync->locked() + sync->offset() + sync->metric() + sync->failures() + sync->frame_len();
+                sink += canceller->taps().size() + canceller->image_taps().size() + std::abs(canceller->dc()) +
+                        canceller->windows() + canceller->held() + canceller->stream_error().size();
+                sink += cfo->cfo() + cfo->timing() + cfo->windows() + noise->diffusion() + noise->samples();
                 channel_a->set_snr_db(i % 2 ? 20.0 : 30.0);
                 sink_p->set_metrics_period(i % 3);
                 sink += ex_a->frames_out() + ex_a->n_elements() + sink_p->frames() + sink_p->frames_scored() +
@@ -181,6 +207,10 @@ public:
         CPPUNIT_ASSERT_EQUAL(n_frames_array, ram->frames_out());
         CPPUNIT_ASSERT_EQUAL(uint64_t(0), sink_p->frames_faulted());
         CPPUNIT_ASSERT(sync->offset() >= 0);
+        CPPUNIT_ASSERT_EQUAL(std::string(), canceller->stream_error());
+        CPPUNIT_ASSERT(canceller->windows() > 0);
+        CPPUNIT_ASSERT(cfo->windows() > 0);
+        CPPUNIT_ASSERT(noise->samples() >= noise_samples); // the source may run ahead of head
     }
 };
 

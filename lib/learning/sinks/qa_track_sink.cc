@@ -4,6 +4,7 @@
  * non-finite or out-of-order frame, and frames without a track each start the track again
  * (counted), two tracks are never mixed, and nothing crashes whatever the batch size. The
  * track bundle is trained here in seconds on the shipped paper classifier. */
+#include "qa/qa_assert.h"
 #include <gnuradio/blocks/message_debug.h>
 #include <gnuradio/blocks/vector_source.h>
 #include <gnuradio/sems/core/common/tags.h>

@@ -4,6 +4,7 @@
  * stepped frame by frame through track_classifier as the sink does — holds the accuracy its
  * training measured within three standard errors, and decides better over the track than from
  * its first frame. */
+#include "qa/qa_assert.h"
 #include "qa/qa_files.h"
 #include "learning/temporal/track_data.h"
 #include <gnuradio/sems/learning/temporal/track_classifier.h>

@@ -8,7 +8,8 @@
  * Until a frame is found it outputs nothing: each search that finds no frame (F·L·ρ below
  * the threshold; noise alone) is counted in failures() and the window slides by one frame.
  * The offset found (samples from the stream start) is offset() and goes out as a dict
- * {offset, metric, failures} on the message port "sync". Once locked it stays locked (an
+ * {offset, metric, failures} (keys::sync_offset, sync_metric, sync_failures) on the message
+ * port "sync" (keys::sync_port). Once locked it stays locked (an
  * offset calibrated once, as on a loopback); frame_search.h states what the search assumes.
  *
  * On a monostatic radio the transmitter's leakage (delay 0, static, far above the echoes)

@@ -46,8 +46,8 @@ namespace sems {
  * file carries no bandwidth, carrier, symbol interval or CP, and the block has no parameter for
  * them.
  *
- * N_p = N·M (pilots only): the frame carries no data, the block consumes no input and
- * acts as a source of pilot-only frames; the input may then be left unconnected
+ * N_p = N·(M − G) (pilots only, every usable cell a pilot; G guard subcarriers): the frame
+ * carries no data, the block consumes no input and acts as a source of pilot-only frames; the input may then be left unconnected
  * (bound the output with a head block). With data positions an input is required.
  *
  * Pilot and data power are energies per symbol (>= 0, finite), settable while running;

@@ -92,6 +92,10 @@ void bind_keys(py::module& m)
     k.attr("confusion") = keys::confusion;
     k.attr("result_port") = keys::result_port;
     k.attr("metrics_port") = keys::metrics_port;
+    k.attr("sync_offset") = keys::sync_offset;
+    k.attr("sync_metric") = keys::sync_metric;
+    k.attr("sync_failures") = keys::sync_failures;
+    k.attr("sync_port") = keys::sync_port;
 }
 
 void bind_frame_settings(py::module& m)

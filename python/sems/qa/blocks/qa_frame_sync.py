@@ -41,7 +41,7 @@ class qa_frame_sync(gr_unittest.TestCase):
         msgs = blocks.message_debug()
         tb = gr.top_block()
         tb.connect(src, fs, sink)
-        tb.msg_connect(fs, "sync", msgs, "store")
+        tb.msg_connect(fs, sems.keys.sync_port, msgs, "store")
         tb.run()
         return fs, np.array(sink.data()), sink.tags(), msgs
 
@@ -69,8 +69,8 @@ class qa_frame_sync(gr_unittest.TestCase):
                 got = [(t.offset, pmt.to_uint64(t.value)) for t in tags if pmt.eqv(t.key, key)]
                 self.assertEqual(got, [(f * L, f) for f in range(len(y) // L + (len(y) % L > 0))])
                 self.assertEqual(msgs.num_messages(), 1)
-                self.assertEqual(pmt.to_long(pmt.dict_ref(msgs.get_message(0), pmt.intern("offset"), pmt.PMT_NIL)),
-                                 offset)
+                lock = msgs.get_message(0)
+                self.assertEqual(pmt.to_long(pmt.dict_ref(lock, pmt.intern(sems.keys.sync_offset), pmt.PMT_NIL)), offset)
                 self.assertGreater(fs.metric(), 25.0)
 
     def test_001b_pilot_energies_in_the_template(self):
