@@ -751,8 +751,8 @@ FACTS = [
     # the examples' prefixes (examples/*.grc)
     ("docs/guides/install.md", r"`(sems_\w+)` and `(sems_\w+)` set `cp_len` (\d+); the other time-domain examples keep (\d+)",
      cp_examples, "the time-domain examples whose cp_len is not the default, and the others'"),
-    ("docs/reference/time_domain.md", r"So `(sems_\w+)` and `(sems_\w+)`, the time-domain examples on the class table's "
-     r"random scenes, set \*\*CP = (\d+)\*\*.*?The other time-domain examples keep (\d+)", cp_examples,
+    ("docs/reference/time_domain.md", r"So `(sems_\w+)`, the time-domain example on the class table's random scenes, and\s+"
+     r"`(sems_\w+)`, .*? set \*\*CP = (\d+)\*\*.*?The other time-domain examples keep (\d+)", cp_examples,
      "the time-domain examples whose cp_len is not the default, and the others'"),
     ("docs/reference/time_domain.md", r"\(L = (\d[\d ]*): 3001 samples dropped",
      lambda s: _fs(s, "n_symbols") * (_fs(s, "n_subcarriers") + (lambda cp: cp if cp >= 0 else _fs(s, "cp_len"))(
@@ -800,7 +800,7 @@ FACTS = [
      lambda s: example_params(s, "sems_radio_monostatic")["latency"], "sems_radio_monostatic's latency"),
     ("docs/guides/radio_front_end.md", r"The converter's full scale is (\d+)× the rms \(`--full-scale`\)",
      lambda s: example_params(s, "sems_radio_monostatic")["full_scale"], "sems_radio_monostatic's full scale"),
-    ("docs/guides/radio_front_end.md", r"with the radio file's (\d+)× the same",
+    ("docs/guides/radio_front_end.md", r"the radio file's (\d+)× gives a delay MAE",
      lambda s: radio(s, "sdr_monostatic")["converter"]["full_scale_over_rms"], "sdr_monostatic.json's full scale"),
     ("examples/README.md", r"\| flowgraph \| what it shows \| kind \| (parameters) \|", example_flags,
      "each flowgraph's command-line options"),
