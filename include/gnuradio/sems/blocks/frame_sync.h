@@ -25,9 +25,9 @@
  * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
  * output offset = input offset − offset(); tags on the dropped samples are dropped with them,
  * and incoming keys::frame_tag tags are dropped (the frames are numbered here). Incoming
- * frame tags further apart than N·(M + cp_len) samples per frame (a transmitter with another
- * cyclic prefix) stop the stream (WORK_DONE) with an error naming both prefix lengths,
- * kept in stream_error().
+ * frame tags spaced other than N·(M + cp_len) samples per frame (a transmitter with another
+ * cyclic prefix) stop the stream (WORK_DONE) with an error, kept in stream_error(), that names
+ * both prefix lengths when the spacing fits one.
  */
 #ifndef INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H
 #define INCLUDED_SEMS_BLOCKS_FRAME_SYNC_H

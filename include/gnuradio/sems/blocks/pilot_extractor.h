@@ -19,11 +19,11 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in (one input per receive element), one gr_complex[n_elements·N_p] of pilot observations Y/(sqrt(p_k)·s_p) per frame out.
+ * \brief The pilot extractor (docs/design.md §3): gr_complex[M] in (one input per receive element), one gr_complex[n_elements·N_p] of pilot observations Y/(sqrt(p_k)·s_p·exp(jφ_k)) per frame out.
  *
- * \details The output is the pilot observations Y[n,m]/(sqrt(p_k)·s_p) at the mask
+ * \details The output is the pilot observations Y[n,m]/(sqrt(p_k)·s_p·exp(jφ_k)) at the mask
  * positions, in mask order (row-major, sorted by (n, m)), with p_k pilot k's relative
- * energy from the mask file (1 without a `power` list): pilot k's noise is scaled by
+ * energy from the mask file (1 without a `power` list) and φ_k its phase (0 without `phases`): pilot k's noise is scaled by
  * 1/sqrt(p_k). E_p is not divided out: with pilot power E_p and a noiseless channel the
  * output is sqrt(E_p)·H at the pilots.
  *

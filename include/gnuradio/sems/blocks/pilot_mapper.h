@@ -23,8 +23,8 @@ namespace sems {
  *
  * \details
  * \verbatim
-   X_s[n,m] = sqrt(E_p · p_k) · s_p     at pilot k of the mask P
-            = sqrt(E_d) · data           elsewhere, data taken in row-major order
+   X_s[n,m] = sqrt(E_p · p_k) · s_p · exp(jφ_k)   at pilot k of the mask P
+            = sqrt(E_d) · data                     elsewhere, data taken in row-major order
    \endverbatim
  *
  * p_k is pilot k's relative energy from the mask file's `power` list (mean 1; all 1 without
@@ -104,7 +104,7 @@ public:
     virtual const super_frame_mask& super_frame() const = 0;
     /*! \brief N_p. \return the pilots per frame. */
     virtual int n_pilots() const = 0;
-    /*! \brief Data symbols consumed per frame. \return N·M − N_p. */
+    /*! \brief Data symbols consumed per frame. \return N·(M − G) − N_p (G guard subcarriers). */
     virtual int data_per_frame() const = 0;
     /*! \brief Frames started so far. \return the count. */
     virtual uint64_t frames() const = 0;

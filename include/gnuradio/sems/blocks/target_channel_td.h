@@ -11,7 +11,7 @@
  *
  * Frames of N symbols: aligned to keys::frame_tag tags on a symbol's first sample (the
  * frame index is the tag's value; a tag that is not on a symbol boundary is counted in
- * misaligned_tags() and ignored), counted from 0 otherwise. Tags further apart than
+ * misaligned_tags() and ignored), counted from 0 otherwise. Tags spaced other than
  * N·(M + cp_len) samples per frame come from a transmitter with another cyclic prefix: the
  * block then stops the stream (work() returns WORK_DONE), logs an error naming both prefix
  * lengths and keeps it in stream_error(). keys::truth_tag (the same

@@ -173,8 +173,10 @@ struct SEMS_API frame_file {
 
     /*!
      * \brief A frame by name or path: `paper` (built in, the defaults), an existing file, or
-     *        `<name>.json` in $SEMS_FRAMES_PATH, the source tree's models/frames, the
-     *        installed share/gr-sems/models/frames.
+     *        `<name>.json` in $SEMS_FRAMES_PATH, the user's folder
+     *        (~/.local/share/gr-sems/models/frames, or under $XDG_DATA_HOME),
+     *        $SEMS_SOURCE_DIR/models/frames, the source tree's models/frames, the installed
+     *        share/gr-sems/models/frames.
      * \param name_or_path the name or file.
      * \return the frame file.
      * \throws std::invalid_argument listing every place searched.

@@ -87,7 +87,7 @@ struct SEMS_API front_end_settings {
      */
     element_oscillator_kind element_oscillators = element_oscillator_kind::shared;
 
-    /*! \brief Receiver IQ gain imbalance in dB, I rail over Q rail (|x| < 20 dB). */
+    /*! \brief Receiver IQ gain imbalance in dB, I rail over Q rail (|x| ≤ 20 dB). */
     double iq_gain_db = 0.0;
     /*! \brief Receiver IQ phase imbalance in degrees (|x| < 90). */
     double iq_phase_deg = 0.0;

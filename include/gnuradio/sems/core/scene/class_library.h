@@ -79,7 +79,9 @@ public:
     static std::shared_ptr<const class_library> paper();
     /*!
      * \brief A library by name or path: `paper` (built in), an existing file, or `<name>.json`
-     *        in $SEMS_CLASSES_PATH, the source tree's models/classes, the installed share/gr-sems/models/classes.
+     *        in $SEMS_CLASSES_PATH, the user's folder (~/.local/share/gr-sems/models/classes, or
+     *        under $XDG_DATA_HOME), $SEMS_SOURCE_DIR/models/classes, the source tree's
+     *        models/classes, the installed share/gr-sems/models/classes.
      * \param name_or_path the name or file.
      * \return the library.
      * \throws std::invalid_argument listing every place searched.

@@ -111,8 +111,8 @@ struct SEMS_LEARNING_API model_bundle {
     static std::vector<std::string> search_path();
     /*!
      * \brief Resolves a bundle name or path to a bundle directory.
-     * \details `name` is used as given when it is a directory holding bundle.json (an
-     * absolute path, or relative to the working directory); otherwise it is looked up in
+     * \details `name` is used as given when it is a directory (an absolute path, or relative
+     * to the working directory; load() then needs its bundle.json); otherwise it is looked up in
      * each folder of search_path() in order, so a bare name such as `classifier` finds the
      * shipped bundle from any working directory.
      * \param name a bundle directory or a bundle name (e.g. "classifier", "delay_single").

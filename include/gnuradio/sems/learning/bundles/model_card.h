@@ -22,7 +22,7 @@ namespace sems {
  * \brief A model bundle's card: the file `model_card.json` in the bundle directory, whose keys
  *        are the fields below (`format` "sems.model_card", `version` 1).
  * \details sems_train writes it at the end of training (its test split's figures) and
- * `sems_eval --model-card DIR` measures and rewrites it on a fixed test set; models/catalogue.py
+ * `sems_eval --model-card DIR` measures and rewrites it on a fixed test set; scripts/models_catalogue.py
  * builds models/README.md from the shipped bundles' cards. The card refers to bundle.json for
  * what bundle.json records (the training command, the scene, the decoder) instead of copying it.
  * Reading validates every field and names the file and the field of a bad one.

@@ -62,7 +62,8 @@ struct SEMS_LEARNING_API encoder_settings {
     /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
-     * \brief Reads settings from JSON; missing keys keep their defaults.
+     * \brief Reads settings from JSON; a missing key takes its legacy value (the one bundles
+     *        written before the key existed were trained with, noted per member), else its default.
      * \param j the JSON object. \param source names the file or context in errors.
      * \return the settings.
      * \throws std::invalid_argument naming `source` and the bad key.
@@ -153,7 +154,8 @@ struct SEMS_LEARNING_API classifier_settings {
     /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
-     * \brief Reads settings from JSON; missing keys keep their defaults.
+     * \brief Reads settings from JSON; a missing key takes its legacy value (the one bundles
+     *        written before the key existed were trained with, noted per member), else its default.
      * \param j the JSON object. \param source names the file or context in errors.
      * \return the settings.
      * \throws std::invalid_argument naming `source` and the bad key.
@@ -192,7 +194,8 @@ struct SEMS_LEARNING_API delay_settings {
                                   /// resolves it; a decoder refuses an unresolved -1)
     double refine_span_index = -1.0; ///< later paths are searched in (tau1 + 0.25, tau1 + span];
                                      /// -1 = the training scene's largest excess delay + 1
-                                     /// (resolved by the trainer, like refine_paths)
+                                     /// (resolved by the trainer, like refine_paths); 8 (legacy
+                                     /// value: a bundle without the key)
     double refine_trust_index = 0.5; ///< the refined delay replaces the network's only when it
                                      /// moved less than this
     bool refine_global_peak = true;  ///< single-path refinement (refine_paths = 1): when the
@@ -230,7 +233,8 @@ struct SEMS_LEARNING_API delay_settings {
     /*! \brief The settings as JSON (as bundle.json records them). \return the JSON object. */
     nlohmann::json to_json() const;
     /*!
-     * \brief Reads settings from JSON; missing keys keep their defaults.
+     * \brief Reads settings from JSON; a missing key takes its legacy value (the one bundles
+     *        written before the key existed were trained with, noted per member), else its default.
      * \param j the JSON object. \param source names the file or context in errors.
      * \return the settings.
      * \throws std::invalid_argument naming `source` and the bad key.

@@ -28,7 +28,7 @@ namespace sems {
  * how it was trained. Per frame, evidence() runs the frame decoder (batched over frames of any
  * tracks), and step() folds one frame's evidence into its track's state and answers: one GRU
  * step, never a pass over the track again. The state is the caller's, one per track, so a
- * sink follows many tracks and never mixes them. LibTorch stays behind this header.
+ * caller can keep many tracks apart (classifier_sink follows one at a time). LibTorch stays behind this header.
  *
  * Beside the learned decision, step() gives the classical fusion of independent frames, the
  * normalised product of the frames' posteriors (softmax of the summed log-probabilities), from
@@ -73,7 +73,7 @@ public:
     int super_frames() const;
     /*! \brief C. \return the classes. */
     int n_classes() const;
-    /*! \brief The evidence one frame gives. \return its values per frame (features + C). */
+    /*! \brief The evidence one frame gives. \return its values per frame (features, the log Doppler profile when the settings' doppler_profile is on, and C). */
     int evidence_size() const;
     /*! \brief The temporal model's settings. \return the settings. */
     const nn::temporal_settings& settings() const;
