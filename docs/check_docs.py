@@ -249,9 +249,9 @@ ENV = re.compile(r"^[A-Z_][A-Z0-9_]*=\S*$")
 WRAPPERS = {"nice", "time", "bash", "sh", "/usr/bin/python3", "python3", "sudo", "env"}
 
 
-def doc_commands(src, with_env=False):
-    """(doc, line, program) for every command in a code block whose program is ours; with
-    with_env, (doc, line, program, the variables the command sets before it)."""
+def doc_commands(src):
+    """(doc, line, program, the variables the command sets before it) for every command in a
+    code block whose program is ours."""
     for doc in documents(src):
         text = open(os.path.join(src, doc), encoding="utf-8").read()
         for n, line, code in prose_lines(text):
@@ -270,7 +270,7 @@ def doc_commands(src, with_env=False):
                     env.add(words[0].split("=", 1)[0])
                 words.pop(0)
             if words and re.match(r"^(build/apps/[\w.\-/]+|(apps|scripts|docs)/[\w.\-/]+\.(py|sh))$", words[0]):
-                yield (doc, n, words[0], env) if with_env else (doc, n, words[0])
+                yield doc, n, words[0], env
 
 
 def imports_sems_at_top(path):
@@ -291,7 +291,7 @@ def imports_sems_at_top(path):
 
 def check_commands(src, build, problems, skipped):
     seen = {}
-    for doc, n, prog, env_set in doc_commands(src, with_env=True):
+    for doc, n, prog, env_set in doc_commands(src):
         seen.setdefault(prog, (doc, n))
         path = os.path.join(src, prog)
         if prog.endswith(".py") and os.path.isfile(path) and "PYTHONPATH" not in env_set and imports_sems_at_top(path):

@@ -199,8 +199,8 @@ std::shared_ptr<const class_library> class_library::from_json(const json& j, con
         if (c.has_elevation() && (c.elevation_min_rad != 0.0 || c.elevation_max_rad != 0.0) &&
             !detail::modelled_from_any_elevation(c.motion_model()))
             fail(source, where + ".elevation_rad",
-                 "a " + c.motion_model() + " class is modelled as seen from the ground plane: only point, sinusoid and "
-                 "walker classes take an elevation other than 0");
+                 "a " + c.motion_model() + " class is modelled as seen from the ground plane: only " +
+                     detail::models_from_any_elevation + " classes take an elevation other than 0");
         r.finish();
         lib->d_classes.push_back(std::move(c));
     }

@@ -88,6 +88,8 @@ inline bool modelled_from_any_elevation(const std::string& model)
 {
     return model == "none" || model == "sinusoid" || model == "walker";
 }
+/*! Those models as error messages name them (kept beside the rule). */
+constexpr const char* models_from_any_elevation = "point, sinusoid and walker";
 
 } // namespace detail
 } // namespace sems

@@ -330,8 +330,9 @@ void scene::validate(const std::string& source) const
                 if (!detail::modelled_from_any_elevation(model))
                     fail(source, "random.elevation_rad",
                          "class \"" + def.name + "\" of class library " + d_library->name() + " is a " + model +
-                             ", modelled as seen from the ground plane: only point, sinusoid and walker targets take an "
-                             "elevation other than 0 (or set micro_doppler false)");
+                             ", modelled as seen from the ground plane: only " +
+                             detail::models_from_any_elevation +
+                             " targets take an elevation other than 0 (or set micro_doppler false)");
             }
         if (r.tracks) {
             const auto& t = *r.tracks;
