@@ -5,7 +5,7 @@
 # SEMS_BUILD_TESTS / SEMS_BUILD_APPS (ON/OFF, default: the tree's setting, ON for a new tree)
 # build the C++ test runners and the apps (sems_train, sems_eval, benchmarks) or leave them out;
 # scripts/demo.sh leaves both out on a new tree (the demo runs neither). SEMS_UNITY_BUILD (ON/OFF,
-# default: the tree's setting, OFF for a new tree) compiles the learning library and the core
+# default: the tree's setting, OFF for a new tree) compiles the libraries, the largest runners and the core
 # Python extension in batches: a faster first build, slower rebuilds (scripts/demo.sh: ON).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -36,7 +36,7 @@ if [ "$do_build" -eq 1 ]; then
   "$root/scripts/install_deps.sh"
   # A new tree builds only what the demo runs: the libraries, the Python package and the GRC
   # blocks, not the C++ tests and the apps (SEMS_BUILD_TESTS / SEMS_BUILD_APPS, scripts/build.sh),
-  # and compiles the learning library and the core Python extension in batches
+  # and compiles the libraries and the core Python extension in batches
   # (SEMS_UNITY_BUILD: a faster first build). A tree configured before keeps its settings; scripts/test.sh builds
   # everything.
   if [ ! -f "$build/CMakeCache.txt" ]; then

@@ -19,8 +19,8 @@ build="${SEMS_TSAN_BUILD_DIR:-$root/build-tsan}"
 repeats="${1:-3}"
 case "$repeats" in ''|*[!0-9]*|0) echo "sanitize_thread.sh: repeats must be a positive integer, got '$repeats'" >&2; exit 2 ;; esac
 mkdir -p "$build"
-# The learning library in batches (SEMS_UNITY_BUILD), as the sanitized suite's tree: in Release
-# a third of the file-by-file build's compile time (docs/guides/install.md).
+# The libraries in batches (SEMS_UNITY_BUILD), as the sanitized suite's tree: a third of the
+# learning library's file-by-file compile time, less than half of the core's (docs/guides/install.md).
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DSEMS_SANITIZE=thread \
   -DSEMS_UNITY_BUILD=ON > "$build/configure.log" 2>&1 \
   || { cat "$build/configure.log" >&2; exit 1; }

@@ -12,7 +12,7 @@ export SEMS_SANITIZE="${SEMS_SANITIZE-}"
 if [ -n "$SEMS_SANITIZE" ]; then default_build="$root/build-sanitize"; else default_build="$root/build"; fi
 export SEMS_BUILD_DIR="${SEMS_BUILD_DIR:-$default_build}"
 "$root/scripts/install_deps.sh"
-# A new tree compiles the learning library and the core Python extension in batches, as the
+# A new tree compiles its largest targets in batches (the libraries, test runners, ...), as the
 # demo's does (SEMS_UNITY_BUILD), so the suite also proves that the batches compile (CI's tree
 # is new).
 if [ ! -f "$SEMS_BUILD_DIR/CMakeCache.txt" ]; then

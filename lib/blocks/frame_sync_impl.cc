@@ -11,8 +11,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "frame_sync";
-
 frame_sync::sptr frame_sync::make(const std::string& mask_file,
                                   const std::vector<int>& pilot_positions,
                                   int n_symbols,
@@ -24,6 +22,7 @@ frame_sync::sptr frame_sync::make(const std::string& mask_file,
                                   double threshold,
                                   bool noncoherent)
 {
+    const char* const who = frame_sync_impl::who;
     auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     try {
         return gnuradio::make_block_sptr<frame_sync_impl>(

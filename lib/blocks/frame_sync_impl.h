@@ -17,6 +17,9 @@ namespace sems {
 class frame_sync_impl : public frame_sync
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "frame_sync";
+
     frame_sync_impl(frame_search search, int n_symbols, int n_subcarriers, int cp_len);
 
     bool locked() const override { return d_locked; }

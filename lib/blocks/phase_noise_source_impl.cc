@@ -9,10 +9,9 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "phase_noise_source";
-
 phase_noise_source::sptr phase_noise_source::make(double sample_rate_hz, double dbc_hz, double offset_hz, uint64_t seed)
 {
+    const char* const who = phase_noise_source_impl::who;
     // The front end's rules for the oscillator (below 0 dBc/Hz, on the 1/f² skirt) in one place.
     front_end_settings fe;
     fe.phase_noise_dbc_hz = dbc_hz;

@@ -13,6 +13,9 @@ namespace sems {
 class phase_noise_source_impl : public phase_noise_source
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "phase_noise_source";
+
     phase_noise_source_impl(double diffusion, double sample_rate_hz, uint64_t seed);
 
     double diffusion() const override { return d_process.diffusion(); }

@@ -14,8 +14,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "pilot_extractor";
-
 pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
                                             const std::vector<int>& pilot_positions,
                                             int n_symbols,
@@ -23,6 +21,7 @@ pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
                                             gr_complex pilot_symbol,
                                             int n_elements)
 {
+    const char* const who = pilot_extractor_impl::who;
     if (n_elements < 1 || n_elements > limits::max_array_elements)
         throw std::invalid_argument(std::string(who) + ": n_elements must be in [1, " +
                                     std::to_string(limits::max_array_elements) +

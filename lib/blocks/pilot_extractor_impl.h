@@ -13,6 +13,9 @@ namespace sems {
 class pilot_extractor_impl : public pilot_extractor
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "pilot_extractor";
+
     pilot_extractor_impl(const super_frame_mask& mask, int n_elements);
 
     const pilot_mask& mask() const override { return d_mask.set(0); }

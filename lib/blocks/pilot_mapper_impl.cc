@@ -11,8 +11,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "pilot_mapper";
-
 pilot_mapper::sptr pilot_mapper::make(const std::string& mask_file,
                                       const std::vector<int>& pilot_positions,
                                       int n_symbols,
@@ -22,6 +20,7 @@ pilot_mapper::sptr pilot_mapper::make(const std::string& mask_file,
                                       double data_power,
                                       const std::vector<int>& guard_subcarriers)
 {
+    const char* const who = pilot_mapper_impl::who;
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     frame_settings fs;
     fs.n_symbols = n_symbols;

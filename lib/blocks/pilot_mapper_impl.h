@@ -13,6 +13,9 @@ namespace sems {
 class pilot_mapper_impl : public pilot_mapper
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "pilot_mapper";
+
     pilot_mapper_impl(const super_frame_mask& mask,
                       double pilot_power,
                       double data_power,

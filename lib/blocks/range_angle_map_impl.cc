@@ -11,8 +11,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "range_angle_map";
-
 range_angle_map::sptr range_angle_map::make(const std::string& array,
                                             const std::string& mask_file,
                                             const std::vector<int>& pilot_positions,
@@ -22,6 +20,7 @@ range_angle_map::sptr range_angle_map::make(const std::string& array,
                                             int n_angles,
                                             const std::string& window)
 {
+    const char* const who = range_angle_map_impl::who;
     const auto first = array.find_first_not_of(" \t\r\n");
     if (first == std::string::npos)
         throw std::invalid_argument(std::string(who) + ": array is empty: give an array file (format sems.array) "

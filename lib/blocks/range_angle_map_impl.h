@@ -13,6 +13,9 @@ namespace sems {
 class range_angle_map_impl : public detail::frame_map_block<range_angle_map, range_angle>
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "range_angle_map";
+
     range_angle_map_impl(const pilot_mask& mask, const array_geometry& array, double wavelength_m, int n_angles,
                          const std::string& window);
 

@@ -13,6 +13,9 @@ namespace sems {
 class range_doppler_map_impl : public detail::frame_map_block<range_doppler_map, range_doppler>
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "range_doppler_map";
+
     range_doppler_map_impl(const pilot_mask& mask, const std::string& window);
 
     int n_pilots() const override { return d_in_len; }

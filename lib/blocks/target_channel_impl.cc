@@ -12,8 +12,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "target_channel";
-
 
 target_channel::sptr target_channel::make(const std::string& scene_text,
                                           const std::vector<std::string>& classes,
@@ -37,6 +35,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           int n_receive,
                                           int n_transmit)
 {
+    const char* const who = target_channel_impl::who;
     detail::check_snr(who, snr_db);
     frame_settings fs;
     fs.n_symbols = n_symbols;

@@ -17,6 +17,9 @@ namespace sems {
 class target_channel_impl : public target_channel
 {
 public:
+    //! The block's name, in its GNU Radio identity and in every message it raises.
+    static constexpr const char* who = "target_channel";
+
     target_channel_impl(channel_model model, double snr_db, int n_receive, int n_transmit);
 
     void set_snr_db(double snr_db) override;

@@ -9,8 +9,6 @@
 namespace gr {
 namespace sems {
 
-static const char* const who = "target_channel_td";
-
 target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
                                                 const std::vector<std::string>& classes,
                                                 int n_targets,
@@ -30,6 +28,7 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
                                                 int n_receive,
                                                 int n_transmit)
 {
+    const char* const who = target_channel_td_impl::who;
     detail::check_snr(who, snr_db);
     if (cp_len < 0)
         throw std::invalid_argument(std::string(who) + ": cp_len must be >= 0, got " + std::to_string(cp_len));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: arrays — their files, the steering vector and each element's channel against
  * closed forms written out here from the geometry (not from steering.h), and bad input. */
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
@@ -24,7 +25,6 @@ using gr::sems::qa::assert_error;
 namespace {
 
 using cd = std::complex<double>;
-const double c0 = 3e8;    // the module's speed of light (frame_settings.h), in m/s
 const double lambda = 0.1;                           // the default frame's λ at 3 GHz
 
 // A fixed point target of known gain (no fading), with an optional array.
@@ -46,10 +46,10 @@ cd closed_form(const frame_settings& fs, double range_m, double v, double az, do
 {
     const double ux = std::cos(el) * std::cos(az), uy = std::cos(el) * std::sin(az), uz = std::sin(el);
     const double along = ux * o[0] + uy * o[1] + uz * o[2];
-    const double tau = 2.0 * range_m / c0, tau_k = tau - along / c0;
+    const double tau = 2.0 * range_m / speed_of_light_mps, tau_k = tau - along / speed_of_light_mps;
     const double carrier = 2.0 * M_PI * fs.carrier_hz * (tau - tau_k); // the element's advance over the origin
     const double sub = -2.0 * M_PI * m * fs.subcarrier_spacing_hz() * tau_k;
-    const double dop = 2.0 * M_PI * (2.0 * v / (c0 / fs.carrier_hz)) * n * fs.symbol_interval_s;
+    const double dop = 2.0 * M_PI * (2.0 * v / (speed_of_light_mps / fs.carrier_hz)) * n * fs.symbol_interval_s;
     return std::polar(1.0, carrier + sub + dop);
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model (see channel_model.h for the equations). */
 #include "core/kernels/complex_kernels.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/gaussian_generator.h"
 #include "core/scene/micro_motion_params.h"
 #include "core/kernels/rng.h"
@@ -18,7 +19,6 @@ namespace sems {
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 
 inline double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
 

@@ -4,6 +4,7 @@
  * walker's pose (body frame turned into the array's, each segment's exact direction); the
  * angular spread of a walker broadside and head-on against the closed form of its segments'
  * offsets, and of a swinging pole against its array factor (spread broadside, none head-on). */
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/array/array_geometry.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
@@ -23,7 +24,6 @@ using namespace gr::sems;
 namespace {
 
 using cd = std::complex<double>;
-const double c0 = 3e8; // the module's speed of light (frame_settings.h), in m/s
 
 // A fixed, unfaded walker at (range, azimuth, elevation) walking at `speed` with `heading`
 // (0: towards the array; π/2: across the line of sight), seen by array a.
@@ -52,7 +52,7 @@ scene walker_scene(double range_m, double az, double el, double speed, double he
 // exp(j2π (f_c + mΔf) u_s·o / c).
 std::vector<cd> segment_sum(const frame_settings& fs, const channel_path& path, const scatterer_body& b, const position3& o)
 {
-    const double az = path.azimuth_rad, el = path.elevation_rad, range = 0.5 * c0 * path.delay_s;
+    const double az = path.azimuth_rad, el = path.elevation_rad, range = 0.5 * speed_of_light_mps * path.delay_s;
     walker::walker_params p;
     p.height_m = std::get<walker_motion>(b.motion).height_m;
     p.phase_rad = std::get<walker_motion>(b.motion).phase_rad;
@@ -79,7 +79,7 @@ std::vector<cd> segment_sum(const frame_settings& fs, const channel_path& path, 
                 const double P[3] = { range * u[0] + d[0], range * u[1] + d[1], range * u[2] + d[2] };
                 const double norm = std::sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
                 const double us_o = (P[0] * o[0] + P[1] * o[1] + P[2] * o[2]) / norm;
-                sum += a[s] * std::polar(1.0, -4.0 * M_PI * f / c0 * r[s] + 2.0 * M_PI * f * us_o / c0);
+                sum += a[s] * std::polar(1.0, -4.0 * M_PI * f / speed_of_light_mps * r[s] + 2.0 * M_PI * f * us_o / speed_of_light_mps);
             }
             const double bulk = -2.0 * M_PI * m * fs.subcarrier_spacing_hz() * path.delay_s +
                                 2.0 * M_PI * path.doppler_hz * n * fs.symbol_interval_s;
@@ -90,7 +90,7 @@ std::vector<cd> segment_sum(const frame_settings& fs, const channel_path& path, 
 }
 
 // The least-squares constant c of h ≈ c·ref.
-cd fit(const std::vector<gr_complex>& h, const std::vector<cd>& ref)
+cd complex_gain_fit(const std::vector<gr_complex>& h, const std::vector<cd>& ref)
 {
     cd num = 0.0;
     double den = 0.0;
@@ -166,7 +166,7 @@ public:
             CPPUNIT_ASSERT_EQUAL(size_t(1), r.bodies.size());
             std::vector<gr_complex> h0(size_t(fs.grid_size())), hk(h0.size());
             frame_channel(fs, r, 0).fill(h0.data()); // the single antenna: the constant
-            const cd c = fit(h0, segment_sum(fs, r.paths[0], r.bodies[0], { 0.0, 0.0, 0.0 }));
+            const cd c = complex_gain_fit(h0, segment_sum(fs, r.paths[0], r.bodies[0], { 0.0, 0.0, 0.0 }));
             CPPUNIT_ASSERT_LESS(2e-6, misfit(h0, segment_sum(fs, r.paths[0], r.bodies[0], { 0.0, 0.0, 0.0 }), c));
             double body_direction_misfit = 0.0;
             for (int k = 0; k < cm.n_elements(); ++k) {
@@ -182,7 +182,7 @@ public:
                     for (int m = 0; m < fs.n_subcarriers; ++m) {
                         const size_t i = size_t(n) * fs.n_subcarriers + m;
                         const double f = fs.carrier_hz + m * fs.subcarrier_spacing_hz();
-                        narrow[i] = cd(h0[i]) * std::polar(1.0, 2.0 * M_PI * f * projection_m(u, o) / c0);
+                        narrow[i] = cd(h0[i]) * std::polar(1.0, 2.0 * M_PI * f * projection_m(u, o) / speed_of_light_mps);
                     }
                 body_direction_misfit = std::max(body_direction_misfit, misfit(hk, narrow, 1.0));
             }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model against closed forms (docs/design.md §1). */
+#include "core/common/math_constants.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include <cppunit/TestAssert.h>
@@ -14,7 +15,6 @@ using namespace gr::sems;
 
 namespace {
 
-constexpr double pi = M_PI;
 const frame_settings fs{}; // the defaults: 32 x 64, B = 30 MHz, f_c = 3 GHz, T = 1 ms
 
 // A fixed single-path scene with deterministic gain (no fading) so phases are testable.

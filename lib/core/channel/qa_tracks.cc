@@ -23,11 +23,11 @@ using cd = std::complex<double>;
 
 namespace {
 
-const std::string head = R"({"format": "sems.scene", "version": 1, )";
+const std::string track_scene_head = R"({"format": "sems.scene", "version": 1, )";
 
 scene tracked(const std::string& tracks, const std::string& rest = "", const std::string& fading = "rayleigh")
 {
-    return scene::parse(head + R"("fading": ")" + fading + R"(", "random": {)" + rest + R"("tracks": )" + tracks +
+    return scene::parse(track_scene_head + R"("fading": ")" + fading + R"(", "random": {)" + rest + R"("tracks": )" + tracks +
                         "}}");
 }
 
@@ -254,7 +254,7 @@ public:
     void walker_track_equals_a_moving_fixed_scene()
     {
         const auto lib = class_library::find("kinematic");
-        const auto s = scene::parse(head + R"("classes": "kinematic", "fading": "none", "random": {
+        const auto s = scene::parse(track_scene_head + R"("classes": "kinematic", "fading": "none", "random": {
             "classes": ["adult"], "heading": "any", "tracks": {"frames": 20}}})");
         const frame_settings fs;
         channel_model cm(fs, s, 8);

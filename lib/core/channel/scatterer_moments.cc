@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: scatterer bodies as separable terms (see scatterer_moments.h for the equations). */
 #include "core/channel/scatterer_moments.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/vector_math.h"
 #include <algorithm>
 #include <array>
@@ -13,7 +14,6 @@ namespace detail {
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 constexpr double golden_angle = 2.399963229728653; // wheel w's rims turn by w·this: not aligned
 
 inline std::complex<double> cis(double rad) { return { std::cos(rad), std::sin(rad) }; }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the channel model at sample level (see td_channel.h for the equations). */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/complex_kernels.h"
 #include "core/kernels/complex_mul.h"
 #include "core/channel/scatterer_moments.h"
@@ -21,7 +22,6 @@ namespace sems {
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 // Phase error allowed by the linear (secant) micro-Doppler phase inside a chunk (rad): about
 // float's own phase resolution.
 constexpr double md_phase_tolerance_rad = 1e-7;

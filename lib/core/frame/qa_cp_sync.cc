@@ -19,7 +19,7 @@ namespace {
 
 // `symbols` CP-OFDM symbols of Gaussian samples (their spectrum: data on every subcarrier),
 // unit power, shifted by `cfo` subcarrier spacings, in noise of variance sigma2.
-std::vector<gr_complex> stream(std::mt19937& g, int symbols, int m, int cp, double cfo, double sigma2)
+std::vector<gr_complex> ofdm_stream(std::mt19937& g, int symbols, int m, int cp, double cfo, double sigma2)
 {
     std::normal_distribution<float> n(0.0f, float(M_SQRT1_2));
     std::vector<gr_complex> x;
@@ -53,7 +53,7 @@ class qa_cp_sync : public CppUnit::TestFixture
         const int m = 64, cp = 16, s = m + cp, symbols = 8;
         for (double cfo : { -0.49, -0.2, 0.0, 0.13, 0.4 })
             for (int start : { 0, 17, 79 }) {
-                const auto x = stream(g, symbols + 2, m, cp, cfo, 0.0);
+                const auto x = ofdm_stream(g, symbols + 2, m, cp, cfo, 0.0);
                 // the window begins `s − start` samples in, so a symbol starts at `start`
                 const auto e = cp_sync(x.data() + (s - start) % s, symbols, m, cp, std::numeric_limits<double>::infinity());
                 CPPUNIT_ASSERT_EQUAL(start % s, e.timing);
@@ -70,7 +70,7 @@ class qa_cp_sync : public CppUnit::TestFixture
             const double snr = std::pow(10.0, snr_db / 10.0), cfo = 0.1;
             double se = 0.0;
             for (int t = 0; t < trials; ++t) {
-                const auto x = stream(g, symbols, m, cp, cfo, 1.0 / snr);
+                const auto x = ofdm_stream(g, symbols, m, cp, cfo, 1.0 / snr);
                 const double d = cp_cfo(x.data(), symbols, m, cp) - cfo;
                 se += d * d;
             }
@@ -87,7 +87,7 @@ class qa_cp_sync : public CppUnit::TestFixture
     {
         std::mt19937 g(3);
         const int m = 64, cp = 16;
-        const auto clean = stream(g, 20, m, cp, 0.0, 0.0);
+        const auto clean = ofdm_stream(g, 20, m, cp, 0.0, 0.0);
         std::vector<gr_complex> x(clean);
         for (size_t k = 0; k < x.size(); ++k)
             x[k] *= gr_complex(std::polar(1.0, 2.0 * M_PI * 0.3 * double(k) / m));

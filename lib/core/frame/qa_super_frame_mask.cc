@@ -18,7 +18,7 @@ using namespace gr::sems;
 using gr::sems::qa::assert_error;
 
 namespace {
-const std::string head = R"({"format": "sems.pilot_mask", "version": 1, "n_symbols": 4, "n_subcarriers": 8, )";
+const std::string small_mask_head = R"({"format": "sems.pilot_mask", "version": 1, "n_symbols": 4, "n_subcarriers": 8, )";
 
 std::string file_text(const std::string& path)
 {
@@ -144,47 +144,47 @@ public:
     void bad_files_are_refused()
     {
         const std::string two = R"("frames": [{"pilots": [[0, 0], [1, 1]]}, {"pilots": [[2, 2], [3, 3]]}]})";
-        super_frame_mask::parse(head + two, "ok.json"); // well formed
-        assert_error([&] { pilot_mask::parse(head + two, "sf.json"); }, "sf.json", "super_frame_mask");
-        assert_error([] { super_frame_mask::parse(head + R"("frames": []})", "sf.json"); }, "sf.json: frames",
+        super_frame_mask::parse(small_mask_head + two, "ok.json"); // well formed
+        assert_error([&] { pilot_mask::parse(small_mask_head + two, "sf.json"); }, "sf.json", "super_frame_mask");
+        assert_error([] { super_frame_mask::parse(small_mask_head + R"("frames": []})", "sf.json"); }, "sf.json: frames",
                      "got 0");
-        assert_error([] { super_frame_mask::parse(head + R"("frames": {"pilots": []}})", "sf.json"); },
+        assert_error([] { super_frame_mask::parse(small_mask_head + R"("frames": {"pilots": []}})", "sf.json"); },
                      "sf.json: frames", "a list");
         assert_error(
             [] {
-                super_frame_mask::parse(head + R"("n_frames": 3, "frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]]}]})",
+                super_frame_mask::parse(small_mask_head + R"("n_frames": 3, "frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]]}]})",
                                         "sf.json");
             },
             "n_frames", "declares 3 frames but the list has 2");
         assert_error(
             [] {
-                super_frame_mask::parse(head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[9, 1]]}]})", "sf.json");
+                super_frame_mask::parse(small_mask_head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[9, 1]]}]})", "sf.json");
             },
             "sf.json (frames[1])", "outside the 4 x 8 grid");
         assert_error(
             [] {
                 super_frame_mask::parse(
-                    head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]], "n_symbols": 4}]})", "sf.json");
+                    small_mask_head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]], "n_symbols": 4}]})", "sf.json");
             },
             "frames[1].n_symbols", "belongs to the file");
         assert_error(
             [] {
-                super_frame_mask::parse(head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1], [2, 2]]}]})",
+                super_frame_mask::parse(small_mask_head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1], [2, 2]]}]})",
                                         "sf.json");
             },
             "has 2 pilots but frames[0] has 1");
         assert_error(
             [] {
-                super_frame_mask::parse(head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]], "powr": [1]}]})",
+                super_frame_mask::parse(small_mask_head + R"("frames": [{"pilots": [[0, 0]]}, {"pilots": [[1, 1]], "powr": [1]}]})",
                                         "sf.json");
             },
             "frames[1]", "powr");
-        assert_error([] { super_frame_mask::parse(head + R"("frames": [[0, 0]]})", "sf.json"); }, "frames[0]",
+        assert_error([] { super_frame_mask::parse(small_mask_head + R"("frames": [[0, 0]]})", "sf.json"); }, "frames[0]",
                      "JSON object");
-        assert_error([] { super_frame_mask::parse(head + R"("frames": [{"pilots": [[0, 0]]}], "pilots": [[1, 1]]})",
+        assert_error([] { super_frame_mask::parse(small_mask_head + R"("frames": [{"pilots": [[0, 0]]}], "pilots": [[1, 1]]})",
                                                   "sf.json"); },
                      "sf.json: pilots", "unknown key");
-        std::string many = head + R"("frames": [)";
+        std::string many = small_mask_head + R"("frames": [)";
         for (int f = 0; f <= limits::max_super_frames; ++f)
             many += std::string(f ? ", " : "") + R"({"pilots": [[0, 0]]})";
         assert_error([&] { super_frame_mask::parse(many + "]}", "sf.json"); }, "frames",

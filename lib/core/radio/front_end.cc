@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: front-end settings — validation, derived quantities and the radio file. */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/common/json_object.h"
 #include <gnuradio/sems/core/radio/front_end.h>
 #include <gnuradio/sems/core/radio/phase_noise.h>
@@ -13,7 +14,6 @@ namespace gr {
 namespace sems {
 
 namespace {
-constexpr double pi = 3.14159265358979323846;
 constexpr const char* format_name = "sems.radio";
 constexpr int format_version = 1;
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: one frame through the radio front end (front_end_frame.h has the chain). */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/gaussian_generator.h"
 #include <gnuradio/sems/core/radio/front_end_frame.h>
 #include <gnuradio/sems/core/radio/leakage_canceller.h>
@@ -17,7 +18,6 @@ namespace gr {
 namespace sems {
 
 namespace {
-constexpr double pi = 3.14159265358979323846;
 // Seeds of the frame's draws, apart from each other.
 constexpr uint64_t tx_osc_seed = 0x9E3779B97F4A7C15ULL, rx_osc_seed = 0xBF58476D1CE4E5B9ULL,
                    noise_seed = 0x94D049BB133111EBULL;

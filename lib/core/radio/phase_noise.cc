@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the Wiener phase of a free-running oscillator (see phase_noise.h). */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/rng.h"
 #include <gnuradio/sems/core/radio/phase_noise.h>
 #include <cmath>
@@ -12,7 +13,6 @@ namespace gr {
 namespace sems {
 
 namespace {
-constexpr double pi = 3.14159265358979323846;
 using checks::text;
 } // namespace
 

@@ -3,6 +3,7 @@
  * the oscillator's Wiener phase against its closed forms. */
 #include <gnuradio/sems/core/radio/front_end.h>
 #include <gnuradio/sems/core/radio/phase_noise.h>
+#include "core/common/math_constants.h"
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -18,7 +19,6 @@ using namespace gr::sems;
 using gr::sems::qa::assert_error;
 
 namespace {
-constexpr double pi = 3.14159265358979323846;
 const double inf = std::numeric_limits<double>::infinity();
 const double not_a_number = std::numeric_limits<double>::quiet_NaN();
 

@@ -10,6 +10,7 @@
  * a phase not given is drawn over [0, 2π).
  */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/common/json_object.h"
 #include "core/scene/micro_motion_params.h"
 #include "core/common/named_files.h"
@@ -37,7 +38,6 @@ using json_read::object_reader;
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 
 std::pair<double, double> read_interval(object_reader& r, const char* key)
 {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: micro-motion models — names, validation, bounds, JSON (micro_motion.h). */
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/common/json_read.h"
 #include "core/scene/walker_scatterers.h"
 #include <gnuradio/sems/core/common/limits.h>
@@ -17,7 +18,6 @@ using json_read::fail;
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 
 struct checker {
     const std::string& source;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: micro-motion parameters — the one list per model, its reader and its drawers. */
 #include "core/scene/micro_motion_params.h"
+#include "core/common/math_constants.h"
 #include "core/common/json_object.h"
 #include <gnuradio/sems/core/common/limits.h>
 #include <cmath>
@@ -16,7 +17,6 @@ using json_read::object_reader;
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 
 // --- the one parameter list per model -------------------------------------------
 // Every visitor V has:

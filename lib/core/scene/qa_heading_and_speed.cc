@@ -18,7 +18,7 @@ using cd = std::complex<double>;
 
 namespace {
 
-const std::string head = R"({"format": "sems.scene", "version": 1, "fading": "none", )";
+const std::string heading_scene_head = R"({"format": "sems.scene", "version": 1, "fading": "none", )";
 
 // Three scatterers: a fixed one, one on two harmonics, one offset 0.5 m ahead and turning.
 const std::string three_scatterers = R"({"model": "scatterers", "scatterers": [
@@ -41,7 +41,7 @@ std::string num(double x) { return nlohmann::json(x).dump(); }
 
 scene target_at(double speed, double heading, const std::string& motion)
 {
-    return scene::parse(head + R"("targets": [{"class": "car", "range_m": 30, "speed_mps": )" + num(speed) +
+    return scene::parse(heading_scene_head + R"("targets": [{"class": "car", "range_m": 30, "speed_mps": )" + num(speed) +
                         R"(, "heading_rad": )" + num(heading) + R"(, "micro_motion": )" + motion + "}]}");
 }
 
@@ -125,7 +125,7 @@ public:
                     for (auto& h : s["harmonics"])
                         if (h["rate_hz"].is_object())
                             h["rate_hz"] = h["rate_hz"]["per_speed"].get<double>() * 4.7;
-            return scene::parse(head + R"("classes": "kinematic", "targets": [{"class": "bicyclist", "range_m": 60,
+            return scene::parse(heading_scene_head + R"("classes": "kinematic", "targets": [{"class": "bicyclist", "range_m": 60,
                 "speed_mps": 4.7, "heading_rad": )" + num(heading) + R"(, "micro_motion": )" + j.dump() + "}]}");
         };
         const double side = energy_beyond_bulk(fs, grid(fs, bicyclist(M_PI / 2)), 4.7 * std::cos(M_PI / 2));
@@ -195,7 +195,7 @@ public:
                          "micro_motion.height_m.per_speed", "empty interval");
         // a scene gives values: a coupling there is refused naming the field
         qa::assert_error([] {
-            scene::parse(head + R"("targets": [{"class": "car", "range_m": 30, "speed_mps": 3, "micro_motion":
+            scene::parse(heading_scene_head + R"("targets": [{"class": "car", "range_m": 30, "speed_mps": 3, "micro_motion":
                 {"model": "scatterers", "scatterers": [{"harmonics": [{"amplitude_m": 0.1, "rate_hz": {"per_speed": 1}}]}]}}]})",
                          "scene.json");
         },

@@ -26,7 +26,7 @@ using cd = std::complex<double>;
 
 namespace {
 
-const std::string head = R"({"format": "sems.scene", "version": 1, "fading": "none", )";
+const std::string motion_scene_head = R"({"format": "sems.scene", "version": 1, "fading": "none", )";
 
 // The noiseless grids of `frames` consecutive frames of a scene (frame f at slow time f·N).
 std::vector<gr_complex> grids(const frame_settings& fs, const scene& s, size_t frames, uint64_t seed = 1)
@@ -183,9 +183,9 @@ public:
 
     void sinusoid_model_is_micro_doppler()
     {
-        const auto a = scene::parse(head + R"("targets": [{"class": "drone", "range_m": 40, "velocity_mps": 7,
+        const auto a = scene::parse(motion_scene_head + R"("targets": [{"class": "drone", "range_m": 40, "velocity_mps": 7,
             "micro_doppler": {"rate_hz": 97, "amplitude_m": 0.012, "phase_rad": 0.4}}]})");
-        const auto b = scene::parse(head + R"("targets": [{"class": "drone", "range_m": 40, "velocity_mps": 7,
+        const auto b = scene::parse(motion_scene_head + R"("targets": [{"class": "drone", "range_m": 40, "velocity_mps": 7,
             "micro_motion": {"model": "sinusoid", "rate_hz": 97, "amplitude_m": 0.012, "phase_rad": 0.4}}]})");
         const frame_settings fs;
         CPPUNIT_ASSERT(grids(fs, a, 3) == grids(fs, b, 3));
@@ -204,7 +204,7 @@ public:
     {
         const double L = 0.16, f_rot = 47.0, phi = 0.3, beta = 0.2;
         const int rotors = 2;
-        const auto s = scene::parse(head + R"("targets": [{"class": "drone", "range_m": 30, "velocity_mps": 0,
+        const auto s = scene::parse(motion_scene_head + R"("targets": [{"class": "drone", "range_m": 30, "velocity_mps": 0,
             "micro_motion": {"model": "rotor", "rotors": 2, "blades": )" + std::to_string(K) + R"(, "blade_length_m": 0.16,
                              "rotation_hz": [47, 47], "phase_rad": [0.3, 0.3], "elevation_rad": 0.2, "body_power": 0}}]})");
         const frame_settings fs;
@@ -248,9 +248,9 @@ public:
     void one_harmonic_is_the_sinusoid_within_its_narrowband_bound()
     {
         const double A = 0.4;
-        const auto sin = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5,
+        const auto sin = scene::parse(motion_scene_head + R"("targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5,
             "micro_motion": {"model": "sinusoid", "rate_hz": 2, "amplitude_m": 0.4, "phase_rad": 1}}]})");
-        const auto pts = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5,
+        const auto pts = scene::parse(motion_scene_head + R"("targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5,
             "micro_motion": {"model": "scatterers", "scatterers": [{"power": 1,
                 "harmonics": [{"amplitude_m": 0.4, "rate_hz": 2, "phase_rad": 1}]}]}}]})");
         const frame_settings fs;
@@ -286,7 +286,7 @@ public:
     void expansion_equals_direct_sum_on_wide_band()
     {
         const frame_settings fs = wide_band_frame();
-        const auto s = scene::parse(head + R"("targets": [{"class": "car", "range_m": 10, "velocity_mps": 0,
+        const auto s = scene::parse(motion_scene_head + R"("targets": [{"class": "car", "range_m": 10, "velocity_mps": 0,
             "micro_motion": {"model": "scatterers", "scatterers": [
                 {"power": 1, "harmonics": [{"amplitude_m": 0.6, "rate_hz": 900, "phase_rad": 0.2}]},
                 {"power": 2, "harmonics": [{"amplitude_m": 0.05, "rate_hz": 3000, "phase_rad": 1},
@@ -323,7 +323,7 @@ public:
         frame_settings fs;
         fs.n_symbols = 512; // 1.95 Hz bins at T = 1 ms
         const double v = 10.0; // body Doppler 2v/λ = 200 Hz; wheel tops 400 Hz
-        const auto s = scene::parse(head + R"("targets": [{"class": "car", "range_m": 25, "velocity_mps": 10,
+        const auto s = scene::parse(motion_scene_head + R"("targets": [{"class": "car", "range_m": 25, "velocity_mps": 10,
             "micro_motion": {"model": "wheels", "wheels": 2, "wheel_radius_m": 0.3, "rim_points": 16,
                              "spokes": 0, "body_power": 0}}]})");
         const auto h = grids(fs, s, 1);
@@ -358,7 +358,7 @@ public:
         frame_settings fs;
         fs.n_symbols = 1024; // 1.02 s: more than one gait cycle; 0.98 Hz bins
         const double v = 1.4;
-        const auto s = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 25, "velocity_mps": 1.4,
+        const auto s = scene::parse(motion_scene_head + R"("targets": [{"class": "pedestrian", "range_m": 25, "velocity_mps": 1.4,
             "micro_motion": {"model": "walker", "height_m": 1.8}}]})");
         const auto h = grids(fs, s, 1);
         const int n = fs.n_symbols;
@@ -505,7 +505,7 @@ public:
 
     void moving_scene_follows_its_track()
     {
-        const auto s = scene::parse(head + R"("track": {"range_m": [10, 30], "at_bound": "reflect"},
+        const auto s = scene::parse(motion_scene_head + R"("track": {"range_m": [10, 30], "at_bound": "reflect"},
             "targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5}]})");
         const frame_settings fs; // 32 ms frames
         channel_model cm(fs, s, 1);
@@ -516,13 +516,13 @@ public:
         // 300 frames = 9.6 s = 14.4 m: 10 m to the near end, then 4.4 m back out, receding.
         CPPUNIT_ASSERT_DOUBLES_EQUAL(14.4, r300.truth.range_m, 1e-9);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(-1.5, r300.truth.velocity_mps, 0.0);
-        const auto restart = scene::parse(head + R"("track": {"range_m": [10, 30]},
+        const auto restart = scene::parse(motion_scene_head + R"("track": {"range_m": [10, 30]},
             "targets": [{"class": "pedestrian", "range_m": 20, "velocity_mps": 1.5}]})");
         channel_model cr(fs, restart, 1);
         CPPUNIT_ASSERT_DOUBLES_EQUAL(20.0 - std::fmod(1.5 * 300 * frame_s, 10.0), cr.draw(300).truth.range_m, 1e-9);
         // A target's micro-motion phases continue across frames: frame 1 of a long stream equals
         // rows N..2N-1 of the stream, not a restart.
-        const auto w = scene::parse(head + R"("targets": [{"class": "drone", "range_m": 30, "velocity_mps": 3,
+        const auto w = scene::parse(motion_scene_head + R"("targets": [{"class": "drone", "range_m": 30, "velocity_mps": 3,
             "micro_motion": {"model": "rotor", "rotors": 1, "blades": 2, "blade_length_m": 0.1, "rotation_hz": 7.3}}]})");
         const auto both = grids(fs, w, 2);
         channel_model single(fs, w, 1);
@@ -685,7 +685,7 @@ public:
     {
         const frame_settings wide = wide_band_frame();
         for (const frame_settings& fs : { frame_settings{}, wide }) {
-            const auto s = scene::parse(head + R"("targets": [{"class": "pedestrian", "range_m": 12, "speed_mps": 1.6,
+            const auto s = scene::parse(motion_scene_head + R"("targets": [{"class": "pedestrian", "range_m": 12, "speed_mps": 1.6,
                 "heading_rad": 0.4, "micro_motion": {"model": "walker", "height_m": 1.75, "phase_rad": 0.3}}]})");
             channel_model cm(fs, s, 1);
             const uint64_t frame = 37;

@@ -16,7 +16,7 @@ using namespace gr::sems;
 using gr::sems::qa::assert_error;
 
 namespace {
-const std::string head = R"({"format": "sems.scene", "version": 1, )";
+const std::string scene_json_head = R"({"format": "sems.scene", "version": 1, )";
 } // namespace
 
 class qa_scene : public CppUnit::TestFixture
@@ -33,7 +33,7 @@ class qa_scene : public CppUnit::TestFixture
 public:
     void fixed_round_trip()
     {
-        const std::string text = head + R"("fading": "none", "target_of_interest": 1, "targets": [
+        const std::string text = scene_json_head + R"("fading": "none", "target_of_interest": 1, "targets": [
             {"class": "car", "range_m": 80, "velocity_mps": 15},
             {"class": "drone", "range_m": 50, "velocity_mps": 7, "power": 2,
              "micro_doppler": {"rate_hz": 100, "amplitude_m": 0.01, "phase_rad": 0.5},
@@ -58,14 +58,14 @@ public:
 
     void random_round_trip()
     {
-        auto s = scene::parse(head + R"("random": {"classes": ["car", "drone"], "paths_per_target": 3,
+        auto s = scene::parse(scene_json_head + R"("random": {"classes": ["car", "drone"], "paths_per_target": 3,
             "excess_range_m": [5, 20]}, "clutter": {"csr_db": 0, "paths": 2, "range_m": [10, 100]}})");
         CPPUNIT_ASSERT(s.is_random());
         CPPUNIT_ASSERT_EQUAL(s.to_json().dump(), scene::parse(s.to_json_string()).to_json().dump());
         CPPUNIT_ASSERT_EQUAL(size_t(2), s.label_classes().size());
         // The heading: written always, "approaching" by default, "any" read back.
         CPPUNIT_ASSERT_EQUAL(std::string("approaching"), s.to_json()["random"]["heading"].get<std::string>());
-        auto any = scene::parse(head + R"("random": {"heading": "any"}})");
+        auto any = scene::parse(scene_json_head + R"("random": {"heading": "any"}})");
         CPPUNIT_ASSERT(any.random_settings()->heading == heading_kind::any);
         CPPUNIT_ASSERT_EQUAL(any.to_json().dump(), scene::parse(any.to_json_string()).to_json().dump());
     }
@@ -159,30 +159,30 @@ public:
 
     void malformed_scenes_are_refused()
     {
-        assert_error([] { scene::parse(head + R"("random": {"heading": "north"}})", "l.json"); },
+        assert_error([] { scene::parse(scene_json_head + R"("random": {"heading": "north"}})", "l.json"); },
                      "l.json: random.heading", "north");
         assert_error([] { scene::parse("{", "a.json"); }, "a.json: not valid JSON");
-        assert_error([] { scene::parse(head + R"("targets": []})", "b.json"); }, "b.json: targets: a fixed scene needs");
-        assert_error([] { scene::parse(head + R"("targets": [{"class": "tank", "range_m": 1, "velocity_mps": 1}]})",
+        assert_error([] { scene::parse(scene_json_head + R"("targets": []})", "b.json"); }, "b.json: targets: a fixed scene needs");
+        assert_error([] { scene::parse(scene_json_head + R"("targets": [{"class": "tank", "range_m": 1, "velocity_mps": 1}]})",
                                        "c.json"); },
                      "unknown target class \"tank\"");
-        assert_error([] { scene::parse(head + R"("targets": [{"class": "car", "range_m": -1, "velocity_mps": 1}]})",
+        assert_error([] { scene::parse(scene_json_head + R"("targets": [{"class": "car", "range_m": -1, "velocity_mps": 1}]})",
                                        "d.json"); },
                      "d.json: targets[0].range_m: must be a finite number >= 0");
-        assert_error([] { scene::parse(head + R"("targets": [{"class": "car", "range_m": 1}]})", "e.json"); },
+        assert_error([] { scene::parse(scene_json_head + R"("targets": [{"class": "car", "range_m": 1}]})", "e.json"); },
                      "velocity_mps: missing");
-        assert_error([] { scene::parse(head + R"("target_of_interest": 2, "targets": [{"class": "car", "range_m": 1, "velocity_mps": 1}]})",
+        assert_error([] { scene::parse(scene_json_head + R"("target_of_interest": 2, "targets": [{"class": "car", "range_m": 1, "velocity_mps": 1}]})",
                                        "f.json"); },
                      "target_of_interest: is 2 but the scene has 1 targets");
-        assert_error([] { scene::parse(head + R"("random": {}, "targets": []})", "g.json"); }, "exactly one of");
-        assert_error([] { scene::parse(head + R"("random": {"classes": []}})", "h.json"); }, "needs at least one class");
-        assert_error([] { scene::parse(head + R"("random": {}, "fading": "rician"})", "i.json"); }, "fading");
-        assert_error([] { scene::parse(head + R"("random": {}, "colour": 1})", "j.json"); }, "j.json: colour: unknown key");
-        assert_error([] { scene::parse(head + R"("random": {}, "clutter": {"csr_db": "x"}})", "k.json"); },
+        assert_error([] { scene::parse(scene_json_head + R"("random": {}, "targets": []})", "g.json"); }, "exactly one of");
+        assert_error([] { scene::parse(scene_json_head + R"("random": {"classes": []}})", "h.json"); }, "needs at least one class");
+        assert_error([] { scene::parse(scene_json_head + R"("random": {}, "fading": "rician"})", "i.json"); }, "fading");
+        assert_error([] { scene::parse(scene_json_head + R"("random": {}, "colour": 1})", "j.json"); }, "j.json: colour: unknown key");
+        assert_error([] { scene::parse(scene_json_head + R"("random": {}, "clutter": {"csr_db": "x"}})", "k.json"); },
                      "clutter.csr_db: expected a number");
         assert_error([] { scene::load("/nonexistent/scene.json"); }, "cannot open");
         // The frame decides what fits: a target beyond the unambiguous range is refused, not folded.
-        assert_error([] { channel_model(frame_settings{}, scene::parse(head + R"("targets": [{"class": "car", "range_m": 400, "velocity_mps": 1}]})"), 0); },
+        assert_error([] { channel_model(frame_settings{}, scene::parse(scene_json_head + R"("targets": [{"class": "car", "range_m": 400, "velocity_mps": 1}]})"), 0); },
                      "beyond the unambiguous range");
     }
 };

@@ -10,6 +10,7 @@
  */
 #include <gnuradio/sems/core/scene/walker_model.h>
 #include "core/common/checks.h"
+#include "core/common/math_constants.h"
 #include "core/kernels/vector_math.h"
 #include <algorithm>
 #include <cmath>
@@ -23,7 +24,6 @@ namespace walker {
 
 namespace {
 
-constexpr double two_pi = 2.0 * M_PI;
 constexpr double deg = M_PI / 180.0;
 // Chen's segment radii are absolute (m); they are taken as those of a walker this tall.
 constexpr double radius_reference_height_m = 1.8;

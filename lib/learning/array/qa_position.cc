@@ -24,7 +24,7 @@ namespace fsys = std::filesystem;
 namespace {
 
 // One tiny position bundle on the shipped delay_single bundle, shared by the tests.
-const position_training_result& shared_run()
+const position_training_result& shared_position_run()
 {
     static std::unique_ptr<position_training_result> r;
     if (!r) {
@@ -118,7 +118,7 @@ public:
     // truth, its delay within half an index; the test figures are recorded per SNR.
     void a_trained_bundle_finds_a_noiseless_target()
     {
-        const auto& r = shared_run();
+        const auto& r = shared_position_run();
         const auto b = model_bundle::load(r.bundle.directory);
         CPPUNIT_ASSERT(!b.position.is_null());
         CPPUNIT_ASSERT(fsys::exists(fsys::path(b.directory) / position_estimator::weights_file));
@@ -139,7 +139,7 @@ public:
 
     void bad_input_bundles_and_settings_are_refused_by_name()
     {
-        const auto& r = shared_run();
+        const auto& r = shared_position_run();
         const position_estimator p(model_bundle::load(r.bundle.directory), 1);
         double ignored = 0.0;
         auto y = one_target(p.bundle(), p.array(), 0.1, &ignored);

@@ -27,17 +27,17 @@
 using namespace gr::sems;
 using gr::sems::training::distributed_context;
 using gr::sems::qa::assert_error;
-namespace fs = std::filesystem;
+namespace fsys = std::filesystem;
 
 namespace {
 
 std::string fresh_store()
 {
     static std::atomic<int> counter{ 0 };
-    const auto dir = fs::temp_directory_path() / ("sems_qa_dist_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const auto dir = fsys::temp_directory_path() / ("sems_qa_dist_" + std::to_string(::getpid()));
+    fsys::create_directories(dir);
     const auto p = dir / ("store_" + std::to_string(counter++));
-    fs::remove(p);
+    fsys::remove(p);
     return p.string();
 }
 

@@ -19,7 +19,7 @@ namespace {
 constexpr int np = 3;
 
 // Answers each frame with its first value's real part; scores "truth value == answer".
-class fake_task : public detail::sink_task
+class fake_task : public gr::sems::detail::sink_task
 {
 public:
     std::vector<int> batches;
@@ -27,7 +27,7 @@ public:
 
     std::vector<uint64_t> indices; // of every decoded frame, in order
 
-    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta) override
+    std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<gr::sems::detail::frame_meta>& meta) override
     {
         batches.push_back(batch);
         if (static_cast<int>(meta.size()) != batch)
@@ -44,7 +44,7 @@ public:
     bool score(pmt::pmt_t& result, const pmt::pmt_t& truth) override
     {
         double t;
-        if (!detail::dict_number(truth, keys::class_id, t))
+        if (!gr::sems::detail::dict_number(truth, keys::class_id, t))
             return false;
         const bool ok = t == pmt::to_double(pmt::dict_ref(result, pmt::intern(keys::label), pmt::PMT_NIL));
         result = pmt::dict_add(result, pmt::intern(keys::correct), pmt::from_bool(ok));
@@ -96,7 +96,7 @@ struct stream {
 std::vector<message> run(const stream& s, int batch, int k, int chunk, fake_task& task)
 {
     std::vector<message> out;
-    detail::sink_core core(np, batch, k, task, [&](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
+    gr::sems::detail::sink_core core(np, batch, k, task, [&](const pmt::pmt_t& port, const pmt::pmt_t& msg) {
         out.push_back({ pmt::symbol_to_string(port), msg });
     });
     const int frames = static_cast<int>(s.data.size() / np);

@@ -26,7 +26,7 @@ using namespace gr::sems;
 namespace {
 using gr::sems::qa::models_dir;
 
-struct run_result {
+struct fault_run {
     uint64_t frames, scored, skipped, faulted;
     size_t results; // result messages
 };
@@ -34,7 +34,7 @@ struct run_result {
 // Streams `n_frames` frames (every 7th non-finite, all with a truth) through `sink`
 // while `inject` decides which decode calls fail.
 template <typename Sink>
-run_result stream(std::shared_ptr<Sink> sink, int np, int n_frames, std::function<void(int)> inject)
+fault_run stream_with_faults(std::shared_ptr<Sink> sink, int np, int n_frames, std::function<void(int)> inject)
 {
     std::vector<gr_complex> data(static_cast<size_t>(n_frames) * np);
     std::vector<gr::tag_t> tags;
@@ -81,7 +81,7 @@ public:
         auto sink = gnuradio::make_block_sptr<classifier_sink_impl>(dir, np, batch, 1, 0, 32, 64, "", 0.0, 1);
         int calls = 0;
         std::vector<int> failed_batches;
-        auto r = stream(sink, np, n_frames, [&](int b) {
+        auto r = stream_with_faults(sink, np, n_frames, [&](int b) {
             ++calls;
             if (calls % 3 == 0) { // a LibTorch error would come out as a std::exception too
                 failed_batches.push_back(b);
@@ -111,7 +111,7 @@ public:
         auto sink = gnuradio::make_block_sptr<delay_estimator_sink_impl>(dir, np, batch, 1, 10, 32, 64, "");
         int calls = 0;
         uint64_t faulted = 0;
-        auto r = stream(sink, np, n_frames, [&](int b) {
+        auto r = stream_with_faults(sink, np, n_frames, [&](int b) {
             if (++calls % 2 == 1) {
                 faulted += b;
                 throw std::logic_error("injected bookkeeping failure");

@@ -95,7 +95,7 @@ struct answer {
     std::vector<float> probs;
 };
 
-struct run_result {
+struct track_run {
     std::vector<answer> answers;
     uint64_t tracks_started, track_gaps, skipped;
 };
@@ -108,7 +108,7 @@ std::vector<gr_complex> observation(uint64_t seed, int np)
     return o;
 }
 
-run_result stream(const std::vector<frame_spec>& frames, int batch, const std::string& bundle_dir = track_bundle())
+track_run stream_track(const std::vector<frame_spec>& frames, int batch, const std::string& bundle_dir = track_bundle())
 {
     const auto b = model_bundle::load(bundle_dir);
     const int np = b.mask.size();
@@ -141,7 +141,7 @@ run_result stream(const std::vector<frame_spec>& frames, int batch, const std::s
     tb->connect(src, 0, sink, 0);
     tb->msg_connect(sink, keys::result_port, dbg, "store");
     tb->run();
-    run_result r{ {}, sink->tracks_started(), sink->track_gaps(), sink->frames_skipped() };
+    track_run r{ {}, sink->tracks_started(), sink->track_gaps(), sink->frames_skipped() };
     for (int i = 0; i < dbg->num_messages(); ++i) {
         const auto m = dbg->get_message(i);
         answer a;
@@ -155,7 +155,7 @@ run_result stream(const std::vector<frame_spec>& frames, int batch, const std::s
     return r;
 }
 
-std::vector<uint64_t> evidence_times(const run_result& r)
+std::vector<uint64_t> evidence_times(const track_run& r)
 {
     std::vector<uint64_t> t;
     for (const auto& a : r.answers)
@@ -196,7 +196,7 @@ public:
             want.push_back(p);
         }
         for (int batch : { 1, 2, 4, 8 }) {
-            const auto r = stream(frames, batch);
+            const auto r = stream_track(frames, batch);
             CPPUNIT_ASSERT_EQUAL(size_t(8), r.answers.size());
             CPPUNIT_ASSERT(evidence_times(r) == std::vector<uint64_t>({ 1, 2, 3, 1, 2, 3, 4, 5 }));
             CPPUNIT_ASSERT_EQUAL(uint64_t(2), r.tracks_started);
@@ -220,7 +220,7 @@ public:
             { 10, 2 }, { 11, 2 },                // a new track
             { 12, -1 }, { 13, -1 }, { 14, -1 },  // no track_id: a track of their own
         };
-        const auto r = stream(frames, 3);
+        const auto r = stream_track(frames, 3);
         CPPUNIT_ASSERT_EQUAL(uint64_t(1), r.skipped);
         CPPUNIT_ASSERT(evidence_times(r) ==
                        std::vector<uint64_t>({ 1, 2, 3, 1, 2, 1, 2, 3, 1, 2, 1, 2, 1, 2, 3 }));
@@ -275,7 +275,7 @@ public:
                 apart = std::max(apart, double(std::abs(want[f][c] - at_set0[f][c])));
         CPPUNIT_ASSERT(apart > 1e-4);
         for (int batch : { 1, 3, 6 }) {
-            const auto r = stream(frames, batch, super_frame_bundle());
+            const auto r = stream_track(frames, batch, super_frame_bundle());
             CPPUNIT_ASSERT_EQUAL(size_t(6), r.answers.size());
             CPPUNIT_ASSERT_EQUAL(uint64_t(1), r.tracks_started);
             for (size_t f = 0; f < 6; ++f)
@@ -301,7 +301,7 @@ public:
         fb.save(frame_dir);
         fsys::copy_file(b.weights_path(), fsys::path(frame_dir) / b.weights_name);
         const bundle_decoder dec(model_bundle::load(frame_dir), 1);
-        const auto r = stream(frames, 2, frame_dir);
+        const auto r = stream_track(frames, 2, frame_dir);
         CPPUNIT_ASSERT_EQUAL(size_t(6), r.answers.size());
         for (size_t f = 0; f < 6; ++f) {
             const auto o = observation(frames[f].index, b.mask.size());

@@ -25,7 +25,7 @@ namespace fsys = std::filesystem;
 
 namespace {
 
-std::string temp_dir(const std::string& name) { return qa::temp_dir("super_frame", name); }
+std::string super_frame_dir(const std::string& name) { return qa::temp_dir("super_frame", name); }
 
 std::string paper_classifier()
 {
@@ -36,7 +36,7 @@ std::string paper_classifier()
 // The paper classifier's files with a mask of two sets: its own (set 0) and `other` (set 1).
 std::string two_set_bundle(const pilot_mask& other, const std::string& name)
 {
-    const auto dir = temp_dir(name);
+    const auto dir = super_frame_dir(name);
     auto b = model_bundle::load(paper_classifier());
     b.super_frame = super_frame_mask({ b.mask, other });
     b.save(dir);
@@ -58,7 +58,7 @@ std::vector<gr_complex> observations(int batch, int np, unsigned seed)
 }
 
 // A tiny super-frame of two sets learned with its temporal decoder on the paper classifier.
-track_training_settings tiny(const std::string& out)
+track_training_settings tiny_super_frame(const std::string& out)
 {
     track_training_settings s;
     s.frame_bundle = paper_classifier();
@@ -136,7 +136,7 @@ public:
         CPPUNIT_ASSERT(two.mask_of_set(1) == other);
         // The set-1 reference: the same weights on `other` alone.
         auto one = model_bundle::load(paper_classifier());
-        const auto one_dir = temp_dir("set1_alone");
+        const auto one_dir = super_frame_dir("set1_alone");
         one.mask = other;
         one.save(one_dir);
         fsys::copy_file(one.weights_path(), fsys::path(one_dir) / one.weights_name, fsys::copy_options::overwrite_existing);
@@ -176,8 +176,8 @@ public:
     // bundle that loads back with F sets and a frame decoder of its own.
     void learned_super_frame_loads_back()
     {
-        const auto dir = temp_dir("learned");
-        const auto res = train_track(tiny(dir), nullptr);
+        const auto dir = super_frame_dir("learned");
+        const auto res = train_track(tiny_super_frame(dir), nullptr);
         const auto b = model_bundle::load(dir);
         const auto paper = model_bundle::load(paper_classifier());
         CPPUNIT_ASSERT_EQUAL(2, b.super_frames());
@@ -204,7 +204,7 @@ public:
         CPPUNIT_ASSERT_DOUBLES_EQUAL(1.0, sum, 1e-5);
         CPPUNIT_ASSERT(!res.metrics.at("by_snr").empty());
         // A random start has no epoch 0 (no repeated mask to keep).
-        auto random_start = tiny(temp_dir("random_start"));
+        auto random_start = tiny_super_frame(super_frame_dir("random_start"));
         random_start.mask_start = "random";
         const auto rr = train_track(random_start, nullptr);
         const auto& rh = rr.bundle.track.at("training").at("super_frame_history");
@@ -212,14 +212,14 @@ public:
         CPPUNIT_ASSERT_EQUAL(1, rh.at(0).at("epoch").get<int>());
         CPPUNIT_ASSERT_EQUAL(2, model_bundle::load(random_start.out_dir).super_frames());
         // A super-frame bundle is not a frame bundle to learn another super-frame from.
-        auto again = tiny(temp_dir("again"));
+        auto again = tiny_super_frame(super_frame_dir("again"));
         again.frame_bundle = dir;
         assert_error([&] { train_track(again, nullptr); }, "already a track bundle");
     }
 
     void bad_super_frame_settings_are_refused()
     {
-        auto s = tiny(temp_dir("bad"));
+        auto s = tiny_super_frame(super_frame_dir("bad"));
         s.super_frames = 0;
         assert_error([&] { s.validate(); }, "super_frames: must be in [1, ");
         s.super_frames = limits::max_super_frames + 1;
@@ -227,22 +227,22 @@ public:
         s.super_frames = 2;
         s.out_dir.clear();
         assert_error([&] { s.validate(); }, "out_dir");
-        s = tiny(temp_dir("bad"));
+        s = tiny_super_frame(super_frame_dir("bad"));
         s.mask_tracks = 0;
         assert_error([&] { s.validate(); }, "mask_tracks");
         s.mask_tracks = 49; // 48 training tracks of 60
         assert_error([&] { s.validate(); }, "mask_tracks: must be in [1, 48]");
-        s = tiny(temp_dir("bad"));
+        s = tiny_super_frame(super_frame_dir("bad"));
         s.mask_epochs = 0;
         assert_error([&] { s.validate(); }, "mask_epochs");
-        s = tiny(temp_dir("bad"));
+        s = tiny_super_frame(super_frame_dir("bad"));
         s.mask_lr = std::nan("");
         assert_error([&] { s.validate(); }, "mask_lr");
-        s = tiny(temp_dir("bad"));
+        s = tiny_super_frame(super_frame_dir("bad"));
         s.mask_start = "best";
         assert_error([&] { s.validate(); }, "mask_start: must be \"frame\" or \"random\", got \"best\"");
         // A frame bundle whose mask already spans a super-frame.
-        s = tiny(temp_dir("bad"));
+        s = tiny_super_frame(super_frame_dir("bad"));
         s.frame_bundle = two_set_bundle(pilot_mask::from_pattern("doppler", model_bundle::load(paper_classifier()).frame,
                                                                  32),
                                         "frame_two_sets");

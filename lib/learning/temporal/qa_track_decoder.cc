@@ -28,7 +28,7 @@ namespace fsys = std::filesystem;
 
 namespace {
 
-std::string temp_dir(const std::string& name) { return qa::temp_dir("track", name); }
+std::string track_dir(const std::string& name) { return qa::temp_dir("track", name); }
 
 // Pedestrians against drones heading anywhere, 16 Doppler-pattern pilots, around 0 dB: one
 // frame is often wrong, a track of them much less so.
@@ -40,18 +40,18 @@ scene two_classes()
     return scene::random(r);
 }
 
-struct trained {
+struct trained_track {
     std::string frame_dir, track_dir;
     track_training_result result;
 };
 // One frame bundle and one track bundle, shared by the tests of this suite.
-const trained& shared_run()
+const trained_track& shared_track_run()
 {
-    static std::unique_ptr<trained> t;
+    static std::unique_ptr<trained_track> t;
     if (!t) {
-        t = std::make_unique<trained>();
-        t->frame_dir = temp_dir("frame");
-        t->track_dir = temp_dir("track");
+        t = std::make_unique<trained_track>();
+        t->frame_dir = track_dir("frame");
+        t->track_dir = track_dir("track");
         training_settings f;
         f.scene_spec = two_classes();
         f.mask_pattern = "doppler";
@@ -186,7 +186,7 @@ public:
     // than the fusion it starts from by more than the test's noise.
     void more_frames_decide_better()
     {
-        const auto& m = shared_run().result.metrics;
+        const auto& m = shared_track_run().result.metrics;
         const double one = at_frames(m, 1, "accuracy"), eight = at_frames(m, 8, "accuracy");
         const double fusion8 = at_frames(m, 8, "fusion_accuracy");
         CPPUNIT_ASSERT_MESSAGE("1 frame " + std::to_string(one) + ", 8 frames " + std::to_string(eight),
@@ -197,11 +197,11 @@ public:
     }
 
     // The written track bundle, loaded by track_classifier and stepped frame by frame, gives
-    // the decision of the model it was trained as; the fusion beside it is the softmax of the
+    // the decision of the model it was trained_track as; the fusion beside it is the softmax of the
     // summed frame log-probabilities.
     void bundle_gives_the_trainer_answers()
     {
-        const auto& t = shared_run();
+        const auto& t = shared_track_run();
         const auto b = model_bundle::load(t.track_dir);
         CPPUNIT_ASSERT(track_classifier::is_track_bundle(b));
         CPPUNIT_ASSERT(!track_classifier::is_track_bundle(model_bundle::load(t.frame_dir)));
@@ -247,7 +247,7 @@ public:
                 CPPUNIT_ASSERT_DOUBLES_EQUAL(q0, q[0], 1e-5);
             }
         }
-        // The record says what it was trained on.
+        // The record says what it was trained_track on.
         CPPUNIT_ASSERT_EQUAL(8, b.track.at("frames").get<int>());
         CPPUNIT_ASSERT_EQUAL(std::string("gru_fusion"), b.track.at("temporal").at("kind").get<std::string>());
     }
@@ -269,20 +269,20 @@ public:
         s.tracks = 100;
         s.frame_bundle.clear();
         assert_error([&] { s.validate(); }, "frame_bundle");
-        // A track bundle is not a frame bundle, and a frame bundle trained on per-frame scenes needs tracks.
-        s.frame_bundle = shared_run().track_dir;
+        // A track bundle is not a frame bundle, and a frame bundle trained_track on per-frame scenes needs tracks.
+        s.frame_bundle = shared_track_run().track_dir;
         s.verbose = false;
         assert_error([&] { train_track(s, nullptr); }, "already a track bundle");
-        s.frame_bundle = shared_run().frame_dir;
+        s.frame_bundle = shared_track_run().frame_dir;
         s.scene_spec = two_classes();
         assert_error([&] { train_track(s, nullptr); }, "random.tracks");
     }
 
     void bad_track_bundles_are_refused()
     {
-        const auto& t = shared_run();
+        const auto& t = shared_track_run();
         assert_error([&] { track_classifier(model_bundle::load(t.frame_dir)); }, "no \"track\" record");
-        const std::string dir = temp_dir("bad");
+        const std::string dir = track_dir("bad");
         auto broken = [&](const std::function<void(nlohmann::json&)>& f) {
             fsys::remove_all(dir);
             fsys::copy(t.track_dir, dir, fsys::copy_options::recursive);

@@ -20,9 +20,9 @@
 using namespace gr::sems;
 
 namespace {
-constexpr uint64_t fresh_seed = 0x5e5f00d; // not a training seed
+constexpr uint64_t fresh_track_seed = 0x5e5f00d; // not a training seed
 constexpr int fresh_tracks = 400;
-constexpr int frames = 31; // 1 s of the paper's 32 ms frames
+constexpr int track_frames = 31; // 1 s of the paper's 32 ms frames
 
 using gr::sems::qa::models_dir;
 } // namespace
@@ -43,31 +43,31 @@ public:
         for (const auto& s : b.track.at("metrics").at("by_snr"))
             if (s.at("snr_db").get<double>() == 10.0)
                 for (const auto& r : s.at("by_frames"))
-                    if (r.at("frames").get<int>() == frames)
+                    if (r.at("frames").get<int>() == track_frames)
                         recorded = r.at("accuracy").get<double>();
         CPPUNIT_ASSERT_MESSAGE("the bundle records no accuracy at 10 dB after 31 frames", recorded > 0.0);
 
         const auto sc = scene::from_json(b.track.at("training").at("scene"), b.directory + ": track.training.scene");
-        const auto tracks = temporal::draw_tracks(b.frame, sc, b.mask, fresh_seed, 0, fresh_tracks, frames, b.class_names);
-        auto gen = at::detail::createCPUGenerator(fresh_seed);
+        const auto tracks = temporal::draw_tracks(b.frame, sc, b.mask, fresh_track_seed, 0, fresh_tracks, track_frames, b.class_names);
+        auto gen = at::detail::createCPUGenerator(fresh_track_seed);
         const auto obs = temporal::observe_tracks(tracks, b.mask, 10.0, 10.0, gen).contiguous();
         const int np = b.mask.size(), e = tc.evidence_size(), c = tc.n_classes();
         int scored = 0, correct = 0, first_correct = 0;
         std::vector<float> p(static_cast<size_t>(c));
         for (int i = 0; i < fresh_tracks; ++i) {
             const int len = static_cast<int>(tracks.length[i].item<int64_t>());
-            if (len < frames)
+            if (len < track_frames)
                 continue; // scored after 31 frames: tracks that last them
-            const auto* y = reinterpret_cast<const gr_complex*>(obs.data_ptr<float>()) + static_cast<size_t>(i) * frames * np;
-            const auto ev = tc.evidence(y, frames);
+            const auto* y = reinterpret_cast<const gr_complex*>(obs.data_ptr<float>()) + static_cast<size_t>(i) * track_frames * np;
+            const auto ev = tc.evidence(y, track_frames);
             auto st = tc.begin();
             const int64_t label = tracks.label[i].item<int64_t>();
-            for (int f = 0; f < frames; ++f) {
+            for (int f = 0; f < track_frames; ++f) {
                 tc.step(st, ev.data() + static_cast<size_t>(f) * e, p.data());
                 const auto best = std::max_element(p.begin(), p.end()) - p.begin();
                 if (f == 0)
                     first_correct += best == label;
-                if (f == frames - 1)
+                if (f == track_frames - 1)
                     correct += best == label;
             }
             ++scored;

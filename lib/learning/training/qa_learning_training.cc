@@ -21,11 +21,11 @@
 
 using namespace gr::sems;
 using gr::sems::qa::assert_error;
-namespace fs = std::filesystem;
+namespace fsys = std::filesystem;
 
 namespace {
 
-std::string temp_dir(const std::string& name) { return qa::temp_dir("learning", name); }
+std::string learning_dir(const std::string& name) { return qa::temp_dir("learning", name); }
 
 // Tiny: pedestrian vs car, learned mask, seconds on two cores.
 training_settings tiny(const std::string& out)
@@ -59,7 +59,7 @@ const trained& shared_run()
     static std::unique_ptr<trained> t;
     if (!t) {
         t = std::make_unique<trained>();
-        t->dir = temp_dir("tiny");
+        t->dir = learning_dir("tiny");
         t->result = train(tiny(t->dir), nullptr);
     }
     return *t;
@@ -67,8 +67,8 @@ const trained& shared_run()
 
 void copy_bundle(const std::string& from, const std::string& to)
 {
-    fs::remove_all(to);
-    fs::copy(from, to, fs::copy_options::recursive);
+    fsys::remove_all(to);
+    fsys::copy(from, to, fsys::copy_options::recursive);
 }
 
 std::string file_bytes(const std::string& path)
@@ -259,7 +259,7 @@ public:
     void streamed_frames_train_the_same_bundle()
     {
         const auto& t = shared_run();
-        const auto dir = temp_dir("streamed");
+        const auto dir = learning_dir("streamed");
         auto s = tiny(dir);
         s.training_data = "stream";
         const auto r = train(s, nullptr);
@@ -276,7 +276,7 @@ public:
         CPPUNIT_ASSERT(!r.bundle.training.contains("training_data")); // where frames live is not a setting of the bundle
         s.training_data = "disk";
         assert_error([&] { train(s, nullptr); }, "training_data", "disk");
-        fs::remove_all(dir);
+        fsys::remove_all(dir);
     }
 
     void bad_bundles_are_refused()
@@ -285,9 +285,9 @@ public:
         assert_error([] { model_bundle::load("/nonexistent/sems/bundle"); }, "/nonexistent/sems/bundle",
                      "does not exist");
 
-        const auto d = temp_dir("bad");
+        const auto d = learning_dir("bad");
         copy_bundle(t.dir, d);
-        fs::remove(d + "/bundle.json");
+        fsys::remove(d + "/bundle.json");
         assert_error([&] { model_bundle::load(d); }, "bundle.json", "cannot open");
 
         copy_bundle(t.dir, d);
@@ -308,7 +308,7 @@ public:
 
         std::ofstream(d + "/decoder.pt", std::ios::trunc) << "not a torch archive";
         assert_error([&] { bundle_decoder dec(model_bundle::load(d), 1); }, "decoder.pt", "corrupt");
-        fs::remove(d + "/decoder.pt");
+        fsys::remove(d + "/decoder.pt");
         assert_error([&] { bundle_decoder dec(model_bundle::load(d), 1); }, "decoder.pt", "missing");
 
         // Weights of another architecture.
@@ -327,9 +327,9 @@ public:
         copy_bundle(t.dir, d);
         edit_json(d + "/mask.json", [](nlohmann::json& j) { j["n_symbols"] = 64; });
         assert_error([&] { model_bundle::load(d); }, "mask.json", "does not match bundle.json");
-        fs::remove(d + "/mask.json");
+        fsys::remove(d + "/mask.json");
         assert_error([&] { model_bundle::load(d); }, "mask.json");
-        fs::remove_all(d);
+        fsys::remove_all(d);
     }
 
     void bad_settings_are_refused()
@@ -379,7 +379,7 @@ public:
     // (mean 1), differ, respect the floor, and the bundle records and repeats the setting.
     void learned_pilot_power()
     {
-        const auto dir = temp_dir("power");
+        const auto dir = learning_dir("power");
         auto s = tiny(dir);
         s.frames = 600;
         s.epochs = 2;
@@ -413,7 +413,7 @@ public:
         auto old = model_bundle::load(shared_run().dir);
         old.training.erase("pilot_power");
         CPPUNIT_ASSERT_EQUAL(std::string("equal"), training_settings::from_bundle(old).pilot_power);
-        fs::remove_all(dir);
+        fsys::remove_all(dir);
     }
 
     // The shared run again with Newman phases: the decoder sees Y/s_k, so the training, the
@@ -422,7 +422,7 @@ public:
     void pilot_phases_in_the_bundle()
     {
         const auto& t = shared_run();
-        const auto dir = temp_dir("phases");
+        const auto dir = learning_dir("phases");
         auto s = tiny(dir);
         s.pilot_phases = "newman";
         const auto r = train(s, nullptr);
@@ -439,7 +439,7 @@ public:
         // Without the setting the record has no key, and reads back as "as the mask has them".
         CPPUNIT_ASSERT(!t.result.bundle.training.contains("pilot_phases"));
         CPPUNIT_ASSERT(training_settings::from_bundle(model_bundle::load(t.dir)).pilot_phases.empty());
-        fs::remove_all(dir);
+        fsys::remove_all(dir);
     }
 
     // A radio file: the ideal one trains bit for bit as without it (the trainer's own
@@ -448,7 +448,7 @@ public:
     void trained_for_a_radio()
     {
         const auto& t = shared_run();
-        const auto dir = temp_dir("radio");
+        const auto dir = learning_dir("radio");
         auto s = tiny(dir);
         s.radio = front_end_settings{};
         s.radio_source = "ideal.json";
@@ -483,7 +483,7 @@ public:
         bad.pilot_power = "equal";
         bad.radio->adc_enob = 0.5;
         assert_error([&] { train(bad, nullptr); }, "adc_enob", "0.5");
-        fs::remove_all(dir);
+        fsys::remove_all(dir);
     }
 };
 

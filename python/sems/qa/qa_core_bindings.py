@@ -32,7 +32,8 @@ class qa_core_bindings(gr_unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "mask.json")
             mask.save(path)
-            self.assertEqual(json.load(open(path))["format"], "sems.pilot_mask")
+            with open(path) as f:
+                self.assertEqual(json.load(f)["format"], "sems.pilot_mask")
             self.assertTrue(sems.pilot_mask.load(path) == mask)
         with self.assertRaisesRegex(ValueError, "duplicate"):
             sems.pilot_mask(4, 8, [(0, 1), (0, 1)])

@@ -166,7 +166,8 @@ class qa_learning(gr_unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             src = os.path.join(SRC, "models", "classifier")
             b = sems.model_bundle.load(src)
-            own = json.load(open(os.path.join(src, "mask.json")))
+            with open(os.path.join(src, "mask.json")) as f:
+                own = json.load(f)
             other = sems.pilot_mask.from_pattern("staggered", b.frame.n_symbols, b.frame.n_subcarriers, b.n_pilots)
             pilots = [[int(i) // b.frame.n_subcarriers, int(i) % b.frame.n_subcarriers] for i in other.flat_indices()]
             two = {k: v for k, v in own.items() if k not in ("pilots", "n_pilots", "power", "phases")}

@@ -63,6 +63,11 @@ def rows(path):
         return list(csv.DictReader(f))
 
 
+def read_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
 def read_kept(path):
     """A kept-predictions file read as docs/reference/file_formats.md describes it, with numpy
     alone (not through apps/figures/predictions.py): (info, series, values), values one row per
@@ -796,9 +801,9 @@ class qa_sems_eval(gr_unittest.TestCase):
                         self.assertAlmostEqual(float(got[0]["accuracy"]),
                                                sum(d[i] == label[i] for i in kept) / len(kept), places=5)
             bundles = os.path.join(out, "bundles")
-            sems = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026", "mask.json")))
-            learned = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_sf4_track", "mask.json")))
-            moved = json.load(open(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_shifted4", "mask.json")))
+            sems = read_json(os.path.join(bundles, "cls_kinematic_np8_sems_s2026", "mask.json"))
+            learned = read_json(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_sf4_track", "mask.json"))
+            moved = read_json(os.path.join(bundles, "cls_kinematic_np8_sems_s2026_shifted4", "mask.json"))
             self.assertEqual(len(learned["frames"]), 4)
             self.assertTrue(all(len(f["pilots"]) == 8 for f in learned["frames"]))
             m = sems["n_subcarriers"]
