@@ -28,7 +28,7 @@ fi
 build="${SEMS_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 cxx="${SEMS_FUZZ_CXX:-$(command -v clang++ || command -v clang++-14 || true)}"
 if [[ -z "$cxx" ]]; then
-  echo "fuzz.sh: clang++ not found (apt-get install clang libfuzzer-14-dev)" >&2
+  echo "fuzz.sh: clang++ not found (apt-get install clang libclang-rt-14-dev, as scripts/install_deps.sh does)" >&2
   exit 2
 fi
 mkdir -p "$build"

@@ -165,8 +165,9 @@ def catalogue(source):
                    f"{s['decoder_fps'] / s['anchor_fps']:.3g} |")
     out += ["", "## Measuring and retraining", "",
             "`sems_eval --model-card models/NAME` measures a card again (by default on the demo's frames and",
-            "SNRs; `--help` lists the options, and each card's `test.command` is the command that measured",
-            "it); `sems_train` writes a card at the end of training from its test split. Each command below",
+            "SNRs, refused on a bundle's own training seed; `--help` lists the options, and each card's",
+            "`test.command` is the command that measured it); `sems_train` writes a card at the end of",
+            "training from its test split. Each command below",
             "trains the bundle again from the settings its `bundle.json` records (`sems_train --from`; a track",
             "or position bundle: the command its `bundle.json` records):", ""]
     for n, c in cards.items():
@@ -186,6 +187,9 @@ def catalogue(source):
     classes = sorted(load(f)["name"] for f in glob.glob(os.path.join(models, "classes", "*.json")))
     out.append("- `classes/`: the class libraries " + ", ".join(f"`{c}`" for c in classes) +
                " ([class libraries](../docs/reference/class_libraries.md)).")
+    arrays = sorted(os.path.basename(f)[:-len(".json")] for f in glob.glob(os.path.join(models, "arrays", "*.json")))
+    out.append("- `arrays/`: the array presets " + ", ".join(f"`{a}`" for a in arrays) +
+               " (a scene's `\"array\": NAME`; [arrays](../docs/reference/arrays.md)).")
     out.append("- `scenes/`, scene files ([file formats](../docs/reference/file_formats.md)):")
     for f in sorted(glob.glob(os.path.join(models, "scenes", "*.json"))):
         first = load(f).get("description", "a scene").split(". ")[0].rstrip(".")

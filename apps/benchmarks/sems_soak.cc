@@ -24,8 +24,8 @@
  * moment, the figure would include the batches in flight (the decoders' working tensors,
  * ~10 MiB) or pending frames, not what stays.
  *
- *   sems_soak --frames 10000000 --report 1000000      (the issue's soak)
- *   sems_soak --frames 100000 --report 10000          (the CI version, a CTest test)
+ *   sems_soak --frames 10000000 --report 1000000      (the long soak, docs/reference/hardening.md)
+ *   sems_soak --frames 60000 --report 6000            (the CTest test sems_soak_short, apps/CMakeLists.txt)
  */
 #include <gnuradio/sems/blocks/pilot_extractor.h>
 #include <gnuradio/sems/blocks/pilot_mapper.h>

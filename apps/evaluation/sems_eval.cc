@@ -248,7 +248,8 @@ int main(int argc, char** argv)
          "--model-card: frames of a test track (0: the track bundle's training length)")
         ("card-snrs", po::value<std::string>()->default_value("0,10,20,30"), "--model-card: SNRs (dB), comma-separated")
         ("card-seed", po::value(&c.card_seed)->default_value(c.card_seed), "--model-card: seed of the test frames "
-         "(a delay bundle's: this + 1, as the demo's delay channel; a position bundle's: this + 3)")
+         "(a delay bundle's: this + 1, as the demo's delay channel; a position bundle's: this + 3); refused when it "
+         "is the seed the bundle was trained with, whose first frames it would score")
         ("card-speed-frames", po::value(&c.card_speed_frames)->default_value(c.card_speed_frames),
          "--model-card: frames per timing run of the decoder and of the anchor")
         ("card-summary", po::value(&c.card_summary), "--model-card: the card's one-line summary (default: the card's own, "

@@ -64,7 +64,8 @@ def bundle_info(name):
 
 def run_chain(bundle, snr_db, frames, seed, radio="", settings=None, offset=0, sync=False, cancel=False, cp=48,
               skip=0, forgetting=0.9, clip=True):
-    """Streams `frames` frames; returns (metric, scored, sync offset, sync failures).
+    """Streams `frames` + 1 frames; returns (metric, scored: the frames the sink scored, sync
+    offset, sync failures).
     offset: samples of the radio's latency before the first frame; sync: frame_sync finds
     it; skip: samples dropped instead (a latency calibrated beforehand)."""
     import numpy as np
@@ -251,8 +252,10 @@ def table(path):
                 cells.append(fmt.format(v) + spread + rel)
         out.append(f"| {sweep.replace('_', ' ')} | {value} | {receiver} | " + " | ".join(cells) + " |")
     seeds = max(r["seeds"] for r in rows)
-    frames = rows[0]["frames"]
-    out += ["", f"Each cell: the mean over {seeds} seeds of {frames} frames each"
+    # The frames each run scored (run_chain streams --frames + 1 frames).
+    scored = sorted({int(r["scored"]) for r in read(path)})
+    frames = str(scored[0]) if len(scored) == 1 else f"{scored[0]} to {scored[-1]}"
+    out += ["", f"Each cell: the mean over {seeds} seeds of {frames} scored frames each"
             + (", ± the standard deviation over the seeds" if seeds > 1 else "")
             + ". In brackets: the classifier's accuracy minus the ideal radio's, the delay MAE as a multiple "
             "of the ideal radio's (same SNR, same frames).", ""]

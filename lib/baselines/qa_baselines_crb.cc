@@ -2,6 +2,7 @@
 /* gr-sems: the delay CRB — closed form against a numeric inversion of the Fisher
  * matrix, and against a Monte-Carlo of the maximum-likelihood estimator (the fine
  * periodogram with parabolic refinement) at high SNR. */
+#include "baselines/qa_baselines_frames.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/baselines/periodogram_delay_estimator.h>
 #include <gnuradio/sems/baselines/delay_crb.h>
@@ -16,8 +17,6 @@
 using namespace gr::sems;
 
 namespace {
-
-const frame_settings fs{};
 
 // [F⁻¹]_ττ of the 3 x 3 Fisher matrix of (τ, ν, φ) for |α| = 1, built numerically from
 // the derivatives and inverted by cofactors, in seconds². Pilot k's noise is σ²/p_k.

@@ -20,8 +20,6 @@ using namespace gr::sems;
 
 namespace {
 
-const frame_settings fs{};
-
 // One path, deterministic gain. Delay index idx -> range idx · c/(2B) = idx · 5 m.
 scene one_path(double delay_index, double doppler_hz, bool md = false)
 {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: the Doppler-spectrum features against closed forms for synthetic tones,
  * and the feature SVM (libsvm) on separable data and on bad input. */
+#include "baselines/qa_baselines_frames.h"
 #include "qa/qa_assert.h"
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/baselines/feature_svm.h>
@@ -16,7 +17,6 @@ using namespace gr::sems;
 
 namespace {
 
-const frame_settings fs{};
 const double bin_hz = 1.0 / (fs.n_symbols * fs.symbol_interval_s); // 31.25 Hz
 
 // Sum of tones a_i exp(j2π f_i n T) observed at the pilots (any subcarrier phase).

@@ -31,4 +31,10 @@ inline std::vector<gr_complex> noiseless_observations(const frame_settings& fs, 
 } // namespace sems
 } // namespace gr
 
+// The tests' frame: the paper's (frame_settings' defaults), defined once for the runner's files
+// (a unity build compiles them together).
+namespace {
+const gr::sems::frame_settings fs{};
+} // namespace
+
 #endif /* INCLUDED_SEMS_LIB_BASELINES_QA_BASELINES_FRAMES_H */

@@ -24,8 +24,6 @@ using namespace gr::sems;
 
 namespace {
 
-const frame_settings fs{};
-
 // 32 distinct random subcarriers on one symbol (row `n`), or split over two rows.
 pilot_mask subcarrier_mask(uint64_t seed, int n, int second_row = -1)
 {

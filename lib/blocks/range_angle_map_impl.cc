@@ -41,7 +41,7 @@ range_angle_map::sptr range_angle_map::make(const std::string& array,
     fs.carrier_hz = carrier_hz;
     if (!(std::isfinite(carrier_hz) && carrier_hz > 0.0))
         throw std::invalid_argument(std::string(who) + ": carrier_hz must be > 0, got " + std::to_string(carrier_hz));
-    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, gr_complex(1.0f, 0.0f));
+    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, std::nullopt);
     try {
         return gnuradio::make_block_sptr<range_angle_map_impl>(mask, a, fs.wavelength_m(), n_angles, window);
     } catch (const std::invalid_argument& e) {

@@ -15,7 +15,7 @@ range_doppler_map::sptr range_doppler_map::make(const std::string& mask_file,
                                                 const std::string& window)
 {
     const char* const who = range_doppler_map_impl::who;
-    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, gr_complex(1.0f, 0.0f));
+    auto mask = block_mask_one_frame(who, n_symbols, n_subcarriers, mask_file, pilot_positions, std::nullopt);
     return gnuradio::make_block_sptr<range_doppler_map_impl>(mask, window);
 }
 

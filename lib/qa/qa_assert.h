@@ -4,12 +4,20 @@
 #define INCLUDED_SEMS_LIB_QA_QA_ASSERT_H
 
 #include <cppunit/TestAssert.h>
+#include <cppunit/extensions/HelperMacros.h>
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+/* CppUnit names a suite's registration after its source line (autoRegisterRegistry__<line>), so
+ * two suites registered on the same line of two files collide where a unity build compiles the
+ * files together (SEMS_UNITY_BUILD). Named after the suite here: the same registration in the
+ * same default registry. */
+#undef CPPUNIT_TEST_SUITE_REGISTRATION
+#define CPPUNIT_TEST_SUITE_REGISTRATION(suite) static CPPUNIT_NS::AutoRegisterSuite<suite> suite##_registration
 
 namespace gr {
 namespace sems {

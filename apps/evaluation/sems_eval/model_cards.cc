@@ -37,6 +37,18 @@ namespace {
 
 constexpr int batch = sink_defaults::batch_size;
 
+// A card scores fresh frames only on another seed than its training's: every trainer draws
+// frames (tracks) 0, 1, ... of the same scene from its seed, as the card does from its own, so
+// the same seed would score the first training frames again (with other noise).
+void check_fresh_seed(uint64_t card, const nlohmann::json& training, const std::string& where)
+{
+    const auto* seed = training.is_object() && training.contains("seed") ? &training.at("seed") : nullptr;
+    if (seed && seed->is_number_unsigned() && seed->get<uint64_t>() == card)
+        throw std::invalid_argument(where + ": its training drew frames 0, 1, ... of this scene with seed " +
+                                    std::to_string(card) + ", the seed --card-seed gives the card here: the card "
+                                    "would score training frames; give another --card-seed");
+}
+
 std::string snr_list(const std::vector<double>& snrs)
 {
     std::ostringstream s;
@@ -51,6 +63,7 @@ void measure_frames(const config& c, const model_bundle& b, model_card::test_rec
     const std::string where = b.directory + "/bundle.json";
     const scene sc = scene::from_json(b.training.at("scene"), where + ": training.scene");
     const uint64_t seed = c.card_seed + (b.task == task_kind::delay ? 1 : 0);
+    check_fresh_seed(seed, b.training, where + ": training.seed");
     std::optional<front_end_settings> radio;
     if (b.training.contains("radio") && !b.training.at("radio").is_null()) {
         radio = front_end_settings::from_json(b.training.at("radio"), where + ": training.radio");
@@ -157,6 +170,7 @@ void measure_positions(const config& c, const model_bundle& b, model_card::test_
     const auto& record = b.position.at("training");
     const scene sc = scene::from_json(record.at("scene"), where);
     const uint64_t seed = c.card_seed + 3;
+    check_fresh_seed(seed, record, b.directory + "/bundle.json: position.training.seed");
     const position_estimator pos(b, 1);
     const int k = pos.n_elements(), np = pos.n_pilots(), count = c.card_frames;
     const double lambda = pilot_wavelength_m(b.frame, b.mask);
@@ -226,6 +240,7 @@ void measure_tracks(const config& c, const model_bundle& b, model_card::test_rec
     const std::string where = b.directory + "/bundle.json";
     const auto& tt = b.track.at("training");
     const scene tsc = scene::from_json(tt.at("scene"), where + ": track.training.scene");
+    check_fresh_seed(c.card_seed, tt, where + ": track.training.seed");
     const int K = c.card_track_frames > 0 ? c.card_track_frames : tt.at("track_frames").get<int>();
     const int np = b.mask.size(), tracks = c.card_tracks;
     const size_t grid = size_t(b.frame.grid_size());

@@ -12,6 +12,7 @@
 #include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <gnuradio/sems/core/frame/super_frame_mask.h>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,12 +29,15 @@ inline std::string complex_text(gr_complex z)
 }
 
 // `who` names the block in errors. Throws std::invalid_argument naming the parameter.
+// `pilot_symbol`: the block's own, which a mask file's must equal; none for a block that reads
+// pilots already divided by the symbol (the maps): then a mask file keeps its own, and explicit
+// positions get 1.
 inline super_frame_mask block_mask(const std::string& who,
                              int n_symbols,
                              int n_subcarriers,
                              const std::string& mask_file,
                              const std::vector<int>& pilot_positions,
-                             gr_complex pilot_symbol)
+                             std::optional<gr_complex> pilot_symbol)
 {
     frame_settings fs;
     fs.n_symbols = n_symbols;
@@ -57,8 +61,8 @@ inline super_frame_mask block_mask(const std::string& who,
         mask.check_frame(fs, who + " (mask_file '" + mask_file + "')");
         // The file carries its own pilot symbol; a different one on the block would make
         // the two ends of the chain disagree, so it is refused rather than overridden.
-        if (mask.pilot_symbol() != pilot_symbol)
-            throw std::invalid_argument(who + ": pilot_symbol " + complex_text(pilot_symbol) +
+        if (pilot_symbol && mask.pilot_symbol() != *pilot_symbol)
+            throw std::invalid_argument(who + ": pilot_symbol " + complex_text(*pilot_symbol) +
                                         " differs from the pilot_symbol " +
                                         complex_text(mask.pilot_symbol()) + " of mask_file '" + mask_file +
                                         "'; set them equal");
@@ -77,7 +81,7 @@ inline super_frame_mask block_mask(const std::string& who,
                                         std::to_string(grid - 1) + "])");
         pos.push_back({ p / n_subcarriers, p % n_subcarriers });
     }
-    return super_frame_mask(pilot_mask(n_symbols, n_subcarriers, std::move(pos), pilot_symbol,
+    return super_frame_mask(pilot_mask(n_symbols, n_subcarriers, std::move(pos), pilot_symbol.value_or(gr_complex(1.0f, 0.0f)),
                                        { { "kind", "explicit" } }, who + " pilot_positions"));
 }
 
@@ -95,7 +99,7 @@ inline pilot_mask block_mask_one_frame(const std::string& who,
                                        int n_subcarriers,
                                        const std::string& mask_file,
                                        const std::vector<int>& pilot_positions,
-                                       gr_complex pilot_symbol)
+                                       std::optional<gr_complex> pilot_symbol)
 {
     auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
     if (mask.n_frames() != 1)

@@ -160,8 +160,22 @@ std::string model_bundle::find(const std::string& name)
 {
     if (name.empty())
         throw std::invalid_argument("model bundle: no bundle name or directory given");
-    if (is_directory(name))
+    if (is_directory(name)) {
+        // A folder of the working directory is taken as given, before the search path. When it
+        // holds no bundle while the search path has a bundle of that name, say so here: load()
+        // would only report the missing bundle.json, not the bundle the user likely meant.
+        if (!is_file(join(name, bundle_file)) && name.find('/') == std::string::npos) {
+            for (const auto& d : search_path()) {
+                const auto candidate = join(d, name);
+                if (is_file(join(candidate, bundle_file)))
+                    throw std::invalid_argument(
+                        name + ": the folder of that name in the working directory is taken as given and holds no " +
+                        bundle_file + "; the bundle \"" + name + "\" of the search path is " + candidate +
+                        ": give that path, or run from another directory");
+            }
+        }
         return name;
+    }
     std::string searched;
     if (name.front() != '/') {
         for (const auto& d : search_path()) {

@@ -47,8 +47,20 @@ class qa_bundle_search(gr_unittest.TestCase):
         os.environ["SEMS_MODELS_PATH"] = "/nonexistent/first:" + mine
         self.assertEqual(sems.model_bundle.find("classifier"), os.path.join(mine, "classifier"))
         self.assertEqual(sems.model_bundle.search_path()[:2], ["/nonexistent/first", mine])
-        os.makedirs("classifier")  # a folder of that name in the working directory wins
+        # A folder of that name in the working directory is taken as given, before both; one
+        # without a bundle.json that hides a bundle of the search path is refused, naming both.
+        os.makedirs("classifier")
+        with self.assertRaises(ValueError) as e:
+            sems.model_bundle.find("classifier")
+        self.assertIn("classifier: the folder of that name in the working directory is taken as given and holds no bundle.json",
+                      str(e.exception))
+        self.assertIn(os.path.join(mine, "classifier") + ": give that path", str(e.exception))
+        shutil.copy(os.path.join(MODELS, "classifier_fast", "bundle.json"), "classifier")
         self.assertEqual(sems.model_bundle.find("classifier"), "classifier")
+        # A folder no bundle of the search path is named like is taken as given (load() then
+        # names its missing bundle.json).
+        os.makedirs("my_bundle")
+        self.assertEqual(sems.model_bundle.find("my_bundle"), "my_bundle")
 
     def test_003_unknown_name_lists_every_place(self):
         os.environ["SEMS_MODELS_PATH"] = "/nonexistent/models"

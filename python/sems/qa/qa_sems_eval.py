@@ -1031,6 +1031,25 @@ class qa_sems_eval(gr_unittest.TestCase):
                 self.assertNotEqual(r.returncode, 0)
                 self.assertIn(word, r.stderr)
 
+    def test_013_model_card_refuses_the_training_seed(self):
+        """A card on the seed its bundle was trained with would score the first training frames
+        again: refused, naming the field and the option; another seed measures the card."""
+        with tempfile.TemporaryDirectory() as d:
+            bundle = os.path.join(d, "classifier_fast")
+            shutil.copytree(os.path.join(SOURCE, "models", "classifier_fast"), bundle)
+            self.assertEqual(read_json(os.path.join(bundle, "bundle.json"))["training"]["seed"], 1)
+            os.remove(os.path.join(bundle, "model_card.json"))
+            r = subprocess.run([EVAL, "--model-card", bundle], capture_output=True, text=True, timeout=120)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("training.seed", r.stderr)
+            self.assertIn("give another --card-seed", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(bundle, "model_card.json")))
+            r = subprocess.run([EVAL, "--model-card", bundle, "--card-seed", "2", "--card-frames", "64",
+                                "--card-snrs", "10", "--card-speed-frames", "64"],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(read_json(os.path.join(bundle, "model_card.json"))["test"]["seed"], 2)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_sems_eval)

@@ -4,6 +4,10 @@
 (steering.h: exp(-j2π m k/M)·exp(j2π b n/N)) peaks at row b + N/2, column k; on a full
 grid with a unit amplitude the peak reads 0 dB; tags follow their frame; a NaN frame is
 skipped and counted; bad parameters are rejected."""
+import json
+import os
+import tempfile
+
 import numpy as np
 import pmt
 from gnuradio import blocks, gr, gr_unittest, sems
@@ -76,6 +80,29 @@ class qa_range_doppler_map(gr_unittest.TestCase):
         got = sorted((t.offset, pmt.to_uint64(t.value)) for t in snk.tags()
                      if pmt.symbol_to_string(t.key) == "sems_frame")
         self.assertEqual(got, [(0, 10), (1, 12)])
+
+    def test_mask_file_with_any_pilot_symbol(self):
+        # The map reads the extractor's pilots, already divided by the pilot symbol: the
+        # extractor's mask file is taken whatever its pilot_symbol, and maps as its positions do.
+        rng = np.random.default_rng(5)
+        positions = sorted(rng.choice(N * M, size=N * M // 4, replace=False).tolist())
+        mask = {"format": "sems.pilot_mask", "version": 1, "n_symbols": N, "n_subcarriers": M,
+                "n_pilots": len(positions), "pilot_symbol": [0.0, 1.0],
+                "pilots": [[p // M, p % M] for p in positions]}
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "mask.json")
+            with open(path, "w") as f:
+                json.dump(mask, f)
+            rdm = sems.range_doppler_map(mask_file=path, n_symbols=N, n_subcarriers=M)
+        self.assertEqual(rdm.n_pilots(), len(positions))
+        grid = target_grid(9, -5).ravel()[positions]
+        src = blocks.vector_source_c(grid, False, len(positions))
+        snk = blocks.vector_sink_f(N * M)
+        tb = gr.top_block()
+        tb.connect(src, rdm, snk)
+        tb.run()
+        _, by_positions = run([grid], positions)
+        np.testing.assert_array_equal(np.array(snk.data()).reshape(-1, N, M), by_positions)
 
     def test_bad_parameters_rejected(self):
         with self.assertRaisesRegex(ValueError, "window"):

@@ -114,10 +114,13 @@ struct SEMS_LEARNING_API model_bundle {
      * \details `name` is used as given when it is a directory (an absolute path, or relative
      * to the working directory; load() then needs its bundle.json); otherwise it is looked up in
      * each folder of search_path() in order, so a bare name such as `classifier` finds the
-     * shipped bundle from any working directory.
+     * shipped bundle from any working directory. A bare name that is a folder of the working
+     * directory without a bundle.json, while the search path holds a bundle of that name, is
+     * refused, naming both.
      * \param name a bundle directory or a bundle name (e.g. "classifier", "delay_single").
      * \return the directory that holds name's bundle.json.
-     * \throws std::invalid_argument when none holds it, listing every place searched.
+     * \throws std::invalid_argument when none holds it, listing every place searched; or
+     *         when a folder of the working directory hides a bundle of the search path.
      */
     static std::string find(const std::string& name);
     /*!
