@@ -143,6 +143,9 @@ public:
 
     void bad_files_are_refused()
     {
+        // Sets of one super-frame share their pilot symbol: both values are named.
+        assert_error([] { super_frame_mask({ pilot_mask(4, 8, { { 0, 0 } }), pilot_mask(4, 8, { { 1, 1 } }, gr_complex(0.0f, 1.0f)) }, {}, "sf"); },
+                     "frames[1]", "has the pilot symbol (0,1) but frames[0] has (1,0)");
         const std::string two = R"("frames": [{"pilots": [[0, 0], [1, 1]]}, {"pilots": [[2, 2], [3, 3]]}]})";
         super_frame_mask::parse(small_mask_head + two, "ok.json"); // well formed
         assert_error([&] { pilot_mask::parse(small_mask_head + two, "sf.json"); }, "sf.json", "super_frame_mask");

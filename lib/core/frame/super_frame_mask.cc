@@ -10,6 +10,7 @@
 #include "core/common/json_object.h"
 #include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/frame/super_frame_mask.h>
+#include <sstream>
 #include <stdexcept>
 
 namespace gr {
@@ -50,8 +51,11 @@ super_frame_mask::super_frame_mask(std::vector<pilot_mask> sets, nlohmann::json 
                             "has " + std::to_string(s.size()) + " pilots but frames[0] has " +
                                 std::to_string(first.size()) +
                                 ": every frame of a super-frame carries the same count");
-        if (s.pilot_symbol() != first.pilot_symbol())
-            json_read::fail(source, which, "has another pilot symbol than frames[0]");
+        if (s.pilot_symbol() != first.pilot_symbol()) {
+            std::ostringstream both; // (re,im) as std::complex prints it
+            both << "has the pilot symbol " << s.pilot_symbol() << " but frames[0] has " << first.pilot_symbol();
+            json_read::fail(source, which, both.str());
+        }
     }
 }
 

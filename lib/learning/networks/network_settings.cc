@@ -267,11 +267,13 @@ void angle_settings::validate(const std::string& source) const
         json_read::fail(source, "grid", "must be in [8, 4096], got " + std::to_string(grid));
     if (!(std::isfinite(azimuth_min_rad) && std::isfinite(azimuth_max_rad) && azimuth_min_rad >= -M_PI / 2 &&
           azimuth_max_rad <= M_PI / 2 && azimuth_min_rad < azimuth_max_rad))
-        json_read::fail(source, "azimuth_min_rad", "the grid must run from -pi/2 <= min < max <= pi/2 rad, got [" +
+        json_read::fail(source, "azimuth_min_rad, azimuth_max_rad", "the grid must run from -pi/2 <= min < max <= pi/2 rad, got [" +
                                                        std::to_string(azimuth_min_rad) + ", " +
                                                        std::to_string(azimuth_max_rad) + "]");
-    if (channels < 1 || blocks < 0 || blocks > 12)
-        json_read::fail(source, "channels", "needs channels >= 1 and blocks in [0, 12]");
+    if (channels < 1)
+        json_read::fail(source, "channels", "must be >= 1, got " + std::to_string(channels));
+    if (blocks < 0 || blocks > 12)
+        json_read::fail(source, "blocks", "must be in [0, 12], got " + std::to_string(blocks));
     if (kernel < 1 || kernel % 2 == 0)
         json_read::fail(source, "kernel", "must be odd and >= 1, got " + std::to_string(kernel));
     if (window < 0 || 2 * window + 1 > grid)

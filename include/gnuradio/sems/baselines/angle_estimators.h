@@ -143,8 +143,8 @@ public:
      * \param a the array. \param elevation_rad θ, known. \param wavelength_m λ.
      * \param n_targets the signal subspace's dimension (≥ 1, < the subarray's elements).
      * \param subarray 0: no smoothing (any array); m: forward–backward smoothing over the ULA's
-     *        K − m + 1 subarrays of m elements (the array must be a ULA, receive elements
-     *        along y equally spaced, one transmit element).
+     *        K − m + 1 subarrays of m elements (the virtual array, receive × transmit offsets
+     *        in order, must be equally spaced along y).
      * \param search where to search.
      * \throws std::invalid_argument naming a bad setting.
      */

@@ -48,7 +48,7 @@ public:
     /*!
      * \brief An extractor for a frame and a pilot pattern.
      * \param fs the frame. \param mask the pilot pattern.
-     * \param oversample Doppler grid points per 1/(N·T), >= 1.
+     * \param oversample Doppler grid points per 1/(N·T), in [1, 64].
      * \throws std::invalid_argument naming the bad parameter.
      */
     doppler_features(const frame_settings& fs, const pilot_mask& mask, int oversample = 1);

@@ -71,7 +71,7 @@ public:
      * \param bandwidth_hz     B, the sample rate
      * \param carrier_hz       f_c
      * \param symbol_interval_s T, slow-time spacing of the symbols (>= (M + cp_len)/B)
-     * \param cp_len           cyclic prefix in samples (>= 0)
+     * \param cp_len           cyclic prefix in samples (0 .. M)
      * \param class_library    random scenes: the class library `classes` names classes of, by
      *                         name ("paper", "kinematic") or file (class_library::find); a fixed
      *                         scene names its own in its "classes" key

@@ -40,7 +40,8 @@ public:
 
     /*!
      * \param mask         the pilot positions (N, M and where the observations go in the grid)
-     * \param array        the array whose streams the observations are (K = N_r·N_t elements)
+     * \param array        the array whose streams the observations are (K = N_r receive elements;
+     *                     one transmit element: an array with more is refused)
      * \param wavelength_m λ at the carrier
      * \param n_angles     A, the map's azimuth rows over [−π/2, π/2] (2 .. 4096)
      * \param window       "hann" or "rect", over the subcarriers

@@ -262,7 +262,7 @@ public:
      * \brief One stream's factors.
      * \param k the stream, 0 .. n_elements() − 1.
      * \return its factors.
-     * \throws std::out_of_range beyond the streams.
+     * \throws std::invalid_argument beyond the streams.
      */
     const frame_channel& element(int k) const;
 

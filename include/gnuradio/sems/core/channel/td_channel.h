@@ -103,7 +103,8 @@ public:
     /*!
      * \brief A sample-level channel for a frame format.
      * \param fs frame settings; uses M, cp_len, B, T, f_c.
-     * \throws std::invalid_argument when T < (M + cp_len)/B (a symbol longer than its interval).
+     * \throws std::invalid_argument for an invalid frame (frame_settings::validate) or when
+     *         T < (M + cp_len)/B (a symbol longer than its interval).
      */
     explicit td_channel(const frame_settings& fs);
     /*!
@@ -132,7 +133,8 @@ public:
      * \brief The point paths of the next symbols (a new frame).
      * \param paths a frame's paths (channel_model::draw); delays must lie in [0, 1/Δf)
      * \param first_symbol absolute slow-time index of the frame's first symbol
-     * \throws std::invalid_argument when a path refers to a scatterer body (use set_frame)
+     * \throws std::invalid_argument when a path refers to a scatterer body (use set_frame) or
+     *         its delay is outside [0, 1/Δf)
      */
     void set_paths(const std::vector<channel_path>& paths, uint64_t first_symbol);
 
@@ -142,7 +144,8 @@ public:
      * once); allocation-free per symbol once the buffers have grown to the scene's terms.
      * \param r a drawn frame (channel_model::draw); delays must lie in [0, 1/Δf)
      * \param first_symbol absolute slow-time index of the frame's first symbol (a frame with its own clock, frame_realization::clock_symbol, uses that)
-     * \throws std::invalid_argument when a path refers to a body the frame does not have
+     * \throws std::invalid_argument when a path refers to a body the frame does not have or
+     *         its delay is outside [0, 1/Δf)
      */
     void set_frame(const frame_realization& r, uint64_t first_symbol);
 

@@ -66,7 +66,7 @@ constexpr const char* rmse_azimuth_rad = "rmse_azimuth_rad"; ///< root-mean-squa
 constexpr const char* frames_scored_azimuth = "frames_scored_azimuth"; ///< frames whose truth had an azimuth (position sink)
 constexpr const char* confusion = "confusion"; ///< rows: truth class, columns: predicted class
 
-// frame_sync's lock message (on sync_port), one per frame found after a loss of lock.
+// frame_sync's lock message (on sync_port): one, when it finds the first frame (it never unlocks).
 constexpr const char* sync_offset = "offset";     ///< the first frame's start, samples from the stream's start
 constexpr const char* sync_metric = "metric";     ///< the timing metric at that start
 constexpr const char* sync_failures = "failures"; ///< windows searched without a frame so far

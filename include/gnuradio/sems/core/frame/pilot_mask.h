@@ -109,7 +109,7 @@ public:
     static pilot_mask doppler(int n_symbols, int n_subcarriers, int count);
     /*!
      * \brief Staggered band edges: every symbol sampled (as in the Doppler pattern), with pilot
-     * i in symbol order on column i mod K of K = 2·⌈N_p/N⌉ subcarriers spread from band edge to
+     * i in symbol order on column i mod K of K = min(M, 2·⌈N_p/N⌉) subcarriers spread from band edge to
      * band edge, so the pilots also span the band's whole aperture (a body's extent in range).
      * \param n_symbols N. \param n_subcarriers M. \param count N_p, 1..N·M.
      * \return the mask.

@@ -38,7 +38,8 @@
  * model without a radio (up to the float rounding of the transforms). Not modelled: a sample
  * clock offset (refused), the frame's start (known, as after frame_sync), a CFO corrector
  * (give the CFO it leaves). Cost: two frames of samples per frame, dominated by the
- * canceller's K² multiply-adds per sample (K = 9 by default) when it runs.
+ * canceller's ~2L + 2K complex multiply-adds per sample when it runs (L taps, K = 2L + 1
+ * regressors: 9 by default; plus K²/2 per clipped sample: leakage_canceller.h).
  */
 #ifndef INCLUDED_SEMS_CORE_FRONT_END_FRAME_H
 #define INCLUDED_SEMS_CORE_FRONT_END_FRAME_H

@@ -44,7 +44,7 @@ struct SEMS_API target_spec {
     double velocity_mps = 15.0; ///< radial, positive = Doppler > 0
     /*! \brief Its speed along its motion; NaN: |velocity_mps| (moving along the line of sight). */
     double speed_mps = std::numeric_limits<double>::quiet_NaN();
-    /*! \brief θ between its motion and the line towards the radar (velocity = speed·cos θ); used with speed_mps. */
+    /*! \brief θ between its motion and the line towards the radar (velocity = speed·cos θ·cos(elevation_rad)); used with speed_mps. */
     double heading_rad = 0.0;
     std::optional<micro_doppler> md;      ///< its micro-Doppler (model `sinusoid`), if any
     std::optional<micro_motion> motion;   ///< its scatterer micro-motion (rotor, walker, wheels, scatterers), if any

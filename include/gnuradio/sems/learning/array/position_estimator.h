@@ -78,7 +78,7 @@ public:
      * \param obs batch x (N_r·N_p) observations, each frame element-major.
      * \param batch the number of frames.
      * \return one estimate per frame.
-     * \throws std::invalid_argument on a frame with NaN or Inf (naming it and its value).
+     * \throws std::invalid_argument on a frame with NaN or Inf (naming the frame, its element and pilot).
      */
     std::vector<position_estimate> estimate(const gr_complex* obs, int batch) const;
     /*!

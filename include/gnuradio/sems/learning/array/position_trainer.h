@@ -13,9 +13,9 @@
  * nearest the truth plus the error of its soft-argmax in grid steps (Adam, cosine schedule); the
  * best validation epoch is kept. The bundle is then written (out_dir, or a scratch folder) and
  * loaded back, and its test frames are scored at each eval SNR by position_estimator itself:
- * the azimuth RMSE with and without the polish, beamforming's on the same frames, the mean
- * Cramér–Rao bound (frames whose target is one unfaded path), and the delay's mean absolute
- * error from the beamformed pilots and from one element's.
+ * the azimuth RMSE with and without the polish, beamforming's on the same frames, the
+ * root-mean-square Cramér–Rao bound (written only when every test frame's target is one path),
+ * and the delay's mean absolute error from the beamformed pilots and from one element's.
  */
 #ifndef INCLUDED_SEMS_LEARNING_POSITION_TRAINER_H
 #define INCLUDED_SEMS_LEARNING_POSITION_TRAINER_H
@@ -43,7 +43,7 @@ struct SEMS_LEARNING_API position_training_settings {
     int frames = 20000;        ///< frames drawn, split 8:1:1
     int epochs = 15;           ///< epochs
     int batch = 256;           ///< frames per step
-    double lr = 3e-3;          ///< Adam's learning rate (cosine schedule down to lr/50)
+    double lr = 3e-3;          ///< Adam's learning rate (cosine schedule towards lr/50)
     int patience = 4;          ///< early stop after this many epochs without a better validation
     double snr_min_db = -10.0; ///< training SNR range (one SNR per frame): lower end in dB
     double snr_max_db = 30.0;  ///< its upper end

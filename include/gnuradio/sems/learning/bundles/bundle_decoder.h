@@ -2,7 +2,8 @@
 /*!
  * \file
  * \brief Inference on a model bundle.
- */#ifndef INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
+ */
+#ifndef INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
 #define INCLUDED_SEMS_LEARNING_BUNDLE_DECODER_H
 
 #include <gnuradio/gr_complex.h>
@@ -23,7 +24,7 @@ namespace sems {
  * Non-finite input: a frame holding NaN or Inf (real or imaginary part, any pilot) is never
  * decoded. classify(), estimate_delay(), estimate_delay_index() and features() refuse a
  * batch that holds one with std::invalid_argument (ValueError in Python) naming the
- * method, the index of the first such frame in the batch and its pilot, and answer no
+ * method (estimate_delay for both delay methods), the index of the first such frame in the batch and its pilot, and answer no
  * frame of that batch: the caller leaves the frame out. The sinks do so: they count such
  * a frame in `frames_skipped` and never hand it to the decoder (docs/reference/sinks.md).
  *

@@ -82,7 +82,7 @@ struct SEMS_LEARNING_API model_card {
     int n_pilots = 0;          ///< N_p
     std::string mask;          ///< where the mask came from: "learned", a mask file or "pattern NAME"
     std::string mask_origin;   ///< mask.json's origin kind ("learned", "random subcarriers, one symbol", ...)
-    std::string pilot_phases;  ///< "newman", or empty for none
+    std::string pilot_phases;  ///< "newman", "explicit" (the mask's own phases), or empty for none
     test_record test;          ///< the figures and how they were measured
     speed_record speed;        ///< the decoder's speed
     std::string retrain_command;  ///< the command that trains the bundle again (may be empty: see retrain_recorded)
@@ -96,7 +96,7 @@ struct SEMS_LEARNING_API model_card {
     static model_card of_bundle(const model_bundle& b);
     /*!
      * \brief A one-line summary made from the bundle's record (what sems_train writes).
-     * \param b the bundle. \return e.g. "classify pedestrian, car, drone (paper) from 32 pilots".
+     * \param b the bundle. \return e.g. "classify pedestrian, car, drone (class library paper) from 32 pilots".
      */
     static std::string default_summary(const model_bundle& b);
     /*!

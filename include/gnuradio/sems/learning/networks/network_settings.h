@@ -151,7 +151,7 @@ struct SEMS_LEARNING_API classifier_settings {
     //! \param n_symbols N (>= 1). \return the rates, ascending.
     //! \throws std::invalid_argument for n_symbols < 1.
     std::vector<double> chirp_rates(int n_symbols) const;
-    /*! \brief The settings as JSON (every key). \return the JSON object from_json() reads. */
+    /*! \brief The settings as JSON (the keys of its architecture; template_frames only when not 0). \return the JSON object from_json() reads. */
     nlohmann::json to_json() const;
     /*!
      * \brief Reads settings from JSON; a missing key takes its legacy value (the one bundles
@@ -190,7 +190,8 @@ struct SEMS_LEARNING_API delay_settings {
     int refine_paths = -1;        ///< model-based refinement after the network: L paths fitted by
                                   /// least squares, the first one started at the network's
                                   /// estimate (see delay_decoder.h); 0 = off (legacy value);
-                                  /// -1 = the training scene's paths per target (the trainer
+                                  /// -1 = the training scene's paths per target, or 0 when the
+                                  /// pilots are too few for them, 2·N_p <= 3L + 1 (the trainer
                                   /// resolves it; a decoder refuses an unresolved -1)
     double refine_span_index = -1.0; ///< later paths are searched in (tau1 + 0.25, tau1 + span];
                                      /// -1 = the training scene's largest excess delay + 1
@@ -218,8 +219,9 @@ struct SEMS_LEARNING_API delay_settings {
                                    /// oracle-order least-squares fit (L paths, grid search on
                                    /// the decoder's dictionary grid, then nonlinear least
                                    /// squares: ls_delay_estimator) is a second start, and its
-                                   /// earliest delay wins when it explains the pilots better
-                                   /// and differs by more than a quarter index — the multipath
+                                   /// earliest delay wins when it lowers the residual by more
+                                   /// than 20 noise variances and differs by more than a
+                                   /// quarter index — the multipath
                                    /// counterpart of refine_global_peak. Costs ~0.7 ms per
                                    /// frame on one core (legacy: false)
 

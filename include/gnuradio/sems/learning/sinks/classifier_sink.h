@@ -27,7 +27,7 @@ namespace sems {
  *   class_name, else its class id, compared with the predicted class name).
  * Running metrics (frames, frames_scored, frames_skipped, accuracy, confusion) are
  * readable through the getters and sent on port `metrics` every `metrics_period` frames
- * and once when the stream ends.
+ * and at the end, unless the last of those already carried the final numbers.
  *
  * Track mode (a track bundle: a classifier bundle with a `track` record, trained by
  * `sems_train --frame-bundle`): each frame is decided from every frame of its track so far,

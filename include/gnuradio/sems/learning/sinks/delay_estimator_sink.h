@@ -26,8 +26,8 @@ namespace sems {
  *   with the frame, truth (that dict) and abs_error_index (|estimate − truth| in delay
  *   indices; the truth's delay_index, else its delay_s·B).
  * Running metrics (frames, frames_scored, frames_skipped, mae_index, mae_m) are readable
- * through the getters and sent on port `metrics` every `metrics_period` frames and once
- * when the stream ends.
+ * through the getters and sent on port `metrics` every `metrics_period` frames and at the
+ * end, unless the last of those already carried the final numbers.
  *
  * Frames are decoded `batch_size` at a time; the partial last batch is decoded in stop().
  * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still

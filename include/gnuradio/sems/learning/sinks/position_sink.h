@@ -26,7 +26,7 @@ namespace sems {
  * has an azimuth (a scene with an array), abs_error_azimuth_rad.
  * Running metrics (frames, frames_scored, frames_skipped, mae_index, mae_m, frames_scored_azimuth,
  * rmse_azimuth_rad) are readable through the getters and sent on port `metrics` every
- * `metrics_period` frames and once when the stream ends. Frames with NaN or Inf are counted in
+ * `metrics_period` frames and at the end unless the last of those carried the final numbers. Frames with NaN or Inf are counted in
  * frames_skipped and never decoded; frames are decoded `batch_size` at a time, the partial last
  * batch in stop().
  */
