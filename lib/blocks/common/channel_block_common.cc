@@ -50,7 +50,7 @@ scene channel_block_scene(const char* who,
     };
     const track_options no_tracks;
     const bool track_defaults = tracks.frames == no_tracks.frames && tracks.gains == no_tracks.gains &&
-                                tracks.coherence_time_s == no_tracks.coherence_time_s;
+                                tracks.coherence_time_s == no_tracks.coherence_time_s && tracks.motion == no_tracks.motion;
     const auto first = text.find_first_not_of(" \t\r\n");
     if (first != std::string::npos) { // a fixed scene: file or JSON text
         const random_spec defaults;
@@ -102,7 +102,7 @@ scene channel_block_scene(const char* who,
                                     std::to_string(limits::max_track_frames) +
                                     "] (0: every frame drawn afresh), got " + std::to_string(tracks.frames));
     if (tracks.frames == 0 && !track_defaults)
-        throw std::invalid_argument(std::string(who) + ": track_gains and track_coherence_time_s describe tracks, "
+        throw std::invalid_argument(std::string(who) + ": track_gains, track_coherence_time_s and track_motion describe tracks, "
                                     "which track_frames = 0 turns off: set track_frames > 0, or leave them at "
                                     "their defaults");
     if (tracks.frames > 0) {
@@ -120,6 +120,11 @@ scene channel_block_scene(const char* who,
             throw std::invalid_argument(std::string(who) + ": track_coherence_time_s must be a finite time > 0 s, got " +
                                         std::to_string(tracks.coherence_time_s));
         t.coherence_time_s = tracks.coherence_time_s;
+        try {
+            t.motion = track_motion_from_name(tracks.motion);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string(who) + ": track_motion: " + e.what());
+        }
         r.tracks = t;
     }
     std::optional<clutter_spec> clutter;

@@ -26,6 +26,7 @@ struct track_options {
     int frames = 0;
     std::string gains = gain_coherence_name(track_draw_spec{}.gains);
     double coherence_time_s = track_draw_spec{}.coherence_time_s;
+    std::string motion = track_motion_name(track_draw_spec{}.motion);
 };
 
 // A channel block's streams: outputs (receive elements) and inputs (transmit elements).

@@ -654,6 +654,43 @@ int frames_inside(double r0, double v, double frame_s, double lo, double hi, int
         ++len;
     return len;
 }
+// A tracked body moved d = s·t_s along a straight line in the ground plane from its first frame
+// (track_motion::straight; the formulas are track_draw_spec's): its height kept, its range,
+// elevation, azimuth and heading to the line of sight turned with its position, its radial
+// velocity the projection of its speed.
+void move_straight(target_spec& t, double t_s)
+{
+    const double d = t.speed_mps * t_s;
+    const double rho0 = t.range_m * std::cos(t.elevation_rad);
+    const double z = t.range_m * std::sin(t.elevation_rad);
+    const double along = rho0 - d * std::cos(t.heading_rad); // along the first line of sight, from the radar
+    const double across = d * std::sin(t.heading_rad);       // towards increasing azimuth
+    const double rho = std::hypot(along, across);
+    const double turn = std::atan2(across, along);
+    t.range_m = std::hypot(rho, z);
+    t.elevation_rad = std::atan2(z, rho);
+    t.azimuth_rad = std::remainder(t.azimuth_rad + turn, two_pi);
+    t.heading_rad = std::remainder(t.heading_rad + turn, two_pi);
+    t.velocity_mps = t.speed_mps * std::cos(t.heading_rad) * std::cos(t.elevation_rad);
+}
+
+// Frames a body moving straight stays inside its range interval and, when it was drawn from
+// one, its azimuth interval, at most `cap`: the first L frames with every one inside, checked
+// with the very expression the frames use (the range is not monotone: a crossing body comes
+// closer, then recedes).
+int frames_inside_straight(const target_spec& t0, double frame_s, double lo, double hi, double az_lo, double az_hi, int cap)
+{
+    const bool bounded_azimuth = az_lo < az_hi;
+    int len = 1;
+    while (len < cap) {
+        target_spec t = t0;
+        move_straight(t, static_cast<double>(len) * frame_s);
+        if (t.range_m < lo || t.range_m > hi || (bounded_azimuth && (t.azimuth_rad < az_lo || t.azimuth_rad > az_hi)))
+            break;
+        ++len;
+    }
+    return len;
+}
 } // namespace
 
 int channel_model::begin_track(uint64_t track_index)
@@ -692,7 +729,13 @@ int channel_model::begin_track(uint64_t track_index)
     int length = planned;
     for (const auto& t : tr.start) {
         const auto& cs = lib.at(static_cast<int>(t.cls));
-        length = std::min(length, frames_inside(t.range_m, t.velocity_mps, frame_s, cs.range_min_m, cs.range_max_m, planned));
+        if (spec.motion == track_motion::straight) {
+            const double az_lo = cs.has_azimuth() ? cs.azimuth_min_rad : r->azimuth_min_rad;
+            const double az_hi = cs.has_azimuth() ? cs.azimuth_max_rad : r->azimuth_max_rad;
+            length = std::min(length, frames_inside_straight(t, frame_s, cs.range_min_m, cs.range_max_m, az_lo, az_hi, length));
+        } else {
+            length = std::min(length, frames_inside(t.range_m, t.velocity_mps, frame_s, cs.range_min_m, cs.range_max_m, planned));
+        }
     }
     tr.gains.clear();
     tr.active = true;
@@ -738,12 +781,16 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
     // lists keep their capacity).
     const std::vector<target_spec>* targets_of_frame = &d_scene.targets();
     const auto& lib = d_scene.library();
-    if (tracked) { // the track's targets moved on to this frame: R_f = R_0 − v·f·N·T
+    const bool straight = tracked && random->tracks->motion == track_motion::straight;
+    const double track_s = static_cast<double>(in_track) * (d_fs.n_symbols * d_fs.symbol_interval_s);
+    if (tracked) { // the track's targets moved on to this frame: R_f = R_0 − v·f·N·T, or along their line
         auto& moved = d_rng->drawn;
         moved = tr.start;
-        const double t_s = static_cast<double>(in_track) * (d_fs.n_symbols * d_fs.symbol_interval_s);
         for (auto& t : moved)
-            t.range_m -= t.velocity_mps * t_s;
+            if (straight)
+                move_straight(t, track_s);
+            else
+                t.range_m -= t.velocity_mps * track_s;
         targets_of_frame = &moved;
     } else if (random) {
         const auto& r = random;
@@ -846,6 +893,20 @@ void channel_model::draw(uint64_t frame_index, frame_realization& out)
         tr.gains.resize(out.paths.size());
         for (size_t l = 0; l < out.paths.size(); ++l)
             tr.gains[l] = out.paths[l].gain;
+    }
+    if (straight && in_track > 0) {
+        // The carrier phase continues across frames: the range travelled since the track's first
+        // frame, less the phase the frame's Doppler phasor gives at its first symbol (its rate
+        // changes from frame to frame). Turned after the gains are kept, so the gains' own
+        // evolution is untouched. Targets' paths come first, in target order.
+        size_t l = 0;
+        for (size_t i = 0; i < targets.size(); ++i) {
+            const double travelled = 2.0 * (tr.start[i].range_m - targets[i].range_m) / d_fs.wavelength_m(); // cycles
+            const double doppler_cycles = d_fs.doppler_from_velocity(targets[i].velocity_mps) * track_s;
+            const auto turn = cis_cycles(travelled - doppler_cycles);
+            for (size_t k = 0; k < targets[i].paths.size(); ++k)
+                out.paths[l++].gain *= turn;
+        }
     }
 
     const auto& toi = targets[d_scene.is_random() ? 0 : d_scene.target_of_interest()];

@@ -12,7 +12,7 @@
  *               "heading": "approaching" | "any", "azimuth_rad": [lo, hi] | value,
  *               "elevation_rad": [lo, hi] | value (point, sinusoid and walker classes),
  *               "tracks": {"frames": 64 | [16, 64], "gains": "frame" | "track" | "gauss_markov",
- *                          "coherence_time_s": 0.1}},
+ *                          "coherence_time_s": 0.1, "motion": "radial" | "straight"}},
  *    "clutter": {"csr_db": 10, "paths": 4, "range_m": [0, 200]}   or   {"csr_db": 10, "ranges_m": [...]},
  *    "array": {"receive": {"ula": {...}}, ...} | "file.json" | "preset name"}   (array_geometry.h; targets add
  *    "azimuth_rad" and "elevation_rad")
@@ -129,6 +129,26 @@ gain_coherence gain_coherence_from_name(const std::string& name)
     if (name == "gauss_markov")
         return gain_coherence::gauss_markov;
     throw std::invalid_argument("unknown gain coherence \"" + name + "\" (known: frame, track, gauss_markov)");
+}
+
+std::string track_motion_name(track_motion m)
+{
+    switch (m) {
+    case track_motion::radial:
+        return "radial";
+    case track_motion::straight:
+        return "straight";
+    }
+    throw std::invalid_argument("unknown track motion " + std::to_string(static_cast<int>(m)));
+}
+
+track_motion track_motion_from_name(const std::string& name)
+{
+    if (name == "radial")
+        return track_motion::radial;
+    if (name == "straight")
+        return track_motion::straight;
+    throw std::invalid_argument("unknown track motion \"" + name + "\" (known: radial, straight)");
 }
 
 namespace {
@@ -352,6 +372,8 @@ void scene::validate(const std::string& source) const
             if (!(checks::finite(t.coherence_time_s) && t.coherence_time_s > 0.0))
                 fail(source, "random.tracks.coherence_time_s", "must be a finite time > 0 s, got " +
                                                                    std::to_string(t.coherence_time_s));
+            if (t.motion != track_motion::radial && t.motion != track_motion::straight)
+                fail(source, "random.tracks.motion", "unknown track motion " + std::to_string(static_cast<int>(t.motion)));
             if (d_fading == fading_kind::none && t.gains != gain_coherence::frame)
                 fail(source, "random.tracks.gains", "\"" + gain_coherence_name(t.gains) +
                                                         "\" describes fading gains, but the scene's fading is "
@@ -452,6 +474,8 @@ json scene::to_json() const
                         { "gains", gain_coherence_name(t.gains) } };
             if (t.gains == gain_coherence::gauss_markov)
                 jt["coherence_time_s"] = t.coherence_time_s;
+            if (t.motion != track_motion::radial) // written only when given: older files read back as they were
+                jt["motion"] = track_motion_name(t.motion);
             j["random"]["tracks"] = jt;
         }
     } else {
@@ -623,6 +647,13 @@ scene scene::from_json(const json& j, const std::string& source)
                          "applies to \"gains\": \"gauss_markov\" only, the gains here are \"" +
                              gain_coherence_name(t.gains) + "\"");
                 t.coherence_time_s = rt.number("coherence_time_s");
+            }
+            if (rt.has("motion")) {
+                try {
+                    t.motion = track_motion_from_name(rt.string("motion"));
+                } catch (const std::invalid_argument& e) {
+                    fail(source, "random.tracks.motion", e.what());
+                }
             }
             rt.finish();
             spec.tracks = t;

@@ -64,6 +64,7 @@ def cxx_defaults():
         "track_frames": spec.get("tracks", {}).get("frames", 0),
         "track_gains": sems.gain_coherence_name(sems.track_draw_spec().gains),
         "track_coherence_time_s": sems.track_draw_spec().coherence_time_s,
+        "track_motion": sems.track_motion_name(sems.track_draw_spec().motion),
         # streams: one of each without an array (what the default block has).
         "n_receive": ch.output_signature().max_streams(),
         "n_transmit": ch.input_signature().max_streams(),

@@ -89,6 +89,9 @@ public:
      * \param track_coherence_time_s tracks with "gauss_markov" gains: the coherence time τ_c in s
      * \param n_receive        output streams: the scene's array's receive elements (1 without one)
      * \param n_transmit       input streams: the scene's array's transmit elements (1 without one)
+     * \param track_motion     tracks: how the bodies move, "radial" (along the line of sight) or
+     *                         "straight" (a straight line in the ground plane: range, azimuth and
+     *                         radial velocity follow the body; track_motion)
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -112,7 +115,8 @@ public:
                      const std::string& track_gains = "frame",
                      double track_coherence_time_s = track_draw_spec{}.coherence_time_s,
                      int n_receive = 1,
-                     int n_transmit = 1);
+                     int n_transmit = 1,
+                     const std::string& track_motion = "radial");
 
     /*!
      * \brief Sets the SNR from the next frame.

@@ -373,17 +373,26 @@ void bind_scene(py::module& m)
     m.def("gain_coherence_name", &gain_coherence_name, D(gain_coherence_name), py::arg("c"));
     m.def("gain_coherence_from_name", &gain_coherence_from_name, D(gain_coherence_from_name), py::arg("name"));
 
+    py::enum_<track_motion>(m, "track_motion", D(track_motion))
+        .value("radial", track_motion::radial)
+        .value("straight", track_motion::straight);
+    m.def("track_motion_name", &track_motion_name, D(track_motion_name), py::arg("m"));
+    m.def("track_motion_from_name", &track_motion_from_name, D(track_motion_from_name), py::arg("name"));
+
     py::class_<track_draw_spec>(m, "track_draw_spec", D(track_draw_spec))
-        .def(py::init([](int frames_min, int frames_max, gain_coherence gains, double coherence_time_s) {
-                 return track_draw_spec{ frames_min, frames_max, gains, coherence_time_s };
+        .def(py::init([](int frames_min, int frames_max, gain_coherence gains, double coherence_time_s,
+                         track_motion motion) {
+                 return track_draw_spec{ frames_min, frames_max, gains, coherence_time_s, motion };
              }),
              py::arg("frames_min") = track_draw_spec{}.frames_min, py::arg("frames_max") = track_draw_spec{}.frames_max,
              py::arg("gains") = track_draw_spec{}.gains,
-             py::arg("coherence_time_s") = track_draw_spec{}.coherence_time_s)
+             py::arg("coherence_time_s") = track_draw_spec{}.coherence_time_s,
+             py::arg("motion") = track_draw_spec{}.motion)
         .def_readwrite("frames_min", &track_draw_spec::frames_min, D(track_draw_spec, frames_min))
         .def_readwrite("frames_max", &track_draw_spec::frames_max, D(track_draw_spec, frames_max))
         .def_readwrite("gains", &track_draw_spec::gains, D(track_draw_spec, gains))
-        .def_readwrite("coherence_time_s", &track_draw_spec::coherence_time_s, D(track_draw_spec, coherence_time_s));
+        .def_readwrite("coherence_time_s", &track_draw_spec::coherence_time_s, D(track_draw_spec, coherence_time_s))
+        .def_readwrite("motion", &track_draw_spec::motion, D(track_draw_spec, motion));
 
     py::class_<random_spec>(m, "random_spec", D(random_spec))
         .def(py::init([](std::vector<target_class> classes, int n_targets, int paths_per_target,

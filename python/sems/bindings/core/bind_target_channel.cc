@@ -38,6 +38,7 @@ void bind_target_channel(py::module& m)
              py::arg("track_coherence_time_s") = gr::sems::track_draw_spec{}.coherence_time_s,
              py::arg("n_receive") = 1,
              py::arg("n_transmit") = 1,
+             py::arg("track_motion") = gr::sems::track_motion_name(gr::sems::track_draw_spec{}.motion),
              D(target_channel, make))
         .def("set_snr_db", &target_channel::set_snr_db, D(target_channel, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel::snr_db, D(target_channel, snr_db))

@@ -222,6 +222,10 @@ class qa_target_channel(gr_unittest.TestCase):
         refuses("track_coherence_time_s must be", track_frames=4, track_gains="gauss_markov",
                 track_coherence_time_s=0.0)
         refuses("track_*", fixed_scene().to_json_string(), track_frames=4)
+        refuses("track_motion: unknown track motion \"curved\" (known: radial, straight)", track_frames=4,
+                track_motion="curved")
+        refuses("track_frames = 0", track_motion="straight")
+        refuses("track_*", fixed_scene().to_json_string(), track_motion="straight")
 
     def test_011_tracks(self):
         # Tracks of 5 frames (drones move < 2 m in 0.16 s, so most run whole): the model's
@@ -238,6 +242,16 @@ class qa_target_channel(gr_unittest.TestCase):
         got = [(d[sems.keys.track_id], d[sems.keys.frame_in_track]) for _, d in truth_tags(tags)]
         self.assertEqual(got, [(t[sems.keys.track_id], t[sems.keys.frame_in_track]) for t in truths])
         self.assertEqual(got[:7], [(0, 0), (0, 1), (0, 2), (0, 3), (0, 4), (1, 0), (1, 1)])
+        # Bodies moving straight in the ground plane: the block's frames and truths are the model's
+        # for the scene it states, and crossing drones' radial velocities change along the track.
+        y, tags = run(channel(classes=["drone"], heading="any", track_frames=5, track_motion="straight"), x)
+        scene = channel(classes=["drone"], heading="any", track_frames=5, track_motion="straight").scene_json()
+        self.assertIn('"motion":"straight"', scene.replace(" ", ""))
+        h, truths = sems.channel_model(settings(), sems.scene.parse(scene), SEED).generate(frames)
+        np.testing.assert_allclose(y, h.reshape(-1, M) * x, rtol=1e-5, atol=1e-6)
+        speeds = [d[sems.keys.velocity_mps] for _, d in truth_tags(tags)]
+        self.assertEqual(speeds, [t[sems.keys.velocity_mps] for t in truths])
+        self.assertTrue(any(speeds[i] != speeds[i + 1] for i in range(4)))
         # Without tracks every frame is its own track.
         _, tags = run(channel(classes=["drone"]), random_symbols(3 * N))
         self.assertEqual([(d[sems.keys.track_id], d[sems.keys.frame_in_track]) for _, d in truth_tags(tags)],

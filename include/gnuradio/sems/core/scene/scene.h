@@ -130,24 +130,51 @@ SEMS_API std::string gain_coherence_name(gain_coherence c);
  */
 SEMS_API gain_coherence gain_coherence_from_name(const std::string& name);
 
+/// How a track's bodies move from frame to frame (track_draw_spec::motion).
+enum class track_motion {
+    radial,  ///< along the line of sight: R_f = R_0 − v·f·N·T; azimuth, elevation, heading and radial velocity kept
+    straight ///< along a straight line in the ground plane at the body's speed and heading: range, azimuth, elevation, heading to the line of sight and radial velocity follow its position
+};
+/*! \brief The name of a track motion. \param m the motion. \return "radial" or "straight". */
+SEMS_API std::string track_motion_name(track_motion m);
+/*!
+ * \brief The track motion of a name.
+ * \param name "radial" or "straight".
+ * \return the motion.
+ * \throws std::invalid_argument listing the known names.
+ */
+SEMS_API track_motion track_motion_from_name(const std::string& name);
+
 /*!
  * \brief How a random scene follows its targets across frames (docs/design.md §1, tracks).
  *
  * \details A track draws its targets once (class, parameters, range, speed, heading, extra
  * paths, clutter ranges) and keeps them for K frames, K ~ U{frames_min, ..., frames_max}. The
- * bodies move: range follows the radial velocity from frame to frame, R_f = R_0 − v·f·N·T at
- * the frame's first symbol (straight at a constant radial velocity and heading; no migration
- * within a frame). Slow time is the track's own clock, t = (f·N + n)·T from its first frame, so
- * micro-motion and Doppler phases continue across its frames and the same (seed, track index)
- * gives the same frames in a stream and in training. A track ends early at its last frame whose
- * ranges all lie inside their classes' range intervals (a body never leaves them); the next
- * frame starts the next track.
+ * bodies move, evaluated at each frame's first symbol (no migration within a frame):
+ * - track_motion::radial (the default): range follows the radial velocity, R_f = R_0 − v·f·N·T,
+ *   at a constant radial velocity, heading and direction;
+ * - track_motion::straight: the body moves d = s·f·N·T (s its speed) along a straight line in
+ *   the ground plane, its height kept; with ρ_0 = R_0 cos ε_0 and z = R_0 sin ε_0, its horizontal
+ *   position is (ρ_0 − d cos θ_0, d sin θ_0) along and across the first line of sight, so
+ *   ρ_f = hypot(ρ_0 − d cos θ_0, d sin θ_0), R_f = hypot(ρ_f, z), ε_f = atan2(z, ρ_f), the
+ *   azimuth and the heading both turn by δ_f = atan2(d sin θ_0, ρ_0 − d cos θ_0) (a heading
+ *   θ in (0, π) moves towards increasing azimuth), and the radial velocity is s·cos θ_f·cos ε_f.
+ *   The carrier phase stays continuous across frames: a target's paths turn by
+ *   4π(R_0 − R_f)/λ − 2π f_D,f·t_f, the range travelled less what the frame's Doppler phasor
+ *   (at t_f = f·N·T) already accounts for.
+ * Slow time is the track's own clock, t = (f·N + n)·T from its first frame, so micro-motion and
+ * Doppler phases continue across its frames and the same (seed, track index) gives the same
+ * frames in a stream and in training. A track ends early at its last frame whose ranges all lie
+ * inside their classes' range intervals (a body never leaves them) and, moving straight, whose
+ * azimuths lie inside the intervals they were drawn from (the class's or the scene's; a single
+ * value bounds nothing); the next frame starts the next track.
  */
 struct SEMS_API track_draw_spec {
     int frames_min = 64; ///< shortest planned track, in frames (≥ 1)
     int frames_max = 64; ///< longest planned track, in frames (≤ limits::max_track_frames)
     gain_coherence gains = gain_coherence::frame; ///< how the gains evolve over a track
     double coherence_time_s = 0.1;                ///< τ_c for gauss_markov (> 0); unused otherwise
+    track_motion motion = track_motion::radial;   ///< how the bodies move (radial: the frames of scenes that do not name one)
 };
 
 /// How a random scene draws a frame.
