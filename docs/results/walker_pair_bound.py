@@ -6,13 +6,14 @@ walker shows one antenna: its relative speed a = v/H and its radial size b = H·
     /usr/bin/python3 docs/results/walker_pair_bound.py [--library models/classes/kinematic.json] [--out FILE]
 
 Under the walker model (the Boulic gait: docs/reference/walker.md) the gait's timing follows
-v/H, the body's displacements scale with H, and one antenna sees them along its line of sight,
+v/H, the limbs' displacements scale with H, and one antenna sees them along its line of sight,
 so the radial micro-Doppler scales with H·cos θ (θ: the heading against that line); the bulk
 Doppler v·cos θ = a·b is the product of the two. A decoder that observed a and b exactly, over
 as long a track as it likes, can do no better than the Bayes classifier of (a, b) — this bound.
-The lateral sway (along sin θ) and the segments' aspect-dependent RCS (ellipsoids whose lengths
-follow H and whose radii do not) also depend on H; they are left out, so a decoder that reads
-them passes the bound by their share (docs/results/adult_child_array.md measures decoders that do).
+Left out: the motion across the line of sight (along sin θ, seen by one antenna through the
+aspect) and the pelvis's translations, which stay in metres at every height (docs/reference/walker.md),
+so they weigh differently against limbs that scale with H. A decoder that reads them can pass the
+bound by their share; docs/results/adult_child_array.md measures decoders that do.
 
 Each class draws H ~ U[h0, h1], v ~ U[v0, v1] and θ ~ U[0, 2π) (the class library's intervals,
 any heading), so c = |cos θ| has the arcsine density 2/(π√(1−c²)). Changing variables
@@ -23,7 +24,7 @@ closed form:
     c_lo = max(b/h1, a·b/v1),   c_hi = min(b/h0, a·b/v0, 1),   p = 0 unless c_lo < c_hi
 
 and the pairwise Bayes accuracy with equal priors is ½ ∫∫ max(p_adult, p_child) da db, computed
-on a grid and checked against a finer one and against a Monte-Carlo histogram of the draws.
+on a grid and checked against one half as fine and against a Monte-Carlo histogram of the draws.
 """
 import argparse
 import json
@@ -105,9 +106,10 @@ def main():
         "",
         "A decoder that reads only the gait's timing and the radial size of the body, however "
         "long it watches and at any SNR, tells an adult from a child no better than this. The "
-        "walker's lateral sway and its segments' aspect-dependent RCS also carry its height and "
-        "are not in the bound: a decoder that reads a track's whole Doppler shape passes it, with "
-        "one antenna as with an array ([adults against children over a track](adult_child_array.md)).",
+        "walker's motion across the line of sight and its pelvis's translations (in metres at "
+        "every height) are not in the bound: a decoder that reads a track's whole Doppler shape "
+        "passes it, with one antenna as with an array ([adults against children over a "
+        "track](adult_child_array.md)).",
         "",
     ]
     with open(args.out, "w") as f:

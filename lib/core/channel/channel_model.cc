@@ -680,6 +680,8 @@ void move_straight(target_spec& t, double t_s)
 // closer, then recedes).
 int frames_inside_straight(const target_spec& t0, double frame_s, double lo, double hi, double az_lo, double az_hi, int cap)
 {
+    if (!(t0.speed_mps > 0.0)) // a still body stays where it is
+        return cap;
     const bool bounded_azimuth = az_lo < az_hi;
     int len = 1;
     while (len < cap) {

@@ -192,8 +192,8 @@ struct SEMS_API random_spec {
     std::optional<track_draw_spec> tracks;
     /*!
      * \brief Each target's azimuth ~ U[min, max] in [−π, π]; drawn (last, after its paths) only
-     *        when min < max, so scenes without an interval keep their exact frames. A track keeps
-     *        its azimuth.
+     *        when min < max, so scenes without an interval keep their exact frames. A radial track
+     *        keeps its azimuth; a straight one turns it with the body (track_draw_spec).
      */
     double azimuth_min_rad = 0.0;
     double azimuth_max_rad = 0.0; ///< see azimuth_min_rad
@@ -201,8 +201,8 @@ struct SEMS_API random_spec {
      * \brief Each target's elevation ~ U[min, max] in [−π/2, π/2]; drawn after its azimuth, only
      *        when min < max (a single value is every target's). Its radial velocity becomes
      *        speed·cos(heading)·cos(elevation). Only classes seen from any elevation take one other
-     *        than 0: point, sinusoid and walker classes (scene::validate refuses the others by name). A track
-     *        keeps its elevation.
+     *        than 0: point, sinusoid and walker classes (scene::validate refuses the others by name). A radial
+     *        track keeps its elevation; a straight one moves it with the body (track_draw_spec).
      */
     double elevation_min_rad = 0.0;
     double elevation_max_rad = 0.0; ///< see elevation_min_rad
