@@ -39,6 +39,9 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "apps", "figures"))
+from paired_stats import holm  # noqa: E402  (the project's Holm correction)
+
 SCENE = ('{"format": "sems.scene", "version": 1, "classes": "kinematic", "array": "ula8_3g", '
          '"random": {"classes": ["adult", "child"], "heading": "any", "azimuth_rad": [-0.8, 0.8], '
          '"tracks": {"frames": 64, "motion": "straight"}}}')
@@ -235,15 +238,6 @@ def train_one(feat_train, feat_test, config, seed, epochs=30):
     return (predict(Ste, Vte, Zte) == yte).numpy(), best
 
 
-def holm(pvalues):
-    order = np.argsort(pvalues)
-    adjusted, running = np.empty(len(pvalues)), 0.0
-    for rank, i in enumerate(order):
-        running = max(running, min(1.0, (len(pvalues) - rank) * pvalues[i]))
-        adjusted[i] = running
-    return adjusted
-
-
 def keep(directory, kept):
     """What the table needs of a run, small enough to ship: each decoder's right/wrong per test
     track and seed, and the array's estimates against the truth."""
@@ -289,7 +283,7 @@ def table(kept, out):
     lines += ["", "Paired over the same test tracks (accuracy difference, 95 % bootstrap interval, "
               "Holm-corrected p over the four comparisons):", "",
               "| comparison | difference | 95 % interval | p (Holm) |", "|---|---:|---|---:|"]
-    for (a_, b_, m, lo, hi), p in zip(rows, holm(np.array(pvals))):
+    for (a_, b_, m, lo, hi), p in zip(rows, holm(pvals)):
         lines.append(f"| {names[a_]} − {names[b_]} | {m:+.3f} | [{lo:+.3f}, {hi:+.3f}] | {p:.4f} |")
     az_err = np.percentile(k["az_error"], [50, 90])
     rng_err = np.percentile(k["range_error"], [50, 90])
