@@ -3,8 +3,7 @@
 #include "blocks/common/block_mask.h"
 #include "blocks/range_angle_map_impl.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/sems/core/array/array_geometry.h>
-#include <nlohmann/json.hpp>
+#include <gnuradio/sems/core/array/array_setting.h>
 #include <algorithm>
 #include <stdexcept>
 
@@ -21,22 +20,7 @@ range_angle_map::sptr range_angle_map::make(const std::string& array,
                                             const std::string& window)
 {
     const char* const who = range_angle_map_impl::who;
-    const auto first = array.find_first_not_of(" \t\r\n");
-    if (first == std::string::npos)
-        throw std::invalid_argument(std::string(who) + ": array is empty: give an array file (format sems.array) "
-                                                       "or its JSON text");
-    array_geometry a;
-    if (array[first] == '{') {
-        nlohmann::json j;
-        try {
-            j = nlohmann::json::parse(array);
-        } catch (const nlohmann::json::exception& e) {
-            throw std::invalid_argument(std::string(who) + ": array JSON text does not parse: " + e.what());
-        }
-        a = array_geometry::from_json(j, std::string(who) + " array JSON");
-    } else {
-        a = array_geometry::load(array);
-    }
+    const array_geometry a = array_from_setting(array, who);
     frame_settings fs;
     fs.carrier_hz = carrier_hz;
     if (!(std::isfinite(carrier_hz) && carrier_hz > 0.0))

@@ -39,7 +39,7 @@ _LAZY_MODULES = {
         "delay_search", "slow_time_model", "periodogram_delay_estimator",
         "omp_delay_estimator", "music_delay_estimator", "delay_crb", "doppler_features",
         "feature_svm", "random_subcarrier_mask", "nested_subcarrier_mask",
-        "angle_search", "angle_crb_rad2", "beamforming_angle_estimator", "capon_angle_estimator", "music_angle_estimator",
+        "angle_search", "angle_crb_rad2", "array_beamformer", "beamform_pilots", "beamforming_angle_estimator", "capon_angle_estimator", "music_angle_estimator",
     ),
 }
 _LAZY_NAMES = {name: module for module, names in _LAZY_MODULES.items() for name in names}

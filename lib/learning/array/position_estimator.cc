@@ -5,6 +5,7 @@
 #include "learning/array/angle_network.h"
 #include "learning/networks/task_decoder.h"
 #include <gnuradio/sems/baselines/angle_estimators.h>
+#include <gnuradio/sems/baselines/array_beamformer.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <torch/torch.h>
 #include <algorithm>
@@ -137,18 +138,9 @@ std::vector<position_estimate> position_estimator::estimate(const gr_complex* ob
     // Each frame's pilots beamformed towards its azimuth: z_p = a(φ̂)ᴴ y_p / ‖a(φ̂)‖².
     const size_t per = size_t(p.k) * size_t(p.np);
     std::vector<gr_complex> beamformed(size_t(batch) * size_t(p.np));
-    for (int b = 0; b < batch; ++b) {
-        const auto a = steering_vector(*p.array, azimuth[size_t(b)], 0.0, p.lambda);
-        double norm = 0.0;
-        for (const auto& x : a)
-            norm += std::norm(x);
-        for (int i = 0; i < p.np; ++i) {
-            std::complex<double> z = 0.0;
-            for (int e = 0; e < p.k; ++e)
-                z += std::conj(a[size_t(e)]) * std::complex<double>(obs[size_t(b) * per + size_t(e) * p.np + i]);
-            beamformed[size_t(b) * p.np + i] = gr_complex(z / norm);
-        }
-    }
+    for (int b = 0; b < batch; ++b)
+        beamform_pilots(*p.array, azimuth[size_t(b)], 0.0, p.lambda, obs + size_t(b) * per, p.np,
+                        beamformed.data() + size_t(b) * p.np);
     const auto delays = p.delay->estimate_delay(beamformed.data(), batch);
     const frame_settings& fs = p.delay->bundle().frame;
     std::vector<position_estimate> out(static_cast<size_t>(batch));

@@ -3,6 +3,9 @@
 #include "learning/sinks/classifier_sink_impl.h"
 
 #include <gnuradio/io_signature.h>
+#include <gnuradio/sems/core/array/array_setting.h>
+#include <gnuradio/sems/core/array/steering.h>
+#include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/scene/class_library.h>
 #include <gnuradio/sems/core/common/tags.h>
 #include <gnuradio/sems/core/scene/target_class.h>
@@ -16,12 +19,16 @@ namespace sems {
 
 namespace {
 constexpr const char* block_name = "classifier_sink";
-}
+} // namespace
 
 // ---------------------------------------------------------------- classifier_task
 
-classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s)
-    : d_label_key(pmt::intern(keys::label)),
+classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder,
+                                 double track_idle_s,
+                                 int n_elements,
+                                 const std::string& array)
+    : d_azimuth_key(pmt::intern(keys::azimuth_rad)),
+      d_label_key(pmt::intern(keys::label)),
       d_class_name_key(pmt::intern(keys::class_name)),
       d_probs_key(pmt::intern(keys::probs)),
       d_track_frames_key(pmt::intern(keys::track_frames)),
@@ -33,6 +40,22 @@ classifier_task::classifier_task(std::unique_ptr<bundle_decoder> decoder, double
     if (!(std::isfinite(track_idle_s) && track_idle_s >= 0.0))
         throw std::invalid_argument(std::string(block_name) + ": track_idle_s must be a finite time >= 0 s (0: no idle "
                                     "limit), got " + std::to_string(track_idle_s));
+    d_elements = n_elements;
+    if (!array.empty() || n_elements != 1) {
+        if (array.find_first_not_of(" \t\r\n") == std::string::npos)
+            throw std::invalid_argument(std::string(block_name) + ": n_elements = " + std::to_string(n_elements) +
+                                        " needs the array its streams come from (array: a preset's name, an array "
+                                        "file or its JSON text)");
+        const array_geometry a = array_from_setting(array, block_name);
+        if (a.n_transmit() != 1)
+            throw std::invalid_argument(std::string(block_name) + ": the array has " + std::to_string(a.n_transmit()) +
+                                        " transmit elements; the classifier sink beamforms the streams of one");
+        if (a.n_receive() != n_elements)
+            throw std::invalid_argument(std::string(block_name) + ": the array has " + std::to_string(a.n_receive()) +
+                                        " receive elements, but n_elements = " + std::to_string(n_elements));
+        const auto& b = decoder->bundle();
+        d_beamformer = std::make_unique<array_beamformer>(a, pilot_wavelength_m(b.frame, b.mask));
+    }
     if (track_classifier::is_track_bundle(decoder->bundle()))
         d_track = std::make_unique<track_classifier>(std::move(decoder));
     else
@@ -67,11 +90,33 @@ pmt::pmt_t classifier_task::answer(const float* p) const
     return pmt::dict_add(d, d_probs_key, pmt::init_f32vector(c, p));
 }
 
-std::vector<pmt::pmt_t>
-classifier_task::decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta)
+const gr_complex* classifier_task::combine(const gr_complex* obs, int batch)
 {
+    if (!d_beamformer)
+        return obs;
+    const size_t np = static_cast<size_t>(bundle().mask.size()), per = np * static_cast<size_t>(d_elements);
+    d_beamformed.resize(static_cast<size_t>(batch) * np);
+    d_azimuths.resize(static_cast<size_t>(batch));
+    for (int i = 0; i < batch; ++i)
+        d_azimuths[size_t(i)] = d_beamformer->combine(obs + size_t(i) * per, static_cast<int>(np),
+                                                       d_beamformed.data() + size_t(i) * np);
+    return d_beamformed.data();
+}
+
+std::vector<pmt::pmt_t> classifier_task::with_azimuths(std::vector<pmt::pmt_t> answers) const
+{
+    if (d_beamformer)
+        for (size_t i = 0; i < answers.size(); ++i)
+            answers[i] = pmt::dict_add(answers[i], d_azimuth_key, pmt::from_double(d_azimuths[i]));
+    return answers;
+}
+
+std::vector<pmt::pmt_t>
+classifier_task::decode(const gr_complex* frames, int batch, const std::vector<detail::frame_meta>& meta)
+{
+    const gr_complex* obs = combine(frames, batch);
     if (d_track)
-        return decode_tracks(obs, batch, meta);
+        return with_azimuths(decode_tracks(obs, batch, meta));
     const std::vector<int> sets = sets_of(meta, batch);
     const std::vector<float> probs = d_decoder->classify(obs, batch, sets.data());
     const size_t c = d_names.size();
@@ -83,7 +128,7 @@ classifier_task::decode(const gr_complex* obs, int batch, const std::vector<deta
     out.reserve(batch);
     for (int i = 0; i < batch; i++)
         out.push_back(answer(probs.data() + i * c));
-    return out;
+    return with_azimuths(std::move(out));
 }
 
 // Track mode: the frame decoder over the batch, then one step per frame on the track it
@@ -248,10 +293,13 @@ classifier_sink::sptr classifier_sink::make(const std::string& bundle_dir,
                                             int n_subcarriers,
                                             const std::string& frame,
                                             double track_idle_s,
-                                            int super_frames)
+                                            int super_frames,
+                                            int n_elements,
+                                            const std::string& array)
 {
     return gnuradio::make_block_sptr<classifier_sink_impl>(bundle_dir, n_pilots, batch_size, threads, metrics_period,
-                                                           n_symbols, n_subcarriers, frame, track_idle_s, super_frames);
+                                                           n_symbols, n_subcarriers, frame, track_idle_s, super_frames,
+                                                           n_elements, array);
 }
 
 classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
@@ -263,12 +311,15 @@ classifier_sink_impl::classifier_sink_impl(const std::string& bundle_dir,
                                            int n_subcarriers,
                                            const std::string& frame,
                                            double track_idle_s,
-                                           int super_frames)
+                                           int super_frames,
+                                           int n_elements,
+                                           const std::string& array)
     : gr::sync_block(block_name,
-                     detail::sink_input_signature(block_name, n_pilots, batch_size, threads, metrics_period),
+                     detail::sink_input_signature(block_name, detail::array_item_length(block_name, n_elements, n_pilots), batch_size, threads,
+                                                  metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::classify, bundle_dir, n_pilots, batch_size, threads, metrics_period,
-                 n_symbols, n_subcarriers, frame, track_idle_s)
+                 n_symbols, n_subcarriers, frame, track_idle_s, n_elements, array)
 {
     // The stream's super-frame and the bundle's, like n_pilots against its N_p: the sets are
     // picked by frame index mod F, so another F would read frames at pilots they do not carry.

@@ -6,6 +6,7 @@
 
 #include "learning/sinks/sink_block.h"
 #include "learning/sinks/sink_core.h"
+#include <gnuradio/sems/baselines/array_beamformer.h>
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/temporal/track_classifier.h>
 #include <atomic>
@@ -22,8 +23,11 @@ class classifier_task : public detail::sink_task
 {
 public:
     // track_idle_s: track mode, the wall time after which a track's next frame starts it
-    // again (0: never).
-    classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s);
+    // again (0: never). n_elements, array: the streams of an item and the array they come
+    // from (classifier_sink::make); with an array each frame is beamformed into one antenna's.
+    classifier_task(std::unique_ptr<bundle_decoder> decoder, double track_idle_s, int n_elements,
+                    const std::string& array);
+    int elements() const override { return d_elements; }
 
     std::vector<pmt::pmt_t> decode(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta) override;
     bool score(pmt::pmt_t& result, const pmt::pmt_t& truth) override;
@@ -50,9 +54,18 @@ private:
     std::vector<int> sets_of(const std::vector<detail::frame_meta>& meta, int batch) const;
     std::vector<pmt::pmt_t> decode_tracks(const gr_complex* obs, int batch, const std::vector<detail::frame_meta>& meta);
     pmt::pmt_t answer(const float* probs) const; // label, class_name, probs
+    // With an array: each frame's N_r·N_p pilots beamformed into d_beamformed (batch x N_p),
+    // their azimuths into d_azimuths; returns what the decoder reads (obs itself without one).
+    const gr_complex* combine(const gr_complex* obs, int batch);
+    std::vector<pmt::pmt_t> with_azimuths(std::vector<pmt::pmt_t> answers) const;
 
     std::unique_ptr<bundle_decoder> d_decoder; // per-frame bundles
     std::unique_ptr<track_classifier> d_track; // track bundles
+    int d_elements = 1;
+    std::unique_ptr<array_beamformer> d_beamformer; // with an array (n_elements > 1)
+    std::vector<gr_complex> d_beamformed;
+    std::vector<double> d_azimuths;
+    const pmt::pmt_t d_azimuth_key;
     // Track mode: the one track followed, and why tracks started.
     track_classifier::state d_state;
     bool d_in_track = false;
@@ -88,7 +101,10 @@ public:
                          int n_subcarriers,
                          const std::string& frame,
                          double track_idle_s,
-                         int super_frames);
+                         int super_frames,
+                         int n_elements,
+                         const std::string& array);
+    int n_elements() const override { return d_task.elements(); }
 
     double accuracy() const override;
     std::vector<std::vector<uint64_t>> confusion() const override;

@@ -15,17 +15,6 @@ namespace sems {
 namespace {
 constexpr const char* block_name = "position_sink";
 
-// N_r·N_p, the item's length, with N_r checked first (its own message, not N_p's).
-int item_length(int n_elements, int n_pilots)
-{
-    if (n_elements < 1 || n_elements > limits::max_array_elements)
-        throw std::invalid_argument(std::string(block_name) + ": n_elements must be in [1, " +
-                                    std::to_string(limits::max_array_elements) + "], got " + std::to_string(n_elements));
-    if (n_pilots < 1)
-        throw std::invalid_argument(std::string(block_name) + ": n_pilots must be >= 1, got " + std::to_string(n_pilots));
-    return n_elements * n_pilots;
-}
-
 // The stream's frame (a preset or file; empty: the paper's), for the bundle check's N and M.
 frame_settings stream_frame(const std::string& frame)
 {
@@ -136,7 +125,7 @@ position_sink_impl::position_sink_impl(const std::string& bundle_dir,
                                        int metrics_period,
                                        const std::string& frame)
     : gr::sync_block(block_name,
-                     detail::sink_input_signature(block_name, item_length(n_elements, n_pilots), batch_size, threads,
+                     detail::sink_input_signature(block_name, detail::array_item_length(block_name, n_elements, n_pilots), batch_size, threads,
                                                   metrics_period),
                      gr::io_signature::make(0, 0, 0)),
       sink_block(block_name, task_kind::delay, bundle_dir, n_pilots, batch_size, threads, metrics_period,

@@ -78,7 +78,7 @@ public:
         const std::string dir = models_dir() + "classifier";
         const int np = model_bundle::load(dir).mask.size();
         const int n_frames = 200, batch = 8;
-        auto sink = gnuradio::make_block_sptr<classifier_sink_impl>(dir, np, batch, 1, 0, 32, 64, "", 0.0, 1);
+        auto sink = gnuradio::make_block_sptr<classifier_sink_impl>(dir, np, batch, 1, 0, 32, 64, "", 0.0, 1, 1, "");
         int calls = 0;
         std::vector<int> failed_batches;
         auto r = stream_with_faults(sink, np, n_frames, [&](int b) {
@@ -129,7 +129,7 @@ public:
         // counts every frame that entered and never came out, once.
         const std::string dir = models_dir() + "classifier";
         const int np = model_bundle::load(dir).mask.size();
-        auto sink = gnuradio::make_block_sptr<classifier_sink_impl>(dir, np, 16, 1, 0, 32, 64, "", 0.0, 1);
+        auto sink = gnuradio::make_block_sptr<classifier_sink_impl>(dir, np, 16, 1, 0, 32, 64, "", 0.0, 1, 1, "");
         auto& core = sink->core_for_test();
         std::vector<gr_complex> frames(static_cast<size_t>(5) * np, gr_complex(1.0f, 0.0f));
         core.push(frames.data(), 5, 0, {}); // 5 pending in a batch of 16

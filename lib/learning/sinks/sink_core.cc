@@ -4,6 +4,7 @@
 #include "blocks/common/stream_values.h"
 #include "core/common/checks.h"
 
+#include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/common/tags.h>
 #include <algorithm>
 #include <cmath>
@@ -74,6 +75,16 @@ sink_input_signature(const std::string& block, int n_pilots, int batch_size, int
     if (metrics_period < 0)
         bad("metrics_period", metrics_period, "must be >= 0 (0: metrics only at the end of the stream)");
     return gr::io_signature::make(1, 1, sizeof(gr_complex) * n_pilots);
+}
+
+int array_item_length(const std::string& block, int n_elements, int n_pilots)
+{
+    if (n_elements < 1 || n_elements > limits::max_array_elements)
+        throw std::invalid_argument(block + ": n_elements must be in [1, " + std::to_string(limits::max_array_elements) +
+                                    "], got " + std::to_string(n_elements));
+    if (n_pilots < 1)
+        throw std::invalid_argument(block + ": n_pilots must be >= 1, got " + std::to_string(n_pilots));
+    return n_elements * n_pilots;
 }
 
 bool dict_number(const pmt::pmt_t& dict, const char* key, double& out)

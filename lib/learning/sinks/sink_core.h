@@ -61,6 +61,10 @@ std::unique_ptr<bundle_decoder> load_decoder(const std::string& block,
 gr::io_signature::sptr
 sink_input_signature(const std::string& block, int n_pilots, int batch_size, int threads, int metrics_period);
 
+// N_r·N_p, the item's length of a sink whose items hold an array's pilots, with N_r checked
+// first (std::invalid_argument naming `block` and n_elements, its own message, not N_p's).
+int array_item_length(const std::string& block, int n_elements, int n_pilots);
+
 // What the core knows of a frame besides its observations: its index and its truth.
 struct frame_meta {
     uint64_t index;

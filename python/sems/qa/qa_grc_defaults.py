@@ -134,8 +134,8 @@ def cxx_defaults():
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
         "sems_pilot_extractor": extractor_d,
-        "sems_classifier_sink": dict(sink, track_idle_s=bound_default(sems.classifier_sink, "track_idle_s"),
-                                     super_frames=bound_default(sems.classifier_sink, "super_frames")),
+        "sems_classifier_sink": dict(sink, **{name: bound_default(sems.classifier_sink, name)
+                                              for name in ("track_idle_s", "super_frames", "n_elements", "array")}),
         "sems_delay_estimator_sink": sink,
         "sems_position_sink": {name: sink[name] for name in ("batch_size", "threads", "metrics_period")} |
         {"frame": bound_default(sems.position_sink, "frame")},

@@ -22,7 +22,7 @@ namespace sems {
 
 /*!
  * \brief Range–angle map of each frame of an array's pilot observations (core/array/range_angle.h), in dB.
- * \details The array is the scene's (an array file, or its JSON text); its receive elements,
+ * \details The array is the scene's (a preset's name, an array file, or its JSON text); its receive elements,
  * N_r, must be the extractor's elements, and it has one transmit element (an array with more is
  * refused: the extractor's streams are each receive element's sum over the transmit elements). Frame check: a mask file carries only its grid, refused
  * unless it is n_symbols x n_subcarriers.
@@ -35,7 +35,7 @@ public:
 
     /*!
      * \brief gr_complex[K·N_p] in, float[A·M] (dB) out, one item per frame.
-     * \param array            an array file (format sems.array) or its JSON text (starts with '{')
+     * \param array            a preset's name (e.g. ula8_3g), an array file (format sems.array) or its JSON text (starts with '{'): array_setting.h
      * \param mask_file        pilot mask JSON; "" to use pilot_positions
      * \param pilot_positions  flat pilot positions n·M+m; empty to use mask_file
      * \param n_symbols        N

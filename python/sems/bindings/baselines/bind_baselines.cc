@@ -3,6 +3,7 @@
  * Doppler features, feature SVM, MUSIC pilot patterns). Observations are 1-D
  * complex64 numpy arrays of length N_p in mask order. */
 #include <gnuradio/sems/baselines/angle_estimators.h>
+#include <gnuradio/sems/baselines/array_beamformer.h>
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
 #include <gnuradio/sems/baselines/music_delay_estimator.h>
 #include <gnuradio/sems/baselines/omp_delay_estimator.h>
@@ -164,6 +165,28 @@ void bind_baselines(py::module& m)
                  return e.spectrum(p, l);
              },
              D(beamforming_angle_estimator, spectrum), py::arg("y"));
+    m.def(
+        "beamform_pilots",
+        [](const array_geometry& a, double azimuth_rad, double elevation_rad, double wavelength_m, const carray& y) {
+            const auto [p, l] = array_obs(y, a.n_receive() * a.n_transmit(), "beamform_pilots");
+            py::array_t<gr_complex> z(l);
+            beamform_pilots(a, azimuth_rad, elevation_rad, wavelength_m, p, l, z.mutable_data());
+            return z;
+        },
+        D(beamform_pilots), py::arg("array"), py::arg("azimuth_rad"), py::arg("elevation_rad"), py::arg("wavelength_m"),
+        py::arg("y"));
+    py::class_<array_beamformer>(m, "array_beamformer", D(array_beamformer))
+        .def(py::init<const array_geometry&, double>(), py::arg("array"), py::arg("wavelength_m"))
+        .def("n_elements", &array_beamformer::n_elements, D(array_beamformer, n_elements))
+        .def(
+            "combine",
+            [](const array_beamformer& b, const carray& y) {
+                const auto [p, l] = array_obs(y, b.n_elements(), "combine");
+                py::array_t<gr_complex> z(l);
+                const double azimuth = b.combine(p, l, z.mutable_data());
+                return py::make_tuple(azimuth, z);
+            },
+            D(array_beamformer, combine), py::arg("y"));
     py::class_<capon_angle_estimator>(m, "capon_angle_estimator", D(capon_angle_estimator))
         .def(py::init<const array_geometry&, double, double, double, int, angle_search>(), py::arg("array"),
              py::arg("elevation_rad"), py::arg("wavelength_m"), py::arg("loading") = 1e-3, py::arg("subarray") = 0,

@@ -66,13 +66,15 @@ void bind_sinks(py::module& m)
         .def_readonly_static("metrics_period", &sink_defaults::metrics_period, D(sink_defaults, metrics_period));
 
     auto classifier = bind_sink<classifier_sink>(m, "classifier_sink", D(classifier_sink));
-    bind_make(classifier, D(classifier_sink, make), py::arg("track_idle_s") = 0.0, py::arg("super_frames") = 1);
+    bind_make(classifier, D(classifier_sink, make), py::arg("track_idle_s") = 0.0, py::arg("super_frames") = 1,
+              py::arg("n_elements") = 1, py::arg("array") = std::string());
     classifier.def("accuracy", &classifier_sink::accuracy, D(classifier_sink, accuracy))
         .def("confusion", &classifier_sink::confusion, D(classifier_sink, confusion))
         .def("class_names", &classifier_sink::class_names, D(classifier_sink, class_names))
         .def("track_mode", &classifier_sink::track_mode, D(classifier_sink, track_mode))
         .def("tracks_started", &classifier_sink::tracks_started, D(classifier_sink, tracks_started))
-        .def("track_gaps", &classifier_sink::track_gaps, D(classifier_sink, track_gaps));
+        .def("track_gaps", &classifier_sink::track_gaps, D(classifier_sink, track_gaps))
+        .def("n_elements", &classifier_sink::n_elements, D(classifier_sink, n_elements));
 
     auto delay = bind_sink<delay_estimator_sink>(m, "delay_estimator_sink", D(delay_estimator_sink));
     bind_make(delay, D(delay_estimator_sink, make));

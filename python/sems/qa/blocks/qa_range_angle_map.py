@@ -70,6 +70,8 @@ class qa_range_angle_map(gr_unittest.TestCase):
             sems.range_angle_map(json.dumps(ARRAY), pilot_positions=[0], carrier_hz=0.0)
         with self.assertRaisesRegex(ValueError, "no_such_array.json"):
             sems.range_angle_map("no_such_array.json", pilot_positions=[0])
+        # A preset's name is the same array as its JSON text (ula8_3g: 8 elements 5 cm apart).
+        self.assertEqual(sems.range_angle_map("ula8_3g", pilot_positions=[0]).n_elements(), 8)
 
 
 if __name__ == "__main__":

@@ -21,7 +21,8 @@ namespace sems {
  * \brief Classifies the target of each frame with a model bundle.
  *
  * \details Input: gr_complex[N_p] per frame, the pilot observations Y/s_p in mask order (from
- * pilot_extractor). Output: a PMT dict per frame on message port `result`:
+ * pilot_extractor); from an array, gr_complex[N_r·N_p], element-major (the extractor's N_r
+ * inputs). Output: a PMT dict per frame on message port `result`:
  *   frame, label, class_name, probs (f32vector, one per class of the bundle) and, when a
  *   sems_truth tag came with the frame, truth (that dict) and correct (bool; the truth's
  *   class_name, else its class id, compared with the predicted class name).
@@ -43,6 +44,12 @@ namespace sems {
  * Super-frames: a bundle whose mask spans F frames (pilots across frames) reads the frame of
  * index i at set i mod F, the set the pilot mapper and extractor used for it; `super_frames`
  * states the F of the stream, and a bundle of another F is refused naming both.
+ *
+ * Arrays: given the array its streams come from (`array`, N_r = `n_elements` receive elements,
+ * one transmit element), each frame's N_r·N_p pilots are beamformed into one antenna's N_p
+ * towards the azimuth where the frame's beamforming spectrum peaks (array_beamformer.h: one
+ * antenna's pilots at N_r times the SNR for a plane wave), and the bundle, trained on one
+ * antenna, reads those; the result also holds azimuth_rad, the direction beamformed towards.
  *
  * Frames are decoded `batch_size` at a time; the partial last batch is decoded in stop().
  * Note (GNU Radio): messages sent in stop() only reach subscribers whose thread is still
@@ -70,6 +77,11 @@ public:
      *                       frame starts its track again (0: no limit; >= 0)
      * \param super_frames   F of the stream's pilot mask (the frames of its super-frame, 1 for one
      *                       frame's mask); must match the bundle's mask
+     * \param n_elements     N_r, the receive elements whose pilots each item holds (1: one antenna)
+     * \param array          with N_r > 1, the array the streams come from: a preset's name (e.g.
+     *                       `ula8_3g`), an array file, or its JSON text (array_setting.h); its
+     *                       receive elements must number n_elements, with one transmit element.
+     *                       Empty: one antenna (n_elements must be 1).
      * \return the block.
      * \throws std::invalid_argument naming the bundle and the mismatch.
      */
@@ -82,7 +94,9 @@ public:
                      int n_subcarriers = frame_settings().n_subcarriers,
                      const std::string& frame = "",
                      double track_idle_s = 0.0,
-                     int super_frames = 1);
+                     int super_frames = 1,
+                     int n_elements = 1,
+                     const std::string& array = "");
 
     /*! \brief Frames handled: answered or skipped. \return the count. */
     virtual uint64_t frames() const = 0;
@@ -114,6 +128,9 @@ public:
     virtual uint64_t tracks_started() const = 0;
     /*! \brief Track mode: tracks begun again because frames were missing or out of order. \return the count. */
     virtual uint64_t track_gaps() const = 0;
+
+    /*! \brief N_r, the receive elements of each item. \return the count (1: one antenna). */
+    virtual int n_elements() const = 0;
 
     /*! \brief Frames per inference call. \return the batch size. */
     virtual int batch_size() const = 0;
