@@ -35,7 +35,11 @@
  *                            --exp9-position-bundle the learned position decoder on its mask
  *                            and array), and how often
  *                            two coherent targets 1.5 beamwidths apart are both found (run only
- *                            when asked: --experiments 9)
+ *                            when asked: --experiments 9; --exp9-parts angle)
+ *     exp9_classes.csv       classification per frame with 1, 4 and 8 elements, each frame's
+ *                            pilots beamformed as SemS Classifier Sink does, by classifier
+ *                            bundles trained on one antenna (--exp9-classifier-bundles), with
+ *                            exp9_classes_predictions.npz and exp9_truth.npz (--exp9-parts classes)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
  *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
  *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
@@ -47,6 +51,7 @@
  * frames stay the same), and cached under <out>/bundles/<name>_s<seed> (reused when the
  * settings match). Every CSV row carries its test seed and its training seed (or none).
  */
+#include "count_list.h"
 #include "frame_options.h"
 #include "sems_eval/eval.h"
 #include <gnuradio/sems/core/common/limits.h>
@@ -170,7 +175,8 @@ int main(int argc, char** argv)
 {
     config c;
     std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank,burst",
-                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget",
+                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget", exp9_parts = "angle,classes",
+                exp9_classifier_bundles = "classifier_kinematic", exp9_class_elements = "1,4,8",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
     apps::frame_options frame_flags;
@@ -185,7 +191,7 @@ int main(int argc, char** argv)
         ("first-seed", po::value(&c.first_seed)->default_value(c.first_seed),
          "train with seeds seed + first-seed, ... (the test frames stay those of --seed): one seed per process")
         ("threads", po::value(&c.threads)->default_value(c.threads), "LibTorch threads (training and inference)")
-        ("test-frames", po::value<int>(), "override: test frames per operating point of experiments 1, 3, 4, 5 and 7 "
+        ("test-frames", po::value<int>(), "override: test frames per operating point of experiments 1, 3, 4, 5, 7 and 9's classes part "
          "(test 24, full 3000), the same for every method, seed and SNR; e.g. 30000 for tighter paired tests (each "
          "scene's frames are held in memory: 16 N M bytes each, 1 GB at 30000 of 32 x 64)")
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
@@ -233,6 +239,14 @@ int main(int argc, char** argv)
         ("shipped-track", po::value(&c.shipped_track), "experiment 8: also score this shipped track bundle (and its frame decoder's fusion)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
         ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle (learned angle), every method then on its mask and array")
+        ("exp9-parts", po::value(&exp9_parts)->default_value(exp9_parts),
+         "experiment 9: comma-separated subset of angle (azimuth estimates against the CRB) and classes (classification "
+         "per frame with 1, 4 and 8 elements, beamformed as SemS Classifier Sink does)")
+        ("exp9-classifier-bundles", po::value(&exp9_classifier_bundles)->default_value(exp9_classifier_bundles),
+         "experiment 9's classes part: comma-separated classifier bundles (names or directories) of one class library and "
+         "pilot count, one per training seed, trained on one antenna")
+        ("exp9-class-elements", po::value(&exp9_class_elements)->default_value(exp9_class_elements),
+         "experiment 9's classes part: the half-wavelength ULAs' element counts, comma-separated")
         ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
         ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no check of the training settings; a bundle of another frame is refused)")
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
@@ -293,6 +307,18 @@ int main(int argc, char** argv)
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst", "range" }, "--exp7-parts");
         c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
+        c.exp9_parts = parse_names(exp9_parts, { "angle", "classes" }, "--exp9-parts");
+        c.exp9_class_elements = apps::parse_counts(exp9_class_elements, "--exp9-class-elements", 1, limits::max_array_elements);
+        c.exp9_classifier_bundles.clear();
+        {
+            std::stringstream names(exp9_classifier_bundles);
+            std::string name;
+            while (std::getline(names, name, ','))
+                if (!name.empty())
+                    c.exp9_classifier_bundles.push_back(name);
+            if (c.exp9_classifier_bundles.empty())
+                throw std::invalid_argument("--exp9-classifier-bundles: no bundle given");
+        }
         if (vm.count("exp8-super-frame-start")) {
             c.exp8_super_frame_start = vm["exp8-super-frame-start"].as<std::string>();
             if (c.exp8_super_frame_start != "frame" && c.exp8_super_frame_start != "random")
@@ -429,6 +455,17 @@ int main(int argc, char** argv)
                 b.frame.require_same(c.fs, "--" + flag + " " + dir, "the bundle's frame",
                                      "the run's frame (--frame and its overrides)");
             }
+        if (c.experiments.count(9) && c.exp9_parts.count("classes"))
+            for (const auto& dir : c.exp9_classifier_bundles) {
+                model_bundle b;
+                try {
+                    b = model_bundle::load(dir);
+                } catch (const std::exception& e) {
+                    throw std::invalid_argument(std::string("--exp9-classifier-bundles: ") + e.what());
+                }
+                b.frame.require_same(c.fs, "--exp9-classifier-bundles " + dir, "the bundle's frame",
+                                     "the run's frame (--frame and its overrides)");
+            }
         std::filesystem::create_directories(c.out_dir);
 
         std::cout << apps::describe(frame) << std::endl;
@@ -458,6 +495,7 @@ int main(int argc, char** argv)
         write_cost(c, std::cout);
         run_tracks(c, std::cout);
         run_angle(c, std::cout);
+        run_array_classes(c, std::cout);
         std::cout << "[" << now_utc() << "] done" << std::endl;
         return 0;
     } catch (const po::error& e) {

@@ -6,7 +6,7 @@
     predictions.py merge OUT IN [IN ...]      one file from the parts of a split run
     predictions.py check RESULTS [1,3,...]    every CSV score recomputed from the kept files
 
-For experiments 1, 3, 4, 5 and 7, sems_eval writes beside each CSV <stem>.csv the file
+For experiments 1, 3, 4, 5, 7 and 9 (its classes part), sems_eval writes beside each CSV <stem>.csv the file
 <stem>_predictions.npz (every method's output on every test frame, at every SNR, pilot
 budget and training seed: the predicted class id, or the delay-index error as float32) and
 one exp<N>_truth.npz per experiment (each test frame's class id, true delay index, range and
@@ -44,10 +44,11 @@ SOURCES = OrderedDict([
            ("exp7_pilot_power", "--experiments 7 --exp7-parts power"),
            ("exp7_bank", "--experiments 7 --exp7-parts bank"),
            ("exp7_burst", "--experiments 7 --exp7-parts burst")]),
+    ("9", [("exp9_classes", "--experiments 9 --exp9-parts classes")]),
 ])
 SCRIPTS = {"1": "scripts/evaluation/eval_full.sh", "3": "scripts/evaluation/eval_full.sh",
            "4": "scripts/evaluation/eval_full.sh", "5": "scripts/evaluation/eval_full.sh",
-           "7": "scripts/evaluation/eval_kinematic.sh"}
+           "7": "scripts/evaluation/eval_kinematic.sh", "9": "scripts/evaluation/eval_arrays.sh"}
 
 
 class Missing(Exception):
@@ -321,7 +322,7 @@ def delay_scores(err):
 
 
 def check(results, experiments=None):
-    """Every CSV row of experiments 1, 3, 4, 5 and 7 (or those given) with a kept series,
+    """Every CSV row of experiments 1, 3, 4, 5, 7 and 9 (or those given) with a kept series,
     recomputed; returns (rows checked, list of differences, list of missing files)."""
     checked, problems, missing = 0, [], []
     for experiment in experiments or SOURCES:

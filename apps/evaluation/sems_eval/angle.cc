@@ -80,7 +80,7 @@ std::vector<gr_complex> at_snr(const std::vector<gr_complex>& y, const std::vect
 
 void run_angle(const config& c, std::ostream& log)
 {
-    if (!c.experiments.count(9))
+    if (!c.experiments.count(9) || !c.exp9_parts.count("angle"))
         return;
     const frame_settings& fs = c.fs;
     // The learned position decoder, when given: its mask and array are every method's.

@@ -85,6 +85,9 @@ struct config {
     int exp9_frames = 40;                         // experiment 9: test frames per SNR (one and two targets)
     std::vector<double> exp9_snrs{ -10, 0, 10, 20, 30 }; // experiment 9's SNR points
     std::string exp9_position_bundle; // experiment 9: a position bundle scored on the same frames (its mask and array)
+    std::set<std::string> exp9_parts{ "angle", "classes" };  // experiment 9's parts (one per process lets cores share a run)
+    std::vector<std::string> exp9_classifier_bundles{ "classifier_kinematic" }; // experiment 9, classes: one per training seed
+    std::vector<int> exp9_class_elements{ 1, 4, 8 };          // experiment 9, classes: the ULAs' element counts
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -229,6 +232,7 @@ void run_pilot_budget(const config& c, std::ostream& log);  // 5
 void write_cost(const config& c, std::ostream& log);        // 6
 void run_tracks(const config& c, std::ostream& log);        // 8
 void run_angle(const config& c, std::ostream& log);         // 9 (angle part)
+void run_array_classes(const config& c, std::ostream& log); // 9 (classes part)
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 void run_model_cards(const config& c, std::ostream& log);     // --model-card
 

@@ -985,6 +985,63 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertIn("Holm's step-down correction over all of them", text)
             self.assertIn("15 tests", text)  # 5 SNRs x 3 references
 
+    def test_013_experiment_9_classes(self):
+        """Experiment 9's classes part: the shipped kinematic classifier on the same frames seen by
+        1, 4 and 8 elements; every CSV row recomputed from its kept predictions; at 30 dB the
+        combination's beam finds the target (its answers are those at the true azimuth on nearly
+        every frame); the figure and both families of paired tests written; bad input refused."""
+        sys.path.insert(0, FIGURES)
+        import predictions as kp
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "classes",
+                                "--test-frames", "200", "--snrs", "-10,30", "--out", out],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            self.assertFalse(os.path.exists(os.path.join(out, "exp9_angle.csv")))
+            with open(os.path.join(out, "exp9_classes.csv")) as f:
+                rows = list(csv.DictReader(f))
+            methods = {x["method"] for x in rows}
+            self.assertEqual(methods, {"1 element", "4 elements, beamformed", "8 elements, beamformed",
+                                       "4 elements, beamformed at the true azimuth",
+                                       "8 elements, beamformed at the true azimuth",
+                                       "one antenna at +10 log10 4 dB", "one antenna at +10 log10 8 dB"})
+            self.assertEqual(len(rows), 7 * 2)
+            self.assertEqual({x["train_seed"] for x in rows}, {"2026"})  # the shipped bundle's
+            checked, problems, missing = kp.check(out, ["9"])
+            self.assertEqual((checked, problems, missing), (14, [], []))
+            exp = kp.Experiment(out, "9")
+            pred = {k[1]: kept.values(i) for k, (kept, i) in exp.series.items() if k[4] == 30.0}
+            same = np.mean(pred["8 elements, beamformed"] == pred["8 elements, beamformed at the true azimuth"])
+            self.assertGreater(same, 0.95)
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_array_classes.py"), out,
+                                "--bootstrap", "200"], capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.getsize(os.path.join(out, "exp9_classes.png")) > 1000)
+            with open(os.path.join(out, "exp9_classes.md")) as f:
+                text = f.read()
+            self.assertIn("every SNR\": 6 tests", text)   # 4 and 8 against 1, 8 against 4
+            self.assertIn("every SNR\": 8 tests", text)   # beamformed against the true azimuth and the gain
+            bad = [(["--exp9-parts", "nope"], "\"nope\" is not one of angle, classes"),
+                   (["--exp9-class-elements", "0,8"], "--exp9-class-elements"),
+                   (["--exp9-classifier-bundles", "delay_single"], "not a classifier bundle"),
+                   (["--exp9-classifier-bundles", "classifier_kinematic,classifier_kinematic"], "the same seed")]
+            for args, words in bad:
+                parts = [] if "--exp9-parts" in args else ["--exp9-parts", "classes"]
+                r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--out", out] + parts + args,
+                                   capture_output=True, text=True, timeout=120)
+                self.assertNotEqual(r.returncode, 0, args)
+                self.assertIn(words, r.stderr, args)
+        # The experiment's one command, at the test size: both parts, their tables and figures.
+        with tempfile.TemporaryDirectory() as work:
+            res = os.path.join(work, "results")
+            r = subprocess.run(["bash", os.path.join(SOURCE, "scripts", "evaluation", "eval_arrays.sh"), "--size", "test",
+                                "--out", os.path.join(work, "out"), "--results", res],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
+            for name in ("exp9_angle.md", "exp9_angle.png", "exp9_angle_predictions.npz", "exp9_classes.md",
+                         "exp9_classes.png", "exp9_classes_predictions.npz", "exp9_truth.npz", "eval_arrays.log"):
+                self.assertTrue(os.path.exists(os.path.join(res, name)), name)
+
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside
         the radar equation's values for the class's RCS interval and the bin's ranges (the

@@ -1,0 +1,148 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Experiment 9's classes part: classification per frame with 1, 4 and 8 receive elements
+(exp9_classes.csv and its kept predictions, from `sems_eval --experiments 9 --exp9-parts classes`).
+
+    plot_array_classes.py RESULTS [--table FILE] [--bootstrap B] [--seed S]
+
+Writes RESULTS/exp9_classes.png (accuracy against SNR: each element count beamformed as SemS
+Classifier Sink does, beamformed at the true azimuth, and one antenna with the array's gain
+10·log10 N added to its SNR) and the table FILE (default RESULTS/exp9_classes.md): the mean
+accuracy over the classifier bundles (training seeds) per SNR, then the paired tests on the same
+test frames (paired_stats.two_level: training seeds and frames resampled), in two families with
+Holm's correction over each:
+  - what an array gains: N elements against one element, and 8 against 4, at every SNR;
+  - the combination against its references: N elements beamformed against the same frames
+    beamformed at the true azimuth, and against one antenna at +10·log10 N dB, at every SNR.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paired_stats as ps  # noqa: E402
+import predictions as kp  # noqa: E402
+
+SCENARIO = "kinematic_array"
+
+
+def beamformed(k):
+    return "1 element" if k == 1 else "%d elements, beamformed" % k
+
+
+def aimed(k):
+    return "%d elements, beamformed at the true azimuth" % k
+
+
+def gained(k):
+    return "one antenna at +10 log10 %d dB" % k
+
+
+def read(path):
+    if not os.path.exists(path):
+        sys.exit("plot_array_classes.py: %s is missing: `bash scripts/evaluation/eval_arrays.sh` writes it" % path)
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def mean_accuracy(rows, method, snr):
+    v = [float(r["accuracy"]) for r in rows if r["method"] == method and float(r["snr_db"]) == snr]
+    return float(np.mean(v)) if v else float("nan")
+
+
+def paired(exp, np_, snrs, pairs, family, boots, seed):
+    """Adds to `family` one test per SNR and (first, rival) method pair; returns the rows."""
+    for snr in snrs:
+        for first, rival in pairs:
+            a, b = exp.scores(SCENARIO, first, np_, snr), exp.scores(SCENARIO, rival, np_, snr)
+            family.add((snr, first, rival), ps.compare(a, b, ps.rng_for(seed, (snr, first, rival)), boots))
+    return family.results()
+
+
+def table_of(results, title, describe):
+    lines = ["", "**%s** (%s)" % (title, describe), "",
+             "| SNR (dB) | first | against | difference (points) | SE | p (Holm) | reading |",
+             "|---|---|---|---|---|---|---|"]
+    for (snr, first, rival), r, p, verdict in results:
+        lines.append("| %g | %s | %s | %+.2f | %.2f | %.2g | %s |" % (
+            snr, first, rival, 100 * r["diff"], 100 * r["se"], p, verdict))
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("results")
+    ap.add_argument("--table")
+    ap.add_argument("--bootstrap", type=int, default=2000)
+    ap.add_argument("--seed", type=int, default=1)
+    a = ap.parse_args()
+    rows = read(os.path.join(a.results, "exp9_classes.csv"))
+    exp = kp.Experiment(a.results, "9")
+    try:
+        exp.require("exp9_classes")
+    except kp.Missing as e:
+        sys.exit("plot_array_classes.py: %s" % e)
+    counts = sorted({int(r["elements"]) for r in rows})
+    snrs = sorted({float(r["snr_db"]) for r in rows})
+    np_, frames = int(rows[0]["n_pilots"]), int(rows[0]["frames"])
+    seeds = sorted({r["train_seed"] for r in rows})
+
+    fig, ax = plt.subplots(figsize=(7.5, 4.6))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, k in enumerate(counts):
+        c = colours[i % len(colours)]
+        ax.plot(snrs, [mean_accuracy(rows, beamformed(k), s) for s in snrs], marker="o", color=c,
+                label=beamformed(k) if k > 1 else "1 element (one antenna)")
+        if k > 1:
+            ax.plot(snrs, [mean_accuracy(rows, aimed(k), s) for s in snrs], ls=":", color=c,
+                    label="%d elements, at the true azimuth" % k)
+            ax.plot(snrs, [mean_accuracy(rows, gained(k), s) for s in snrs], ls="--", color=c, alpha=0.7,
+                    label="one antenna, SNR + %.1f dB" % (10 * np.log10(k)))
+    ax.set_xlabel("SNR per pilot and element (dB)")
+    ax.set_ylabel("accuracy (mean of %d training seed%s)" % (len(seeds), "" if len(seeds) == 1 else "s"))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("Experiment 9: kinematic classes per frame, %d pilots per element, %d test frames per point" % (
+        np_, frames), fontsize=10)
+    fig.tight_layout()
+    png = os.path.join(a.results, "exp9_classes.png")
+    fig.savefig(png, dpi=110)
+
+    methods = []
+    for k in counts:
+        methods.append(beamformed(k))
+        if k > 1:
+            methods += [aimed(k), gained(k)]
+    lines = ["Generated by `/usr/bin/python3 apps/figures/plot_array_classes.py %s` from exp9_classes.csv and "
+             "its kept predictions (%d test frames per point; classifier bundles trained with seed%s %s)." % (
+                 a.results, frames,
+                 "" if len(seeds) == 1 else "s", ", ".join(seeds)),
+             "", "| SNR (dB) | " + " | ".join(methods) + " |", "|---|" + "---|" * len(methods)]
+    for s in snrs:
+        lines.append("| %g | %s |" % (s, " | ".join("%.3f" % mean_accuracy(rows, m, s) for m in methods)))
+
+    more = [k for k in counts if k > 1]
+    gain = ps.Family("experiment 9: N elements against fewer, every SNR")
+    pairs = [(beamformed(k), beamformed(1)) for k in more if 1 in counts]
+    pairs += [(beamformed(hi), beamformed(lo)) for lo in more for hi in more if hi > lo]
+    lines += table_of(paired(exp, np_, snrs, pairs, gain, a.bootstrap, a.seed), "What the array gains",
+                      gain.describe())
+    refs = ps.Family("experiment 9: the combination against its references, every SNR")
+    pairs = [(beamformed(k), aimed(k)) for k in more] + [(beamformed(k), gained(k)) for k in more if 1 in counts]
+    lines += table_of(paired(exp, np_, snrs, pairs, refs, a.bootstrap, a.seed),
+                      "The combination against its references", refs.describe())
+    table = a.table or os.path.join(a.results, "exp9_classes.md")
+    with open(table, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("plot_array_classes.py: wrote %s and %s" % (png, table))
+
+
+if __name__ == "__main__":
+    main()

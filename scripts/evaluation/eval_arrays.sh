@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Experiment 9 of docs/RESULTS.md: an array's pilots, in two processes of one LibTorch thread
+# each, then their figures and tables.
+#
+#   bash scripts/evaluation/eval_arrays.sh [--out DIR] [--results DIR] [--size full|test]
+#
+# Processes (each its own folder and log under DIR, default out/eval_arrays):
+#   angle     azimuth estimates against SNR next to the CRB, one and two targets: beamforming,
+#             Capon, MUSIC and the shipped position bundle (models/position_ula8) on its mask
+#             and 8-element array
+#   classes   classification per frame with 1, 4 and 8 elements, each frame beamformed as SemS
+#             Classifier Sink does, by the classifier bundles in SEMS_EXP9_CLASSIFIERS
+#             (comma-separated, one per training seed; default the shipped
+#             models/classifier_kinematic, trained with seed 2026)
+# The results (exp9_angle.csv and .md and .png with exp9_angle_predictions.npz;
+# exp9_classes.csv and .md and .png with exp9_classes_predictions.npz and exp9_truth.npz) go to
+# RESULTS (default docs/results), the run's record to RESULTS/eval_arrays.log and the parts'
+# logs to RESULTS/eval_arrays_<part>.log. --size test runs the same plumbing in a minute.
+set -euo pipefail
+script=eval_arrays.sh
+out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_arrays"
+log=eval_arrays.log
+source "$(dirname "$0")/eval_parts.sh"
+classifiers="${SEMS_EXP9_CLASSIFIERS:-$root/models/classifier_kinematic}"
+
+stamp "sems_eval --size $size --experiments 9, 2 processes, logs in $out/*.log"
+pids=()
+run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$root/models/position_ula8" & pids+=($!)
+run_part classes --experiments 9 --exp9-parts classes --exp9-classifier-bundles "$classifiers" & pids+=($!)
+status=0
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+[ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
+cp "$out/angle/exp9_angle.csv" "$out/angle/exp9_angle_predictions.csv" "$results/"
+cp "$out/classes/exp9_classes.csv" "$out/classes/exp9_classes_predictions.npz" "$out/classes/exp9_truth.npz" "$results/"
+for p in angle classes; do cp "$out/$p.log" "$results/eval_arrays_$p.log"; done
+/usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 9
+/usr/bin/python3 "$root/apps/figures/plot_angle.py" "$results"
+/usr/bin/python3 "$root/apps/figures/plot_array_classes.py" "$results"
+stamp "done in $(( $(date +%s) - start )) s"
