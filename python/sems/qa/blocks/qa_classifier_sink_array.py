@@ -19,10 +19,14 @@ ARRAY = "ula8_3g"  # 8 elements 5 cm apart along y, centred (models/arrays/ula8_
 C = 3e8  # the module's speed of light (frame_settings.h: the paper's value)
 
 
-def scene_text(azimuths):
-    """The kinematic library's targets, any heading, seen by ula8_3g from `azimuths`."""
+def scene_text(azimuths, track_frames=0):
+    """The kinematic library's targets, any heading, seen by ula8_3g from `azimuths` (on tracks of
+    `track_frames` frames crossing the line of sight, when given)."""
+    random = {"heading": "any", "azimuth_rad": azimuths}
+    if track_frames:
+        random["tracks"] = {"frames": track_frames, "motion": "straight"}
     return json.dumps({"format": "sems.scene", "version": 1, "classes": "kinematic", "array": ARRAY,
-                       "random": {"heading": "any", "azimuth_rad": azimuths}})
+                       "random": random})
 
 
 def beamformed(obs, k, lam, azimuths):
@@ -49,7 +53,7 @@ class qa_classifier_sink_array(gr_unittest.TestCase):
         mean_m = np.mean([m for _, m in cls.mask.positions()])  # (symbol, subcarrier) pairs
         cls.lam = C / (fs.carrier_hz + mean_m * spacing)  # the pilots' mean frequency's wavelength
 
-    def stream(self, frames, snr_db=20.0):
+    def stream(self, frames, snr_db=20.0, bundle=BUNDLE, track_frames=0):
         fs = self.bundle.frame
         n, m = fs.n_symbols, fs.n_subcarriers
         mask = os.path.join(BUNDLE, "mask.json")
@@ -57,9 +61,9 @@ class qa_classifier_sink_array(gr_unittest.TestCase):
         data = blocks.vector_source_c([1 + 0j] * (frames * n * m), False)
         mapper = sems.pilot_mapper(mask_file=mask)
         head = blocks.head(gr.sizeof_gr_complex * m, frames * n)
-        ch = sems.target_channel(scene=scene_text([-0.7, 0.7]), seed=7, n_receive=self.k, snr_db=snr_db)
+        ch = sems.target_channel(scene=scene_text([-0.7, 0.7], track_frames), seed=7, n_receive=self.k, snr_db=snr_db)
         ex = sems.pilot_extractor(mask_file=mask, n_elements=self.k)
-        sink = sems.classifier_sink(BUNDLE, self.n_p, batch_size=8, metrics_period=0, n_elements=self.k, array=ARRAY)
+        sink = sems.classifier_sink(bundle, self.n_p, batch_size=8, metrics_period=0, n_elements=self.k, array=ARRAY)
         pilots = blocks.vector_sink_c(self.k * self.n_p)
         results = blocks.message_debug()
         tb.connect(data, mapper, head, ch)
@@ -72,11 +76,11 @@ class qa_classifier_sink_array(gr_unittest.TestCase):
         msgs = [pmt.to_python(results.get_message(i)) for i in range(results.num_messages())]
         return sink, msgs, np.asarray(pilots.data()).reshape(frames, self.k * self.n_p)
 
-    def one_antenna(self, pilots):
+    def one_antenna(self, pilots, bundle=BUNDLE):
         """The one-antenna sink's answers on pilots given frame by frame."""
         tb = gr.top_block()
         src = blocks.vector_source_c(pilots.reshape(-1).tolist(), False, self.n_p)
-        sink = sems.classifier_sink(BUNDLE, self.n_p, batch_size=8, metrics_period=0)
+        sink = sems.classifier_sink(bundle, self.n_p, batch_size=8, metrics_period=0)
         results = blocks.message_debug()
         tb.connect(src, sink)
         tb.msg_connect((sink, K.result_port), (results, "store"))
@@ -108,6 +112,23 @@ class qa_classifier_sink_array(gr_unittest.TestCase):
         errors = [abs(r[K.azimuth_rad] - r[K.truth][K.azimuth_rad]) for r in results]
         self.assertLess(np.median(errors), 0.01)
         self.assertEqual(sink.accuracy(), np.mean([r[K.correct] for r in results]))
+
+    def test_a_track_bundle_decides_over_the_beamformed_frames(self):
+        """The shipped track bundle on a body crossing the line of sight for its whole stream: one
+        track, each frame's decision the one-antenna sink's over the same beamformed frames."""
+        track = os.path.join(SOURCE, "models", "classifier_kinematic_track")
+        self.assertEqual(sems.model_bundle.load(track).mask.positions(), self.mask.positions())
+        frames = 24
+        sink, results, obs = self.stream(frames, bundle=track, track_frames=64)
+        self.assertTrue(sink.track_mode())
+        self.assertEqual(sink.tracks_started(), 1)
+        self.assertEqual([r[K.track_frames] for r in results], list(range(1, frames + 1)))
+        azimuths = [r[K.azimuth_rad] for r in results]
+        self.assertGreater(np.ptp([r[K.truth][K.azimuth_rad] for r in results]), 0.0)  # it crosses
+        want = self.one_antenna(beamformed(obs, self.k, self.lam, azimuths), bundle=track)
+        for r, w in zip(results, want):
+            self.assertEqual(r[K.label], w[K.label])
+            np.testing.assert_allclose(r[K.probs], w[K.probs], atol=2e-4)
 
     def test_array_mismatches_are_refused_by_name(self):
         with self.assertRaisesRegex(ValueError, "n_elements = 8 needs the array"):
