@@ -18,7 +18,7 @@
  *     exp7_confusion.csv     every method's confusion matrix at --confusion-snr;
  *     exp7_pilot_budget.csv  SemS against the Doppler and staggered patterns at each N_p
  *     exp7_pilot_power.csv   SemS with learned pilot energies (same total) at N_p 32 and 128
- *   beside experiments 1, 3, 4, 5 and 7's CSVs: <csv stem>_predictions.npz, every method's output on
+ *   beside experiments 1, 3, 4, 5, 7 and 9's (classes) CSVs: <csv stem>_predictions.npz, every method's output on
  *     every test frame at every SNR and training seed (class ids; delay-index errors), and
  *     exp<N>_truth.npz, the test frames' truth, for the paired statistics of
  *     apps/figures/paired_stats.py (docs/reference/file_formats.md, "Kept predictions")

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Experiment 9's angle part: an array's azimuth estimates against SNR (exp9_angle.csv from
-`sems_eval --experiments 9`).
+`sems_eval --experiments 9 --exp9-parts angle`, as scripts/evaluation/eval_arrays.sh runs it).
 
     plot_angle.py RESULTS [--table FILE]
 
@@ -94,7 +94,7 @@ def paired_table(results):
 
 def read(path):
     if not os.path.exists(path):
-        sys.exit("plot_angle.py: %s is missing: `sems_eval --experiments 9 --out DIR` writes it" % path)
+        sys.exit("plot_angle.py: %s is missing: `bash scripts/evaluation/eval_arrays.sh` writes it" % path)
     with open(path) as f:
         return list(csv.DictReader(f))
 

@@ -22,11 +22,16 @@ script=eval_arrays.sh
 out="$(cd "$(dirname "$0")/../.." && pwd)/out/eval_arrays"
 log=eval_arrays.log
 source "$(dirname "$0")/eval_parts.sh"
-classifiers="${SEMS_EXP9_CLASSIFIERS:-$root/models/classifier_kinematic}"
+# Folders as the logs name them: relative to the working directory (run from the source tree,
+# the logs name no folder of the machine).
+here() { realpath -m --relative-to=. "$1"; }
+out="$(here "$out")"
+results="$(here "$results")"
+classifiers="${SEMS_EXP9_CLASSIFIERS:-$(here "$root/models/classifier_kinematic")}"
 
 stamp "sems_eval --size $size --experiments 9, 2 processes, logs in $out/*.log"
 pids=()
-run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$root/models/position_ula8" & pids+=($!)
+run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$(here "$root/models/position_ula8")" & pids+=($!)
 run_part classes --experiments 9 --exp9-parts classes --exp9-classifier-bundles "$classifiers" & pids+=($!)
 status=0
 for p in "${pids[@]}"; do wait "$p" || status=1; done
@@ -36,5 +41,6 @@ cp "$out/classes/exp9_classes.csv" "$out/classes/exp9_classes_predictions.npz" "
 for p in angle classes; do cp "$out/$p.log" "$results/eval_arrays_$p.log"; done
 /usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 9
 /usr/bin/python3 "$root/apps/figures/plot_angle.py" "$results"
+rm -f "$results/exp9_angle_predictions.csv" # packed into exp9_angle_predictions.npz by plot_angle.py
 /usr/bin/python3 "$root/apps/figures/plot_array_classes.py" "$results"
 stamp "done in $(( $(date +%s) - start )) s"
