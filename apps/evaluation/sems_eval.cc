@@ -40,6 +40,8 @@
  *                            pilots beamformed as SemS Classifier Sink does, by classifier
  *                            bundles trained on one antenna (--exp9-classifier-bundles), with
  *                            exp9_classes_predictions.npz and exp9_truth.npz (--exp9-parts classes)
+ *     exp9_tracks.csv        a track bundle's decisions over tracks crossing the line of sight
+ *                            with the same arrays, with exp9_tracks_predictions.csv (--exp9-parts tracks)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
  *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
  *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
@@ -164,6 +166,8 @@ void apply_size(config& c)
         c.exp8_np_sweep = { 8, 128 };
         c.exp9_frames = 2000;
         c.exp9_snrs = { -10, -5, 0, 5, 10, 15, 20, 25, 30 };
+        c.exp9_track_count = 300; // as experiment 8's test tracks
+        c.exp9_track_frames = 32; // the shipped track bundle's training length
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
     }
@@ -175,7 +179,7 @@ int main(int argc, char** argv)
 {
     config c;
     std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank,burst",
-                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget", exp9_parts = "angle,classes",
+                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget", exp9_parts = "angle,classes,tracks",
                 exp9_classifier_bundles = "classifier_kinematic", exp9_class_elements = "1,4,8",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
@@ -240,13 +244,18 @@ int main(int argc, char** argv)
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
         ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle (learned angle), every method then on its mask and array")
         ("exp9-parts", po::value(&exp9_parts)->default_value(exp9_parts),
-         "experiment 9: comma-separated subset of angle (azimuth estimates against the CRB) and classes (classification "
-         "per frame with 1, 4 and 8 elements, beamformed as SemS Classifier Sink does)")
+         "experiment 9: comma-separated subset of angle (azimuth estimates against the CRB), classes (classification "
+         "per frame with 1, 4 and 8 elements, beamformed as SemS Classifier Sink does) and tracks (a track bundle's "
+         "decisions over tracks crossing the line of sight, with the same arrays)")
         ("exp9-classifier-bundles", po::value(&exp9_classifier_bundles)->default_value(exp9_classifier_bundles),
          "experiment 9's classes part: comma-separated classifier bundles (names or directories) of one class library and "
          "pilot count, one per training seed, trained on one antenna")
         ("exp9-class-elements", po::value(&exp9_class_elements)->default_value(exp9_class_elements),
-         "experiment 9's classes part: the half-wavelength ULAs' element counts, comma-separated")
+         "experiment 9's classes and tracks parts: the half-wavelength ULAs' element counts, comma-separated")
+        ("exp9-track-bundle", po::value(&c.exp9_track_bundle)->default_value(c.exp9_track_bundle),
+         "experiment 9's tracks part: the track bundle (a name or directory)")
+        ("exp9-track-count", po::value<int>(), "override: experiment 9's test tracks (test 12, full 300)")
+        ("exp9-track-frames", po::value<int>(), "override: experiment 9's planned frames of a test track (test 8, full 32)")
         ("shipped-delay-multipath", po::value(&c.shipped_delay_multi), "also evaluate this shipped multipath delay bundle")
         ("reuse-bundles", po::bool_switch(&c.reuse_bundles), "use every cached bundle in <out>/bundles as is (no check of the training settings; a bundle of another frame is refused)")
         ("only-shipped", po::bool_switch(&c.only_shipped), "evaluate only the shipped bundles (rows to add to a full run)")
@@ -307,7 +316,14 @@ int main(int argc, char** argv)
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst", "range" }, "--exp7-parts");
         c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
-        c.exp9_parts = parse_names(exp9_parts, { "angle", "classes" }, "--exp9-parts");
+        c.exp9_parts = parse_names(exp9_parts, { "angle", "classes", "tracks" }, "--exp9-parts");
+        if (vm.count("exp9-track-count"))
+            c.exp9_track_count = vm["exp9-track-count"].as<int>();
+        if (vm.count("exp9-track-frames"))
+            c.exp9_track_frames = vm["exp9-track-frames"].as<int>();
+        if (c.exp9_track_count < 1 || c.exp9_track_frames < 1 || c.exp9_track_frames > limits::max_track_frames)
+            throw std::invalid_argument("--exp9-track-count must be >= 1 and --exp9-track-frames in [1, " +
+                                        std::to_string(limits::max_track_frames) + "]");
         c.exp9_class_elements = apps::parse_counts(exp9_class_elements, "--exp9-class-elements", 1, limits::max_array_elements);
         c.exp9_classifier_bundles.clear();
         {
@@ -438,13 +454,20 @@ int main(int argc, char** argv)
             if (!std::isfinite(c.exp7_range_margin_db))
                 throw std::invalid_argument("--exp7-range-snr must be a finite number of dB");
         }
-        // A shipped bundle is scored on this run's test frames: one of another frame is refused
-        // here, before any training, naming the first field that differs and both values.
-        for (const auto& [flag, dir] : { std::pair<std::string, std::string>{ "shipped-classifier", c.shipped_classifier },
-                                         { "shipped-delay-single", c.shipped_delay_single },
-                                         { "shipped-delay-multipath", c.shipped_delay_multi },
-                                         { "shipped-track", c.shipped_track },
-                                         { "exp9-position-bundle", c.exp9_position_bundle } })
+        // A shipped bundle (and experiment 9's classifiers) is scored on this run's test frames:
+        // one of another frame is refused here, before any training, naming the first field that
+        // differs and both values.
+        std::vector<std::pair<std::string, std::string>> given = {
+            { "shipped-classifier", c.shipped_classifier }, { "shipped-delay-single", c.shipped_delay_single },
+            { "shipped-delay-multipath", c.shipped_delay_multi }, { "shipped-track", c.shipped_track },
+            { "exp9-position-bundle", c.exp9_position_bundle }
+        };
+        if (c.experiments.count(9) && c.exp9_parts.count("classes"))
+            for (const auto& dir : c.exp9_classifier_bundles)
+                given.emplace_back("exp9-classifier-bundles", dir);
+        if (c.experiments.count(9) && c.exp9_parts.count("tracks"))
+            given.emplace_back("exp9-track-bundle", c.exp9_track_bundle);
+        for (const auto& [flag, dir] : given)
             if (!dir.empty()) {
                 model_bundle b;
                 try {
@@ -453,17 +476,6 @@ int main(int argc, char** argv)
                     throw std::invalid_argument("--" + flag + ": " + e.what());
                 }
                 b.frame.require_same(c.fs, "--" + flag + " " + dir, "the bundle's frame",
-                                     "the run's frame (--frame and its overrides)");
-            }
-        if (c.experiments.count(9) && c.exp9_parts.count("classes"))
-            for (const auto& dir : c.exp9_classifier_bundles) {
-                model_bundle b;
-                try {
-                    b = model_bundle::load(dir);
-                } catch (const std::exception& e) {
-                    throw std::invalid_argument(std::string("--exp9-classifier-bundles: ") + e.what());
-                }
-                b.frame.require_same(c.fs, "--exp9-classifier-bundles " + dir, "the bundle's frame",
                                      "the run's frame (--frame and its overrides)");
             }
         std::filesystem::create_directories(c.out_dir);
@@ -496,6 +508,7 @@ int main(int argc, char** argv)
         run_tracks(c, std::cout);
         run_angle(c, std::cout);
         run_array_classes(c, std::cout);
+        run_array_tracks(c, std::cout);
         std::cout << "[" << now_utc() << "] done" << std::endl;
         return 0;
     } catch (const po::error& e) {

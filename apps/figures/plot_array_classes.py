@@ -14,6 +14,11 @@ Holm's correction over each:
   - what an array gains: N elements against one element, and 8 against 4, at every SNR;
   - the combination against its references: N elements beamformed against the same frames
     beamformed at the true azimuth, and against one antenna at +10·log10 N dB, at every SNR.
+With the tracks part (exp9_tracks.csv, exp9_tracks_predictions.csv, exp9_tracks_truth.csv), the figure gets a second
+panel (the track bundle's accuracy against SNR after one frame and after the whole track) and the
+table its numbers and a third family: N elements against fewer over the whole track, at every
+SNR, paired over the same test tracks (paired_stats.one_level: one track bundle, tracks
+resampled).
 """
 import argparse
 import csv
@@ -76,6 +81,73 @@ def table_of(results, title, describe):
     return lines
 
 
+def read_tracks(results):
+    """The tracks part's rows and per-track decisions, or None when the run had no tracks part."""
+    path = os.path.join(results, "exp9_tracks.csv")
+    if not os.path.exists(path):
+        return None
+    rows = read(path)
+    decisions = read(os.path.join(results, "exp9_tracks_predictions.csv"))
+    truth = read(os.path.join(results, "exp9_tracks_truth.csv"))
+    return rows, (decisions, np.array([int(t["class_id"]) for t in truth]), np.array([int(t["frames"]) for t in truth]))
+
+
+def track_correct(kept, method, snr, frames):
+    """Per test track with at least `frames` frames (in track order): 1.0 where it is decided right."""
+    decisions, truth, length = kept
+    row = [d for d in decisions if d["method"] == method and float(d["snr_db"]) == snr and int(d["frames"]) == frames]
+    predicted = np.array([int(v) for v in row[0]["predicted"].split()])
+    return (predicted == truth)[length >= frames].astype(float)
+
+
+def plot_tracks(ax, tracks, counts, colours):
+    rows, _ = tracks
+    snrs = sorted({float(r["snr_db"]) for r in rows})
+    longest = max(int(r["frames"]) for r in rows)
+    for i, k in enumerate(counts):
+        for frames, style in ((1, ":"), (longest, "-")):
+            acc = [float(r["accuracy"]) for s in snrs for r in rows
+                   if r["method"] == beamformed(k) and float(r["snr_db"]) == s and int(r["frames"]) == frames]
+            ax.plot(snrs, acc, ls=style, marker="o" if style == "-" else None, color=colours[i % len(colours)],
+                    label="%s, %s" % (beamformed(k), "1 frame" if frames == 1 else "%d frames" % longest))
+    n = max(int(r["tracks"]) for r in rows)
+    ax.set_xlabel("SNR per pilot and element (dB)")
+    ax.set_ylabel("accuracy of the decision over the track")
+    ax.set_title("over a track crossing the line of sight (track bundle, %d test tracks)" % n, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+
+
+def tracks_tables(tracks, counts, boots, seed):
+    rows, decisions = tracks
+    snrs = sorted({float(r["snr_db"]) for r in rows})
+    times = sorted({int(r["frames"]) for r in rows})
+    longest = times[-1]
+    lines = ["", "Over a track (the track bundle's decision after 1 and after %d frames; tracks with fewer frames "
+             "than an observation time are left out of it):" % longest, "",
+             "| SNR (dB) | " + " | ".join("%s, %s" % (beamformed(k), "1 frame" if t == 1 else "%d frames" % t)
+                                         for k in counts for t in (1, longest)) + " |",
+             "|---|" + "---|" * (2 * len(counts))]
+    for s in snrs:
+        cells = []
+        for k in counts:
+            for t in (1, longest):
+                acc = [float(r["accuracy"]) for r in rows
+                       if r["method"] == beamformed(k) and float(r["snr_db"]) == s and int(r["frames"]) == t]
+                cells.append("%.3f" % acc[0] if acc else "")
+        lines.append("| %g | %s |" % (s, " | ".join(cells)))
+    family = ps.Family("experiment 9: over a track, N elements against fewer, every SNR")
+    more = [k for k in counts if k > 1]
+    pairs = [(beamformed(k), beamformed(1)) for k in more if 1 in counts]
+    pairs += [(beamformed(hi), beamformed(lo)) for lo in more for hi in more if hi > lo]
+    for s in snrs:
+        for first, rival in pairs:
+            d = track_correct(decisions, first, s, longest) - track_correct(decisions, rival, s, longest)
+            family.add((s, first, rival), ps.one_level(d, ps.rng_for(seed, ("tracks", s, first, rival)), boots))
+    return lines + table_of(family.results(), "Over a track of %d frames: what the array gains" % longest,
+                            family.describe())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results")
@@ -94,7 +166,9 @@ def main():
     np_, frames = int(rows[0]["n_pilots"]), int(rows[0]["frames"])
     seeds = sorted({r["train_seed"] for r in rows})
 
-    fig, ax = plt.subplots(figsize=(7.5, 4.6))
+    tracks = read_tracks(a.results)
+    fig, axes = plt.subplots(1, 2 if tracks else 1, figsize=(13.5 if tracks else 7.5, 4.6), squeeze=False)
+    ax = axes[0][0]
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for i, k in enumerate(counts):
         c = colours[i % len(colours)]
@@ -109,8 +183,11 @@ def main():
     ax.set_ylabel("accuracy (mean of %d training seed%s)" % (len(seeds), "" if len(seeds) == 1 else "s"))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title("Experiment 9: kinematic classes per frame, %d pilots per element, %d test frames per point" % (
+    ax.set_title("kinematic classes per frame, %d pilots per element, %d test frames per point" % (
         np_, frames), fontsize=10)
+    if tracks:
+        plot_tracks(axes[0][1], tracks, counts, colours)
+    fig.suptitle("Experiment 9: what 1, 4 and 8 elements read", fontsize=11)
     fig.tight_layout()
     png = os.path.join(a.results, "exp9_classes.png")
     fig.savefig(png, dpi=110)
@@ -138,6 +215,8 @@ def main():
     pairs = [(beamformed(k), aimed(k)) for k in more] + [(beamformed(k), gained(k)) for k in more if 1 in counts]
     lines += table_of(paired(exp, np_, snrs, pairs, refs, a.bootstrap, a.seed),
                       "The combination against its references", refs.describe())
+    if tracks:
+        lines += tracks_tables(tracks, counts, a.bootstrap, a.seed)
     table = a.table or os.path.join(a.results, "exp9_classes.md")
     with open(table, "w") as f:
         f.write("\n".join(lines) + "\n")

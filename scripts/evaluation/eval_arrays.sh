@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Experiment 9 of docs/RESULTS.md: an array's pilots, in two processes of one LibTorch thread
+# Experiment 9 of docs/RESULTS.md: an array's pilots, in three processes of one LibTorch thread
 # each, then their figures and tables.
 #
 #   bash scripts/evaluation/eval_arrays.sh [--out DIR] [--results DIR] [--size full|test]
@@ -13,8 +13,11 @@
 #             Classifier Sink does, by the classifier bundles in SEMS_EXP9_CLASSIFIERS
 #             (comma-separated, one per training seed; default the shipped
 #             models/classifier_kinematic, trained with seed 2026)
+#   tracks    the shipped track bundle (models/classifier_kinematic_track) deciding over tracks
+#             that cross the line of sight, with the same arrays
 # The results (exp9_angle.csv and .md and .png with exp9_angle_predictions.npz;
-# exp9_classes.csv and .md and .png with exp9_classes_predictions.npz and exp9_truth.npz) go to
+# exp9_classes.csv and .md and .png with exp9_classes_predictions.npz and exp9_truth.npz;
+# exp9_tracks.csv with exp9_tracks_predictions.csv and exp9_tracks_truth.csv) go to
 # RESULTS (default docs/results), the run's record to RESULTS/eval_arrays.log and the parts'
 # logs to RESULTS/eval_arrays_<part>.log. --size test runs the same plumbing in a minute.
 set -euo pipefail
@@ -29,16 +32,18 @@ out="$(here "$out")"
 results="$(here "$results")"
 classifiers="${SEMS_EXP9_CLASSIFIERS:-$(here "$root/models/classifier_kinematic")}"
 
-stamp "sems_eval --size $size --experiments 9, 2 processes, logs in $out/*.log"
+stamp "sems_eval --size $size --experiments 9, 3 processes, logs in $out/*.log"
 pids=()
 run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$(here "$root/models/position_ula8")" & pids+=($!)
 run_part classes --experiments 9 --exp9-parts classes --exp9-classifier-bundles "$classifiers" & pids+=($!)
+run_part tracks --experiments 9 --exp9-parts tracks --exp9-track-bundle "$(here "$root/models/classifier_kinematic_track")" & pids+=($!)
 status=0
 for p in "${pids[@]}"; do wait "$p" || status=1; done
 [ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
 cp "$out/angle/exp9_angle.csv" "$out/angle/exp9_angle_predictions.csv" "$results/"
 cp "$out/classes/exp9_classes.csv" "$out/classes/exp9_classes_predictions.npz" "$out/classes/exp9_truth.npz" "$results/"
-for p in angle classes; do cp "$out/$p.log" "$results/eval_arrays_$p.log"; done
+cp "$out/tracks/exp9_tracks.csv" "$out/tracks/exp9_tracks_predictions.csv" "$out/tracks/exp9_tracks_truth.csv" "$results/"
+for p in angle classes tracks; do cp "$out/$p.log" "$results/eval_arrays_$p.log"; done
 /usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 9
 /usr/bin/python3 "$root/apps/figures/plot_angle.py" "$results"
 rm -f "$results/exp9_angle_predictions.csv" # packed into exp9_angle_predictions.npz by plot_angle.py

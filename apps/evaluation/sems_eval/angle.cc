@@ -54,14 +54,10 @@ array_frames draw_frames(const frame_settings& fs, channel_model& cm, const pilo
     std::normal_distribution<float> n(0.0f, std::sqrt(0.5f));
     for (int f = 0; f < count; ++f) {
         out.r.push_back(cm.draw(uint64_t(f)));
-        std::vector<gr_complex> y, w;
-        for (int k = 0; k < cm.n_elements(); ++k) {
-            cm.factors(out.r.back(), uint64_t(f) * fs.n_symbols, k).fill(h.data());
-            for (int i : flat) {
-                y.push_back(h[size_t(i)]);
-                w.emplace_back(n(g), n(g));
-            }
-        }
+        auto y = array_pilots(cm, out.r.back(), uint64_t(f) * fs.n_symbols, flat, h);
+        std::vector<gr_complex> w;
+        for (size_t i = 0; i < y.size(); ++i)
+            w.emplace_back(n(g), n(g));
         out.y.push_back(std::move(y));
         out.w.push_back(std::move(w));
     }

@@ -7,7 +7,8 @@
  * Test frames: the bundle's class library (every class, any heading, one path, Rayleigh) at an
  * azimuth uniform on [−0.8, 0.8] rad, seen by a half-wavelength ULA of each element count (one
  * element: the single-antenna model). The same channel seed draws the same bodies, gains and
- * azimuths for every count (checked), so every array sees the same targets; each element has
+ * azimuths for every count (class, delay, radial velocity and azimuth checked), so every array
+ * sees the same targets; each element has
  * its own unit-variance noise, drawn once per frame and scaled per SNR (element k's noise is the
  * same in every array). The SNR is per pilot and element.
  * Methods, for each classifier bundle (--exp9-classifier-bundles; one per training seed) and SNR:
@@ -38,29 +39,22 @@ namespace sems_eval {
 namespace {
 
 // One array's test frames: per frame its K·N_p noiseless pilots (element-major).
-struct array_pilots {
+struct array_test_frames {
     array_geometry array;
     std::vector<std::vector<gr_complex>> y;
     std::vector<frame_truth> truth;
 };
 
-array_pilots draw(const frame_settings& fs, const scene& sc, const array_geometry& a, const pilot_mask& mask,
+array_test_frames draw(const frame_settings& fs, const scene& sc, const array_geometry& a, const pilot_mask& mask,
                   int count, uint64_t seed)
 {
-    array_pilots out{ a, {}, {} };
+    array_test_frames out{ a, {}, {} };
     channel_model cm(fs, sc.with_array(a), seed);
     const auto flat = mask.flat_indices();
     std::vector<gr_complex> h(size_t(fs.grid_size()));
     for (int f = 0; f < count; ++f) {
         const auto r = cm.draw(uint64_t(f));
-        std::vector<gr_complex> y;
-        y.reserve(size_t(cm.n_elements()) * flat.size());
-        for (int k = 0; k < cm.n_elements(); ++k) {
-            cm.factors(r, uint64_t(f) * fs.n_symbols, k).fill(h.data());
-            for (int i : flat)
-                y.push_back(h[size_t(i)]);
-        }
-        out.y.push_back(std::move(y));
+        out.y.push_back(array_pilots(cm, r, uint64_t(f) * fs.n_symbols, flat, h));
         out.truth.push_back(r.truth);
     }
     return out;
@@ -132,7 +126,7 @@ void run_array_classes(const config& c, std::ostream& log)
     std::vector<frame_truth> truths;
     std::vector<int> truth_ids;
     auto draw_all = [&](const pilot_mask& mask) {
-        std::vector<array_pilots> arrays;
+        std::vector<array_test_frames> arrays;
         for (int k : c.exp9_class_elements) {
             arrays.push_back(draw(fs, sc, array_geometry::ula(k, 0.5 * fs.wavelength_m()), mask, c.test_frames, test_seed));
             if (truths.empty())

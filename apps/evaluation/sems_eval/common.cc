@@ -117,6 +117,19 @@ std::vector<int> classify_all(const bundle_decoder& dec,
     return pred;
 }
 
+std::vector<gr_complex> array_pilots(const channel_model& cm, const frame_realization& r, uint64_t first_symbol,
+                                     const std::vector<int>& flat, std::vector<gr_complex>& h)
+{
+    std::vector<gr_complex> y;
+    y.reserve(size_t(cm.n_elements()) * flat.size());
+    for (int k = 0; k < cm.n_elements(); ++k) {
+        cm.factors(r, first_symbol, k).fill(h.data());
+        for (int i : flat)
+            y.push_back(h[size_t(i)]);
+    }
+    return y;
+}
+
 scene recognition_scene(const std::string& scenario, const config& c)
 {
     random_spec r; // every class of the library (the paper's three), single path

@@ -85,9 +85,12 @@ struct config {
     int exp9_frames = 40;                         // experiment 9: test frames per SNR (one and two targets)
     std::vector<double> exp9_snrs{ -10, 0, 10, 20, 30 }; // experiment 9's SNR points
     std::string exp9_position_bundle; // experiment 9: a position bundle scored on the same frames (its mask and array)
-    std::set<std::string> exp9_parts{ "angle", "classes" };  // experiment 9's parts (one per process lets cores share a run)
+    std::set<std::string> exp9_parts{ "angle", "classes", "tracks" }; // experiment 9's parts (one per process lets cores share a run)
     std::vector<std::string> exp9_classifier_bundles{ "classifier_kinematic" }; // experiment 9, classes: one per training seed
-    std::vector<int> exp9_class_elements{ 1, 4, 8 };          // experiment 9, classes: the ULAs' element counts
+    std::vector<int> exp9_class_elements{ 1, 4, 8 };          // experiment 9, classes and tracks: the ULAs' element counts
+    std::string exp9_track_bundle = "classifier_kinematic_track"; // experiment 9, tracks: the track bundle
+    int exp9_track_count = 12;                                // experiment 9, tracks: test tracks
+    int exp9_track_frames = 8;                                // experiment 9, tracks: planned frames of a track
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -142,6 +145,12 @@ train_set make_train_set(const frame_settings& fs, const scene& sc, int count, u
 // mask.noise_scale(k): a mask whose pilots differ in energy needs the noiseless grids `clean`.
 std::vector<gr_complex> gather(const std::vector<gr_complex>& grids, int count, const frame_settings& fs,
                                const pilot_mask& mask, const std::vector<gr_complex>* clean = nullptr);
+
+// A drawn frame's noiseless pilots at every stream of the model's array (one without an array):
+// K·N_p values, element-major as the pilot extractor gives them, at the grid positions `flat`
+// (pilot_mask::flat_indices()). `h` is a scratch grid of N·M values.
+std::vector<gr_complex> array_pilots(const channel_model& cm, const frame_realization& r, uint64_t first_symbol,
+                                     const std::vector<int>& flat, std::vector<gr_complex>& h);
 
 // Scenes of the experiments.
 // default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)
@@ -233,6 +242,7 @@ void write_cost(const config& c, std::ostream& log);        // 6
 void run_tracks(const config& c, std::ostream& log);        // 8
 void run_angle(const config& c, std::ostream& log);         // 9 (angle part)
 void run_array_classes(const config& c, std::ostream& log); // 9 (classes part)
+void run_array_tracks(const config& c, std::ostream& log);  // 9 (tracks part)
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 void run_model_cards(const config& c, std::ostream& log);     // --model-card
 

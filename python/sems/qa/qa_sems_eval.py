@@ -1039,8 +1039,45 @@ class qa_sems_eval(gr_unittest.TestCase):
                                capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
             for name in ("exp9_angle.md", "exp9_angle.png", "exp9_angle_predictions.npz", "exp9_classes.md",
-                         "exp9_classes.png", "exp9_classes_predictions.npz", "exp9_truth.npz", "eval_arrays.log"):
+                         "exp9_classes.png", "exp9_classes_predictions.npz", "exp9_truth.npz", "exp9_tracks.csv",
+                         "exp9_tracks_predictions.csv", "exp9_tracks_truth.csv", "eval_arrays.log"):
                 self.assertTrue(os.path.exists(os.path.join(res, name)), name)
+
+    def test_014_experiment_9_tracks(self):
+        """Experiment 9's tracks part: the shipped track bundle over the same straight tracks seen by
+        1, 4 and 8 elements; every accuracy recomputed from the kept decisions and the tracks' truth,
+        each observation time scored on the tracks that long; a bundle that is not a track bundle
+        is refused."""
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "tracks",
+                                "--exp9-track-count", "20", "--snrs", "0,30", "--out", out],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            with open(os.path.join(out, "exp9_tracks_truth.csv")) as f:
+                truth = list(csv.DictReader(f))
+            with open(os.path.join(out, "exp9_tracks.csv")) as f:
+                rows = list(csv.DictReader(f))
+            with open(os.path.join(out, "exp9_tracks_predictions.csv")) as f:
+                kept = list(csv.DictReader(f))
+            self.assertEqual(len(truth), 20)
+            self.assertEqual({x["method"] for x in rows}, {"1 element", "4 elements, beamformed", "8 elements, beamformed"})
+            self.assertEqual(sorted({int(x["frames"]) for x in rows}), [1, 2, 4, 8])
+            self.assertEqual(len(kept), 3 * 2 * 4)
+            length = np.array([int(t["frames"]) for t in truth])
+            label = np.array([int(t["class_id"]) for t in truth])
+            self.assertTrue(np.all(length >= 1) and np.all(length <= 8))
+            for x in rows:
+                k = [y for y in kept if (y["method"], y["snr_db"], y["frames"]) == (x["method"], x["snr_db"], x["frames"])]
+                pred = np.array([int(v) for v in k[0]["predicted"].split()])
+                scored = length >= int(x["frames"])
+                self.assertEqual(int(x["tracks"]), int(scored.sum()))
+                self.assertTrue(np.all(pred[~scored] == -1))
+                self.assertAlmostEqual(float(x["accuracy"]), float(np.mean(pred[scored] == label[scored])), places=5)
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "tracks",
+                                "--exp9-track-bundle", "classifier_kinematic", "--out", out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("is not a track bundle", r.stderr)
 
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside
