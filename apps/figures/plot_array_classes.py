@@ -18,7 +18,7 @@ With the tracks part (exp9_tracks.csv, exp9_tracks_predictions.csv, exp9_tracks_
 panel (the track bundle's accuracy against SNR after one frame and after the whole track) and the
 table its numbers and a third family: N elements against fewer over the whole track, at every
 SNR, paired over the same test tracks (paired_stats.one_level: one track bundle, tracks
-resampled).
+resampled). Last, the adult/child pair on its own, per frame and over the track.
 """
 import argparse
 import csv
@@ -36,6 +36,7 @@ import paired_stats as ps  # noqa: E402
 import predictions as kp  # noqa: E402
 
 SCENARIO = "kinematic_array"
+PAIR = ("adult", "child")  # the pair the walker's observables bound (docs/results/walker_pair_bound.md)
 
 
 def beamformed(k):
@@ -78,6 +79,58 @@ def table_of(results, title, describe):
     for (snr, first, rival), r, p, verdict in results:
         lines.append("| %g | %s | %s | %+.2f | %.2f | %.2g | %s |" % (
             snr, first, rival, 100 * r["diff"], 100 * r["se"], p, verdict))
+    return lines
+
+
+def pair_cells(predicted, truth, a_id, c_id):
+    """Among items of either class: the share decided as the right one of the two (other classes count
+    as wrong), and the pairwise accuracy among those decided as one of the two; "" without items."""
+    keep = (truth == a_id) | (truth == c_id)
+    if not keep.any():
+        return ""
+    both = (predicted[keep] == truth[keep]).mean()
+    two = keep & ((predicted == a_id) | (predicted == c_id))
+    return "%.3f (%s)" % (both, "%.3f" % (predicted[two] == truth[two]).mean() if two.any() else "–")
+
+
+def pair_table(exp, rows, counts, snrs, np_, tracks):
+    """The adult/child pair per frame (mean over the classifier bundles) and, with the tracks part,
+    over the whole track, for each element count."""
+    names = exp.truth.classes[SCENARIO]
+    if any(n not in names for n in PAIR):
+        return []
+    a_id, c_id = names.index(PAIR[0]), names.index(PAIR[1])
+    truth = exp.truth.frames[SCENARIO]["class_id"]
+    lines = ["", "**The %s/%s pair.** Among frames (tracks) of an %s or a %s: the share decided as the right one of "
+             "the two (a decision for another class counts as wrong), and in brackets the same among those decided "
+             "as one of the two (the pairwise accuracy). Per frame: mean over the classifier bundles." % (
+                 PAIR[0], PAIR[1], PAIR[0], PAIR[1]), "",
+             "| method | " + " | ".join("%g dB" % s for s in snrs) + " |", "|---|" + "---:|" * len(snrs)]
+    for k in counts:
+        cells = []
+        for s in snrs:
+            per_seed = [kept.values(i) for key, (kept, i) in exp.series.items()
+                        if key[0] == SCENARIO and key[1] == beamformed(k) and key[3] == np_ and key[4] == s]
+            shares = [pair_cells(p, truth, a_id, c_id) for p in per_seed]
+            both = np.mean([float(x.split()[0]) for x in shares if x])
+            pair = [float(x.split("(")[1].rstrip(")")) for x in shares if x and "–" not in x]
+            cells.append("%.3f (%s)" % (both, "%.3f" % np.mean(pair) if pair else "–"))
+        lines.append("| %s, per frame | %s |" % (beamformed(k), " | ".join(cells)))
+    if tracks:
+        rows_t, (decisions, label, length) = tracks
+        longest = max(int(r["frames"]) for r in rows_t)
+        for k in counts:
+            cells = []
+            for s in snrs:
+                row = [d for d in decisions if d["method"] == beamformed(k) and float(d["snr_db"]) == s
+                       and int(d["frames"]) == longest]
+                if not row:
+                    cells.append("")
+                    continue
+                predicted = np.array([int(v) for v in row[0]["predicted"].split()])
+                long_enough = length >= longest
+                cells.append(pair_cells(predicted[long_enough], label[long_enough], a_id, c_id))
+            lines.append("| %s, over %d frames | %s |" % (beamformed(k), longest, " | ".join(cells)))
     return lines
 
 
@@ -217,6 +270,7 @@ def main():
                       "The combination against its references", refs.describe())
     if tracks:
         lines += tracks_tables(tracks, counts, a.bootstrap, a.seed)
+    lines += pair_table(exp, rows, counts, snrs, np_, tracks)
     table = a.table or os.path.join(a.results, "exp9_classes.md")
     with open(table, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -1021,6 +1021,8 @@ class qa_sems_eval(gr_unittest.TestCase):
                 text = f.read()
             self.assertIn("every SNR\": 6 tests", text)   # 4 and 8 against 1, 8 against 4
             self.assertIn("every SNR\": 8 tests", text)   # beamformed against the true azimuth and the gain
+            self.assertIn("**The adult/child pair.**", text)
+            self.assertEqual(len([l for l in text.splitlines() if l.startswith("| 8 elements, beamformed, per frame |")]), 1)
             bad = [(["--exp9-parts", "nope"], "\"nope\" is not one of angle, classes"),
                    (["--exp9-class-elements", "0,8"], "--exp9-class-elements"),
                    (["--exp9-classifier-bundles", "delay_single"], "not a classifier bundle"),
