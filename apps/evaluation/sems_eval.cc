@@ -34,14 +34,16 @@
  *                            the CRB for one target (beamforming, Capon, MUSIC, and with
  *                            --exp9-position-bundle the learned position decoder on its mask
  *                            and array), and how often
- *                            two coherent targets 1.5 beamwidths apart are both found (run only
- *                            when asked: --experiments 9; --exp9-parts angle)
+ *                            two coherent targets 1.5 beamwidths apart are both found, with
+ *                            exp9_angle_predictions.csv (run only when asked: --experiments 9;
+ *                            --exp9-parts angle)
  *     exp9_classes.csv       classification per frame with 1, 4 and 8 elements, each frame's
  *                            pilots beamformed as SemS Classifier Sink does, by classifier
  *                            bundles trained on one antenna (--exp9-classifier-bundles), with
  *                            exp9_classes_predictions.npz and exp9_truth.npz (--exp9-parts classes)
  *     exp9_tracks.csv        a track bundle's decisions over tracks crossing the line of sight
- *                            with the same arrays, with exp9_tracks_predictions.csv (--exp9-parts tracks)
+ *                            with the same arrays, with exp9_tracks_predictions.csv and
+ *                            exp9_tracks_truth.csv (--exp9-parts tracks)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
  *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
  *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
