@@ -12,7 +12,7 @@
  * (0 ≤ ρ ≤ 1 by Cauchy–Schwarz), the best lag is the frame start. The unknown data and the
  * noise leave ρ ≈ Exp(1/(F·L)) at every lag; the pilots add ≈ Σ|t|²/L·SNR/(1+SNR) at the
  * true lag. The frame is found when F·L·ρ exceeds `threshold`. The lag's correlations for
- * all lags come from one FFT of the window (cost O(W log W), W = (F + 1)·L).
+ * all lags come from one forward and one inverse FFT of the window (cost O(W log W), W = (F + 1)·L).
  *
  * Non-coherent combining (`noncoherent`): the F frames are combined in power,
  *
