@@ -244,7 +244,9 @@ int main(int argc, char** argv)
         ("shipped-classifier", po::value(&c.shipped_classifier), "also evaluate this shipped classifier bundle (experiment 1)")
         ("shipped-track", po::value(&c.shipped_track), "experiment 8: also score this shipped track bundle (and its frame decoder's fusion)")
         ("shipped-delay-single", po::value(&c.shipped_delay_single), "also evaluate this shipped single-path delay bundle")
-        ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle (learned angle), every method then on its mask and array")
+        ("exp9-position-bundle", po::value(&c.exp9_position_bundle), "experiment 9: also score this position bundle "
+         "(learned angle), or several of one mask and array comma-separated, one per training seed; every method then "
+         "on their mask and array")
         ("exp9-parts", po::value(&exp9_parts)->default_value(exp9_parts),
          "experiment 9: comma-separated subset of angle (azimuth estimates against the CRB), classes (classification "
          "per frame with 1, 4 and 8 elements, beamformed as SemS Classifier Sink does) and tracks (a track bundle's "
@@ -461,9 +463,14 @@ int main(int argc, char** argv)
         // differs and both values.
         std::vector<std::pair<std::string, std::string>> given = {
             { "shipped-classifier", c.shipped_classifier }, { "shipped-delay-single", c.shipped_delay_single },
-            { "shipped-delay-multipath", c.shipped_delay_multi }, { "shipped-track", c.shipped_track },
-            { "exp9-position-bundle", c.exp9_position_bundle }
+            { "shipped-delay-multipath", c.shipped_delay_multi }, { "shipped-track", c.shipped_track }
         };
+        {
+            std::stringstream list(c.exp9_position_bundle); // one or several, comma-separated
+            std::string dir;
+            while (std::getline(list, dir, ','))
+                given.emplace_back("exp9-position-bundle", dir);
+        }
         if (c.experiments.count(9) && c.exp9_parts.count("classes"))
             for (const auto& dir : c.exp9_classifier_bundles)
                 given.emplace_back("exp9-classifier-bundles", dir);

@@ -12,7 +12,9 @@ frames: its standard error sqrt(p(1 - p)/n) is given in the table and drawn as a
 over n frames has a relative standard error of about 1/sqrt(2n) for Gaussian errors (more with
 outliers, which a threshold region has).
 
-With the learned position decoder in the run (`sems_eval --exp9-position-bundle`), its one-target
+With the learned position decoder in the run (`sems_eval --exp9-position-bundle`, one bundle or
+several, one per training seed: their RMSE pooled over the seeds, the tests then resampling seeds
+and frames), its one-target
 estimates are compared frame by frame with each classical method's on the same frames and noise
 (exp9_angle_predictions.csv): the mean difference of the squared errors, its bootstrap standard
 error over the frames, and Holm's correction over every SNR and method (paired_stats.py). The
@@ -68,18 +70,24 @@ def predictions(results):
 def paired_table(results):
     """The learned decoder against each classical method, frame by frame (squared errors)."""
     got = predictions(results)
-    if got is None or LEARNED not in got[0]:
+    if got is None or not any(base(m) == LEARNED for m in got[0]):
         return []
     est, truth, snrs = got
+    seeds = [m for m in est if base(m) == LEARNED]  # one learned method per training seed
     family = paired_stats.Family("exp9 learned azimuth against each classical method", lower_is_better=True)
     for i, s in enumerate(snrs):
-        learned = (est[LEARNED][i] - truth[i]) ** 2
         for m in CLASSICAL:
-            d = learned - (est[m][i] - truth[i]) ** 2
-            family.add((s, m), paired_stats.one_level(d, paired_stats.rng_for(9, (s, m)), 2000))
+            classical = (est[m][i] - truth[i]) ** 2
+            if len(seeds) == 1:
+                d = (est[LEARNED][i] - truth[i]) ** 2 - classical
+                family.add((s, m), paired_stats.one_level(d, paired_stats.rng_for(9, (s, m)), 2000))
+            else:  # training seeds and frames resampled; the classical method pairs with every seed
+                learned = {l: (est[l][i] - truth[i]) ** 2 for l in seeds}
+                family.add((s, m), paired_stats.compare(learned, {None: classical}, paired_stats.rng_for(9, (s, m))))
     res = {k: (r, adj, v) for k, r, adj, v in family.results()}
     lines = ["", "Paired, on the same frames: the learned decoder's squared azimuth error minus each method's, "
              "mean ± 2 SE (mrad²), and whether it is ahead (lower), tied or behind after the correction; " +
+             ("" if len(seeds) == 1 else "over %d training seeds (seeds and frames resampled); " % len(seeds)) +
              family.describe() + ".", "",
              "| SNR (dB) | " + " | ".join("against %s" % m for m in CLASSICAL) + " |",
              "|---|" + "---|" * len(CLASSICAL)]
@@ -90,6 +98,26 @@ def paired_table(results):
             cells.append("%+.4g ± %.2g (%s)" % (1e6 * r["diff"], 2e6 * r["se"], v))
         lines.append("| %g | %s |" % (s, " | ".join(cells)))
     return lines
+
+
+def base(method):
+    """A method's name without its training seed ("SemS position (learned) [seed 2]" -> its base)."""
+    return method.split(" [seed ")[0]
+
+
+def pooled(rows):
+    """One-target rows with each learned method's seeds pooled: RMSE = sqrt(mean of the seeds' MSE)
+    (the seeds score the same frames), the seeds' count in `seeds`."""
+    out, groups = [], {}
+    for r in rows:
+        groups.setdefault((base(r["method"]), r["snr_db"]), []).append(r)
+    for (m, snr), rs in groups.items():
+        r = dict(rs[0], method=m, seeds=len(rs))
+        if len(rs) > 1:
+            rmse = math.sqrt(sum(float(x["rmse_rad"]) ** 2 for x in rs) / len(rs))
+            r["rmse_rad"], r["rmse_over_crb"] = str(rmse), str(rmse / float(r["crb_rad"]))
+        out.append(r)
+    return out
 
 
 def read(path):
@@ -105,7 +133,7 @@ def main():
     ap.add_argument("--table")
     a = ap.parse_args()
     rows = read(os.path.join(a.results, "exp9_angle.csv"))
-    one = [r for r in rows if r["part"] == "one_target"]
+    one = pooled([r for r in rows if r["part"] == "one_target"])
     two = [r for r in rows if r["part"] == "two_targets"]
     if not one or not two:
         sys.exit("plot_angle.py: exp9_angle.csv has no %s rows" % ("one_target" if not one else "two_targets"))
@@ -113,9 +141,11 @@ def main():
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     methods = list(dict.fromkeys(r["method"] for r in one))
+    seeds = {r["method"]: r["seeds"] for r in one}
+    label = {m: m if seeds[m] == 1 else "%s, %d seeds" % (m, seeds[m]) for m in methods}
     for m in methods:
         rs = [r for r in one if r["method"] == m]
-        ax.semilogy([float(r["snr_db"]) for r in rs], [float(r["rmse_rad"]) for r in rs], marker="o", label=m)
+        ax.semilogy([float(r["snr_db"]) for r in rs], [float(r["rmse_rad"]) for r in rs], marker="o", label=label[m])
     ax.semilogy([float(r["snr_db"]) for r in one if r["method"] == methods[0]],
                 [float(r["crb_rad"]) for r in one if r["method"] == methods[0]], "k--", label="CRB")
     ax.set_xlabel("SNR per resource element (dB)")
@@ -144,7 +174,7 @@ def main():
     fig.savefig(png, dpi=110)
 
     snrs = list(dict.fromkeys(r["snr_db"] for r in one))
-    lines = ["| SNR (dB) | CRB (mrad) | " + " | ".join("%s RMSE (mrad, × CRB)" % m for m in methods) + " |",
+    lines = ["| SNR (dB) | CRB (mrad) | " + " | ".join("%s RMSE (mrad, × CRB)" % label[m] for m in methods) + " |",
              "|---|---|" + "---|" * len(methods)]
     for s in snrs:
         rs = {r["method"]: r for r in one if r["snr_db"] == s}

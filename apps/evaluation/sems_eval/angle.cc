@@ -18,10 +18,11 @@
  * 1.5 beamwidths apart about a random centre in [−0.5, 0.5] rad; "both found" counts the
  * frames where both azimuths are estimated within a quarter beamwidth: beamforming (two
  * peaks), Capon and MUSIC with forward–backward smoothing over subarrays of K − 2 elements.
- * With --exp9-position-bundle, the learned position decoder (position_estimator: its angle
- * network and the polish) joins the one-target rows, and every method reads that bundle's mask
- * and array instead (the same frames for all). Its network alone (without the polish) is a row
- * of its own.
+ * With --exp9-position-bundle (one bundle, or several of one mask and array, one per training
+ * seed), the learned position decoder (position_estimator: its angle network and the polish)
+ * joins the one-target rows, and every method reads that mask and array instead (the same
+ * frames for all). Its network alone (without the polish) is a row of its own. With several
+ * bundles each one's rows carry " [seed S]".
  * Output: exp9_angle.csv (part, method, snr_db, frames, rmse_rad, crb_rad, rmse_over_crb,
  * both_found) and exp9_angle_predictions.csv (one target: every method's estimate of every
  * frame at every SNR, with the truth and the frame's bound: paired comparisons). */
@@ -34,6 +35,7 @@
 #include <memory>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 namespace sems_eval {
 
@@ -79,17 +81,35 @@ void run_angle(const config& c, std::ostream& log)
     if (!c.experiments.count(9) || !c.exp9_parts.count("angle"))
         return;
     const frame_settings& fs = c.fs;
-    // The learned position decoder, when given: its mask and array are every method's.
-    std::unique_ptr<position_estimator> learned;
-    if (!c.exp9_position_bundle.empty())
-        learned = std::make_unique<position_estimator>(model_bundle::load(c.exp9_position_bundle), 1);
-    const int k = learned ? learned->n_elements() : c.exp9_elements;
-    const int np = learned ? learned->n_pilots() : c.exp9_np;
-    const auto a = learned ? learned->array() : array_geometry::ula(k, 0.5 * fs.wavelength_m());
-    const auto mask = learned ? learned->bundle().mask : pilot_mask::uniform(fs.n_symbols, fs.n_subcarriers, np);
-    // The estimators' best narrowband form: the wavelength at the pilots' mean frequency
-    // (subcarrier m sits at f_c + mΔf; at f_c itself every estimate would be scaled by the band's
-    // offset, 0.5 % on the paper's frame). The bound uses the same.
+    // The learned position decoders, when given (one per training seed): their mask and array,
+    // which they must share, are every method's.
+    std::vector<std::unique_ptr<position_estimator>> learned;
+    std::vector<std::string> seed_of;
+    {
+        std::stringstream list(c.exp9_position_bundle);
+        std::string dir;
+        while (std::getline(list, dir, ','))
+            if (!dir.empty()) {
+                learned.push_back(std::make_unique<position_estimator>(model_bundle::load(dir), 1));
+                const auto& b = learned.back()->bundle();
+                const auto& training = b.position.value("training", nlohmann::json::object());
+                seed_of.push_back(training.contains("seed") ? training["seed"].dump() : std::string("none"));
+                const auto& first = *learned.front();
+                if (!(b.mask == first.bundle().mask) || !(learned.back()->array() == first.array()))
+                    throw std::invalid_argument("--exp9-position-bundle: " + dir + " has another mask or array than " +
+                                                first.bundle().directory + ": the seeds of one method share both");
+                for (size_t i = 0; i + 1 < seed_of.size(); ++i)
+                    if (seed_of[i] == seed_of.back())
+                        throw std::invalid_argument("--exp9-position-bundle: " + dir + " and " +
+                                                    learned[i]->bundle().directory + " were trained with the same seed (" +
+                                                    seed_of.back() + "): give one bundle per training seed");
+            }
+    }
+    const position_estimator* lead = learned.empty() ? nullptr : learned.front().get();
+    const int k = lead ? lead->n_elements() : c.exp9_elements;
+    const int np = lead ? lead->n_pilots() : c.exp9_np;
+    const auto a = lead ? lead->array() : array_geometry::ula(k, 0.5 * fs.wavelength_m());
+    const auto mask = lead ? lead->bundle().mask : pilot_mask::uniform(fs.n_symbols, fs.n_subcarriers, np);
     const double lambda = pilot_wavelength_m(fs, mask);
     const double beamwidth = 0.886 * 2.0 / k; // a broadside λ/2 ULA's half-power beamwidth (rad)
     csv_file csv(c.out_dir + "/exp9_angle.csv",
@@ -98,7 +118,7 @@ void run_angle(const config& c, std::ostream& log)
     csv_file predictions(c.out_dir + "/exp9_angle_predictions.csv",
                          { "snr_db", "frame", "method", "azimuth_rad", "truth_rad", "crb_rad" });
     log << "[" << now_utc() << "] experiment 9 (angle): " << k << "-element array, N_p " << np << " per element ("
-        << (learned ? "the mask and array of " + c.exp9_position_bundle : std::string("a uniform mask, a half-wavelength ULA"))
+        << (lead ? "the mask and array of " + c.exp9_position_bundle : std::string("a uniform mask, a half-wavelength ULA"))
         << "), " << c.exp9_frames << " frames per point" << std::endl;
 
     // One target.
@@ -111,34 +131,44 @@ void run_angle(const config& c, std::ostream& log)
     const beamforming_angle_estimator bf(a, 0.0, lambda);
     const capon_angle_estimator capon(a, 0.0, lambda);
     const music_angle_estimator music(a, 0.0, lambda, 1);
-    const int methods = learned ? 5 : 3;
-    const char* names[5] = { "beamforming", "Capon", "MUSIC", "SemS position (learned)", "SemS angle network (no polish)" };
+    // The classical three, then each position bundle's decoder with and without the polish (named
+    // by its training seed when there are several).
+    std::vector<std::string> names = { "beamforming", "Capon", "MUSIC" };
+    for (size_t b = 0; b < learned.size(); ++b) {
+        const std::string tag = learned.size() > 1 ? " [seed " + seed_of[b] + "]" : "";
+        names.push_back("SemS position (learned)" + tag);
+        names.push_back("SemS angle network (no polish)" + tag);
+    }
+    const int methods = static_cast<int>(names.size());
     for (double snr : c.exp9_snrs) {
         const double sigma2 = std::pow(10.0, -snr / 10.0);
-        double crb = 0.0, se[5] = { 0, 0, 0, 0, 0 };
+        double crb = 0.0;
+        std::vector<double> se(size_t(methods), 0.0), est(size_t(methods), 0.0);
         for (int f = 0; f < c.exp9_frames; ++f) {
             const auto& p = frames.r[size_t(f)].paths[0];
             const auto y = at_snr(frames.y[size_t(f)], frames.w[size_t(f)], std::sqrt(sigma2));
             const double az = p.azimuth_rad;
             const double bound = angle_crb_rad2(a, az, 0.0, lambda, std::max(np * std::norm(p.gain) / sigma2, 1e-300));
             crb += bound;
-            double est[5] = { bf.estimate(y.data(), np)[0], capon.estimate(y.data(), np)[0],
-                              music.estimate(y.data(), np)[0], 0.0, 0.0 };
-            if (learned) {
-                est[3] = learned->estimate_azimuth(y.data(), 1, true)[0];
-                est[4] = learned->estimate_azimuth(y.data(), 1, false)[0];
+            est[0] = bf.estimate(y.data(), np)[0];
+            est[1] = capon.estimate(y.data(), np)[0];
+            est[2] = music.estimate(y.data(), np)[0];
+            for (size_t b = 0; b < learned.size(); ++b) {
+                est[3 + 2 * b] = learned[b]->estimate_azimuth(y.data(), 1, true)[0];
+                est[4 + 2 * b] = learned[b]->estimate_azimuth(y.data(), 1, false)[0];
             }
             for (int m = 0; m < methods; ++m) {
-                se[m] += (est[m] - az) * (est[m] - az);
-                predictions.row({ num(snr), std::to_string(f), names[m], num(est[m], 9), num(az, 9), num(std::sqrt(bound), 6) });
+                se[size_t(m)] += (est[size_t(m)] - az) * (est[size_t(m)] - az);
+                predictions.row({ num(snr), std::to_string(f), names[size_t(m)], num(est[size_t(m)], 9), num(az, 9),
+                                  num(std::sqrt(bound), 6) });
             }
         }
         const double crb_rad = std::sqrt(crb / c.exp9_frames);
         for (int m = 0; m < methods; ++m) {
-            const double rmse = std::sqrt(se[m] / c.exp9_frames);
-            csv.row({ "one_target", names[m], std::to_string(k), std::to_string(np), num(snr), std::to_string(c.exp9_frames),
+            const double rmse = std::sqrt(se[size_t(m)] / c.exp9_frames);
+            csv.row({ "one_target", names[size_t(m)], std::to_string(k), std::to_string(np), num(snr), std::to_string(c.exp9_frames),
                       num(rmse), num(crb_rad), num(rmse / crb_rad), "" });
-            log << "  one target " << names[m] << " snr " << snr << ": RMSE " << num(rmse, 4) << " rad (CRB "
+            log << "  one target " << names[size_t(m)] << " snr " << snr << ": RMSE " << num(rmse, 4) << " rad (CRB "
                 << num(crb_rad, 4) << ", x" << num(rmse / crb_rad, 3) << ")" << std::endl;
         }
     }
@@ -179,12 +209,12 @@ void run_angle(const config& c, std::ostream& log)
             hits[1] += both(capon_fb.estimate(y.data(), np, 2));
             hits[2] += both(music_fb.estimate(y.data(), np));
         }
-        const char* names[3] = { "beamforming", "Capon (smoothed)", "MUSIC (smoothed)" };
+        const char* pair_names[3] = { "beamforming", "Capon (smoothed)", "MUSIC (smoothed)" };
         for (int m = 0; m < 3; ++m) {
             const double rate = double(hits[m]) / c.exp9_frames;
-            csv.row({ "two_targets", names[m], std::to_string(k), std::to_string(np), num(snr),
+            csv.row({ "two_targets", pair_names[m], std::to_string(k), std::to_string(np), num(snr),
                       std::to_string(c.exp9_frames), "", "", "", num(rate) });
-            log << "  two targets " << names[m] << " snr " << snr << ": both found in " << num(100 * rate, 3)
+            log << "  two targets " << pair_names[m] << " snr " << snr << ": both found in " << num(100 * rate, 3)
                 << " % of frames" << std::endl;
         }
     }

@@ -984,6 +984,42 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertEqual(len([l for l in text.splitlines() if l.startswith("| ")]), 3 * (1 + len(snrs)))
             self.assertIn("Holm's step-down correction over all of them", text)
             self.assertIn("15 tests", text)  # 5 SNRs x 3 references
+            single = {(x["method"], x["snr_db"]): float(x["rmse_rad"]) for x in one}
+        # Two position bundles of one mask and array (the shipped one and a copy named as trained with
+        # seed 99: the same weights), one per training seed: each one's rows carry its seed, the same
+        # estimates as the shipped bundle alone; the table pools them and the tests resample seeds.
+        with tempfile.TemporaryDirectory() as out:
+            copy = os.path.join(out, "position_s99")
+            shutil.copytree(bundle, copy)
+            with open(os.path.join(copy, "bundle.json")) as f:
+                b = json.load(f)
+            b["position"]["training"]["seed"] = 99
+            with open(os.path.join(copy, "bundle.json"), "w") as f:
+                json.dump(b, f)
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "angle",
+                                "--exp9-position-bundle", bundle + "," + copy, "--out", out],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            with open(os.path.join(out, "exp9_angle.csv")) as f:
+                one = [x for x in csv.DictReader(f) if x["part"] == "one_target"]
+            self.assertEqual(len(one), 7 * len(snrs))
+            for x in one:
+                if "[seed " in x["method"]:
+                    self.assertEqual(float(x["rmse_rad"]), single[(x["method"].split(" [seed ")[0], x["snr_db"])])
+            self.assertEqual({x["method"] for x in one if "[seed 99]" in x["method"]},
+                             {"SemS position (learned) [seed 99]", "SemS angle network (no polish) [seed 99]"})
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_angle.py"), out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "exp9_angle.md")) as f:
+                text = f.read()
+            self.assertIn("SemS position (learned), 2 seeds RMSE", text)
+            self.assertIn("over 2 training seeds", text)
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "angle",
+                                "--exp9-position-bundle", bundle + "," + bundle, "--out", out],
+                               capture_output=True, text=True, timeout=120)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("the same seed (1)", r.stderr)
 
     def test_013_experiment_9_classes(self):
         """Experiment 9's classes part: the shipped kinematic classifier on the same frames seen by
