@@ -102,7 +102,10 @@ def two_level(a, b, rng, boots=2000, paired_seeds=True):
             seeds = rng.integers(0, p.shape[0], size=(k, p.shape[0]))
             means[start:start + k] += np.take_along_axis(per_seed, seeds, axis=1).mean(axis=1)
     se = float(means.std(ddof=1)) if boots > 1 else 0.0
-    if se < 1e-12 * max(1.0, abs(diff)):  # identical resamples: rounding, not spread
+    # Identical resamples: rounding, not spread. Against the scores' own scale, so that scores in
+    # small units (squared errors in rad², 1e-6) keep the spread of their rounding-sized differences.
+    scale = max(float(np.abs(a).max()), float(np.abs(b).max()), abs(diff))
+    if se < 1e-12 * scale:
         se = 0.0
     return {"diff": diff, "se": se, "p": normal_p(diff, se), "n": n,
             "seeds": a.shape[0] if paired_seeds else (a.shape[0], b.shape[0]),

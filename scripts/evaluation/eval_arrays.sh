@@ -7,8 +7,9 @@
 #
 # Processes (each its own folder and log under DIR, default out/eval_arrays):
 #   angle     azimuth estimates against SNR next to the CRB, one and two targets: beamforming,
-#             Capon, MUSIC and the shipped position bundle (models/position_ula8) on its mask
-#             and 8-element array
+#             Capon, MUSIC and the position bundles in SEMS_EXP9_POSITION_BUNDLES (comma-separated,
+#             one per training seed, of one mask and array; default the shipped
+#             models/position_ula8, seed 1) on their mask and 8-element array
 #   classes   classification per frame with 1, 4 and 8 elements, each frame beamformed as SemS
 #             Classifier Sink does, by the classifier bundles in SEMS_EXP9_CLASSIFIERS
 #             (comma-separated, one per training seed; default the shipped
@@ -31,10 +32,11 @@ here() { realpath -m --relative-to=. "$1"; }
 out="$(here "$out")"
 results="$(here "$results")"
 classifiers="${SEMS_EXP9_CLASSIFIERS:-$(here "$root/models/classifier_kinematic")}"
+positions="${SEMS_EXP9_POSITION_BUNDLES:-$(here "$root/models/position_ula8")}"
 
 stamp "sems_eval --size $size --experiments 9, 3 processes, logs in $out/*.log"
 pids=()
-run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$(here "$root/models/position_ula8")" & pids+=($!)
+run_part angle --experiments 9 --exp9-parts angle --exp9-position-bundle "$positions" & pids+=($!)
 run_part classes --experiments 9 --exp9-parts classes --exp9-classifier-bundles "$classifiers" & pids+=($!)
 run_part tracks --experiments 9 --exp9-parts tracks --exp9-track-bundle "$(here "$root/models/classifier_kinematic_track")" & pids+=($!)
 status=0

@@ -865,6 +865,11 @@ class qa_sems_eval(gr_unittest.TestCase):
         r = ps.two_level(dd, np.zeros((S, n)), np.random.default_rng(5), 4000)
         self.assertAlmostEqual(r["diff"], mu, places=12)
         self.assertAlmostEqual(r["se"], exact, delta=0.06 * exact)
+        # The same scores in small units (rad² of rounding-sized differences): the same test, not a
+        # spread taken for rounding.
+        tiny = ps.two_level(dd * 1e-13, np.zeros((S, n)), np.random.default_rng(5), 4000)
+        self.assertAlmostEqual(tiny["se"] / 1e-13, r["se"], delta=1e-9 * r["se"])
+        self.assertAlmostEqual(tiny["p"], r["p"], places=9)
         # The seed level is in the SE: with these seeds' spread, a bootstrap over frames alone
         # of the seed-averaged differences misses most of it.
         frames_only = dd.mean(axis=0).std() / n ** 0.5
@@ -1074,7 +1079,7 @@ class qa_sems_eval(gr_unittest.TestCase):
             res = os.path.join(work, "results")
             r = subprocess.run(["bash", os.path.join(SOURCE, "scripts", "evaluation", "eval_arrays.sh"), "--size", "test",
                                 "--out", os.path.join(work, "out"), "--results", res],
-                               capture_output=True, text=True, timeout=300)
+                               capture_output=True, text=True, timeout=300, env=dict(os.environ, SEMS_EVAL=EVAL))
             self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
             for name in ("exp9_angle.md", "exp9_angle.png", "exp9_angle_predictions.npz", "exp9_classes.md",
                          "exp9_classes.png", "exp9_classes_predictions.npz", "exp9_truth.npz", "exp9_tracks.csv",
