@@ -93,13 +93,7 @@ void run_array_classes(const config& c, std::ostream& log)
                                             bundles[j].directory + " were trained with the same seed (" +
                                             bundles[i].training.value("seed", nlohmann::json("none")).dump() +
                                             "): give one bundle per training seed");
-    random_spec rs;
-    rs.classes.clear(); // every class of the library
-    rs.heading = heading_kind::any;
-    rs.azimuth_min_rad = -0.8;
-    rs.azimuth_max_rad = 0.8;
-    const auto lib = first.library ? first.library : class_library::paper();
-    const scene sc = scene::random(rs, std::nullopt, fading_kind::rayleigh, lib);
+    const scene sc = array_test_scene(first);
     const auto ids = output_classes(first, sc);
     const int n_classes = sc.library().size();
     const uint64_t test_seed = c.seed + 9301;

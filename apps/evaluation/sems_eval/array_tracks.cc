@@ -84,17 +84,10 @@ void run_array_tracks(const config& c, std::ostream& log)
     const track_classifier tc(bundle, c.threads);
     const pilot_mask& mask = bundle.mask;
     const int np = mask.size();
-    random_spec rs;
-    rs.classes.clear(); // every class of the library
-    rs.heading = heading_kind::any;
-    rs.azimuth_min_rad = -0.8;
-    rs.azimuth_max_rad = 0.8;
     track_draw_spec tracks;
     tracks.frames_min = tracks.frames_max = c.exp9_track_frames;
     tracks.motion = track_motion::straight;
-    rs.tracks = tracks;
-    const auto lib = bundle.library ? bundle.library : class_library::paper();
-    const scene sc = scene::random(rs, std::nullopt, fading_kind::rayleigh, lib);
+    const scene sc = array_test_scene(bundle, tracks);
     const auto ids = output_classes(bundle, sc);
     const int n_classes = sc.library().size();
     const double lambda = pilot_wavelength_m(fs, mask);

@@ -150,6 +150,18 @@ scene recognition_scene(const std::string& scenario, const config& c)
     return scene::random(r, clutter, fading_kind::rayleigh, lib);
 }
 
+scene array_test_scene(const model_bundle& bundle, std::optional<track_draw_spec> tracks)
+{
+    random_spec rs;
+    rs.classes.clear(); // every class of the library
+    rs.heading = heading_kind::any;
+    rs.azimuth_min_rad = -0.8;
+    rs.azimuth_max_rad = 0.8;
+    rs.tracks = tracks;
+    return scene::random(rs, std::nullopt, fading_kind::rayleigh,
+                         bundle.library ? bundle.library : class_library::paper());
+}
+
 scene delay_scene(int paths)
 {
     random_spec r;
