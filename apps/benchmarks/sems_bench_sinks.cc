@@ -18,10 +18,19 @@
  * classifier (the frame decoder's evidence, batch by batch, then one step per frame on one
  * track's state), and the sink in track mode in a flowgraph; the ratio is the anchor's.
  *
+ * With an array (--array, and --classifier) it measures what reading an array costs the
+ * classifier sink, in the same run: the sink on one antenna's N_p pilots (the anchor) against
+ * the sink on the array's N_r·N_p, which beamforms each frame towards the peak of its
+ * spectrum before the same decoder (array_beamformer), and that combination alone.
+ *
  *   sems_bench_sinks --classifier models/classifier --delay models/delay_single
  *   sems_bench_sinks --track models/classifier_kinematic_track --batches 1,256
+ *   sems_bench_sinks --classifier models/classifier_kinematic --array ula8_3g --batches 1,32
  */
 #include <gnuradio/blocks/vector_source.h>
+#include <gnuradio/sems/baselines/array_beamformer.h>
+#include <gnuradio/sems/core/array/array_setting.h>
+#include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <gnuradio/sems/learning/sinks/classifier_sink.h>
 #include <gnuradio/sems/learning/sinks/delay_estimator_sink.h>
@@ -100,12 +109,21 @@ rate decoder_fps(const bundle_decoder& dec, const std::vector<gr_complex>& obs, 
     return rate_of(frames, w);
 }
 
-rate sink_fps(const model_bundle& b, const std::vector<gr_complex>& obs, size_t frames, int batch, int threads)
+// The sink in a flowgraph; a classifier sink with n_elements > 1 reads that many elements of
+// `array` (obs then holds n_elements·N_p values per frame).
+rate sink_fps(const model_bundle& b,
+              const std::vector<gr_complex>& obs,
+              size_t frames,
+              int batch,
+              int threads,
+              int n_elements = 1,
+              const std::string& array = "")
 {
-    const int np = b.mask.size();
+    const int np = b.mask.size() * n_elements;
     gr::block_sptr sink;
     if (b.task == task_kind::classify)
-        sink = classifier_sink::make(b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
+        sink = classifier_sink::make(b.directory, b.mask.size(), batch, threads, 0, b.frame.n_symbols,
+                                     b.frame.n_subcarriers, "", 0.0, 1, n_elements, array);
     else
         sink = delay_estimator_sink::make(
             b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
@@ -134,6 +152,18 @@ rate track_fps(const track_classifier& tc, const std::vector<gr_complex>& obs, s
     const stopwatch w;
     for (size_t f = 0; f < frames; f += batch)
         run_batch(f);
+    return rate_of(frames, w);
+}
+
+// The array's combination alone, frame by frame: K·N_p pilots in, N_p out.
+rate combine_fps(const array_beamformer& c, const std::vector<gr_complex>& obs, size_t frames, int np)
+{
+    std::vector<gr_complex> z(static_cast<size_t>(np));
+    const size_t per_frame = static_cast<size_t>(c.n_elements()) * np;
+    (void)c.combine(obs.data(), np, z.data()); // warm-up
+    const stopwatch w;
+    for (size_t f = 0; f < frames; ++f)
+        (void)c.combine(obs.data() + f * per_frame, np, z.data());
     return rate_of(frames, w);
 }
 
@@ -173,7 +203,7 @@ void two_at_once(const model_bundle& a,
 
 int main(int argc, char** argv)
 {
-    std::string classifier_dir, delay_dir, track_dir, batches_text;
+    std::string classifier_dir, delay_dir, track_dir, array_name, batches_text;
     size_t min_frames = 0;
     int threads = 1;
     std::string together_text;
@@ -182,6 +212,9 @@ int main(int argc, char** argv)
         "classifier", po::value(&classifier_dir), "classifier bundle directory (e.g. models/classifier)")(
         "delay", po::value(&delay_dir), "delay bundle directory (e.g. models/delay_single)")(
         "track", po::value(&track_dir), "track bundle directory: the cost of deciding over a track against its frame decoder")(
+        "array", po::value(&array_name),
+        "with --classifier: an array (a preset's name, e.g. ula8_3g, or an array file): the sink reading its "
+        "elements against the sink on one antenna")(
         "batches", po::value(&batches_text)->default_value("1,32,256"), "comma-separated batch sizes")(
         "frames", po::value(&min_frames)->default_value(1024), "frames timed per measurement (at least)")(
         "threads", po::value(&threads)->default_value(1), "LibTorch intra-op threads")(
@@ -197,6 +230,8 @@ int main(int argc, char** argv)
         po::notify(vm);
         if (classifier_dir.empty() && delay_dir.empty() && track_dir.empty())
             throw std::invalid_argument("give --classifier, --delay and/or --track bundle directories");
+        if (!array_name.empty() && classifier_dir.empty())
+            throw std::invalid_argument("--array " + array_name + " needs --classifier (the sink that reads an array)");
         if (min_frames < 1)
             throw std::invalid_argument("--frames must be >= 1");
         if (threads < 1)
@@ -240,6 +275,30 @@ int main(int argc, char** argv)
                 const rate s = sink_fps(b, obs, frames, batch, threads);
                 std::printf("%6d %7zu %12.0f %12.0f %12.0f %12.0f %12.0f %8.2f\n", batch, frames, d.wall_fps,
                             t.wall_fps, s.wall_fps, d.cpu_fps, t.cpu_fps, t.cpu_fps > 0 ? d.cpu_fps / t.cpu_fps : 0.0);
+                std::fflush(stdout);
+            }
+        }
+        if (!array_name.empty()) {
+            const model_bundle b = model_bundle::load(classifier_dir);
+            const array_geometry a = array_from_setting(array_name, "--array");
+            const int k = a.n_receive(), np = b.mask.size();
+            const array_beamformer combiner(a, pilot_wavelength_m(b.frame, b.mask));
+            const size_t max_frames = frames_for(*std::max_element(batches.begin(), batches.end()), min_frames);
+            const std::vector<gr_complex> one = gaussian_frames(max_frames, np, 5);
+            const std::vector<gr_complex> many = gaussian_frames(max_frames, k * np, 6);
+            std::printf("\nreading an array, %s with %s (%d elements; frames/s; cost = the array sink's CPU time per "
+                        "frame over the one-antenna sink's):\n",
+                        classifier_dir.c_str(), array_name.c_str(), k);
+            std::printf("%6s %7s %12s %12s %12s %12s %12s %8s\n", "batch", "frames", "sink fps", "array fps",
+                        "combine fps", "sink/cpu", "array/cpu", "cost");
+            for (int batch : batches) {
+                const size_t frames = frames_for(batch, min_frames);
+                const rate s1 = sink_fps(b, one, frames, batch, threads);
+                const rate sk = sink_fps(b, many, frames, batch, threads, k, array_name);
+                const rate c = combine_fps(combiner, many, frames, np);
+                std::printf("%6d %7zu %12.0f %12.0f %12.0f %12.0f %12.0f %8.2f\n", batch, frames, s1.wall_fps,
+                            sk.wall_fps, c.wall_fps, s1.cpu_fps, sk.cpu_fps,
+                            sk.cpu_fps > 0 ? s1.cpu_fps / sk.cpu_fps : 0.0);
                 std::fflush(stdout);
             }
         }

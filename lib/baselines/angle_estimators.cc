@@ -45,11 +45,17 @@ void check_input(const char* who, const gr_complex* y, int elements, int snapsho
 cmat covariance(const gr_complex* y, int k, int l)
 {
     cmat r = cmat::Zero(k, k);
+    Eigen::VectorXcd v(k); // one snapshot, reused (a per-frame path: no allocation per snapshot)
     for (int t = 0; t < l; ++t) {
-        Eigen::VectorXcd v(k);
         for (int e = 0; e < k; ++e)
             v[e] = cd(y[size_t(e) * l + t]);
-        r.noalias() += v * v.adjoint();
+        // r += v vᴴ, column by column as Eigen's outer product does it, without its overhead
+        // for small dynamic sizes (the array sink's search runs this every frame).
+        for (int j = 0; j < k; ++j) {
+            const cd c = std::conj(v[j]);
+            for (int i = 0; i < k; ++i)
+                r(i, j) += c * v[i];
+        }
     }
     return r;
 }
@@ -161,14 +167,36 @@ std::vector<double> peak_angles(const angle_search& s, F f, int n)
 }
 
 // Beamforming's P(φ) = a(φ)ᴴ r a(φ) / ‖a(φ)‖² on the exact steering vectors (r and the array
-// must outlive it).
+// must outlive it). a(φ) is steering_vector()'s, element by element (the same g·element_phasor
+// values), written into one buffer: the refinement evaluates it some fifty times a frame.
 auto beam_power(const array_geometry& arr, double elevation, double lambda, const cmat& r, int k)
 {
-    return [&arr, elevation, lambda, &r, k](double az) {
-        const Eigen::VectorXcd a = steering(arr, az, elevation, lambda, 0, k);
+    return [pattern = arr.pattern(), offsets = arr.virtual_offsets(), elevation, lambda, &r, a = Eigen::VectorXcd(k),
+            ar = Eigen::RowVectorXcd(k)](double az) mutable {
+        const position3 u = direction_vector(az, elevation);
+        const double g = element_pattern_amplitude(pattern, u);
+        for (size_t e = 0; e < offsets.size(); ++e)
+            a[Eigen::Index(e)] = g * element_phasor(u, offsets[e], lambda);
         const double n = a.squaredNorm();
-        return n > 0.0 ? (a.adjoint() * r * a)(0, 0).real() / n : 0.0;
+        if (!(n > 0.0))
+            return 0.0;
+        ar.noalias() = a.adjoint() * r;
+        return (ar * a)(0, 0).real() / n;
     };
+}
+
+// Beamforming's spectrum on the grid from its covariance: P_g = w_gᵀ r w_g*, w_g = conj(a_g)/‖a_g‖
+// (steer: grid x K).
+std::vector<double> grid_spectrum(const std::vector<std::complex<double>>& steer, int grid, int k, const cmat& r)
+{
+    std::vector<double> p(static_cast<size_t>(grid));
+    Eigen::RowVectorXcd wr(k); // wᵀr, one buffer for the whole grid
+    for (int i = 0; i < grid; ++i) {
+        const Eigen::Map<const Eigen::VectorXcd> w(steer.data() + size_t(i) * k, k); // conj(a)/‖a‖
+        wr.noalias() = w.transpose() * r;
+        p[size_t(i)] = (wr * w.conjugate())(0, 0).real();
+    }
+    return p;
 }
 
 } // namespace
@@ -224,13 +252,7 @@ std::vector<double> beamforming_angle_estimator::spectrum(const gr_complex* y, i
 {
     const int k = n_elements();
     check_input("beamforming_angle_estimator", y, k, snapshots);
-    const cmat r = covariance(y, k, snapshots);
-    std::vector<double> p(size_t(d_search.grid));
-    for (int i = 0; i < d_search.grid; ++i) {
-        const Eigen::Map<const Eigen::VectorXcd> w(d_steer.data() + size_t(i) * k, k); // conj(a)/‖a‖
-        p[size_t(i)] = (w.transpose() * r * w.conjugate())(0, 0).real();
-    }
-    return p;
+    return grid_spectrum(d_steer, d_search.grid, k, covariance(y, k, snapshots));
 }
 
 std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, int snapshots, int n_targets) const
@@ -241,8 +263,8 @@ std::vector<double> beamforming_angle_estimator::estimate(const gr_complex* y, i
     check_input("beamforming_angle_estimator", y, k, snapshots);
     const cmat r = covariance(y, k, snapshots);
     const auto f = beam_power(d_array, d_elevation, d_lambda, r, k);
-    // The grid from the steering vectors set up once (spectrum()), then f between neighbours.
-    return refined_peaks(d_search, spectrum(y, snapshots), f, n_targets);
+    // The grid from the steering vectors set up once (grid_spectrum), then f between neighbours.
+    return refined_peaks(d_search, grid_spectrum(d_steer, d_search.grid, k, r), f, n_targets);
 }
 
 double beamforming_angle_estimator::refine(const gr_complex* y, int snapshots, double lo, double hi) const

@@ -186,13 +186,15 @@ public:
 
     void the_origin_element_gives_the_single_antenna_bits()
     {
-        // A scene with a walker, a multipath car and moving targets: the origin element's
-        // factors are the same bits as the single-antenna factors, and a single-antenna array in
-        // the scene (no clutter to draw azimuths for) draws the same frames.
+        // A scene with a walker, a multipath car and moving targets off boresight: the origin
+        // element's factors are the same bits as the single-antenna factors, and a
+        // single-antenna array in the scene (no clutter to draw azimuths for) draws the same
+        // frames, whatever the targets' directions.
         const auto sc = scene::parse(R"({"format": "sems.scene", "version": 1, "targets": [
             {"class": "pedestrian", "range_m": 40, "speed_mps": 1.4, "heading_rad": 0.7,
-             "micro_motion": {"model": "walker", "height_m": 1.7}},
-            {"class": "car", "range_m": 90, "velocity_mps": 12, "paths": [{}, {"excess_range_m": 9, "power": 0.3}]}]})");
+             "azimuth_rad": 0.6, "elevation_rad": 0.2, "micro_motion": {"model": "walker", "height_m": 1.7}},
+            {"class": "car", "range_m": 90, "velocity_mps": 12, "azimuth_rad": -1.1,
+             "paths": [{}, {"excess_range_m": 9, "power": 0.3}]}]})");
         const frame_settings fs;
         channel_model plain(fs, sc, 11), with(fs, sc.with_array(array_geometry()), 11);
         for (uint64_t f = 0; f < 3; ++f) {
