@@ -156,7 +156,7 @@ def main():
         for r in rows:
             w.writerow(r)
     with open(os.path.join(a.out, "td_accuracy.md"), "w") as f:
-        f.write("| family | case | x (e/M or ε) | closed form | measured NMSE |\n|---|---|---|---|---|\n")
+        f.write("| family | case | x (e/M, ε or CP in samples) | closed form | measured NMSE |\n|---|---|---|---|---|\n")
         for fam, label, x, cf, meas in rows:
             cf_txt = "—" if math.isnan(cf) else f"{cf:.3g} ({db(cf):.1f} dB)"
             f.write(f"| {fam} | {label} | {x:.3g} | {cf_txt} | {meas:.3g} ({db(meas):.1f} dB) |\n")
