@@ -34,7 +34,10 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
                                           double track_coherence_time_s,
                                           int n_receive,
                                           int n_transmit,
-                                          const std::string& track_motion)
+                                          const std::string& track_motion,
+                                          const std::string& array,
+                                          double azimuth_min_rad,
+                                          double azimuth_max_rad)
 {
     const char* const who = target_channel_impl::who;
     detail::check_snr(who, snr_db);
@@ -49,7 +52,7 @@ target_channel::sptr target_channel::make(const std::string& scene_text,
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
                                           heading, clutter_paths, clutter_csr_db, class_library,
                                           { track_frames, track_gains, track_coherence_time_s, track_motion },
-                                          { n_receive, n_transmit });
+                                          { n_receive, n_transmit }, { array, azimuth_min_rad, azimuth_max_rad });
     return gnuradio::make_block_sptr<target_channel_impl>(channel_model(fs, sc, seed), snr_db, n_receive, n_transmit);
 }
 

@@ -26,7 +26,10 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
                                                 int cp_len,
                                                 const std::string& class_library,
                                                 int n_receive,
-                                                int n_transmit)
+                                                int n_transmit,
+                                                const std::string& array,
+                                                double azimuth_min_rad,
+                                                double azimuth_max_rad)
 {
     const char* const who = target_channel_td_impl::who;
     detail::check_snr(who, snr_db);
@@ -47,7 +50,7 @@ target_channel_td::sptr target_channel_td::make(const std::string& scene_text,
     // (No heading parameter here yet: random scenes use the default heading; a scene JSON may set "any".)
     auto sc = detail::channel_block_scene(who, scene_text, classes, n_targets, paths_per_target, micro_doppler,
                                           heading_name(random_spec{}.heading), clutter_paths, clutter_csr_db, class_library,
-                                          {}, { n_receive, n_transmit });
+                                          {}, { n_receive, n_transmit }, { array, azimuth_min_rad, azimuth_max_rad });
     try { // the model checks the scene against the frame, td_channel T against the symbol length
         return gnuradio::make_block_sptr<target_channel_td_impl>(channel_model(fs, sc, seed), snr_db, n_receive,
                                                                   n_transmit);

@@ -4,7 +4,7 @@
  * N_r·N_p pilots beamformed towards the peak of its beamforming spectrum, then read by a
  * classifier bundle trained on one antenna.
  *
- * Test frames: the bundle's class library (every class, any heading, one path, Rayleigh) at an
+ * Test frames: the bundle's classes (any heading, one path, Rayleigh) at an
  * azimuth uniform on [−0.8, 0.8] rad, seen by a half-wavelength ULA of each element count (one
  * element: the single-antenna model). The same channel seed draws the same bodies, gains and
  * azimuths for every count (class, delay, radial velocity and azimuth checked), so every array

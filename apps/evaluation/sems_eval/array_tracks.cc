@@ -4,7 +4,7 @@
  * pilots beamformed towards the peak of its beamforming spectrum (array_beamformer.h), the
  * track bundle's frame decoder and temporal network stepping over the track's frames.
  *
- * Test tracks: the track bundle's class library (every class, any heading, one path, Rayleigh
+ * Test tracks: the track bundle's classes (any heading, one path, Rayleigh
  * gains new every frame), bodies moving straight in the ground plane from an azimuth uniform on
  * [−0.8, 0.8] rad (so they cross the line of sight), exp9_track_frames frames planned (a track
  * ends early at its range or azimuth bound), seen by half-wavelength ULAs of each element count;

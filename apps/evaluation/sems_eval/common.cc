@@ -153,13 +153,16 @@ scene recognition_scene(const std::string& scenario, const config& c)
 scene array_test_scene(const model_bundle& bundle, std::optional<track_draw_spec> tracks)
 {
     random_spec rs;
-    rs.classes.clear(); // every class of the library
+    const auto lib = bundle.library ? bundle.library : class_library::paper();
+    rs.classes.clear(); // every class of the library, unless the bundle knows fewer (a pair's decoder)
+    if (static_cast<int>(bundle.class_names.size()) < lib->size())
+        for (const auto& name : bundle.class_names)
+            rs.classes.push_back(static_cast<target_class>(lib->id_of(name)));
     rs.heading = heading_kind::any;
     rs.azimuth_min_rad = -0.8;
     rs.azimuth_max_rad = 0.8;
     rs.tracks = tracks;
-    return scene::random(rs, std::nullopt, fading_kind::rayleigh,
-                         bundle.library ? bundle.library : class_library::paper());
+    return scene::random(rs, std::nullopt, fading_kind::rayleigh, lib);
 }
 
 scene delay_scene(int paths)

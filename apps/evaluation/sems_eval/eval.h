@@ -156,9 +156,10 @@ std::vector<gr_complex> array_pilots(const channel_model& cm, const frame_realiz
 // default | any | no_md | clutter (c.class_library) | kinematic (c.exp7_class_library, any heading)
 scene recognition_scene(const std::string& scenario, const config& c);
 scene delay_scene(int paths);
-// Experiment 9's classes and tracks scenes: every class of the bundle's library (the paper's
-// without one), any heading, one path, Rayleigh, azimuth uniform on [−0.8, 0.8] rad; on tracks
-// when `tracks` is given.
+// Experiment 9's classes and tracks scenes: the bundle's classes of its library (the paper's
+// without one; every class of it, as drawn without a list, when the bundle has them all), any
+// heading, one path, Rayleigh, azimuth uniform on [−0.8, 0.8] rad; on tracks when `tracks` is
+// given.
 scene array_test_scene(const model_bundle& bundle, std::optional<track_draw_spec> tracks = std::nullopt);
 // The class names of a scene's library, by class id.
 std::vector<std::string> class_names(const scene& sc);

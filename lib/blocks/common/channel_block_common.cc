@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: what the two target channel blocks share (see channel_block_common.h). */
 #include "blocks/common/channel_block_common.h"
+#include "core/common/checks.h"
+#include <gnuradio/sems/core/array/array_setting.h>
 #include <gnuradio/sems/core/common/limits.h>
 #include <gnuradio/sems/core/common/tags.h>
 #include <cmath>
@@ -31,7 +33,8 @@ scene channel_block_scene(const char* who,
                           double clutter_csr_db,
                           const std::string& class_library_name,
                           const track_options& tracks,
-                          const stream_counts& streams)
+                          const stream_counts& streams,
+                          const array_options& arrays)
 {
     for (const auto& [name, count] : { std::pair<const char*, int>{ "n_receive", streams.receive },
                                        std::pair<const char*, int>{ "n_transmit", streams.transmit } })
@@ -51,18 +54,22 @@ scene channel_block_scene(const char* who,
     const track_options no_tracks;
     const bool track_defaults = tracks.frames == no_tracks.frames && tracks.gains == no_tracks.gains &&
                                 tracks.coherence_time_s == no_tracks.coherence_time_s && tracks.motion == no_tracks.motion;
+    // A blank array is no array, as a blank scene is a random one.
+    const bool has_array = arrays.array.find_first_not_of(" \t\r\n") != std::string::npos;
+    const bool array_defaults = !has_array && arrays.azimuth_min_rad == 0.0 && arrays.azimuth_max_rad == 0.0;
     const auto first = text.find_first_not_of(" \t\r\n");
     if (first != std::string::npos) { // a fixed scene: file or JSON text
         const random_spec defaults;
         if (!classes.empty() || n_targets != defaults.n_targets ||
             paths_per_target != defaults.paths_per_target || micro_doppler != defaults.micro_doppler ||
             heading != heading_name(defaults.heading) || clutter_paths != 0 || clutter_csr_db != 0.0 ||
-            !track_defaults)
+            !track_defaults || !array_defaults)
             throw std::invalid_argument(std::string(who) +
                                         ": classes, n_targets, paths_per_target, micro_doppler, heading, "
-                                        "track_* and clutter_* "
+                                        "track_*, clutter_*, array, azimuth_min_rad and azimuth_max_rad "
                                         "describe random scenes; a fixed scene (scene = file or JSON) carries "
-                                        "its own, so leave them at their defaults");
+                                        "its own (its array in its \"array\" key, its targets' directions), so "
+                                        "leave them at their defaults");
         if (class_library_name != default_class_library)
             throw std::invalid_argument(std::string(who) + ": class_library = \"" + class_library_name +
                                         "\" describes random scenes; a fixed scene (scene = file or JSON) "
@@ -141,7 +148,36 @@ scene channel_block_scene(const char* who,
         c.csr_db = clutter_csr_db;
         clutter = c;
     }
+    // The azimuth interval: checked here, by the parameters' names (scene::validate would name
+    // its file key, random.azimuth_rad), with the bounds validate accepts.
+    for (const auto& [name, v] : { std::pair<const char*, double>{ "azimuth_min_rad", arrays.azimuth_min_rad },
+                                   std::pair<const char*, double>{ "azimuth_max_rad", arrays.azimuth_max_rad } })
+        if (!(v >= -M_PI && v <= M_PI)) // NaN fails too
+            throw std::invalid_argument(std::string(who) + ": " + name + " must lie in [-pi, pi] rad, got " +
+                                        checks::text(v));
+    if (arrays.azimuth_min_rad > arrays.azimuth_max_rad)
+        throw std::invalid_argument(std::string(who) + ": azimuth_min_rad = " + checks::text(arrays.azimuth_min_rad) +
+                                    " exceeds azimuth_max_rad = " + checks::text(arrays.azimuth_max_rad) +
+                                    ": the azimuths are drawn from [azimuth_min_rad, azimuth_max_rad]");
+    // Without an array a direction changes nothing: refused rather than silently ignored.
+    if (!has_array && (arrays.azimuth_min_rad != 0.0 || arrays.azimuth_max_rad != 0.0))
+        throw std::invalid_argument(std::string(who) + ": azimuth_min_rad = " + checks::text(arrays.azimuth_min_rad) +
+                                    " and azimuth_max_rad = " + checks::text(arrays.azimuth_max_rad) +
+                                    " set the targets' directions, which change nothing without an array: set "
+                                    "array (a preset's name such as ula8_3g, an array file or its JSON text), or "
+                                    "leave them at 0");
+    r.azimuth_min_rad = arrays.azimuth_min_rad;
+    r.azimuth_max_rad = arrays.azimuth_max_rad;
     auto sc = scene::random(r, clutter, fading_kind::rayleigh, lib);
+    if (has_array) {
+        try {
+            sc = sc.with_array(array_from_setting(arrays.array, who));
+        } catch (const std::invalid_argument& e) {
+            // array_from_setting names `who` for JSON text; a preset or file's error names the file only.
+            const std::string what = e.what();
+            throw std::invalid_argument(what.rfind(who, 0) == 0 ? what : std::string(who) + ": array: " + what);
+        }
+    }
     sc.validate(std::string(who) + " random scene");
     check_streams(sc);
     return sc;

@@ -35,12 +35,23 @@ struct stream_counts {
     int transmit = 1;
 };
 
+// A random scene's array as block parameters: `array` names it (array_from_setting: a preset's
+// name, an array file or its JSON text; "" or blank: none, one antenna) and each target's
+// azimuth is drawn from U[azimuth_min_rad, azimuth_max_rad] (random_spec; 0, 0: boresight,
+// nothing drawn, so the frames of a block without them).
+struct array_options {
+    std::string array;
+    double azimuth_min_rad = 0.0;
+    double azimuth_max_rad = 0.0;
+};
+
 // The scene of a channel block's parameters: a scene file path or JSON text (starts with
 // '{'), or "" for a random scene from the random options, which must then keep their
 // defaults with a fixed scene. A random scene draws its classes (given by name) from
-// `class_library` (a library name or file, class_library::find); a fixed scene carries its
-// own ("classes" key). The scene's array (none: 1 x 1) must match `streams`. Throws
-// std::invalid_argument prefixed by `who`.
+// `class_library` (a library name or file, class_library::find) and takes its array and
+// azimuth interval from `arrays`; a fixed scene carries its own classes ("classes" key),
+// array and directions. The scene's array (none: 1 x 1) must match `streams`. Throws
+// std::invalid_argument prefixed by `who`, naming the parameter.
 scene channel_block_scene(const char* who,
                           const std::string& text,
                           const std::vector<std::string>& classes,
@@ -52,7 +63,8 @@ scene channel_block_scene(const char* who,
                           double clutter_csr_db,
                           const std::string& class_library,
                           const track_options& tracks = {},
-                          const stream_counts& streams = {});
+                          const stream_counts& streams = {},
+                          const array_options& arrays = {});
 
 // The channel blocks' default class library (the paper's table).
 constexpr const char* default_class_library = "paper";

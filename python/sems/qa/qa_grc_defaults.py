@@ -68,6 +68,11 @@ def cxx_defaults():
         # streams: one of each without an array (what the default block has).
         "n_receive": ch.output_signature().max_streams(),
         "n_transmit": ch.input_signature().max_streams(),
+        # array: no getter; the bindings' default is make()'s (none). The azimuth interval: the
+        # default block's random scene, which states none (0, 0: boresight).
+        "array": bound_default(sems.target_channel, "array"),
+        "azimuth_min_rad": spec.get("azimuth_rad", [0.0, 0.0])[0],
+        "azimuth_max_rad": spec.get("azimuth_rad", [0.0, 0.0])[1],
     })
     # pilot_mapper / pilot_extractor: built with one pilot, every other argument defaulted.
     mapper = sems.pilot_mapper(pilot_positions=[0])
@@ -98,6 +103,9 @@ def cxx_defaults():
         "clutter_csr_db": bound_default(sems.target_channel_td, "clutter_csr_db"),
         "n_receive": td.output_signature().max_streams(),
         "n_transmit": td.input_signature().max_streams(),
+        "array": bound_default(sems.target_channel_td, "array"),
+        "azimuth_min_rad": td_rnd["random"].get("azimuth_rad", [0.0, 0.0])[0],
+        "azimuth_max_rad": td_rnd["random"].get("azimuth_rad", [0.0, 0.0])[1],
     })
     # frame_sync: no getters for its settings; the bindings' defaults (make()'s).
     sync = {name: bound_default(sems.frame_sync, name)

@@ -28,7 +28,9 @@ namespace sems {
  * gives y_k = Σ_j H_{k,j}[n,:] ⊙ x_j + V_k, H_{k,j} the channel of receive element k with
  * transmit element j (channel_model::factors with element k·N_t + j), V_k its own noise. Every
  * output carries the truth tag. n_receive and n_transmit must be the array's counts (1 and 1
- * without an array): a mismatch is refused, naming both.
+ * without an array): a mismatch is refused, naming both. The array comes from the scene file
+ * or JSON, or, for random scenes, from `array` with each target's azimuth drawn from
+ * [azimuth_min_rad, azimuth_max_rad].
  * A thin adapter over channel_model: per frame draw(frame) and factors(r, frame·N),
  * per symbol apply_row and add_noise. Everything per frame happens at the frame
  * start; nothing is allocated per item.
@@ -44,9 +46,10 @@ namespace sems {
  * The scene: `scene` is a scene file path or scene JSON text (starts with '{'),
  * or "" for random scenes drawn per frame (or per track of track_frames frames) from
  * `classes` (empty = every class) with the random options (n_targets, paths_per_target,
- * micro_doppler, heading, clutter_*, track_*).
+ * micro_doppler, heading, clutter_*, track_*, array, azimuth_min_rad, azimuth_max_rad).
  * The random options must keep their defaults with a fixed scene (a fixed scene
- * carries its own targets and clutter), so nothing is silently ignored.
+ * carries its own targets, clutter, array and directions), so nothing is silently ignored;
+ * likewise an azimuth interval without an array is refused.
  *
  * SNR per resource element in dB against the unit mean channel power, +inf = noiseless;
  * settable while running, effective from the next frame (the truth tag says which).
@@ -92,6 +95,14 @@ public:
      * \param track_motion     tracks: how the bodies move, "radial" (along the line of sight) or
      *                         "straight" (a straight line in the ground plane: range, azimuth and
      *                         radial velocity follow the body; track_motion)
+     * \param array            random scenes: the receiving array, a preset's name ("ula8_3g"), an
+     *                         array file or its JSON text (array_from_setting); "" = none (one
+     *                         antenna); n_receive and n_transmit must then be its counts
+     * \param azimuth_min_rad  random scenes with an array: each target's azimuth is drawn from
+     *                         U[azimuth_min_rad, azimuth_max_rad] in [−π, π] (random_spec); 0 and 0
+     *                         = boresight (nothing drawn); refused without an array
+     * \param azimuth_max_rad  random scenes with an array: the azimuth interval's upper end
+     *                         (>= azimuth_min_rad)
      * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
@@ -116,7 +127,10 @@ public:
                      double track_coherence_time_s = track_draw_spec{}.coherence_time_s,
                      int n_receive = 1,
                      int n_transmit = 1,
-                     const std::string& track_motion = "radial");
+                     const std::string& track_motion = "radial",
+                     const std::string& array = "",
+                     double azimuth_min_rad = 0.0,
+                     double azimuth_max_rad = 0.0);
 
     /*!
      * \brief Sets the SNR from the next frame.

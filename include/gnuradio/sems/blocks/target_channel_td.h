@@ -27,7 +27,11 @@
  * Arrays: with an array in the scene, one input per transmit element and one output per
  * receive element, as target_channel: output k = Σ_j (element k·N_t + j's td_channel of input j)
  * + its own noise; every output carries the truth tag; n_receive and n_transmit must be the
- * array's counts (1 and 1 without an array).
+ * array's counts (1 and 1 without an array). The array comes from the scene file or JSON, or,
+ * for random scenes, from `array` with each target's azimuth drawn from [azimuth_min_rad,
+ * azimuth_max_rad]; like the other random options (classes, n_targets, paths_per_target,
+ * micro_doppler, clutter_*), they must keep their defaults with a fixed scene, which carries its
+ * own array and directions.
  */
 #ifndef INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
 #define INCLUDED_SEMS_BLOCKS_TARGET_CHANNEL_TD_H
@@ -75,9 +79,17 @@ public:
      * \param class_library    random scenes: the class library `classes` names classes of, by
      *                         name ("paper", "kinematic") or file (class_library::find); a fixed
      *                         scene names its own in its "classes" key
-     * \return the block.
      * \param n_receive        output streams: the scene's array's receive elements (1 without one)
      * \param n_transmit       input streams: the scene's array's transmit elements (1 without one)
+     * \param array            random scenes: the receiving array, a preset's name ("ula8_3g"), an
+     *                         array file or its JSON text (array_from_setting); "" = none (one
+     *                         antenna); n_receive and n_transmit must then be its counts
+     * \param azimuth_min_rad  random scenes with an array: each target's azimuth is drawn from
+     *                         U[azimuth_min_rad, azimuth_max_rad] in [−π, π] (random_spec); 0 and 0
+     *                         = boresight (nothing drawn); refused without an array
+     * \param azimuth_max_rad  random scenes with an array: the azimuth interval's upper end
+     *                         (>= azimuth_min_rad)
+     * \return the block.
      * \throws std::invalid_argument naming the parameter (or scene file) and the problem.
      */
     static sptr make(const std::string& scene = "",
@@ -97,7 +109,10 @@ public:
                      int cp_len = frame_settings{}.cp_len,
                      const std::string& class_library = "paper",
                      int n_receive = 1,
-                     int n_transmit = 1);
+                     int n_transmit = 1,
+                     const std::string& array = "",
+                     double azimuth_min_rad = 0.0,
+                     double azimuth_max_rad = 0.0);
 
     /*!
      * \brief Sets the SNR from the next frame.

@@ -39,6 +39,9 @@ void bind_target_channel(py::module& m)
              py::arg("n_receive") = 1,
              py::arg("n_transmit") = 1,
              py::arg("track_motion") = gr::sems::track_motion_name(gr::sems::track_draw_spec{}.motion),
+             py::arg("array") = "",
+             py::arg("azimuth_min_rad") = 0.0,
+             py::arg("azimuth_max_rad") = 0.0,
              D(target_channel, make))
         .def("set_snr_db", &target_channel::set_snr_db, D(target_channel, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel::snr_db, D(target_channel, snr_db))

@@ -41,6 +41,9 @@ void bind_target_channel_td(py::module& m)
              py::arg("class_library") = "paper",
              py::arg("n_receive") = 1,
              py::arg("n_transmit") = 1,
+             py::arg("array") = "",
+             py::arg("azimuth_min_rad") = 0.0,
+             py::arg("azimuth_max_rad") = 0.0,
              D(target_channel_td, make))
         .def("set_snr_db", &target_channel_td::set_snr_db, D(target_channel_td, set_snr_db), py::arg("snr_db"))
         .def("snr_db", &target_channel_td::snr_db, D(target_channel_td, snr_db))

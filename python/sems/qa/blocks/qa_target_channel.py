@@ -3,6 +3,7 @@
 """gr-sems: target_channel, the frequency-domain emulator block (docs/design.md §1, §3).
 The channel physics is tested in C++ (lib/qa_*.cc); here: the block's adapter work —
 same frames as channel_model, frame alignment, truth tags, SNR, counters, bad input."""
+import json
 import math
 import os
 import tempfile
@@ -49,6 +50,18 @@ def run(block, x, tags=(), chunk=None):
     tb.connect(src, block, sink)
     tb.run()
     return np.array(sink.data(), dtype=np.complex64).reshape(-1, M), sink.tags()
+
+
+def run_streams(block, x, n_receive):
+    """One input, one sink per output: every output's symbols and tags."""
+    src = blocks.vector_source_c(x.ravel().tolist(), vlen=M)
+    sinks = [blocks.vector_sink_c(M) for _ in range(n_receive)]
+    tb = gr.top_block()
+    tb.connect(src, block)
+    for k, sink in enumerate(sinks):
+        tb.connect((block, k), sink)
+    tb.run()
+    return [np.array(s.data(), dtype=np.complex64).reshape(-1, M) for s in sinks], [s.tags() for s in sinks]
 
 
 def truth_tags(tags):
@@ -256,6 +269,73 @@ class qa_target_channel(gr_unittest.TestCase):
         _, tags = run(channel(classes=["drone"]), random_symbols(3 * N))
         self.assertEqual([(d[sems.keys.track_id], d[sems.keys.frame_in_track]) for _, d in truth_tags(tags)],
                          [(0, 0), (1, 0), (2, 0)])
+
+    def test_012_random_scene_array(self):
+        # ula4_5g: four receive elements, one transmit element (the preset states none).
+        preset, n_rx = "ula4_5g", 4
+        frames = 12
+        x = random_symbols(frames * N)
+        ch = channel(classes=["car"], snr_db=20.0, array=preset, azimuth_min_rad=-0.5, azimuth_max_rad=0.5,
+                     n_receive=n_rx)
+        self.assertEqual((ch.output_signature().max_streams(), ch.input_signature().max_streams()), (n_rx, 1))
+        ys, tags = run_streams(ch, x, n_rx)
+        azimuths = []
+        for k in range(n_rx):
+            truth = truth_tags(tags[k])
+            self.assertEqual([o for o, _ in truth], [f * N for f in range(frames)], f"output {k}")
+            azimuths.append([d[sems.keys.azimuth_rad] for _, d in truth])
+        self.assertEqual(azimuths, [azimuths[0]] * n_rx)  # every output carries the frame's truth
+        self.assertTrue(all(-0.5 <= a <= 0.5 for a in azimuths[0]), azimuths[0])
+        self.assertGreater(len(set(azimuths[0])), 1, "the azimuths are drawn, not fixed")
+        # The parameters mean what a random scene's "array" and "random.azimuth_rad" mean: the
+        # same seed gives the same outputs, bit for bit, noise included.
+        text = json.dumps({"format": "sems.scene", "version": 1, "array": preset,
+                           "random": {"classes": ["car"], "azimuth_rad": [-0.5, 0.5]}})
+        want, want_tags = run_streams(channel(text, snr_db=20.0, n_receive=n_rx), x, n_rx)
+        for k in range(n_rx):
+            np.testing.assert_array_equal(ys[k], want[k], f"output {k}")
+            self.assertEqual(truth_tags(tags[k]), truth_tags(want_tags[k]), f"output {k}")
+        # No array and no interval (their defaults, or a blank array): one antenna, the frames of a
+        # block without them.
+        y, _ = run(channel(classes=["car"], snr_db=20.0), x)
+        for kw in (dict(array=""), dict(array=" ", azimuth_min_rad=0.0, azimuth_max_rad=0.0)):
+            with self.subTest(**kw):
+                got, tags = run(channel(classes=["car"], snr_db=20.0, **kw), x)
+                np.testing.assert_array_equal(got, y)
+                self.assertNotIn(sems.keys.azimuth_rad, truth_tags(tags)[0][1])
+
+    def test_013_array_parameters_refused(self):
+        def refuses(text, *args, **kw):
+            with self.assertRaises(ValueError) as cm:
+                channel(*args, **kw)
+            self.assertIn(text, str(cm.exception))
+
+        fixed = fixed_scene().to_json_string()
+        # A fixed scene carries its own array and directions.
+        for kw in (dict(array="ula4_5g", n_receive=4), dict(azimuth_min_rad=-0.5, azimuth_max_rad=0.5)):
+            with self.subTest(**kw):
+                refuses("target_channel: classes, n_targets, paths_per_target, micro_doppler, heading, track_*, "
+                        "clutter_*, array, azimuth_min_rad and azimuth_max_rad describe random scenes", fixed, **kw)
+        # An interval without an array would change nothing.
+        refuses("target_channel: azimuth_min_rad = -0.5 and azimuth_max_rad = 0.5 set the targets' directions, "
+                "which change nothing without an array", azimuth_min_rad=-0.5, azimuth_max_rad=0.5)
+        refuses("azimuth_min_rad = 0 and azimuth_max_rad = 0.5", azimuth_max_rad=0.5)
+        # The interval itself, by name.
+        with_array = dict(array="ula4_5g", n_receive=4)
+        refuses("target_channel: azimuth_min_rad = 0.5 exceeds azimuth_max_rad = -0.5", azimuth_min_rad=0.5,
+                azimuth_max_rad=-0.5, **with_array)
+        refuses("target_channel: azimuth_max_rad must lie in [-pi, pi] rad, got 4", azimuth_max_rad=4.0, **with_array)
+        refuses("target_channel: azimuth_min_rad must lie in [-pi, pi] rad, got -4", azimuth_min_rad=-4.0,
+                **with_array)
+        refuses("target_channel: azimuth_min_rad must lie in [-pi, pi] rad, got nan", azimuth_min_rad=math.nan,
+                **with_array)
+        # The array: an unknown preset, JSON that does not parse, streams other than its counts.
+        refuses("target_channel: array: array \"no_such_array\": no such file", array="no_such_array")
+        refuses("target_channel: array JSON text does not parse", array="{\"receive\": ")
+        refuses("target_channel array JSON", array="{\"receive\": {\"ula\": {\"elements\": 4}}}")  # no format
+        refuses("target_channel: the scene's array has 4 receive x 1 transmit elements, but n_receive = 1 and "
+                "n_transmit = 1", array="ula4_5g")
+        refuses("n_receive = 8 and n_transmit = 1", array="ula4_5g", n_receive=8)
 
 
 if __name__ == "__main__":

@@ -273,6 +273,59 @@ class qa_target_channel_td(gr_unittest.TestCase):
                 with self.assertRaisesRegex(ValueError, "target_channel_td.*" + needle):
                     sems.target_channel_td(**kw)
 
+    def test_010_random_scene_array(self):
+        # The Array and azimuth interval parameters give the streams of the random scene file that
+        # states them ("array", "random.azimuth_rad"), bit for bit; ula4_5g: 4 receive, 1 transmit.
+        n, m, cp, frames, n_rx = 4, 16, 4, 8, 4
+        x = qpsk(frames * n, m + cp).ravel()
+        common = dict(n_symbols=n, n_subcarriers=m, cp_len=cp, bandwidth_hz=m * 468.75e3, snr_db=20.0, seed=3,
+                      n_receive=n_rx)
+
+        def streams(**kw):
+            ch = sems.target_channel_td(**common, **kw)
+            sinks = [blocks.vector_sink_c() for _ in range(n_rx)]
+            tb = gr.top_block()
+            tb.connect(blocks.vector_source_c(x.tolist()), ch)
+            for k, sink in enumerate(sinks):
+                tb.connect((ch, k), sink)
+            tb.run()
+            return ([np.array(sink.data()) for sink in sinks],
+                    [[pmt.to_python(t.value) for t in sink.tags() if pmt.symbol_to_string(t.key) == sems.keys.truth_tag]
+                     for sink in sinks])
+
+        ys, truths = streams(classes=["car"], array="ula4_5g", azimuth_min_rad=-0.5, azimuth_max_rad=0.5)
+        azimuths = [d[sems.keys.azimuth_rad] for d in truths[0]]
+        self.assertEqual(len(azimuths), frames)
+        self.assertTrue(all(-0.5 <= a <= 0.5 for a in azimuths), azimuths)
+        self.assertGreater(len(set(azimuths)), 1)
+        text = json.dumps({"format": "sems.scene", "version": 1, "array": "ula4_5g",
+                           "random": {"classes": ["car"], "azimuth_rad": [-0.5, 0.5]}})
+        want, want_truths = streams(scene=text)
+        for k in range(n_rx):
+            self.assertEqual(len(ys[k]), len(x))
+            np.testing.assert_array_equal(ys[k], want[k], f"output {k}")
+            self.assertEqual(truths[k], want_truths[k], f"output {k}")
+
+    def test_011_array_parameters_refused(self):
+        fixed = scene_json([("car", 50.0, 0.0, [(0, 1)], None)])
+        cases = [
+            (dict(scene=fixed, array="ula4_5g", n_receive=4), "array, azimuth_min_rad and azimuth_max_rad describe "
+                                                              "random scenes"),
+            (dict(azimuth_min_rad=-0.5, azimuth_max_rad=0.5), "azimuth_min_rad = -0.5 and azimuth_max_rad = 0.5 "
+                                                              "set the targets' directions, which change nothing "
+                                                              "without an array"),
+            (dict(array="ula4_5g", n_receive=4, azimuth_min_rad=0.5, azimuth_max_rad=-0.5),
+             "azimuth_min_rad = 0.5 exceeds azimuth_max_rad = -0.5"),
+            (dict(array="ula4_5g", n_receive=4, azimuth_max_rad=4.0), r"azimuth_max_rad must lie in \[-pi, pi\]"),
+            (dict(array="no_such_array"), "array: array \"no_such_array\": no such file"),
+            (dict(array="ula4_5g"), "the scene's array has 4 receive x 1 transmit elements, but n_receive = 1 and "
+                                    "n_transmit = 1"),
+        ]
+        for kw, needle in cases:
+            with self.subTest(**{k: str(v)[:20] for k, v in kw.items()}):
+                with self.assertRaisesRegex(ValueError, "target_channel_td: .*" + needle):
+                    sems.target_channel_td(**kw)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_target_channel_td)
