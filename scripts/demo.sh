@@ -26,7 +26,7 @@ while [ $# -gt 0 ]; do
     --snrs) snrs="$2"; shift 2 ;;
     --no-build) do_build=0; shift ;;
     --fast) suffix=_fast; shift ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
