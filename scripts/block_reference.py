@@ -133,7 +133,7 @@ tb.connect(data, mapper, head, sems.ofdm_tx(), radio, sems.ofdm_rx(), sink)
 tb.run()
 print(len(sink.data()) // 64, "symbols; converter full scale per rail %.2f" % radio.full_scale())
 '''),
-    "sems_phase_noise_source": ("**SemS Phase Noise Source** → Complex to Arg → Head → Vector Sink", '''
+    "sems_phase_noise_source": ("**SemS Phase Noise Source** → Head → Vector Sink (the phase in numpy)", '''
 import numpy as np
 from gnuradio import blocks, gr, sems
 
@@ -195,7 +195,7 @@ tb.connect(add, sync, sems.ofdm_rx(), extractor, sink)
 tb.run()
 print("frame start found at sample", sync.offset(), "of", sync.frame_len(), "per frame;", len(sink.data()) // 32, "frames out")
 '''),
-    "sems_cfo_corrector": ("SemS Pilot Mapper → SemS OFDM Tx → Multiply (frequency offset) → **SemS CFO Corrector** → Vector Sink", '''
+    "sems_cfo_corrector": ("SemS Pilot Mapper → SemS OFDM Tx → Multiply (frequency offset) → **SemS CFO Corrector** → Null Sink", '''
 from gnuradio import analog, blocks, gr, sems
 
 positions = [n * 64 + (5 * n) % 64 for n in range(32)]

@@ -63,7 +63,7 @@ public:
     /*!
      * \brief Makes a classifier sink.
      * \param bundle_dir     model bundle directory (bundle.json, mask.json, decoder.pt), task `classify`
-     * \param n_pilots       N_p, the input vector length; must match the bundle's mask
+     * \param n_pilots       N_p, the pilots per element (the input vector is n_elements·N_p); must match the bundle's mask
      * \param batch_size     frames per inference call (>= 1)
      * \param threads        LibTorch intra-op threads (0: leave LibTorch's setting)
      * \param metrics_period send metrics every K frames (0: only at the end of the stream)
