@@ -8,7 +8,8 @@
  *     (a leak grows it; glibc's mallinfo2 over all arenas, ASan's allocator under ASan),
  *   - resident memory, read after malloc_trim, grows by at most --max-rss-growth-kib,
  *   - frames in = frames out + counted drops/skips at every stage:
- *       mapper frames = extractor frames_out + dropped_partial + skipped_nonfinite,
+ *       requested frames = the gate's = extractor frames_out + dropped_partial + skipped_nonfinite
+ *       (the mapper, fed endlessly, may run ahead of the gate: its count is printed only),
  *       sink frames   = extractor frames_out = scored + skipped (every frame has a truth).
  * The mapper places the delay bundle's pilots with their values (its mask's Newman phases)
  * and 1 on every other resource element, which are the classifier's unit pilots: each

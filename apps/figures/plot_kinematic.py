@@ -135,11 +135,29 @@ def budget_figure(rows, out, snrs=(0.0, 10.0, 30.0)):
     return save(fig, out, "exp7_pilot_budget.png")
 
 
-def by_budget(tables, text, note=""):
+def means_by_budget(budget, keep):
+    """{N_p: the accuracy at every SNR (mean ± half-range over the seeds) of the methods `keep`
+    selects, where it selects more than one}: what a part shows when its predictions were not kept,
+    so no paired test."""
+    out = OrderedDict()
+    for n in sorted({int(pr.fnum(r["n_pilots"])) for r in budget}):
+        rs = [r for r in budget if int(pr.fnum(r["n_pilots"])) == n and keep(r["method"])]
+        if len({r["method"] for r in rs}) > 1:
+            out[n] = pr.pivot(rs, "method", "accuracy")
+    return out
+
+
+def by_budget(tables, text, note="", means=None):
     """Markdown: the text, then one "#### N_p = n" section per table of {N_p: table}; or the note
-    of a missing kept file ({None: note})."""
+    of a missing kept file ({None: note}) with the untested accuracies of `means` ({N_p: table})."""
     if None in tables:
-        return [tables[None], ""]
+        out = [tables[None], ""]
+        if means:
+            out += ["Accuracy only, not tested (means ± half-range over the seeds; a difference of means "
+                    "here is not a paired test):", ""]
+            for n, t in means.items():
+                out += ["#### N_p = %d" % n, "", t, ""]
+        return out
     out = [text, ""] if text else []
     for n, t in tables.items():
         out += ["#### N_p = %d" % n, "", t, ""]
@@ -198,10 +216,12 @@ def tables(rows, conf, budget, bank=(), paired=None):
             rs.sort(key=lambda r: (r["method"].split(", N_p")[0], int(pr.fnum(r["n_pilots"]))))
             out += ["#### %g dB" % snr, "", pr.pivot(rs, "method", "accuracy"), ""]
         out += ["### Experiment 7: the learned mask against the best hand pattern by pilot budget", ""]
-        out += by_budget(hand, paired.get("hand_text"), paired.get("hand_note", ""))
+        out += by_budget(hand, paired.get("hand_text"), paired.get("hand_note", ""),
+                         means_by_budget(budget, lambda m: m == "SemS" or claims.hand_pattern(m)))
         if any(r["method"] == ENERGIES for r in budget):
             out += ["### Experiment 7: learned pilot energies against equal energies (the same learner)", ""]
-            out += by_budget(paired["energies"], paired.get("energies_text"))
+            out += by_budget(paired["energies"], paired.get("energies_text"), "",
+                             means_by_budget(budget, lambda m: m in ("SemS", ENERGIES)))
     if bank:
         out += bank_tables(bank, paired)
     return "\n".join(out)

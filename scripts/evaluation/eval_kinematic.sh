@@ -7,8 +7,8 @@
 #   bash scripts/evaluation/eval_kinematic.sh [--out DIR] [--results DIR] [--size full|test] [--test-frames N]
 #
 # Processes (each its own output folder under DIR, default out/eval_kinematic):
-#   main    N_p = 32: SemS, the SemS decoder on the Doppler, uniform, random and staggered
-#           patterns, MSE-DL, Perfect CSI (noiseless and at the test SNR), the feature SVMs;
+#   main    N_p = 32: SemS, SemS + template bank, the SemS decoder on the Doppler, uniform,
+#           random and staggered patterns, MSE-DL, Perfect CSI (noiseless and at the test SNR), the feature SVMs;
 #           confusion matrices at 10 dB
 #   budget  SemS against the Doppler and staggered patterns at N_p = 128, 64, 16, 8
 #   power   SemS whose mask learner also shares the pilots' total energy, at N_p = 32 and 128

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Shared by the evaluation scripts (eval_full.sh, eval_kinematic.sh, eval_tracks.sh), sourced after they set
+# Shared by the evaluation scripts (eval_full.sh, eval_kinematic.sh, eval_tracks.sh, eval_tracks_nr.sh,
+# eval_arrays.sh), sourced after they set
 # `script` (their name), `out` (default DIR) and `log` (their record's file name): reads
 # --out/--results/--size/--help (and --test-frames N where the script sets takes_test_frames=1:
 # test frames per operating point, passed to every part), checks sems_eval, logs into

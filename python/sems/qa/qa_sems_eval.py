@@ -522,6 +522,24 @@ class qa_sems_eval(gr_unittest.TestCase):
                                "every N_p and SNR", 3)):
             self.assertIn('family "%s": %d tests, Holm' % (family, tests), md)
         self.assertNotIn("not available", md)
+        # Without the kept predictions (a run of an older sems_eval): each paired table becomes a
+        # note naming the missing file, the by-budget parts show accuracies only, and no verdict
+        # or family is printed.
+        bare = os.path.join(out, "without_predictions")
+        os.makedirs(bare, exist_ok=True)
+        for name in os.listdir(out):
+            if name.endswith(".csv"):
+                shutil.copy(os.path.join(out, name), bare)
+        r = subprocess.run(["/usr/bin/python3", PLOT7, bare, "--out", os.path.join(bare, "png"), "--tables",
+                            os.path.join(bare, "t.md")], capture_output=True, text=True, timeout=300)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(bare, "t.md")) as f:
+            md = f.read()
+        self.assertIn("exp7_kinematic_predictions.npz is missing", md)
+        self.assertIn("Accuracy only, not tested", md)
+        self.assertIn("#### N_p = 8", md)
+        for verdict in ("Holm", "ahead", "behind", "2 SE"):
+            self.assertNotIn(verdict, md)
 
     def assert_per_seed(self, rs, methods, seeds, key=("method",)):
         """rs hold every one of methods (the first key field), and each key has, at every SNR
