@@ -2,8 +2,9 @@
 """The frame a block works on, from what a user types: `frame_of`.
 
 Every GRC block that needs the frame (N, M, B, f_c, T, the prefix, the guards) takes one
-*Frame* parameter and reads the numbers through this function, so a preset name, a frame
-file and the default mean the same thing in every block and in Python.
+*Frame* parameter, resolved by this function (or, in the sinks' C++, by the same
+`frame_file.find`), so a preset name, a frame file and the default mean the same thing in every
+block and in Python.
 """
 from .core_python import frame_file, frame_settings
 

@@ -41,7 +41,7 @@ EXTENSION = {"name": "sems", "version": "1.0.0", "optional": True}
 META, DATA = ".sigmf-meta", ".sigmf-data"
 TAG_LINES = ".tags"  # the JSON-lines tag files of earlier versions
 
-FRAME_TAG, TRUTH_TAG = "sems_frame", "sems_truth"  # gnuradio.sems.keys (not imported: no extension needed)
+FRAME_TAG, TRUTH_TAG = "sems_frame", "sems_truth"  # copied from gnuradio.sems.keys: must equal core/common/tags.h
 DATATYPES = {"complex": "cf32_le", "float": "rf32_le"}
 _DTYPES = {"cf32_le": np.dtype("<c8"), "rf32_le": np.dtype("<f4")}
 
@@ -385,7 +385,7 @@ def _read_tag_lines(path):
 def read_tags(path, item="complex", vlen=1):
     """The tags of a recording as (offset, key, pmt value), in offset order: of the SigMF
     recording NAME (read_recording, checked against a stream of `item` x `vlen`), or of a
-    JSON-lines tag file of earlier versions (a name ending in .tags; its offsets in file order).
+    JSON-lines tag file of earlier versions (a name ending in .tags; tags at one offset in file order).
     Raises ValueError naming the file and the line or field."""
     if not is_tag_lines(path):
         return read_recording(path, item, vlen)[0]
