@@ -119,16 +119,17 @@ rate sink_fps(const model_bundle& b,
               int n_elements = 1,
               const std::string& array = "")
 {
-    const int np = b.mask.size() * n_elements;
+    const int np = b.mask.size();
+    const int item = n_elements * np; // one frame's observations, element-major
     gr::block_sptr sink;
-    if (b.task == task_kind::classify)
-        sink = classifier_sink::make(b.directory, b.mask.size(), batch, threads, 0, b.frame.n_symbols,
-                                     b.frame.n_subcarriers, "", 0.0, 1, n_elements, array);
+    if (b.task == task_kind::classify) // make()'s defaults up to the array's two parameters
+        sink = classifier_sink::make(b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers,
+                                     "", 0.0, 1, n_elements, array);
     else
         sink = delay_estimator_sink::make(
             b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers);
-    const std::vector<gr_complex> data(obs.begin(), obs.begin() + frames * np);
-    auto src = gr::blocks::vector_source<gr_complex>::make(data, false, np);
+    const std::vector<gr_complex> data(obs.begin(), obs.begin() + frames * item);
+    auto src = gr::blocks::vector_source<gr_complex>::make(data, false, item);
     auto tb = gr::make_top_block("sems_bench_sinks");
     tb->connect(src, 0, sink, 0);
     const stopwatch w;
