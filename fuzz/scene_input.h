@@ -84,8 +84,9 @@ struct scene_input {
     std::string json;
 
     //! Splits an input. The frame spans extreme but valid values: N 1..32, M 1..128, any
-    //! prefix 0..M, bandwidth, carrier and symbol interval each over a factor 256 around
-    //! the defaults (bytes 8, 8, 16 give the defaults), SNR from -300 dB to noiseless.
+    //! prefix 0..M, bandwidth and carrier from 1/16 to 16 times the defaults, the symbol
+    //! interval from 1/256 to 256 times (bytes 8, 8, 16 give the defaults), SNR from -300 dB
+    //! to noiseless.
     static scene_input split(const uint8_t* data, size_t size)
     {
         scene_input in;

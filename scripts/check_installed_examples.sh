@@ -36,11 +36,18 @@ cd "$work"
 if [ "$mode" = grc ]; then
   command -v xvfb-run > /dev/null || { echo "check_installed_examples: xvfb-run missing (apt-get install xvfb), skipped"; exit 77; }
   # GRC's own loader resolves every block of the flowgraph from the prefix (the GUI would only
-  # draw a missing block in red), then the GUI runs until closed: 25 s to start, then stopped.
+  # draw a missing block in red), then the GUI runs until closed: up to 25 s to load the
+  # flowgraph (">>> Done"), 3 s more drawing it, then stopped.
   LD_PRELOAD="$run_preload" grcc -o out sems_demo.grc > grcc.log 2>&1 || { cat grcc.log; fail "GRC could not load sems_demo.grc"; }
+  timeout 25 xvfb-run -a env LD_PRELOAD="$run_preload" gnuradio-companion "$work/sems_demo.grc" > grc.log 2>&1 &
+  grc_pid=$!
+  for _ in $(seq 100); do grep -q '^>>> Done' grc.log && break; kill -0 "$grc_pid" 2> /dev/null || break; sleep 0.25; done
+  grep -q '^>>> Done' grc.log && sleep 3
+  kill -TERM "$grc_pid" 2> /dev/null || true # timeout passes it on to its whole process group
   status=0
-  timeout 25 xvfb-run -a env LD_PRELOAD="$run_preload" gnuradio-companion "$work/sems_demo.grc" > grc.log 2>&1 || status=$?
-  [ "$status" -eq 124 ] || { cat grc.log; fail "gnuradio-companion exited with $status before it was stopped"; }
+  wait "$grc_pid" || status=$?
+  grep -q '^>>> Done' grc.log || { cat grc.log; fail "gnuradio-companion did not finish loading sems_demo.grc within 25 s (exit $status)"; }
+  [ "$status" -eq 124 ] || [ "$status" -eq 143 ] || { cat grc.log; fail "gnuradio-companion exited with $status before it was stopped"; }
   if grep -E "Namespace Gtk not available|Traceback|Block key .* not found|[Ee]rror" grc.log; then
     fail "gnuradio-companion reported the errors above (grc.log)"
   fi

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Quick start, demo: installs the Debian packages, builds, and streams random scenes through
-# examples/sems_demo.grc — learned-pilot OFDM -> target channel -> pilot extractor ->
-# classifier and delay-estimator sinks on the shipped bundles (models/classifier,
-# models/delay_single) — at several SNRs. Prints the running accuracy and delay MAE of each
-# run, then one table.
+# examples/sems_demo.grc — OFDM with each bundle's pilots (the classifier's learned, the delay
+# estimator's random on one symbol) -> target channel -> pilot extractor -> classifier and
+# delay-estimator sinks on the shipped bundles (models/classifier, models/delay_single) — at
+# several SNRs. Prints the running accuracy and delay MAE of each run, then one table.
 #
 #   bash scripts/demo.sh [--frames N] [--snrs "0 10 20 30"] [--fast] [--no-build]
 #

@@ -23,4 +23,8 @@ SEMS_BUILD_TESTS=ON SEMS_BUILD_APPS=ON "$root/scripts/build.sh"
 if [[ "$SEMS_SANITIZE" == *address* ]]; then
   /usr/bin/python3 "$root/scripts/check_sanitizer_env.py" "$SEMS_BUILD_DIR"
 fi
+# CTest runs one test per core, so each test's LibTorch gets one OpenMP thread unless the test
+# sets its own count: with a thread per core in every test, the threads of two tests spin on
+# each other's cores (qa_sems_learning took twice its CPU time so).
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 ctest --test-dir "$SEMS_BUILD_DIR" --output-on-failure -j"$(nproc)" "$@"

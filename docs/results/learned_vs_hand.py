@@ -12,6 +12,13 @@ difference learned - Doppler with two standard errors (binomial, per seed, combi
 
   /usr/bin/python3 docs/results/learned_vs_hand.py run --train build/apps/sems_train --out OUT
   /usr/bin/python3 docs/results/learned_vs_hand.py table --out OUT > table.md
+
+The decoder is the range-gated spectral decoder as it was before the chirp fit and the leaky
+ReLU: `run` passes --chirp-bins 0 and --conv-slope 0 (today's sems_train defaults are 9 and
+0.1), so that it trains what the page's tables show. The page's last table, the any scene's
+seed 2026 with the leaky ReLU, is
+  learned_vs_hand.py run --out OUT_FIX --scenes any --seeds 2026 --conv-slope 0.1
+  learned_vs_hand.py table --out OUT_FIX --scenes any --seeds 2026
 """
 import argparse
 import json
@@ -48,7 +55,8 @@ def run(a):
             print("taken", d, flush=True)
             continue
         cmd = [a.train, "--task", "classify", "--snr-min", "-10", "--snr-max", "30", "--frames", "30000",
-               "--batch", "256", "--threads", "1", "--seed", str(sd), "--eval-snr=" + SNRS, "--out", d]
+               "--batch", "256", "--threads", "1", "--seed", str(sd), "--eval-snr=" + SNRS, "--out", d,
+               "--chirp-bins", "0", "--conv-slope", a.conv_slope]
         cmd += SCENES[sc] + METHODS[me]
         print("[%d/%d] %s" % (i + 1, len(jobs), " ".join(cmd)), flush=True)
         with open(d + ".log", "w") as log:
@@ -99,6 +107,7 @@ def main():
     p.add_argument("--part", type=int, default=0, help="run: this process's share (0..parts-1)")
     p.add_argument("--parts", type=int, default=1)
     p.add_argument("--reverse", action="store_true", help="run: take the jobs from the end")
+    p.add_argument("--conv-slope", default="0", help="run: the convolutions' leaky-ReLU slope (0: plain ReLU)")
     a = p.parse_args()
     a.seeds = [int(s) for s in a.seeds.split(",")]
     a.scenes = a.scenes.split(",")

@@ -6,7 +6,7 @@ channel_model, the same seed, the same frames.
 """
 import numpy as np
 
-from .core_python import channel_model, frame_settings
+from .core_python import channel_model, frame_settings, keys
 
 
 def channel_batches(scene, batch_size, n_batches=None, seed=0, settings=None, snr_db=None,
@@ -27,7 +27,7 @@ def channel_batches(scene, batch_size, n_batches=None, seed=0, settings=None, sn
         if snr_db is not None:
             model.add_noise(h, float(snr_db))
             for t in truths:
-                t["snr_db"] = float(snr_db)
+                t[keys.snr_db] = float(snr_db)
         yield h, truths
         frame += batch_size
         produced += 1

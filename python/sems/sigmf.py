@@ -36,18 +36,20 @@ import sys
 import numpy as np
 import pmt
 
+from .core_python import keys
+
 SPEC_VERSION = "1.2.5"  # the SigMF specification these files follow (github.com/sigmf/SigMF)
 EXTENSION = {"name": "sems", "version": "1.0.0", "optional": True}
 META, DATA = ".sigmf-meta", ".sigmf-data"
 TAG_LINES = ".tags"  # the JSON-lines tag files of earlier versions
 
-FRAME_TAG, TRUTH_TAG = "sems_frame", "sems_truth"  # copied from gnuradio.sems.keys: must equal core/common/tags.h
+FRAME_TAG, TRUTH_TAG = keys.frame_tag, keys.truth_tag  # core/common/tags.h
 DATATYPES = {"complex": "cf32_le", "float": "rf32_le"}
 _DTYPES = {"cf32_le": np.dtype("<c8"), "rf32_le": np.dtype("<f4")}
 
 # The truth dict's keys become `sems:` field names; the specification forbids C++ and Python
 # keywords as names, so `class` takes the name C++ gives its key (keys::class_id).
-_FIELD_NAMES = {"class": "class_id"}
+_FIELD_NAMES = {keys.class_id: "class_id"}
 _RESERVED = {"tags"}  # sems:tags holds the tags themselves
 
 _CXX20_KEYWORDS = set("""alignas alignof and and_eq asm auto bitand bitor bool break case catch char
