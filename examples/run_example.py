@@ -1,16 +1,18 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""gr-sems: compile an example flowgraph with grcc and run it headless.
+"""gr-sems: compile an example flowgraph with grcc and run it (headless, or a GUI one on a display).
 
-    run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [-- extra args for the flowgraph]
+    run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [--timeout S] [-- extra args for the flowgraph]
 
 The flowgraph is compiled into <outdir>/<name>/ and the generated Python runs with
 GNU Radio's interpreter (/usr/bin/python3). With <outdir> inside a build tree of this source
 (e.g. build/examples), it finds the blocks and the module there: PYTHONPATH, GRC_BLOCKS_PATH
 and SEMS_SOURCE_DIR default to <build>/python_pkg, the source's grc/ and the source tree (a
 value already set wins). With --test, a flowgraph that has a
-`frames` parameter runs a smaller count (--frames, default 1000), and a printed
-"set_snr_db=X measured_snr_db=Y" must agree within ±0.5 dB. Exits non-zero on failure.
+`frames` parameter runs --frames frames (default 1000), and a printed
+"set_snr_db=X measured_snr_db=Y" must agree within ±0.5 dB; without it the flowgraph's output
+shows as it comes. A run is abandoned after --timeout seconds (600; 0: never, for a GUI
+flowgraph that runs until its window is closed). Exits non-zero on failure.
 """
 import argparse
 import os
@@ -68,7 +70,7 @@ def main():
     parser.add_argument("outdir")
     parser.add_argument("--test", action="store_true", help="short run with the example's checks")
     parser.add_argument("--frames", type=int, default=1000, help="frames for --test (default 1000)")
-    parser.add_argument("--timeout", type=float, default=600.0, help="seconds before the run is abandoned")
+    parser.add_argument("--timeout", type=float, default=600.0, help="seconds before the run is abandoned (0: never)")
     argv = sys.argv[1:]
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
@@ -93,11 +95,12 @@ def main():
     cmd += extra
     print("run_example:", " ".join(cmd), flush=True)
     try:
-        ran = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout, env=env)
+        ran = subprocess.run(cmd, capture_output=args.test, text=True, timeout=args.timeout or None, env=env)
     except subprocess.TimeoutExpired:
         fail(f"{script} did not finish within {args.timeout:.0f} s")
-    sys.stdout.write(ran.stdout)
-    sys.stderr.write(ran.stderr)
+    if args.test:
+        sys.stdout.write(ran.stdout)
+        sys.stderr.write(ran.stderr)
     if ran.returncode != 0:
         fail(f"{script} exited with {ran.returncode}")
 

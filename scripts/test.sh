@@ -25,6 +25,8 @@ if [[ "$SEMS_SANITIZE" == *address* ]]; then
 fi
 # CTest runs one test per core, so each test's LibTorch gets one OpenMP thread unless the test
 # sets its own count: with a thread per core in every test, the threads of two tests spin on
-# each other's cores (qa_sems_learning took twice its CPU time so).
+# each other's cores (qa_sems_learning took twice its CPU time so). The core count is read
+# first: nproc honours OMP_NUM_THREADS.
+jobs="$(nproc)"
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
-ctest --test-dir "$SEMS_BUILD_DIR" --output-on-failure -j"$(nproc)" "$@"
+ctest --test-dir "$SEMS_BUILD_DIR" --output-on-failure -j"$jobs" "$@"

@@ -201,8 +201,9 @@ int main(int argc, char** argv)
          "(test 24, full 3000), the same for every method, seed and SNR; e.g. 30000 for tighter paired tests (each "
          "scene's frames are held in memory: 16 N M bytes each, 1 GB at 30000 of 32 x 64)")
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
-        ("epochs", po::value<int>(), "override: mask-learning epochs (decoder epochs on fixed masks)")
-        ("decoder-epochs", po::value<int>(), "override: decoder epochs after a learned mask")
+        ("epochs", po::value<int>(), "override: mask-learning epochs of the delay networks (a network on a fixed mask, a hand "
+         "pattern's or Perfect CSI's, trains these plus --decoder-epochs; classifiers take --classifier-epochs instead)")
+        ("decoder-epochs", po::value<int>(), "override: decoder epochs after a learned mask (and added to a fixed mask's epochs)")
         ("classifier-epochs", po::value<int>(), "override: mask-learning epochs of every classification network (experiments 1-3, 7 and 8)")
         ("svm-train-frames", po::value<int>(), "override: feature-SVM training frames")
         ("tsne-frames", po::value<int>(), "override: frames in the t-SNE features")
@@ -211,7 +212,8 @@ int main(int argc, char** argv)
         ("np-sweep", po::value(&np_sweep), "override: pilot budgets of experiment 5")
         ("clutter-csr", po::value(&c.clutter_csr_db)->default_value(c.clutter_csr_db), "clutter-to-signal ratio of the strong-clutter scene (dB)")
         ("class-library", po::value(&c.class_library)->default_value(c.class_library),
-         "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic, automotive, nr_urban, wifi_indoor) or file")
+         "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic, automotive, nr_urban, wifi_indoor) or file; "
+         "not given: the library --frame names (paper for the paper frame)")
         ("exp7-class-library", po::value(&c.exp7_class_library)->default_value(c.exp7_class_library),
          "experiment 7: the class library of targets of moving scatterers, by name or file")
         ("exp7-np-sweep", po::value(&exp7_np_sweep), "override: experiment 7's pilot budgets besides 32 (test 8; full 128,64,16,8)")

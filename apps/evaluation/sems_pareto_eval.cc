@@ -164,7 +164,8 @@ int main(int argc, char** argv)
         "bundle", po::value(&bundles)->composing(), "bundle directory (repeatable)")(
         "no-refine", po::bool_switch(&no_refine), "delay bundles: also score them with refine_paths = 0")(
         "label", po::value(&label), "name of the (single) --bundle in the CSV (default: its directory)")(
-        "baselines", po::bool_switch(&baselines), "also the classical methods (see above)")(
+        "baselines", po::bool_switch(&baselines), "also the classical methods on --mask (needed): classify, the feature "
+                                                  "SVM; delay, periodogram, OMP, OMP + LS refinement and LS (one path)")(
         "snr", po::value(&snr_text)->default_value("0,10,30"), "test SNRs (dB)")(
         "frames", po::value(&frames)->default_value(3000), "test frames per SNR")(
         "batches", po::value(&batches_text)->default_value("1,32,256"), "batch sizes timed")(

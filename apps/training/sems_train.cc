@@ -34,6 +34,8 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace po = boost::program_options;
 using namespace gr::sems;
@@ -290,11 +292,44 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
     std::cout << "track bundle written to " << t.out_dir << " (" << r.seconds << " s)" << std::endl;
     return 0;
 }
+// What --delay-bundle and --frame-bundle train with when a flag is not given: their trainer's
+// own defaults, not the ones --help shows beside each flag (those are the classifier's).
+std::string own_defaults(int frames_or_tracks,
+                         const char* what,
+                         int epochs,
+                         int batch,
+                         double lr,
+                         int threads,
+                         const std::vector<double>& eval_snr_db)
+{
+    std::ostringstream o;
+    o << "; a flag not given keeps that trainer's own default, not the one shown above: " << frames_or_tracks
+      << " " << what << ", " << epochs << " epochs, batch " << batch << ", lr " << lr << ", "
+      << (threads > 0 ? std::to_string(threads) + " threads" : std::string("LibTorch's threads (every core)"))
+      << ", test SNRs";
+    for (size_t i = 0; i < eval_snr_db.size(); ++i)
+        o << (i ? "," : " ") << eval_snr_db[i];
+    o << " dB";
+    return o.str();
+}
 } // namespace
 
 int main(int argc, char** argv)
 {
     training_settings s;
+    const position_training_settings pd;
+    const track_training_settings td;
+    const std::string delay_bundle_help =
+        "train a position bundle on this trained delay bundle (a directory or name, e.g. delay_single): an angle "
+        "network over the pilots of --array, whose beamformed pilots the bundle's delay decoder reads "
+        "(learning/array/position_trainer.h); takes --scene, --frames, --epochs, --batch, --lr, --patience, --seed, "
+        "--threads, --snr*, --eval-snr, --angle-grid, --out" +
+        own_defaults(pd.frames, "frames", pd.epochs, pd.batch, pd.lr, pd.threads, pd.eval_snr_db);
+    const std::string frame_bundle_help =
+        "train a decision over a track on this trained per-frame classifier bundle (a directory or name): a GRU over "
+        "its per-frame evidence, started from the fusion of independent frames; the track flags below and --scene, "
+        "--snr*, --epochs, --batch, --lr, --patience, --seed, --threads, --eval-snr, --out apply" +
+        own_defaults(td.tracks, "tracks", td.epochs, td.batch, td.lr, td.threads, td.eval_snr_db);
     std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading, from;
     std::string class_library_name, radio_file;
     int paths = 1;
@@ -379,19 +414,14 @@ int main(int argc, char** argv)
         ("chirp-bins", po::value(&s.classifier.chirp_bins)->default_value(s.classifier.chirp_bins), "spectral classifier: tone/chirp fit, the number of chirp rates (odd; 0 = off): the share of the slow-time energy one tone or chirp explains, which tells a car (a pure tone) from a pedestrian (a chirp) at equal Doppler; needs the range gate")
         ("chirp-sweep-bins", po::value(&s.classifier.chirp_sweep_bins)->default_value(s.classifier.chirp_sweep_bins), "spectral classifier: the largest chirp rate of the fit, as its Doppler change over the frame in Doppler bins")
         ("chirp-min-pilots", po::value(&s.classifier.chirp_min_pilots)->default_value(s.classifier.chirp_min_pilots), "spectral classifier: the tone/chirp fit counts only subcarriers with at least this many pilots (1 = every observed one)")
-        ("template-frames", po::value(&s.classifier.template_frames)->default_value(s.classifier.template_frames), "spectral classifier: keep this many training frames' noiseless pilots on the final mask as a template bank and add its class scores (each class's likelihood over its templates, the Monte-Carlo Bayes classifier of those frames) to the network's (0 = off, -1 = every training frame; costs 8 N_p T multiply-adds and 8 N_p T bytes per frame; one process only)")
+        ("template-frames", po::value(&s.classifier.template_frames)->default_value(s.classifier.template_frames), "spectral classifier: keep this many training frames' noiseless pilots on the final mask as a template bank and add its class scores (each class's likelihood over its templates, the Monte-Carlo Bayes classifier of those frames) to the network's (0 = off, -1 = every training frame; costs 8 N_p T multiply-adds per frame and 8 N_p T bytes in decoder.pt; one process only)")
         ("conv-slope", po::value(&s.classifier.conv_slope)->default_value(s.classifier.conv_slope), "spectral classifier: leaky-ReLU slope of the convolutions (0 = ReLU, as bundles trained before this setting)")
         ("doppler-kernel", po::value(&s.classifier.kernel)->default_value(s.classifier.kernel), "spectral classifier: 1-D kernel over Doppler bins (odd)")
         ("encoder-lr-scale", po::value(&s.encoder.lr_scale)->default_value(s.encoder.lr_scale), "encoder lr = lr * this")
-        ("delay-bundle", po::value<std::string>(), "train a position bundle on this trained delay bundle (a directory or name, e.g. "
-                                                   "delay_single): an angle network over the pilots of --array, whose beamformed pilots the "
-                                                   "bundle's delay decoder reads (learning/array/position_trainer.h); takes --scene, --frames, "
-                                                   "--epochs, --batch, --lr, --patience, --seed, --threads, --snr*, --eval-snr, --angle-grid, --out")
+        ("delay-bundle", po::value<std::string>(), delay_bundle_help.c_str())
         ("array", po::value<std::string>(), "--delay-bundle: the array, a preset's name (ula8_3g, ula8_3g5, ura4x2_2g4, ula4_5g) or an array file")
         ("angle-grid", po::value<int>()->default_value(nn::angle_settings{}.grid), "--delay-bundle: azimuths of the angle network's spectrum grid")
-        ("frame-bundle", po::value<std::string>(), "train a decision over a track on this trained per-frame classifier bundle "
-            "(a directory or name): a GRU over its per-frame evidence, started from the fusion of independent frames; "
-            "the track flags below and --scene, --snr*, --epochs, --batch, --lr, --patience, --seed, --threads, --eval-snr, --out apply")
+        ("frame-bundle", po::value<std::string>(), frame_bundle_help.c_str())
         ("track-frames", po::value<int>()->default_value(track_training_settings{}.track_frames), "--frame-bundle: frames of a training track (K)")
         ("tracks", po::value<int>()->default_value(track_training_settings{}.tracks), "--frame-bundle: tracks drawn, split 8:1:1")
         ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size")

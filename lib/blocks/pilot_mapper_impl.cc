@@ -42,7 +42,7 @@ pilot_mapper_impl::pilot_mapper_impl(const super_frame_mask& mask,
                                      double data_power,
                                      const std::vector<int>& guard_subcarriers)
     : gr::block(who,
-                // Optional input: a pilot-only mask (N_p = N·M) needs no data (check_topology).
+                // Optional input: a pilot-only mask (N_p = N·(M − G)) needs no data (check_topology).
                 gr::io_signature::make(0, 1, sizeof(gr_complex)),
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * mask.n_subcarriers())),
       d_mask(mask),

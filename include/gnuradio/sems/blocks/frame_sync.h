@@ -90,7 +90,8 @@ public:
     virtual int frame_len() const = 0;        //!< \return L = N·(M + cp_len)
     /*!
      * \brief Why the block stopped the stream, empty while it runs: incoming frame tags
-     *        spaced for another cyclic prefix (the message names both prefix lengths).
+     *        spaced for another cyclic prefix (the message names both prefix lengths when the
+     *        spacing fits one).
      * \return the error message, or "".
      */
     virtual std::string stream_error() const = 0;

@@ -12,6 +12,7 @@
 #define INCLUDED_SEMS_BLOCKS_PHASE_NOISE_SOURCE_H
 
 #include <gnuradio/sems/api.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
 
@@ -37,7 +38,7 @@ public:
      * \return the block.
      * \throws std::invalid_argument naming the parameter and its value.
      */
-    static sptr make(double sample_rate_hz = 30e6, double dbc_hz = -90.0, double offset_hz = 100e3, uint64_t seed = 0);
+    static sptr make(double sample_rate_hz = frame_settings().bandwidth_hz, double dbc_hz = -90.0, double offset_hz = 100e3, uint64_t seed = 0);
 
     //! \brief The phase diffusion. \return D = 4π² f² 10^(L/10) in rad²/s.
     virtual double diffusion() const = 0;

@@ -29,7 +29,7 @@ namespace sems {
  *
  * Frames are aligned to keys::frame_tag tags when present and counted (N symbols
  * each) otherwise. A partial frame (a frame tag arrives before N symbols were
- * collected, or the stream starts mid-frame) is dropped and counted; a frame with a
+ * collected, or the stream starts or ends mid-frame) is dropped and counted; a frame with a
  * NaN/Inf anywhere in its symbols is skipped and counted. Every output item carries
  * a keys::frame_tag (the input's value, or the counted index on an untagged stream)
  * and the tags of its frame's symbols (keys::truth_tag among them).
@@ -84,7 +84,7 @@ public:
 
     /*! \brief Frames written. \return the count. */
     virtual uint64_t frames_out() const = 0;
-    /*! \brief Partial frames dropped (a frame tag before N symbols, or a mid-frame start). \return the count. */
+    /*! \brief Partial frames dropped (a frame tag before N symbols, a mid-frame start or end). \return the count. */
     virtual uint64_t frames_dropped_partial() const = 0;
     /*! \brief Frames skipped for a NaN/Inf symbol. \return the count. */
     virtual uint64_t frames_skipped_nonfinite() const = 0;

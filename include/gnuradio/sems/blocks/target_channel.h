@@ -39,9 +39,10 @@ namespace sems {
  * value, a tag mid-frame starts a new frame), counted from 0 otherwise. Each frame
  * draws the next realization of the model, so the same seed gives the same frames as
  * channel_model::generate and, with any SNR, the same channels (noise has its own
- * generator). keys::truth_tag (a PMT dict: class, class_name, delay_s, delay_index,
- * range_m, velocity_mps, snr_db, n_paths, frame, track_id, frame_in_track) goes on the
- * first symbol of every frame.
+ * generator). keys::truth_tag (a PMT dict: class, class_name, class_library, delay_s,
+ * delay_index, range_m, velocity_mps, snr_db, n_paths, micro_motion, micro_motion_params,
+ * frame, track_id, frame_in_track, and azimuth_rad, elevation_rad with an array; docs/design.md
+ * §3) goes on the first symbol of every frame.
  *
  * The scene: `scene` is a scene file path or scene JSON text (starts with '{'),
  * or "" for random scenes drawn per frame (or per track of track_frames frames) from

@@ -11,10 +11,11 @@
  *
  * Frames of N symbols: aligned to keys::frame_tag tags on a symbol's first sample (the
  * frame index is the tag's value; a tag that is not on a symbol boundary is counted in
- * misaligned_tags() and ignored), counted from 0 otherwise. Tags spaced other than
- * N·(M + cp_len) samples per frame come from a transmitter with another cyclic prefix: the
- * block then stops the stream (work() returns WORK_DONE), logs an error naming both prefix
- * lengths and keeps it in stream_error(). keys::truth_tag (the same
+ * misaligned_tags() and ignored), counted from 0 otherwise. Consecutive tags (frame f after
+ * f − 1) spaced other than N·(M + cp_len) samples come from a transmitter with another
+ * cyclic prefix, whether or not they are on a symbol boundary: the block then stops the
+ * stream (work() returns WORK_DONE), logs an error (naming both prefix lengths when the
+ * spacing fits one) and keeps it in stream_error(). keys::truth_tag (the same
  * dict as target_channel) goes on the first sample of every frame.
  *
  * Noise CN(0, σ²) on every sample, σ² = 10^(-SNR/10): with ofdm_tx/ofdm_rx's unitary
@@ -133,7 +134,8 @@ public:
     virtual uint64_t misaligned_tags() const = 0;   //!< \return frame tags off a symbol boundary (ignored)
     /*!
      * \brief Why the block stopped the stream, empty while it runs: frame tags spaced for
-     *        another cyclic prefix (the message names the transmitter's and this block's).
+     *        another cyclic prefix (the message names the transmitter's and this block's when
+     *        the spacing fits one).
      * \return the error message, or "".
      */
     virtual std::string stream_error() const = 0;

@@ -101,7 +101,7 @@ public:
     static array_geometry load(const std::string& path);
     /*!
      * \brief An array by name or path: an existing file, or `<name>.json` in $SEMS_ARRAYS_PATH,
-     *        the user's folder, the source tree's models/arrays, the installed
+     *        the user's folder, $SEMS_SOURCE_DIR/models/arrays, the source tree's models/arrays, the installed
      *        share/gr-sems/models/arrays (the presets the frame presets name, docs/reference/arrays.md).
      * \param name_or_path the name or file (a name with a '/' or ending in ".json" is a path).
      * \return the array.

@@ -26,7 +26,7 @@ namespace sems {
  *   frame, label, class_name, probs (f32vector, one per class of the bundle) and, when a
  *   sems_truth tag came with the frame, truth (that dict) and correct (bool; the truth's
  *   class_name, else its class id, compared with the predicted class name).
- * Running metrics (frames, frames_scored, frames_skipped, accuracy, confusion) are
+ * Running metrics (frames, frames_scored, frames_skipped, frames_faulted, accuracy, confusion) are
  * readable through the getters and sent on port `metrics` every `metrics_period` frames
  * and at the end, unless the last of those already carried the final numbers.
  *

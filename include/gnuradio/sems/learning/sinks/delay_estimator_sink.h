@@ -25,7 +25,7 @@ namespace sems {
  *   frame, delay_s, delay_index (τ·B) and range_m (cτ/2) and, when a sems_truth tag came
  *   with the frame, truth (that dict) and abs_error_index (|estimate − truth| in delay
  *   indices; the truth's delay_index, else its delay_s·B).
- * Running metrics (frames, frames_scored, frames_skipped, mae_index, mae_m) are readable
+ * Running metrics (frames, frames_scored, frames_skipped, frames_faulted, mae_index, mae_m) are readable
  * through the getters and sent on port `metrics` every `metrics_period` frames and at the
  * end, unless the last of those already carried the final numbers.
  *

@@ -24,7 +24,7 @@ namespace sems {
  * `result`: frame, delay_s, delay_index (τ·B), range_m (cτ/2) and azimuth_rad and, when a
  * sems_truth tag came with the frame, truth (that dict), abs_error_index and, when the truth
  * has an azimuth (a scene with an array), abs_error_azimuth_rad.
- * Running metrics (frames, frames_scored, frames_skipped, mae_index, mae_m, frames_scored_azimuth,
+ * Running metrics (frames, frames_scored, frames_skipped, frames_faulted, mae_index, mae_m, frames_scored_azimuth,
  * rmse_azimuth_rad) are readable through the getters and sent on port `metrics` every
  * `metrics_period` frames and at the end unless the last of those carried the final numbers. Frames with NaN or Inf are counted in
  * frames_skipped and never decoded; frames are decoded `batch_size` at a time, the partial last
