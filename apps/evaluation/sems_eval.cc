@@ -215,7 +215,7 @@ int main(int argc, char** argv)
          "experiments 1-3: the class library of the recognition scenes, by name (paper, kinematic, automotive, nr_urban, wifi_indoor) or file; "
          "not given: the library --frame names (paper for the paper frame)")
         ("exp7-class-library", po::value(&c.exp7_class_library)->default_value(c.exp7_class_library),
-         "experiment 7: the class library of targets of moving scatterers, by name or file")
+         "experiments 7 and 8: the class library of targets of moving scatterers, by name or file")
         ("exp7-np-sweep", po::value(&exp7_np_sweep), "override: experiment 7's pilot budgets besides 32 (test 8; full 128,64,16,8)")
         ("exp7-parts", po::value(&exp7_parts)->default_value(exp7_parts),
          "experiment 7: comma-separated subset of main (N_p 32, every method), budget (the N_p sweep), power (SemS with "

@@ -232,7 +232,8 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
         t.patience = vm["patience"].as<int>();
     if (given("seed"))
         t.seed = vm["seed"].as<uint64_t>();
-    t.threads = vm["threads"].as<int>();
+    if (given("threads"))
+        t.threads = vm["threads"].as<int>();
     if (given("snr")) {
         if (given("snr-min") || given("snr-max"))
             throw std::invalid_argument("give either --snr or --snr-min/--snr-max");
@@ -411,7 +412,7 @@ int main(int argc, char** argv)
         ("mti", po::value(&s.classifier.mti)->default_value(s.classifier.mti), "spectral classifier: zero-Doppler stage none | mean (subtract each subcarrier's mean: removes static clutter) | both")
         ("doppler-bins", po::value(&s.classifier.doppler_bins)->default_value(s.classifier.doppler_bins), "spectral classifier: slow-time DFT size (>= symbols)")
         ("range-bins", po::value(&s.classifier.range_bins)->default_value(s.classifier.range_bins), "spectral classifier: range gate, L delay bins (coherent across subcarriers; -1 = 2·M); 0 = off (the subcarriers' Doppler profiles pooled in power)")
-        ("chirp-bins", po::value(&s.classifier.chirp_bins)->default_value(s.classifier.chirp_bins), "spectral classifier: tone/chirp fit, the number of chirp rates (odd; 0 = off): the share of the slow-time energy one tone or chirp explains, which tells a car (a pure tone) from a pedestrian (a chirp) at equal Doppler; needs the range gate")
+        ("chirp-bins", po::value(&s.classifier.chirp_bins)->default_value(s.classifier.chirp_bins), "spectral classifier: tone/chirp fit, the number of chirp rates (odd; 0 = off): the share of the slow-time energy one tone or chirp explains, which tells a car (a pure tone) from a pedestrian (a chirp) at equal Doppler; with or without the range gate")
         ("chirp-sweep-bins", po::value(&s.classifier.chirp_sweep_bins)->default_value(s.classifier.chirp_sweep_bins), "spectral classifier: the largest chirp rate of the fit, as its Doppler change over the frame in Doppler bins")
         ("chirp-min-pilots", po::value(&s.classifier.chirp_min_pilots)->default_value(s.classifier.chirp_min_pilots), "spectral classifier: the tone/chirp fit counts only subcarriers with at least this many pilots (1 = every observed one)")
         ("template-frames", po::value(&s.classifier.template_frames)->default_value(s.classifier.template_frames), "spectral classifier: keep this many training frames' noiseless pilots on the final mask as a template bank and add its class scores (each class's likelihood over its templates, the Monte-Carlo Bayes classifier of those frames) to the network's (0 = off, -1 = every training frame; costs 8 N_p T multiply-adds per frame and 8 N_p T bytes in decoder.pt; one process only)")

@@ -45,7 +45,7 @@ pilot_extractor_impl::pilot_extractor_impl(const super_frame_mask& mask, int n_e
     for (const auto& set : d_mask.sets()) {
         pilot_set s;
         s.first_of_row.assign(d_n + 1, 0);
-        for (int k = 0; k < d_np; ++k) // Y/(sqrt(p_k)·s_p) = H + noise/sqrt(p_k)
+        for (int k = 0; k < d_np; ++k) // Y/x_k = H + noise/sqrt(p_k), x_k = sqrt(p_k)·s_p·exp(jφ_k)
             s.values.push_back(set.transmitted_pilot(k));
         for (const auto& p : set.positions()) { // mask order: sorted by (n, m)
             s.cols.push_back(p.m);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: what every decoder network shares, and how one is rebuilt from bundle.json.
  *
- * Input convention for all decoders: the pilot observations Y/s_p scattered into a
+ * Input convention for all decoders: the pilot observations Y/x_k (x_k the pilot sent) scattered into a
  * sparse grid, float B x 2 x N x M (real, imag), zero where there is no pilot. The
  * trainer builds that grid from the Gumbel mask; inference builds it from the mask
  * file with scatter_pilots(). Both then call the same forward(), so the app and the

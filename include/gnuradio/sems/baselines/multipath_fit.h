@@ -77,7 +77,7 @@ public:
 
     /*!
      * \brief Refines delays (and ν) from a start.
-     * \param obs N_p observations Y/s_p in mask order.
+     * \param obs N_p observations Y/x_k in mask order (x_k the pilot sent, pilot_mask::transmitted_pilot).
      * \param delay_index start delays (delay indices), 1 <= L <= N_p.
      * \param doppler_hz start Doppler.
      * \return the refined fit.

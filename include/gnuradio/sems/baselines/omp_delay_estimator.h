@@ -74,14 +74,14 @@ public:
     int n_pilots() const;
     /*!
      * \brief Estimates the delay of the target of interest.
-     * \param obs N_p observations Y/s_p in mask order.
+     * \param obs N_p observations Y/x_k in mask order (x_k the pilot sent, pilot_mask::transmitted_pilot).
      * \return the delay index τ·B.
      * \throws std::invalid_argument on non-finite input.
      */
     double estimate_index(const gr_complex* obs) const;
     /*!
      * \brief Estimates the delay of the target of interest.
-     * \param obs N_p observations Y/s_p in mask order.
+     * \param obs N_p observations Y/x_k in mask order (x_k the pilot sent, pilot_mask::transmitted_pilot).
      * \return the delay in s.
      * \throws std::invalid_argument on non-finite input.
      */

@@ -3,7 +3,7 @@
  * \file
  * \brief The periodogram (matched-filter) delay estimator, the classical reference.
  *
- * \details Input: pilot observations r_k = Y/s_p at the mask positions (n_k, m_k), in mask order.
+ * \details Input: pilot observations r_k = Y/x_k (x_k the pilot sent, pilot_mask::transmitted_pilot) at the mask positions (n_k, m_k), in mask order.
  * A single path gives r_k = α · exp(-j2π m_k Δf τ) · (slow-time phase of symbol n_k) + noise.
  * Two models of the slow-time phase:
  *   joint_doppler:  a constant Doppler ν:  P(τ) = max_ν |Σ_k r_k a_τ*(m_k) b_ν*(n_k)|²
@@ -64,14 +64,14 @@ public:
     int n_pilots() const;
     /*!
      * \brief Estimates the delay of the target of interest.
-     * \param obs N_p observations Y/s_p in mask order.
+     * \param obs N_p observations Y/x_k in mask order (x_k the pilot sent, pilot_mask::transmitted_pilot).
      * \return the delay index τ·B.
      * \throws std::invalid_argument on non-finite input.
      */
     double estimate_index(const gr_complex* obs) const;
     /*!
      * \brief Estimates the delay of the target of interest.
-     * \param obs N_p observations Y/s_p in mask order.
+     * \param obs N_p observations Y/x_k in mask order (x_k the pilot sent, pilot_mask::transmitted_pilot).
      * \return the delay in s.
      * \throws std::invalid_argument on non-finite input.
      */

@@ -20,7 +20,7 @@
  * to it unless the offset is calibrated once on the direct path
  * (examples/sems_offset_calibration.grc). False locks per frame of noise:
  * frame_search::false_lock_probability() (3.6e-8 coherent at the defaults; measured by
- * apps/evaluation/sems_sync_false_lock, docs/reference/sdr_receiver.md).
+ * apps/evaluation/sems_sync_false_lock.cc, docs/reference/sdr_receiver.md).
  *
  * Every other input tag (a replayed keys::truth_tag, ...) goes out on the same sample, at
  * output offset = input offset − offset(); tags on the dropped samples are dropped with them,

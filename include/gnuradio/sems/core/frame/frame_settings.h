@@ -25,8 +25,9 @@ struct frame_difference;
 
 /*!
  * \brief The OFDM frame: N symbols of M subcarriers over bandwidth B at carrier f_c.
- * \details The defaults here are the project's only copy of the frame defaults (blocks,
- * bindings and GRC take them from here).
+ * \details The defaults here are the project's only C++ copy of the frame defaults (blocks and
+ * bindings take them from here; GRC blocks repeat some as literals, which
+ * python/sems/qa/qa_grc_defaults.py checks against them).
  */
 struct SEMS_API frame_settings {
     int n_symbols = 32;             ///< N, OFDM symbols per frame (slow time)

@@ -9,7 +9,7 @@
  * de-duplicated silently.
  *
  * Pilot energy: pilot k carries sqrt(p_k)·s_p, with p_k > 0 and mean(p) = 1 (the total
- * pilot energy of equal power). Its observation Y/(sqrt(p_k)·s_p) is H + noise of standard
+ * pilot energy of equal power). Its observation Y/x_k (x_k = transmitted_pilot(k)) is H + noise of standard
  * deviation σ/sqrt(p_k): noise_scale() is that rule, and every place that forms pilot
  * observations uses it. Without a `power` list every p_k is 1 (equal power).
  *
@@ -253,7 +253,7 @@ public:
     gr_complex transmitted_pilot(int k) const;
     /*!
      * \brief The observation noise of pilot k relative to an equal-power pilot.
-     * \details The observation Y/(sqrt(p_k)·s_p) = H + W/sqrt(p_k): its noise standard
+     * \details The observation Y/x_k = H + W/sqrt(p_k) (x_k = transmitted_pilot(k)): its noise standard
      * deviation is σ·noise_scale(k). Exactly 1 for an equal-power mask.
      * \param k the pilot, in mask order (0..N_p-1).
      * \return 1/sqrt(p_k).

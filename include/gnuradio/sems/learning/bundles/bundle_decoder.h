@@ -18,7 +18,7 @@ namespace sems {
 /*!
  * \brief Inference on a model bundle, shared by the sinks, the evaluation app and the bindings.
  * \details Rebuilds the decoder network from bundle.json, loads its weights and maps pilot
- * observations (Y/s_p at the mask positions, in mask order) to answers. LibTorch stays
+ * observations (Y/x_k at the mask positions, x_k the pilot sent, in mask order) to answers. LibTorch stays
  * behind this header (pimpl), so blocks and bindings need no torch headers.
  *
  * Non-finite input: a frame holding NaN or Inf (real or imaginary part, any pilot) is never

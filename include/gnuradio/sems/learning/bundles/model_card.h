@@ -19,8 +19,11 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief A model bundle's card: the file `model_card.json` in the bundle directory, whose keys
- *        are the fields below (`format` "sems.model_card", `version` 1).
+ * \brief A model bundle's card: the file `model_card.json` in the bundle directory, holding the
+ *        fields below (`format` "sems.model_card", `version` 1), grouped as
+ *        docs/reference/file_formats.md gives them: `pilots` {n_pilots, mask, mask_origin,
+ *        phases (pilot_phases)}, `frame` (a preset's name, or the settings), `retrain`
+ *        {command, recorded}, `test`, `speed`.
  * \details sems_train writes it at the end of training (its test split's figures) and
  * `sems_eval --model-card DIR` measures and rewrites it on a fixed test set; scripts/models_catalogue.py
  * builds models/README.md from the shipped bundles' cards. The card refers to bundle.json for
@@ -59,8 +62,8 @@ struct SEMS_LEARNING_API model_card {
 
     /*! \brief The decoder's speed beside an anchor timed in the same run (apps/model_card_speed.h). */
     struct speed_record {
-        int threads = 1;          ///< LibTorch threads
-        int batch = 32;           ///< frames per inference call (the sinks' default)
+        int threads = 1;          ///< LibTorch threads (the measurement uses one)
+        int batch = 32;           ///< frames per inference call (the measurement uses sink_defaults::batch_size)
         double snr_db = 10.0;     ///< SNR of the frames decoded (the delay refinements' cost depends on it)
         int frames = 0;           ///< frames per timing run
         int repeats = 0;          ///< timing runs of each (the fastest counts)

@@ -20,7 +20,7 @@ namespace sems {
 /*!
  * \brief Classifies the target of each frame with a model bundle.
  *
- * \details Input: gr_complex[N_p] per frame, the pilot observations Y/s_p in mask order (from
+ * \details Input: gr_complex[N_p] per frame, the pilot observations Y/x_k (x_k the pilot sent) in mask order (from
  * pilot_extractor); from an array, gr_complex[N_r·N_p], element-major (the extractor's N_r
  * inputs). Output: a PMT dict per frame on message port `result`:
  *   frame, label, class_name, probs (f32vector, one per class of the bundle) and, when a

@@ -20,7 +20,7 @@ namespace sems {
  * \brief Estimates the delay of the target of interest of each
  * frame with a model bundle.
  *
- * \details Input: gr_complex[N_p] per frame, the pilot observations Y/s_p in mask order (from
+ * \details Input: gr_complex[N_p] per frame, the pilot observations Y/x_k (x_k the pilot sent) in mask order (from
  * pilot_extractor). Output: a PMT dict per frame on message port `result`:
  *   frame, delay_s, delay_index (τ·B) and range_m (cτ/2) and, when a sems_truth tag came
  *   with the frame, truth (that dict) and abs_error_index (|estimate − truth| in delay

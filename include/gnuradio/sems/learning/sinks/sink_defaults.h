@@ -10,9 +10,9 @@ namespace gr {
 namespace sems {
 
 /*!
- * \brief Default settings of the sink blocks, the one place they are spelled in C++
- *        (the three sinks and their bindings; the GRC blocks repeat the values, checked by
- *        python/sems/qa/qa_grc_defaults.py).
+ * \brief Default settings of the sink blocks, which the three sinks, their bindings and the
+ *        model cards' speed measurement (apps/model_card_speed.h) take from here (the GRC
+ *        blocks repeat the values, checked by python/sems/qa/qa_grc_defaults.py).
  */
 struct sink_defaults {
     static constexpr int batch_size = 32;      ///< frames per inference call
