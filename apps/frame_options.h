@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: the frame flags every program shares (sems_train, sems_eval, the benches), spelled
+/* gr-sems: the frame flags the programs that draw frames share (sems_train, sems_eval,
+ * sems_bench_channel, sems_bench_array), spelled
  * once: --frame (a frame file or a preset's name) and one override per field.
  *
  *   sems_train --frame sdr_2g4_20mhz ...              (the preset as it is)

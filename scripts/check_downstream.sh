@@ -18,7 +18,8 @@ command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$src/examples/downstream" -B "$work/build" -DCMAKE_PREFIX_PATH="$prefix" \
   -DSEMS_CHECK_HEADERS=ON -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" > "$work/configure.log" \
   || { cat "$work/configure.log"; exit 1; }
-cmake --build "$work/build" -j"$(nproc)" > "$work/build.log" 2>&1 || { tail -50 "$work/build.log"; exit 1; }
+# Every core (getconf: nproc would follow the OMP_NUM_THREADS=1 scripts/test.sh sets for CTest).
+cmake --build "$work/build" -j"$(getconf _NPROCESSORS_ONLN)" > "$work/build.log" 2>&1 || { tail -50 "$work/build.log"; exit 1; }
 grep -o 'compiling [0-9]* installed headers alone' "$work/configure.log" | sed 's/^/check_downstream: /'
 # The libraries come from the prefix only (not the build tree).
 LD_PRELOAD="$run_preload" LD_LIBRARY_PATH="$prefix/lib:$prefix/lib/x86_64-linux-gnu" "$work/build/sems_downstream" "$src/models/classifier" 200

@@ -18,6 +18,7 @@
  *     exp7_confusion.csv     every method's confusion matrix at --confusion-snr;
  *     exp7_pilot_budget.csv  SemS against the Doppler and staggered patterns at each N_p
  *     exp7_pilot_power.csv   SemS with learned pilot energies (same total) at N_p 32 and 128
+ *     exp7_bank.csv, exp7_burst.csv, exp7_range.csv  the bank, burst and range parts (--exp7-parts)
  *   beside experiments 1, 3, 4, 5, 7 and 9's (classes) CSVs: <csv stem>_predictions.npz, every method's output on
  *     every test frame at every SNR and training seed (class ids; delay-index errors), and
  *     exp<N>_truth.npz, the test frames' truth, for the paired statistics of
@@ -53,7 +54,8 @@
  * every method sees exactly the same frames. Decoders are trained with the project's
  * trainer (trainer.h), once per training seed (--seeds: seed, seed + 1, ...; the test
  * frames stay the same), and cached under <out>/bundles/<name>_s<seed> (reused when the
- * settings match). Every CSV row carries its test seed and its training seed (or none).
+ * settings match). The score rows of experiments 1 to 8 carry their test seed and training seed
+ * (or none) where the CSV has those columns (the confusion, range and experiment 9 CSVs keep fewer).
  */
 #include "count_list.h"
 #include "frame_options.h"
@@ -127,8 +129,8 @@ void apply_size(config& c)
         c.exp7_np_sweep = { 8 };
         c.classic_oversample = 4; // experiment 8: eval.h's defaults are its test size
     } else if (c.size == "full") {
-        // 3 + 3 epochs: what the documented run used (docs/RESULTS.md: experiments 1, 3 and 4
-        // in about 75 minutes on 2 cores, split over processes). The data budget below is
+        // 3 + 3 epochs: what the documented run used (docs/RESULTS.md: the six experiments in
+        // 65-100 minutes on 2 cores, split over processes). The data budget below is
         // the paper's; only the epochs trade accuracy for time.
         constexpr int full_epochs = 3;
         constexpr int full_decoder_epochs = 3;

@@ -22,7 +22,8 @@ import sys
 import time
 
 # Budgets: the same for every network of a task (the accurate bundles' recipes, smaller). The
-# shipped classifiers have no tone/chirp fit (--chirp-bins 0): the sweep measures those decoders.
+# shipped classifier and classifier_fast, which the sweep stands beside, have no tone/chirp fit
+# (--chirp-bins 0): the sweep measures those decoders.
 CLASSIFY = dict(mask="models/classifier/mask.json", scene_from="models/classifier",
                 common=["--task", "classify", "--snr-min", "0", "--snr-max", "20", "--frames", "10000",
                         "--epochs", "4", "--threads", "1", "--seed", "1", "--eval-snr", "0,10,30", "--chirp-bins", "0",

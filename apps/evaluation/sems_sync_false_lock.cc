@@ -183,7 +183,7 @@ int main(int argc, char** argv)
         "leakage-db", po::value(&o.leakage_db)->default_value(o.leakage_db), "leakage over the echo (dB)")(
         "max-delay", po::value(&o.max_delay)->default_value(o.max_delay), "echo delay drawn in 0 .. this (samples)")(
         "seed", po::value(&o.seed)->default_value(o.seed), "random seed")(
-        "report", po::value(&o.report)->default_value(o.report), "progress every this many searches (0: none)")(
+        "report", po::value(&o.report)->default_value(o.report), "progress every this many noise searches, and every tenth of it in the detection trials (0: none)")(
         "max-false-locks", po::value(&o.max_false_locks)->default_value(o.max_false_locks),
         "exit 1 above this many false locks (-1: no check)")(
         "min-leakage-detection", po::value(&o.min_leakage)->default_value(o.min_leakage),

@@ -12,8 +12,9 @@ budget and training seed: the predicted class id, or the delay-index error as fl
 one exp<N>_truth.npz per experiment (each test frame's class id, true delay index, range and
 radial velocity, and what identifies it: scenario, test seed, frame index). Both are NumPy
 .npz archives that numpy.load reads without pickles; docs/reference/file_formats.md ("Kept
-predictions") has the layout. `sems_eval --only-shipped` rows go to shipped_<stem>_predictions.npz
-and are read with their experiment, as plot_results.py reads shipped_<stem>.csv.
+predictions") has the layout. `sems_eval --only-shipped` writes <stem>_predictions.npz, which
+scripts/evaluation/eval_full.sh keeps as shipped_<stem>_predictions.npz (`predictions.py merge`),
+read with their experiment, as plot_results.py reads shipped_<stem>.csv.
 
 `check` recomputes each CSV row's accuracy and macro-F1 (or mean, RMS and median absolute error
 and the fraction above half an index) from the kept files and compares it with the CSV as

@@ -388,7 +388,7 @@ int main(int argc, char** argv)
         ("eval-frames", po::value(&s.eval_frames)->default_value(s.eval_frames), "test frames per SNR point (0 = all)")
         ("out", po::value(&s.out_dir)->required(), "bundle directory to write")
         // Network sizes (defaults: include/gnuradio/sems/learning/networks/network_settings.h).
-        ("width", po::value<int>(), "decoder width (classifier: first-stage channels; delay: 1-D CNN channels)")
+        ("width", po::value<int>(), "decoder width (classifier: channels of every convolution; delay: 1-D CNN channels)")
         ("depth", po::value<int>(), "decoder depth (resnet classifier: residual stages; delay: residual blocks; the spectral classifier has none)")
         ("hidden", po::value(&s.classifier.hidden)->default_value(s.classifier.hidden), "classifier MLP width")
         ("projections", po::value(&s.delay.projections)->default_value(s.delay.projections), "delay: complex time projections")
@@ -430,7 +430,7 @@ int main(int argc, char** argv)
         ("super-frames", po::value<int>()->default_value(track_training_settings{}.super_frames), "--frame-bundle: F, the frames of a super-frame mask; F > 1 learns F sets of the bundle's N_p pilots (one per frame, set = frame index mod F) with its frame decoder before the temporal model")
         ("super-frame-epochs", po::value<int>()->default_value(track_training_settings{}.mask_epochs), "--super-frames > 1: epochs of the sets' learner")
         ("super-frame-start", po::value<std::string>()->default_value(track_training_settings{}.mask_start), "--super-frames > 1: where the sets start, frame (the bundle's mask in every set, kept unless an epoch validates better) or random")
-        ("super-frame-tracks", po::value<int>()->default_value(track_training_settings{}.mask_tracks), "--super-frames > 1: training tracks it learns on (windows of 2F frames held whole: 8·N·M bytes a frame)")
+        ("super-frame-tracks", po::value<int>()->default_value(track_training_settings{}.mask_tracks), "--super-frames > 1: training tracks it learns on (windows of min(2F, --track-frames) frames held whole: 8·N·M bytes a frame)")
         ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share of each frame's evidence dropped in training")
         ("track-weight-decay", po::value<double>()->default_value(track_training_settings{}.weight_decay), "--frame-bundle: AdamW weight decay")
         ("track-eval-frames", po::value<std::string>(), "--frame-bundle: observation times scored, in frames, comma-separated (default 1, 2, 4, ... and the track length)")
@@ -471,7 +471,8 @@ int main(int argc, char** argv)
             for (const auto& [name, value] : vm)
                 if (!value.defaulted() && !allowed.count(name))
                     throw std::invalid_argument("--" + name + " cannot be given with --from (the bundle's recorded "
-                                                "settings are used; only sizes, --out, --threads and --data may change)");
+                                                "settings are used; only sizes, --out, --eval-snr, --threads, --data, --quiet, --dry-run "
+                                                "and the distributed flags may change)");
             auto r = training_settings::from_bundle(model_bundle::load(from));
             auto size = [&](const char* flag, int& field, int value) {
                 if (!vm[flag].defaulted())

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The frame a block works on, from what a user types: `frame_of`.
 
-Every GRC block that needs the frame (N, M, B, f_c, T, the prefix, the guards) takes one
-*Frame* parameter, resolved by this function (or, in the sinks' C++, by the same
+Every GRC block whose parameters include the frame (N, M, B, f_c, T, the prefix, the guards)
+takes one *Frame* parameter (the leakage canceller's window and the phase-noise source's sample
+rate are numbers of their own), resolved by this function (or, in the sinks' C++, by the same
 `frame_file.find`), so a preset name, a frame file and the default mean the same thing in every
 block and in Python.
 """

@@ -10,7 +10,7 @@
 # they end together (the N_p sweep of experiment 5 is split over all three):
 #   full   experiments 1, 2 (t-SNE of experiment 1's networks, from the same cache), 5 at
 #          N_p 2 and 8, 6
-#   full4  experiment 4 single path, then 5 at N_p 16, then experiment 3 (clutter, SNR, velocity), 6
+#   full4  experiment 4 single path, then 5 at N_p 16, then experiment 3 (without micro-Doppler; strong clutter), 6
 #   full4b experiment 4 multipath, then experiment 5 at N_p 32 (experiment 4's network from the
 #          same cache), 64 and 128, 6
 # then `--only-shipped` for models/, docs/results/combine_runs.py and apps/figures/plot_results.py into

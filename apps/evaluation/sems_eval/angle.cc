@@ -23,8 +23,8 @@
  * joins the one-target rows, and every method reads that mask and array instead (the same
  * frames for all). Its network alone (without the polish) is a row of its own. With several
  * bundles each one's rows carry " [seed S]".
- * Output: exp9_angle.csv (part, method, snr_db, frames, rmse_rad, crb_rad, rmse_over_crb,
- * both_found) and exp9_angle_predictions.csv (one target: every method's estimate of every
+ * Output: exp9_angle.csv (part, method, elements, n_pilots, snr_db, frames, rmse_rad, crb_rad,
+ * rmse_over_crb, both_found) and exp9_angle_predictions.csv (one target: every method's estimate of every
  * frame at every SNR, with the truth and the frame's bound: paired comparisons). */
 #include "eval.h"
 #include <gnuradio/sems/baselines/angle_estimators.h>

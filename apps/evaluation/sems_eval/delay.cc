@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval experiments 4 and 5: delay-index errors against SNR (single path and
  * multipath) for SemS and the classical estimators, with the CRB; and SemS against
- * the pilot budget N_p. Each row reports the mean, RMS and median absolute error and
- * the fraction of frames off by more than half a delay index (gross errors).
+ * the pilot budget N_p. Each row reports the mean, RMS and median absolute error, and
+ * experiment 4's the fraction of frames off by more than half a delay index (gross errors).
  *
  * The classical side is fair: OMP also with off-grid LS refinement, and the oracle-order
  * least-squares reference (grid search, then nonlinear least squares over all delays and

@@ -40,9 +40,9 @@ struct config {
     int threads = 2;
     int test_frames = 60;         // per operating point (the same frames at every SNR)
     int train_frames = 600;       // DL training frames (the trainer splits 8:1:1)
-    int epochs = 2;               // mask-learning epochs (decoder epochs on a fixed mask)
+    int epochs = 2;               // mask-learning epochs (a fixed mask trains epochs + decoder_epochs)
     int decoder_epochs = 1;       // decoder epochs after a learned mask
-    int classifier_epochs = 2;    // mask-learning epochs of the classification networks (experiments 1-3)
+    int classifier_epochs = 2;    // mask-learning epochs of the classification networks (experiments 1-3, 7 and 8)
     int patience = 3;
     int batch = 64;
     int svm_train_frames = 300;
@@ -56,7 +56,7 @@ struct config {
     int multipath_paths = 3;
     double clutter_csr_db = 10.0;
     std::string class_library = "paper"; // experiments 1-3: the recognition scenes' class library (name or file)
-    std::string exp7_class_library = "kinematic"; // experiment 7: targets of moving scatterers (name or file)
+    std::string exp7_class_library = "kinematic"; // experiments 7 and 8: targets of moving scatterers (name or file)
     std::vector<int> exp7_np_sweep{ 8 };          // experiment 7's pilot budgets besides its 32
     std::vector<int> exp7_power_np{ 32 };        // experiment 7: N_p of SemS with learned pilot energies
     std::vector<int> exp7_bank_np{ 8 };          // experiment 7: N_p of the bank part (SemS and the Doppler

@@ -44,7 +44,7 @@ struct series_key {
     uint64_t test_seed = 0;
 };
 
-// The per-frame outputs behind one CSV: class ids (experiments 1, 3 and 7) or delay-index
+// The per-frame outputs behind one CSV: class ids (experiments 1, 3, 7 and 9's classes part) or delay-index
 // errors, estimate minus truth, as float32 (experiments 4 and 5). The file is rewritten
 // whole by write(): call it after each method, so a stopped run keeps what it scored.
 class kept_predictions

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* sems_eval experiment 7, range part: a classifier read against range under a stated link
- * budget. The frames come from a scene with a link budget (models/scenes/kinematic_sdr_budget.json
- * by default) on the bundle's own frame, the noise at the budget's thermal noise plus
- * --exp7-range-margin; each class's accuracy per range bin goes to exp7_range.csv beside the
+ * budget. The frames come from a scene with a link budget (--exp7-range-scene, required; e.g.
+ * models/scenes/kinematic_sdr_budget.json, as docs/RESULTS.md passes it) on the bundle's own
+ * frame, the noise at the budget's thermal noise plus --exp7-range-snr; each class's accuracy per range bin goes to exp7_range.csv beside the
  * mean SNR per resource element the radar equation gave its frames there. */
 #include "eval.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>

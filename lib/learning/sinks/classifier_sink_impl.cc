@@ -279,6 +279,9 @@ pmt::pmt_t classifier_task::add_metrics(pmt::pmt_t dict) const
 void classifier_task::reset_metrics()
 {
     d_scored = d_correct = 0;
+    d_tracks_started = 0;
+    d_track_gaps = 0;
+    d_track_idle = 0;
     d_confusion.assign(d_names.size(), std::vector<uint64_t>(d_names.size(), 0));
 }
 

@@ -98,6 +98,7 @@ struct answer {
 struct track_run {
     std::vector<answer> answers;
     uint64_t tracks_started, track_gaps, skipped;
+    uint64_t track_counters_after_reset; // tracks_started + track_gaps after reset_metrics()
 };
 
 std::vector<gr_complex> observation(uint64_t seed, int np)
@@ -141,7 +142,9 @@ track_run stream_track(const std::vector<frame_spec>& frames, int batch, const s
     tb->connect(src, 0, sink, 0);
     tb->msg_connect(sink, keys::result_port, dbg, "store");
     tb->run();
-    track_run r{ {}, sink->tracks_started(), sink->track_gaps(), sink->frames_skipped() };
+    track_run r{ {}, sink->tracks_started(), sink->track_gaps(), sink->frames_skipped(), 0 };
+    sink->reset_metrics();
+    r.track_counters_after_reset = sink->tracks_started() + sink->track_gaps();
     for (int i = 0; i < dbg->num_messages(); ++i) {
         const auto m = dbg->get_message(i);
         answer a;
@@ -226,6 +229,7 @@ public:
                        std::vector<uint64_t>({ 1, 2, 3, 1, 2, 1, 2, 3, 1, 2, 1, 2, 1, 2, 3 }));
         CPPUNIT_ASSERT_EQUAL(uint64_t(3), r.track_gaps);
         CPPUNIT_ASSERT_EQUAL(uint64_t(6), r.tracks_started);
+        CPPUNIT_ASSERT_EQUAL(uint64_t(0), r.track_counters_after_reset); // reset_metrics() restarts them too
     }
 
     void per_frame_bundles_are_not_in_track_mode()

@@ -32,7 +32,7 @@ namespace sems {
  * \param energy_to_noise E = Σ_t |s_t|² / σ², the target's energy over all snapshots (per
  *        element) over the noise variance (linear, > 0).
  * \return the bound on the variance of φ in rad².
- * \throws std::invalid_argument for E ≤ 0 or not finite, or λ ≤ 0.
+ * \throws std::invalid_argument for E ≤ 0 or not finite, λ ≤ 0, or an azimuth where the element pattern is null.
  */
 SEMS_BASELINES_API double angle_crb_rad2(const array_geometry& a, double azimuth_rad, double elevation_rad,
                                          double wavelength_m, double energy_to_noise);

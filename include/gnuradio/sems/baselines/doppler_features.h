@@ -14,7 +14,7 @@
  * Kim & Moon (2009):
  *   0 mean        μ = Σ f p(f)                                   [Hz]
  *   1 std         σ = √Σ (f-μ)² p(f)                             [Hz]
- *   2 skewness    Σ ((f-μ)/σ)³ p(f)     (0 for a line: σ < 1e-3 of a Doppler bin)
+ *   2 skewness    Σ ((f-μ)/σ)³ p(f)     (0 for a line: σ < 1e-3 of a grid step, 1/(oversample·N·T))
  *   3 kurtosis    Σ ((f-μ)/σ)⁴ p(f)     (0 for a line; not excess)
  * plus two classic descriptors:
  *   4 peak        argmax_f S(f), the bulk ("torso") Doppler       [Hz] — robust to

@@ -8,7 +8,8 @@
  * in dB (10·log10), row d = Doppler bin d - N/2 (Doppler (d - N/2)/(N·T), zero Doppler in the middle
  * row), column q = delay index q (delay q/B). A unit-amplitude target on a full grid at an integer
  * delay index k and Doppler bin b reads 0 dB at cell (b + N/2 mod N, k mod M). Off-pilot cells are
- * zero (a sparse mask raises the sidelobes and lowers the peak by the fill fraction squared).
+ * zero (a sparse mask raises the sidelobes and lowers the peak by the windowed fill squared,
+ * (Σ_pilots w_n·w_m / (Σw_n·Σw_m))²: the fill fraction squared with the rect window).
  * An empty cell reads floor_db (-300 dB), never -inf.
  */
 #ifndef INCLUDED_SEMS_CORE_RANGE_DOPPLER_H

@@ -237,7 +237,7 @@ public:
      * instants when K = M is even (the sequence is then a Zadoff–Chu sequence of root 1, whose
      * DFT has constant modulus), against sqrt(K) for equal phases. The mask applies it to each
      * symbol's pilots in subcarrier order; on the 32 random subcarriers of the shipped
-     * one-symbol delay mask the crest factor is 2.23 at the 64 samples (2.67 between them)
+     * one-symbol delay mask the crest factor is 2.23 at the 64 samples (2.68 between them)
      * against sqrt(32) = 5.66. Chosen over a Zadoff–Chu sequence of another root because it
      * is defined for every K (odd or even) and has no parameter to pick.
      * \param count K ≥ 1.

@@ -107,7 +107,7 @@ public:
     /*!
      * \brief The values per frame evidence() gives.
      * \param doppler_profile with the Doppler profile.
-     * \return feature_size() + the profile's values (when asked) + C.
+     * \return feature_size() + the profile's values (when asked) + C; 0 for a delay bundle.
      * \throws std::invalid_argument when a profile is asked of a decoder without one.
      */
     int evidence_size(bool doppler_profile = false) const;

@@ -121,7 +121,7 @@ struct SEMS_LEARNING_API classifier_settings {
                               /// fits any series exactly, so such subcarriers report "explained"
                               /// whatever the target is, and a mask learner drifts to masks of one
                               /// to three symbols across many subcarriers, where the fit says
-                              /// nothing (docs/RESULTS.md, the collapsed no-micro-Doppler seed)
+                              /// nothing (docs/results/notes/tone_fit.md, the collapsed no-micro-Doppler seed)
     int template_frames = 0;  ///< spectral: the template bank, T of the training frames' noiseless
                               /// pilots on the final mask, kept in the decoder (0 = off, the
                               /// legacy value for bundles without this key; -1 = every training
