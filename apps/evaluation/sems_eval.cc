@@ -141,7 +141,7 @@ void apply_size(config& c)
         c.epochs = full_epochs;
         c.decoder_epochs = full_decoder_epochs;
         // The classifiers' masks get 6 + 3 (the hand patterns and Perfect CSI 9 on the decoder):
-        // with 3 mask epochs the learner had not always settled (docs/RESULTS.md).
+        // with 3 mask epochs the learner had not always settled (docs/results/notes/evaluation_run.md).
         c.classifier_epochs = 6;
         c.batch = 256;
         c.seeds = 3;

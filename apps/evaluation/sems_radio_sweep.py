@@ -6,8 +6,8 @@ Streams frames through the time-domain chain with the radio front end in between
 the classifier sink (accuracy) and the delay-estimator sink (single-path MAE in delay index):
 
     pilot_mapper -> ofdm_tx -+-> radio_front_end (leakage, oscillators, IQ, DC, converter)
-                             |     -> [unknown start: delay] -> [frame_sync] -+
-                             +------------------------------------------------+-> leakage_canceller
+                             |     -> [unknown start: delay] -> [skiphead: the start found] -+
+                             +-----------------------------------------------------------------+-> leakage_canceller
                                  -> ofdm_rx -> pilot_extractor -> classifier / delay sink
 
 One impairment at a time, every other one off, at 10 and 20 dB SNR per resource element,
@@ -17,8 +17,10 @@ frame start known (the impairment's own cost); then the combined monostatic radi
 frame start found by frame_sync, next to the ideal radio with a known start (the reference);
 then the same with the bundles trained for that radio (sems_train --radio), on it and on the
 ideal radio.
-The receiver (frame_sync, then leakage_canceller fed with the transmitted samples) is the same
-in every row that has it; rows say which stages ran.
+An unknown start is found by frame_sync once, in a short calibration run of the same radio (8
+frames on the delay bundle's mask), and the scored runs skip that many samples (skiphead); the
+leakage_canceller, fed with the transmitted samples, is the same in every row that has it; rows
+say which stages ran.
 
 Writes <out>/radio_sweep.csv; --table prints the Markdown table of a CSV, --plot draws it.
 

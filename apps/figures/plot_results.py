@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Draw one PNG per sems_eval experiment from its CSVs.
+"""Draw one PNG per sems_eval experiment 1 to 6 from its CSVs (7 to 9: plot_kinematic.py,
+plot_range.py, plot_tracks.py, plot_angle.py, plot_array_classes.py).
 
     /usr/bin/python3 apps/figures/plot_results.py docs/results            # PNGs next to the CSVs
     /usr/bin/python3 apps/figures/plot_results.py /tmp/eval --out /tmp/png --tsne-iter 250

@@ -354,7 +354,7 @@ int main(int argc, char** argv)
         ("mask-pattern", po::value(&s.mask_pattern), "fixed standard mask (uniform|random|doppler|staggered|burst): train the decoder only")
         ("pilot-power", po::value(&s.pilot_power)->default_value(s.pilot_power), "pilot energies: equal (every pilot the same) | learned (the mask learner also shares the total pilot energy among the pilots; learned masks only)")
         ("pilot-power-floor", po::value(&s.pilot_power_floor)->default_value(s.pilot_power_floor), "--pilot-power learned: the smallest energy of a pilot, relative to equal power, in [0, 1)")
-        ("pilot-phases", po::value(&s.pilot_phases), "pilot phases in the bundle's mask: newman (low crest factor: the pilots of one symbol do not peak together in time, so a radio's converter does not clip them) | zero (none); default: as the mask has them (a --mask file's own phases, none otherwise). The decoder sees Y/s_k, so training is the same")
+        ("pilot-phases", po::value(&s.pilot_phases), "pilot phases in the bundle's mask: newman (low crest factor: the pilots of one symbol do not peak together in time, so a radio's converter does not clip them) | zero (none); default: as the mask has them (a --mask file's own phases, none otherwise). The decoder sees Y/x_k (x_k the pilot sent, its phase included), so training is the same")
         ("radio", po::value(&radio_file), "radio file (format sems.radio, e.g. examples/radios/sdr_monostatic.json): draw every "
                                           "observation through its front end (leakage and canceller, oscillators, IQ imbalance, DC, "
                                           "converter; no sample clock offset) for training and the test metrics, and record it in the "

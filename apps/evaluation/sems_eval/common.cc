@@ -314,7 +314,7 @@ training_settings base_training(const config& c, task_kind task, const scene& sc
     s.verbose = false;
     if (task == task_kind::classify) {
         // Classifiers are cheap to train, and the mask learner needs 4-6 epochs to settle its
-        // pilots (docs/RESULTS.md, "Learned pilots against the Doppler pattern"): their own count.
+        // pilots (docs/results/notes/learned_vs_doppler.md): their own count.
         s.epochs = c.classifier_epochs;
         s.snr_min_db = c.train_snr_min_db;
         s.snr_max_db = c.train_snr_max_db;

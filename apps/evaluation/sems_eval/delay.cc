@@ -125,6 +125,17 @@ std::vector<std::vector<crb_path>> test_paths(const frame_settings& fs, const sc
 }
 
 // The classical estimators' search window: the delay decoder's default dictionary range.
+// The direct path's mean power in a delay scene of `paths` paths: 1 / Σ_k 10^(-k·decay/10)
+// (1 for one path), where the single-path CRB of a multipath frame is taken.
+double direct_path_power(int paths)
+{
+    const auto r = *delay_scene(paths).random_settings();
+    double sum = 0.0;
+    for (int k = 0; k < paths; ++k)
+        sum += std::pow(10.0, -k * r.path_power_decay_db / 10.0);
+    return 1.0 / sum;
+}
+
 delay_search classic_window(const config& c)
 {
     delay_search w;
@@ -178,15 +189,7 @@ void run_delay(const config& c, std::ostream& log)
                 << num(e.median, 4) << ", > 0.5: " << num(e.gross, 4) << " (CRB " << num(crb, 3) << ", "
                 << num(us, 3) << " us/frame)" << std::endl;
         };
-        // The direct path's mean power: 1 / Σ_k 10^(-k·decay/10) of the scene's paths.
-        double direct_power = 1.0;
-        {
-            const auto r = *delay_scene(paths).random_settings();
-            double sum = 0.0;
-            for (int k = 0; k < paths; ++k)
-                sum += std::pow(10.0, -k * r.path_power_decay_db / 10.0);
-            direct_power = 1.0 / sum;
-        }
+        const double direct_power = direct_path_power(paths);
         auto crb_of = [&](const pilot_mask& m, double snr) {
             try {
                 return delay_crb::mae_index(c.fs, m, snr, false, true, direct_power);
@@ -403,7 +406,8 @@ void run_pilot_budget(const config& c, std::ostream& log)
                 kept.add({ scen, "SemS", mask, np, snr, seed, test_seed }, err);
                 double crb = std::nan("");
                 try {
-                    crb = delay_crb::mae_index(c.fs, src.bundle.mask, snr, false, true);
+                    crb = delay_crb::mae_index(c.fs, src.bundle.mask, snr, false, true,
+                                               direct_path_power(c.multipath_paths));
                 } catch (const std::invalid_argument&) {
                 }
                 csv.row({ "5", scen, "SemS", std::to_string(np), num(snr), num(e.mae), num(e.rmse), num(e.median),

@@ -15,7 +15,7 @@
  * Position bundles: frames 0 .. n - 1 of the position record's scene (with its array), seed
  * S + 3, each element's pilots noised as the pilot extractor reads them, decoded by
  * position_estimator in the sinks' batches: the delay's errors as a delay bundle's and the
- * azimuth's RMSE beside its Cramér–Rao bound (frames whose target is one path). */
+ * azimuth's RMSE beside its Cramér–Rao bound (when every test frame's target is one path). */
 #include "eval.h"
 #include "model_card_speed.h"
 #include <gnuradio/sems/core/radio/front_end_frame.h>

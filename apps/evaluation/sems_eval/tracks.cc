@@ -8,7 +8,7 @@
  *   - the fusion of independent frames (the product of per-frame posteriors) of each of those
  *     frame bundles, and of MSE-DL's;
  *   - the feature SVM over the track (the Doppler-spectrum moments of the Doppler pattern's
- *     pilots, averaged over the frames given);
+ *     pilots, their mean and standard deviation over the frames given);
  *   - the Perfect-CSI spectrogram CNN (the whole noiseless grid of every frame).
  * Per-track decisions go beside the scores (exp8_predictions.csv, exp8_truth.csv), for the
  * paired statistics of apps/figures/plot_tracks.py. */
