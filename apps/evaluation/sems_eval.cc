@@ -52,7 +52,7 @@
  * Test frames: one channel_model seed per scene (scene/gain and noise generators are
  * separate), noise drawn once with unit variance and scaled, so every SNR point and
  * every method sees exactly the same frames. Decoders are trained with the project's
- * trainer (trainer.h), once per training seed (--seeds: seed, seed + 1, ...; the test
+ * trainer (trainer.h), once per training seed (--seeds: seed + --first-seed, then + 1, ...; the test
  * frames stay the same), and cached under <out>/bundles/<name>_s<seed> (reused when the
  * settings match). The score rows of experiments 1 to 8 carry their test seed and training seed
  * (or none) where the CSV has those columns (the confusion, range and experiment 9 CSVs keep fewer).
@@ -195,7 +195,7 @@ int main(int argc, char** argv)
         ("out", po::value(&c.out_dir), "output directory (CSVs, masks, cached bundles); required unless --model-card")
         ("experiments", po::value(&experiments)->default_value(experiments), "comma-separated subset of 1..9 (8 and 9 only when named)")
         ("seed", po::value(&c.seed)->default_value(c.seed), "seed of the test frames and the first training seed")
-        ("seeds", po::value<int>(), "override: training seeds per learned method (seed, seed + 1, ...; test 1, full 3)")
+        ("seeds", po::value<int>(), "override: training seeds per learned method (seed + --first-seed, then + 1, ...; test 1, full 3)")
         ("first-seed", po::value(&c.first_seed)->default_value(c.first_seed),
          "train with seeds seed + first-seed, ... (the test frames stay those of --seed): one seed per process")
         ("threads", po::value(&c.threads)->default_value(c.threads), "LibTorch threads (training and inference)")
@@ -203,8 +203,8 @@ int main(int argc, char** argv)
          "(test 24, full 3000), the same for every method, seed and SNR; e.g. 30000 for tighter paired tests (each "
          "scene's frames are held in memory: 16 N M bytes each, 1 GB at 30000 of 32 x 64)")
         ("train-frames", po::value<int>(), "override: training frames per network (split 8:1:1)")
-        ("epochs", po::value<int>(), "override: mask-learning epochs of the delay networks (a network on a fixed mask, a hand "
-         "pattern's or Perfect CSI's, trains these plus --decoder-epochs; classifiers take --classifier-epochs instead)")
+        ("epochs", po::value<int>(), "override: mask-learning epochs of the delay networks (all learn their mask; a classifier "
+         "on a fixed mask, a hand pattern's or Perfect CSI's, trains --classifier-epochs plus --decoder-epochs)")
         ("decoder-epochs", po::value<int>(), "override: decoder epochs after a learned mask (and added to a fixed mask's epochs)")
         ("classifier-epochs", po::value<int>(), "override: mask-learning epochs of every classification network (experiments 1-3, 7 and 8)")
         ("svm-train-frames", po::value<int>(), "override: feature-SVM training frames")

@@ -34,7 +34,8 @@ DELAY = dict(mask="models/masks/one_symbol_random32.json", scene_from="models/de
                      "--quiet"])
 
 # Sweep points: name -> sems_train size options. The first of each is the accurate bundle's
-# architecture at the sweep's budget.
+# architecture at the sweep's budget (the classifier's sizes and range gate; its convolutions
+# take sems_train's default leaky ReLU, conv_slope 0.1, where the shipped classifier has 0).
 CLASSIFY_SWEEP = [
     ("spectral_w16_h64_k64", ["--width", "16", "--hidden", "64", "--doppler-bins", "64"]),
     ("spectral_w4_h16_k32", ["--width", "4", "--hidden", "16", "--doppler-bins", "32"]),

@@ -105,8 +105,6 @@ void write_card(const model_bundle& written, model_card::test_record test)
     card.save(written.directory);
 }
 
-// --frame-bundle: a decision over a track on a trained per-frame classifier. Only the flags
-// that mean something for it may be given; the track trainer's own defaults apply to the rest.
 // --delay-bundle and --array: a position bundle on a trained delay bundle. Only the flags that
 // mean something for it may be given; the position trainer's own defaults apply to the rest.
 int train_positions(const po::variables_map& vm, const std::string& command_line)
@@ -186,6 +184,8 @@ int train_positions(const po::variables_map& vm, const std::string& command_line
     return 0;
 }
 
+// --frame-bundle: a decision over a track on a trained per-frame classifier. Only the flags
+// that mean something for it may be given; the track trainer's own defaults apply to the rest.
 int train_tracks(const po::variables_map& vm, const std::string& command_line)
 {
     static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",

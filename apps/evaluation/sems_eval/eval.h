@@ -35,7 +35,7 @@ struct config {
     std::string size = "test";
     std::string out_dir;
     uint64_t seed = 2026;         // test frames: seed + a per-scene constant; training: see training_seeds
-    int seeds = 1;                // training seeds per learned method: seed, seed + 1, ..., seed + seeds - 1
+    int seeds = 1;                // training seeds per learned method: seed + first_seed, ..., seed + first_seed + seeds - 1
     int first_seed = 0;           // the first of them is seed + first_seed (one seed per process shares a run)
     int threads = 2;
     int test_frames = 60;         // per operating point (the same frames at every SNR)
@@ -217,7 +217,7 @@ training_settings base_training(const config& c, task_kind task, const scene& sc
 // 2 share these bundles (one cache name, one set of settings).
 training_settings hand_pattern_training(training_settings sems, const std::string& pattern);
 
-// Every learned method is trained once per seed c.seed, ..., c.seed + c.seeds - 1 on the same
+// Every learned method is trained once per seed c.seed + c.first_seed, ..., c.seed + c.first_seed + c.seeds - 1 on the same
 // test frames (drawn from c.seed + a constant), so the spread over seeds is the training's alone.
 std::vector<uint64_t> training_seeds(const config& c);
 // The cache name of a bundle trained with train_seed: <name>_s<seed> (one bundle per seed).
