@@ -122,8 +122,8 @@ rate sink_fps(const model_bundle& b,
     const int np = b.mask.size();
     const int item = n_elements * np; // one frame's observations, element-major
     gr::block_sptr sink;
-    if (b.task == task_kind::classify) // metrics only at the end (0), make()'s defaults for the frame, idle
-                                       // time and super-frames, then the array's two parameters
+    if (b.task == task_kind::classify) // metrics only at the end (0), the bundle's N and M, make()'s defaults
+                                       // for the frame name, idle time and super-frames, then the array
         sink = classifier_sink::make(b.directory, np, batch, threads, 0, b.frame.n_symbols, b.frame.n_subcarriers,
                                      "", 0.0, 1, n_elements, array);
     else
