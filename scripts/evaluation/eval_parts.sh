@@ -25,7 +25,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 eval_bin="${SEMS_EVAL:-$root/build/apps/sems_eval}"
-[ -x "$eval_bin" ] || { echo "$script: $eval_bin is missing: build first (scripts/build.sh) or set SEMS_EVAL" >&2; exit 2; }
+[ -x "$eval_bin" ] || { echo "$script: $eval_bin is missing: build the apps first (SEMS_BUILD_APPS=ON bash scripts/build.sh) or set SEMS_EVAL" >&2; exit 2; }
 mkdir -p "$out" "$results"
 # The run's own record (its stamps and the plotting output) goes beside the figures it made.
 exec > >(tee "$results/$log") 2>&1
