@@ -10,14 +10,13 @@
 #   scripts/fuzz.sh 25           # what CI runs
 #   scripts/fuzz.sh 600          # 10 minutes each
 #   scripts/fuzz.sh 600 scene    # one harness
-#   scripts/fuzz.sh build        # build only (.ci/run builds early, at low priority)
 # Every fuzz/fuzz_<name>.cc is a harness <name>, seeded from fuzz/corpus/<name>/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
-if [[ ! "$seconds" =~ ^[1-9][0-9]*$ && "$seconds" != build ]]; then
-  echo "fuzz.sh: SECONDS must be a positive integer or 'build', got '$seconds'" >&2
+if [[ ! "$seconds" =~ ^[1-9][0-9]*$ ]]; then
+  echo "fuzz.sh: SECONDS must be a positive integer, got '$seconds'" >&2
   exit 2
 fi
 if [[ $# -gt 0 ]]; then
@@ -38,10 +37,6 @@ cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE
 # parallel (CMake's Makefiles build targets named on the command line one after the other).
 if [[ $# -gt 0 ]]; then targets=(--target $(printf 'fuzz_%s ' "${harnesses[@]}")); else targets=(); fi
 cmake --build "$build" -j"${SEMS_BUILD_JOBS:-2}" "${targets[@]}"
-if [[ "$seconds" == build ]]; then
-  echo "fuzz.sh: built ${#harnesses[@]} harnesses in $build"
-  exit 0
-fi
 
 fuzz_one() { # harness: fuzzes, then prints its summary; exit 1 on a crash
   local h="$1"

@@ -11,14 +11,13 @@
 # are not instrumented: cmake/tsan.supp lists, with the reason, what is provably not ours.
 #
 #   bash scripts/sanitize_thread.sh [repeats]     (default 3 runs of the test)
-#   bash scripts/sanitize_thread.sh build         (build only; .ci/run builds early, at low priority)
 #
 # The build directory is $SEMS_TSAN_BUILD_DIR, default ./build-tsan.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEMS_TSAN_BUILD_DIR:-$root/build-tsan}"
 repeats="${1:-3}"
-case "$repeats" in build) ;; ''|*[!0-9]*|0) echo "sanitize_thread.sh: repeats must be a positive integer or 'build', got '$repeats'" >&2; exit 2 ;; esac
+case "$repeats" in ''|*[!0-9]*|0) echo "sanitize_thread.sh: repeats must be a positive integer, got '$repeats'" >&2; exit 2 ;; esac
 mkdir -p "$build"
 # The libraries in batches (SEMS_UNITY_BUILD), as the sanitized suite's tree: a third of the
 # learning library's file-by-file compile time, less than half of the core's (docs/guides/install.md).
@@ -35,10 +34,6 @@ for f in "$build"/lib/libgnuradio-sems*.so "$build/lib/learning/qa_sems_threads"
     exit 1
   fi
 done
-if [ "$repeats" = build ]; then
-  echo "sanitize_thread.sh: built $build/lib/learning/qa_sems_threads"
-  exit 0
-fi
 export SEMS_SOURCE_DIR="$root"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/cmake/tsan.supp"
 for i in $(seq 1 "$repeats"); do
