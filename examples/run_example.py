@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """gr-sems: compile an example flowgraph with grcc and run it (headless, or a GUI one on a display).
 
-    run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [--timeout S] [-- extra args for the flowgraph]
+    run_example.py <flowgraph.grc> <outdir> [--test] [--frames K] [--timeout S] [--compiled DIR] [-- extra args for the flowgraph]
 
-The flowgraph is compiled into <outdir>/<name>/ and the generated Python runs with
+The flowgraph is compiled into <outdir>/<name>/ (or, with --compiled DIR, taken from DIR, where
+`grcc -o DIR` compiled it before: CTest compiles every example in one grcc call) and the generated Python runs with
 GNU Radio's interpreter (/usr/bin/python3). With <outdir> inside a build tree of this source
 (e.g. build/examples), it finds the blocks and the module there: PYTHONPATH, GRC_BLOCKS_PATH
 and SEMS_SOURCE_DIR default to <build>/python_pkg, the source's grc/ and the source tree (a
@@ -71,6 +72,8 @@ def main():
     parser.add_argument("--test", action="store_true", help="short run with the example's checks")
     parser.add_argument("--frames", type=int, default=1000, help="frames for --test (default 1000)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds before the run is abandoned (0: never)")
+    parser.add_argument("--compiled", metavar="DIR",
+                        help="run DIR/<id>.py, compiled before (grcc -o DIR ...), instead of compiling into OUTDIR")
     argv = sys.argv[1:]
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
@@ -84,10 +87,15 @@ def main():
     script, params = flowgraph_info(args.grc)
 
     env = source_tree_defaults(args.outdir)
-    compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True, env=env)
-    if compiled.returncode != 0 or not os.path.isfile(os.path.join(outdir, script)):
-        sys.stderr.write(compiled.stdout + compiled.stderr)
-        fail(f"grcc could not compile {args.grc}")
+    if args.compiled:
+        outdir = args.compiled
+        if not os.path.isfile(os.path.join(outdir, script)):
+            fail(f"--compiled {outdir}: no {script} there (grcc -o {outdir} {args.grc} writes it)")
+    else:
+        compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True, env=env)
+        if compiled.returncode != 0 or not os.path.isfile(os.path.join(outdir, script)):
+            sys.stderr.write(compiled.stdout + compiled.stderr)
+            fail(f"grcc could not compile {args.grc}")
 
     cmd = [GR_PYTHON, "-u", os.path.join(outdir, script)]
     if args.test and "frames" in params:

@@ -5,7 +5,10 @@
 
     screenshot_qt.py <flowgraph.grc> <outdir> <screenshot.png> [--seconds S] [--size WxH]
                      [--check EXPR] [--cycles K [--cycle-seconds S] [--cycle-speed F]
-                     [--cycle-check EXPR]]
+                     [--cycle-check EXPR]] [--compiled DIR]
+
+(--compiled DIR: the flowgraph as `grcc -o DIR` compiled it before, as CTest does for every
+example in one call, instead of compiling it into <outdir>/<id>/.)
 
 Each run does what the generated script's main() does (the flowgraph's Python snippets
 included), then tears the flowgraph and its window down in the order GNU Radio's Qt sinks
@@ -39,18 +42,25 @@ def fail(message):
     sys.exit(1)
 
 
-def compile_flowgraph(grc, outdir):
-    """The generated module of `grc` (compiled by grcc into <outdir>/<id>/) and its id."""
+def compile_flowgraph(grc, outdir, compiled=None):
+    """The generated module of `grc` (compiled by grcc into <outdir>/<id>/, or taken from
+    `compiled`, where `grcc -o compiled` wrote it before) and its id."""
     with open(grc) as f:
         script_id = yaml.safe_load(f)["options"]["parameters"]["id"]
-    outdir = os.path.join(outdir, script_id)
-    os.makedirs(outdir, exist_ok=True)
-    grcc = shutil.which("grcc") or "/usr/bin/grcc"
-    done = subprocess.run([grcc, "-o", outdir, grc], capture_output=True, text=True)
-    script = os.path.join(outdir, script_id + ".py")
-    if done.returncode != 0 or not os.path.isfile(script):
-        sys.stderr.write(done.stdout + done.stderr)
-        fail(f"grcc could not compile {grc}")
+    if compiled:
+        outdir = compiled
+        script = os.path.join(outdir, script_id + ".py")
+        if not os.path.isfile(script):
+            fail(f"--compiled {outdir}: no {script_id}.py there (grcc -o {outdir} {grc} writes it)")
+    else:
+        outdir = os.path.join(outdir, script_id)
+        os.makedirs(outdir, exist_ok=True)
+        grcc = shutil.which("grcc") or "/usr/bin/grcc"
+        done = subprocess.run([grcc, "-o", outdir, grc], capture_output=True, text=True)
+        script = os.path.join(outdir, script_id + ".py")
+        if done.returncode != 0 or not os.path.isfile(script):
+            sys.stderr.write(done.stdout + done.stderr)
+            fail(f"grcc could not compile {grc}")
     sys.path.insert(0, outdir)  # grcc writes embedded Python blocks next to the script
     spec = importlib.util.spec_from_file_location(script_id, script)
     module = importlib.util.module_from_spec(spec)
@@ -113,6 +123,7 @@ def main():
     ap.add_argument("outdir")
     ap.add_argument("png")
     ap.add_argument("--seconds", type=float, default=4.0)
+    ap.add_argument("--compiled", metavar="DIR", help="take DIR/<id>.py, compiled before (grcc -o DIR ...), instead of compiling")
     ap.add_argument("--size", default="1000x520", help="window size in pixels, WxH (default 1000x520)")
     ap.add_argument("--check", default="", help="expression on the top block `tb` that must hold at the screenshot")
     ap.add_argument("--cycles", type=int, default=1,
@@ -131,7 +142,7 @@ def main():
     if args.cycles < 1:
         fail(f"--cycles must be at least 1, got {args.cycles}")
 
-    module, script_id = compile_flowgraph(args.grc, args.outdir)
+    module, script_id = compile_flowgraph(args.grc, args.outdir, args.compiled)
     from PyQt5 import Qt, QtCore
 
     app = Qt.QApplication([script_id])
