@@ -80,10 +80,6 @@ def main():
 
     if not os.path.isfile(args.grc):
         fail(f"{args.grc}: no such flowgraph")
-    grcc = shutil.which("grcc") or "/usr/bin/grcc"
-    name = os.path.splitext(os.path.basename(args.grc))[0]
-    outdir = os.path.join(args.outdir, name)
-    os.makedirs(outdir, exist_ok=True)
     script, params = flowgraph_info(args.grc)
 
     env = source_tree_defaults(args.outdir)
@@ -92,6 +88,9 @@ def main():
         if not os.path.isfile(os.path.join(outdir, script)):
             fail(f"--compiled {outdir}: no {script} there (grcc -o {outdir} {args.grc} writes it)")
     else:
+        outdir = os.path.join(args.outdir, os.path.splitext(os.path.basename(args.grc))[0])
+        os.makedirs(outdir, exist_ok=True)
+        grcc = shutil.which("grcc") or "/usr/bin/grcc"
         compiled = subprocess.run([grcc, "-o", outdir, args.grc], capture_output=True, text=True, env=env)
         if compiled.returncode != 0 or not os.path.isfile(os.path.join(outdir, script)):
             sys.stderr.write(compiled.stdout + compiled.stderr)
