@@ -115,6 +115,7 @@ GENERATED = {
     "docs/results/track_classifier_kinematic_track.md",  # apps/figures/plot_track.py (the bundle's bundle.json)
     "docs/results/walker_pair_bound.md",  # docs/results/walker_pair_bound.py
     "docs/results/claims.md",             # apps/figures/claims.py (scripts/evaluation/eval_full.sh, eval_kinematic.sh)
+    "docs/results/claims_kinematic.md",   # apps/figures/claims.py, beside claims.md
     "docs/results/range_table.md",        # apps/figures/plot_range.py (sems_eval --exp7-parts range)
     "docs/results/track_tables.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)
     "docs/results/track_pilots.md",       # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks.sh)

@@ -4,6 +4,8 @@
 
     /usr/bin/python3 apps/figures/claims.py docs/results                 # writes docs/results/claims.md
     /usr/bin/python3 apps/figures/claims.py RESULTS --out FILE [--bootstrap B] [--seed S]
+    (each family's tests: experiments 1-5 on the page, experiment 7's on a second page beside it,
+    FILE's name with _kinematic: docs/results/claims_kinematic.md)
     /usr/bin/python3 apps/figures/claims.py RESULTS --only "MSE-DL"      # the claims whose text has it, printed
 
 Reads the kept predictions of experiments 1, 3, 4, 5 and 7 in RESULTS (<csv stem>_predictions.npz
@@ -277,6 +279,10 @@ CLAIMS = [
      "experiment 7: SemS against MSE-DL and the best SVM",
      [("7", "experiment 7", "kinematic", "SemS", lambda m: m == "MSE-DL", "32"),
       ("7", "experiment 7", "kinematic", "SemS", lambda m: m.startswith("SVM"), "32")]),
+    ("Perfect CSI is a reference, not a bound (experiment 7)", ["exp7_kinematic"],
+     "experiment 7: SemS and SemS + template bank against Perfect CSI at the test SNR",
+     [("7", "experiment 7", "kinematic", m, lambda r: r == "Perfect CSI (test SNR)", "32")
+      for m in ("SemS", "SemS + template bank")]),
     ("a decoder that keeps its training frames gains (experiment 7)", ["exp7_kinematic"],
      "experiment 7: SemS + template bank against SemS",
      [("7", "experiment 7", "kinematic", "SemS + template bank", lambda m: m == "SemS", "32")]),
@@ -309,11 +315,20 @@ def comparisons_of(claim, pools, results, fam, boots, seed):
     return [c for c in comps if c.points]
 
 
-def claims_page(results, boots=BOOTSTRAP, seed=SEED, only=None, command=None, page_dir=None):
-    """The claims page (markdown, its links relative to page_dir, default RESULTS), the messages
-    of the missing kept files, and how many claims were tested."""
+def kinematic_page_name(page):
+    """The second page's file name beside `page` (experiment 7's families' tests)."""
+    stem, ext = os.path.splitext(os.path.basename(page))
+    return stem + "_kinematic" + (ext or ".md")
+
+
+def claims_page(results, boots=BOOTSTRAP, seed=SEED, only=None, command=None, page_dir=None,
+                kinematic_name="claims_kinematic.md", main_name="claims.md"):
+    """The claims page and experiment 7's families' page (markdown, their links relative to
+    page_dir, default RESULTS; the second is kinematic_name beside the first), the messages of the
+    missing kept files, and how many claims were tested. Two pages keep each one readable: every
+    family's table lists every test it corrects for."""
     pools = OrderedDict((e, kp.Experiment(results, e)) for e in kp.SOURCES)
-    summary, details, missing = [], [], OrderedDict()
+    summary, details, details7, missing = [], [], [], OrderedDict()
     tested = 0
     for claim in CLAIMS:
         text, stems, family_name = claim[0], claim[1], claim[2]
@@ -349,14 +364,15 @@ def claims_page(results, boots=BOOTSTRAP, seed=SEED, only=None, command=None, pa
                 c.label, ", ".join("%g" % r[1] for r in rows),
                 "; ".join("%g: %s" % (r[1], fmt_diff(r[3], lower)) for r in rows),
                 fmt_p(max(r[4] for r in rows)), verdict, fam.name, len(fam)))
-        details += ["", "### %s" % fam.name, "",
+        into = details7 if experiment_of(stems[0]) == "7" else details
+        into += ["", "### %s" % fam.name, "",
                     "Claim: *%s*. The %s." % (text, fam.describe()), "",
                     "| comparison | SNR (dB) | %s | rival | rival's | difference ± SE | p | Holm p | verdict |" % (
                         "mean abs. error" if lower else "accuracy"),
                     "|---|---:|---:|---|---:|---:|---:|---:|---|"]
         for c in comps:
             for np_, snr, rival, r, adj, v in c.rows():
-                details.append("| %s: %s | %g | %s | %s | %s | %s | %s | %s | %s |" % (
+                into.append("| %s: %s | %g | %s | %s | %s | %s | %s | %s | %s |" % (
                     c.label, c.first, snr, fmt_mean(r["a"], lower), rival, fmt_mean(r["b"], lower),
                     fmt_diff(r, lower), fmt_p(r["p"]), fmt_p(adj), MARK[v]))
     command = command or "/usr/bin/python3 apps/figures/claims.py %s" % os.path.relpath(results)
@@ -381,13 +397,21 @@ def claims_page(results, boots=BOOTSTRAP, seed=SEED, only=None, command=None, pa
            "## Summary", "",
            "| claim | comparison | SNR (dB) | difference ± SE (dB: value) | largest Holm p | verdict | family |",
            "|---|---|---|---|---|---|---|"] + summary
-    if details:
+    if details or details7:
         out += ["", "## Each family's tests"] + details
+    if details7:
+        out += ["", "Experiment 7's families: [%s](%s)." % (kinematic_name, kinematic_name)]
     if missing:
         out += ["", "## Missing kept predictions", ""] + ["- %s" % m for m in missing]
     out += ["", "Not tested here: *the SemS features separate the classes* (experiment 2 is a picture of the "
             "features, with no paired outcome per frame)."]
-    return "\n".join(out) + "\n", list(missing), tested
+    page7 = None
+    if details7:
+        page7 = "\n".join(["# The paper's claims on moving scatterers (experiment 7): each family's tests", "",
+                           "Generated by `%s` with [%s](%s), whose introduction gives the method and "
+                           "whose summary gives every verdict." % (command, main_name, main_name)]
+                          + details7) + "\n"
+    return "\n".join(out) + "\n", page7, list(missing), tested
 
 
 def main(argv):
@@ -409,20 +433,25 @@ def main(argv):
         command = "/usr/bin/python3 apps/figures/claims.py %s" % os.path.relpath(a.results)
         if a.bootstrap != BOOTSTRAP or a.seed != SEED:
             command += " --bootstrap %d --seed %d" % (a.bootstrap, a.seed)
-        page, missing, tested = claims_page(a.results, a.bootstrap, a.seed, a.only, command,
-                                            os.path.dirname(os.path.abspath(out)))
+        out7 = os.path.join(os.path.dirname(out), kinematic_page_name(out))
+        page, page7, missing, tested = claims_page(a.results, a.bootstrap, a.seed, a.only, command,
+                                                   os.path.dirname(os.path.abspath(out)), os.path.basename(out7),
+                                                   os.path.basename(out))
     except ValueError as e:  # kept files that do not fit together
         print("claims.py: %s" % e, file=sys.stderr)
         return 1
     for m in missing:
         print("claims.py: %s" % m, file=sys.stderr)
     if a.only:
-        print(page)
+        print(page + (page7 or ""))
         return 0
     with open(out, "w") as f:
         f.write(page)
-    print("claims.py: wrote %s (%d families tested%s)" % (
-        out, tested, ", %d kept files missing" % len(missing) if missing else ""))
+    if page7:
+        with open(out7, "w") as f:
+            f.write(page7)
+    print("claims.py: wrote %s%s (%d families tested%s)" % (
+        out, " and " + out7 if page7 else "", tested, ", %d kept files missing" % len(missing) if missing else ""))
     return 0 if tested else 1
 
 

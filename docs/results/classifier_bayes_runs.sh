@@ -9,7 +9,12 @@
 # bodies of scatterers; writes bound_kinematic.csv, with the classifiers of 30 000 and 300 000
 # draws beside it). Needs the networks of scripts/evaluation/eval_full.sh
 # in $EVAL_OUT (default out/eval_full) and a Release build (build/python_pkg). About 50 min
-# of one core, and about 75 min for the kinematic scene's runs (on a busy machine).
+# of one core, and about 15 min of one core for the kinematic scene's runs.
+#
+#   bash docs/results/classifier_bayes_runs.sh [kinematic]
+#
+# With `kinematic`, only the kinematic scene's runs (they need no network of eval_full.sh; the
+# 16-pilot masks are experiment 7's, copied into docs/results/masks_np16/ by eval_kinematic.sh).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -19,7 +24,12 @@ mkdir -p "$logs"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 PYTHONPATH=build/python_pkg
 bayes() { /usr/bin/python3 docs/results/classifier_bayes.py "$@"; }
 snrs=-10,-5,0,5,10,15,20,25,30
+case "${1:-all}" in
+  all|kinematic) ;;
+  *) echo "classifier_bayes_runs.sh: unknown part \"$1\" (all or kinematic)" >&2; exit 2 ;;
+esac
 csv=docs/results/bound_exp1_recognition.csv
+if [ "${1:-all}" = all ]; then
 rm -f "$csv"
 bayes --mask doppler --label doppler --heading approaching --bundle models/classifier \
   --bundle "$nets/cls_default_sems_s2026" --bundle "$nets/cls_default_sems_s2027" --bundle "$nets/cls_default_sems_s2028" \
@@ -48,6 +58,7 @@ done
 # where the spectral decoder loses to the bound at high SNR in the any scene
 /usr/bin/python3 docs/results/classifier_errors_by_fade.py --bundle "$nets/cls_any_sems_s2026" --snr 30 --frames 10000 \
   --heading any > "$logs/errors_any_30dB.log"
+fi
 # the kinematic library's scene (any heading): the Doppler pattern with 32 and with 128 pilots
 kcsv=docs/results/bound_kinematic.csv
 rm -f "$kcsv"
@@ -73,4 +84,4 @@ bayes --scene models/scenes/kinematic_any.json --mask doppler:16 --label doppler
 # 24 000 draws (experiment 7's training frames) and no network: is the gap the likelihood?
 /usr/bin/python3 docs/results/bank_likelihoods.py --scene models/scenes/kinematic_any.json --templates 24000 \
   --frames 3000 > "$logs/bank_likelihoods.log"
-echo "classifier_bayes_runs: logs in $logs, bound rows in $csv and $kcsv"
+echo "classifier_bayes_runs: logs in $logs, bound rows in $([ "${1:-all}" = all ] && echo "$csv and ")$kcsv"

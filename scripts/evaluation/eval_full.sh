@@ -17,7 +17,7 @@
 # RESULTS (default docs/results), with the per-frame predictions of experiments 1, 3, 4 and 5 merged
 # over the parts (<csv stem>_predictions.npz, exp<N>_truth.npz; apps/figures/predictions.py), every
 # CSV score checked against them, and the paired tests of the claims (apps/figures/claims.py,
-# RESULTS/claims.md, with experiment 7's when its predictions are there). --test-frames N sets the
+# RESULTS/claims.md, with experiment 7's, in claims_kinematic.md, when its predictions are there). --test-frames N sets the
 # test frames per operating point of every part (the full size's 3000 otherwise; e.g. 30000).
 # Prints the wall time of each part and of the whole run, also into RESULTS/eval_full.log.
 # The programs are $SEMS_EVAL (default build/apps/sems_eval) and /usr/bin/python3. --size test

@@ -16,8 +16,8 @@
 #   burst   the SemS decoder on the burst pattern at N_p = 8 and 16 (beside the budget part's patterns)
 # Trained networks are cached in DIR/<part>/bundles: a re-run with the same settings only
 # re-evaluates, and a stopped run resumes. The results (exp7_*.csv, the per-frame predictions
-# exp7_*_predictions.npz and exp7_truth.npz, exp7_*.png, kinematic_tables.md with its paired tests,
-# and claims.md with experiments 1-5's where their predictions are there) go to RESULTS (default
+# exp7_*_predictions.npz and exp7_truth.npz, the learned masks in masks_exp7/, exp7_*.png,
+# kinematic_tables.md with its paired tests, and claims.md and claims_kinematic.md with experiments 1-5's where their predictions are there) go to RESULTS (default
 # docs/results), the run's record to
 # RESULTS/eval_kinematic.log and the parts' logs to RESULTS/eval_kinematic_<part>.log. The programs are $SEMS_EVAL (default build/apps/sems_eval) and
 # /usr/bin/python3. --size test runs the same plumbing in a minute (numbers meaningless).
@@ -50,6 +50,18 @@ kept exp7_pilot_power_predictions.npz power
 kept exp7_bank_predictions.npz bank
 kept exp7_burst_predictions.npz burst
 kept exp7_truth.npz main budget power bank burst
+# Every learned mask behind a row (each part's SemS and MSE-DL learners, each seed), and the bank
+# part's 16-pilot ones again where docs/results/classifier_bayes_runs.sh reads them.
+mkdir -p "$results/masks_exp7" "$results/masks_np16"
+for p in main budget power bank; do
+  for b in "$out/$p"/bundles/*_sems*_s* "$out/$p"/bundles/*_mse_s*; do
+    [ -f "$b/mask.json" ] && cp "$b/mask.json" "$results/masks_exp7/$(basename "$b").json"
+  done
+done
+for s in 2026 2027 2028; do  # the seeds the full size trains (--size test trains fewer)
+  m="$out/bank/bundles/cls_kinematic_np16_sems_templates_s$s/mask.json"
+  [ -f "$m" ] && cp "$m" "$results/masks_np16/learned_s$s.json"
+done
 /usr/bin/python3 "$root/apps/figures/predictions.py" check "$results" 7
 /usr/bin/python3 "$root/apps/figures/plot_kinematic.py" "$results" --tables "$results/kinematic_tables.md"
 /usr/bin/python3 "$root/apps/figures/claims.py" "$results"

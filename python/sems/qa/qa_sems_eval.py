@@ -409,6 +409,9 @@ class qa_sems_eval(gr_unittest.TestCase):
         with open(os.path.join(out, "claims.md")) as f:
             page = f.read()
         self.assertNotIn("not tested", page)
+        self.assertIn("Experiment 7's families: [claims_kinematic.md](claims_kinematic.md).", page)
+        with open(os.path.join(out, "claims_kinematic.md")) as f:
+            page += f.read()  # experiment 7's families' tests
         for family, tests in (("SemS against MSE-DL", 6), ("SemS against the best feature SVM", 12),
                               ("SemS against Perfect CSI", 6),
                               ("experiment 7: the learned mask against the best hand pattern, every N_p and SNR", 6),
@@ -936,7 +939,7 @@ class qa_sems_eval(gr_unittest.TestCase):
                 info, series, values = read_kept(os.path.join(res, stem + "_predictions.npz"))
                 self.assertEqual((int(info["n_frames"]), values.shape[1]), (30, 30), stem)
             self.assertIn("0 differ", r.stdout)
-            with open(os.path.join(res, "claims.md")) as f:
+            with open(os.path.join(res, "claims_kinematic.md")) as f:
                 self.assertIn("### %s" % "experiment 7: the learned mask against the best hand pattern, every N_p "
                               "and SNR", f.read())
             with open(os.path.join(res, "kinematic_tables.md")) as f:
