@@ -188,8 +188,8 @@ int train_positions(const po::variables_map& vm, const std::string& command_line
 // that mean something for it may be given; the track trainer's own defaults apply to the rest.
 int train_tracks(const po::variables_map& vm, const std::string& command_line)
 {
-    static const std::set<std::string> allowed = { "frame-bundle", "track-frames", "tracks", "track-hidden",
-                                                    "track-no-profile", "track-dropout", "track-weight-decay",
+    static const std::set<std::string> allowed = { "frame-bundle", "track-model", "track-loss-ramp", "track-frames",
+                                                    "tracks", "track-hidden", "track-no-profile", "track-dropout", "track-weight-decay",
                                                     "track-eval-frames", "super-frames", "super-frame-epochs",
                                                     "super-frame-tracks", "super-frame-start", "scene", "snr", "snr-min", "snr-max",
                                                     "epochs", "batch", "lr", "patience", "seed", "threads",
@@ -202,6 +202,22 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
     t.frame_bundle = vm["frame-bundle"].as<std::string>();
     t.out_dir = vm["out"].as<std::string>();
     auto given = [&](const char* flag) { return vm.count(flag) && !vm[flag].defaulted(); };
+    t.temporal.kind = vm["track-model"].as<std::string>();
+    const auto kinds = nn::temporal_settings::kinds();
+    if (std::find(kinds.begin(), kinds.end(), t.temporal.kind) == kinds.end()) {
+        std::string known;
+        for (const auto& k : kinds)
+            known += (known.empty() ? "" : " or ") + k;
+        throw std::invalid_argument("--track-model: unknown temporal model \"" + t.temporal.kind + "\" (give " +
+                                    known + ")");
+    }
+    if (t.temporal.kind != "gru_fusion")
+        for (const char* gru_only : { "track-hidden", "track-no-profile" })
+            if (given(gru_only))
+                throw std::invalid_argument(std::string("--") + gru_only + " applies to --track-model gru_fusion (the "
+                                            "GRU's), not " + t.temporal.kind);
+    if (given("track-loss-ramp"))
+        t.loss_ramp = vm["track-loss-ramp"].as<double>();
     if (given("track-frames"))
         t.track_frames = vm["track-frames"].as<int>();
     if (given("tracks"))
@@ -226,8 +242,8 @@ int train_tracks(const po::variables_map& vm, const std::string& command_line)
         t.epochs = vm["epochs"].as<int>();
     if (given("batch"))
         t.batch = vm["batch"].as<int>();
-    if (given("lr"))
-        t.lr = vm["lr"].as<double>();
+    if (given("lr")) // the chosen model's rate
+        (t.temporal.kind == "acf_tcn" ? t.acf_tcn_lr : t.lr) = vm["lr"].as<double>();
     if (given("patience"))
         t.patience = vm["patience"].as<int>();
     if (given("seed"))
@@ -328,7 +344,8 @@ int main(int argc, char** argv)
         own_defaults(pd.frames, "frames", pd.epochs, pd.batch, pd.lr, pd.threads, pd.eval_snr_db);
     const std::string frame_bundle_help =
         "train a decision over a track on this trained per-frame classifier bundle (a directory or name): a GRU over "
-        "its per-frame evidence, started from the fusion of independent frames; the track flags below and --scene, "
+        "its per-frame evidence, started from the fusion of independent frames, or another --track-model; the track "
+        "flags below and --scene, "
         "--snr*, --epochs, --batch, --lr, --patience, --seed, --threads, --eval-snr, --out apply" +
         own_defaults(td.tracks, "tracks", td.epochs, td.batch, td.lr, td.threads, td.eval_snr_db);
     std::string task, scene_file, classes, snr, snr_min, snr_max, eval_snr, heading, from;
@@ -425,13 +442,15 @@ int main(int argc, char** argv)
         ("frame-bundle", po::value<std::string>(), frame_bundle_help.c_str())
         ("track-frames", po::value<int>()->default_value(track_training_settings{}.track_frames), "--frame-bundle: frames of a training track (K)")
         ("tracks", po::value<int>()->default_value(track_training_settings{}.tracks), "--frame-bundle: tracks drawn, split 8:1:1")
-        ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size")
-        ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only)")
+        ("track-model", po::value<std::string>()->default_value(track_training_settings{}.temporal.kind), "--frame-bundle: the temporal model, gru_fusion (a GRU over the frame decoder's evidence, started from the fusion of independent frames) or acf_tcn (causal dilated convolutions over each frame's slow-time autocorrelation of its pilots and class probabilities, the running mean and maximum, and a head; its own --lr default, 1e-3)")
+        ("track-loss-ramp", po::value<double>()->default_value(track_training_settings{}.loss_ramp), "--frame-bundle: the loss weighs the decision after t of K frames by (t/K)^this (0: every frame alike)")
+        ("track-hidden", po::value<int>()->default_value(track_training_settings{}.temporal.hidden), "--frame-bundle: the GRU's state size (gru_fusion)")
+        ("track-no-profile", po::bool_switch(), "--frame-bundle: each frame's evidence without its log Doppler profile (the frame decoder's embedding and class log-probabilities only; gru_fusion)")
         ("super-frames", po::value<int>()->default_value(track_training_settings{}.super_frames), "--frame-bundle: F, the frames of a super-frame mask; F > 1 learns F sets of the bundle's N_p pilots (one per frame, set = frame index mod F) with its frame decoder before the temporal model")
         ("super-frame-epochs", po::value<int>()->default_value(track_training_settings{}.mask_epochs), "--super-frames > 1: epochs of the sets' learner")
         ("super-frame-start", po::value<std::string>()->default_value(track_training_settings{}.mask_start), "--super-frames > 1: where the sets start, frame (the bundle's mask in every set, kept unless an epoch validates better) or random")
         ("super-frame-tracks", po::value<int>()->default_value(track_training_settings{}.mask_tracks), "--super-frames > 1: training tracks it learns on (windows of min(2F, --track-frames) frames held whole: 8·N·M bytes a frame)")
-        ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share of each frame's evidence dropped in training")
+        ("track-dropout", po::value<double>()->default_value(track_training_settings{}.temporal.dropout), "--frame-bundle: the share dropped in training, of each frame's evidence (gru_fusion) or of the pooled features (acf_tcn)")
         ("track-weight-decay", po::value<double>()->default_value(track_training_settings{}.weight_decay), "--frame-bundle: AdamW weight decay")
         ("track-eval-frames", po::value<std::string>(), "--frame-bundle: observation times scored, in frames, comma-separated (default 1, 2, 4, ... and the track length)")
         ("quiet", "no per-epoch progress")

@@ -154,10 +154,22 @@ scene array_test_scene(const model_bundle& bundle, std::optional<track_draw_spec
 {
     random_spec rs;
     const auto lib = bundle.library ? bundle.library : class_library::paper();
-    rs.classes.clear(); // every class of the library, unless the bundle knows fewer (a pair's decoder)
+    // Every class of the library, unless the bundle knows fewer (a pair's decoder) or its track
+    // record was trained on fewer (a pair's track decoder over a frame bundle of every class).
+    std::vector<std::string> names;
     if (static_cast<int>(bundle.class_names.size()) < lib->size())
-        for (const auto& name : bundle.class_names)
-            rs.classes.push_back(static_cast<target_class>(lib->id_of(name)));
+        names = bundle.class_names;
+    if (!bundle.track.is_null()) {
+        const auto trained = bundle.track.value("training", nlohmann::json::object())
+                                 .value("scene", nlohmann::json::object())
+                                 .value("random", nlohmann::json::object())
+                                 .value("classes", nlohmann::json::array());
+        if (trained.is_array() && !trained.empty() && static_cast<int>(trained.size()) < lib->size())
+            names = trained.get<std::vector<std::string>>();
+    }
+    rs.classes.clear();
+    for (const auto& name : names)
+        rs.classes.push_back(static_cast<target_class>(lib->id_of(name)));
     rs.heading = heading_kind::any;
     rs.azimuth_min_rad = -0.8;
     rs.azimuth_max_rad = 0.8;

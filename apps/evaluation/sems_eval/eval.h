@@ -157,7 +157,8 @@ std::vector<gr_complex> array_pilots(const channel_model& cm, const frame_realiz
 scene recognition_scene(const std::string& scenario, const config& c);
 scene delay_scene(int paths);
 // Experiment 9's classes and tracks scenes: the bundle's classes of its library (the paper's
-// without one; every class of it, as drawn without a list, when the bundle has them all), any
+// without one; every class of it, as drawn without a list, when the bundle has them all; a track
+// bundle's, those its track record was trained on when fewer: a pair's track decoder), any
 // heading, one path, Rayleigh, azimuth uniform on [−0.8, 0.8] rad; on tracks when `tracks` is
 // given.
 scene array_test_scene(const model_bundle& bundle, std::optional<track_draw_spec> tracks = std::nullopt);

@@ -3,7 +3,9 @@
 #include <gnuradio/sems/learning/temporal/track_classifier.h>
 #include "core/common/json_object.h"
 #include "learning/networks/task_decoder.h"
+#include "learning/temporal/tcn_model.h"
 #include "learning/temporal/temporal_model.h"
+#include "learning/temporal/track_evidence.h"
 #include <gnuradio/sems/learning/bundles/bundle_decoder.h>
 #include <Eigen/Dense>
 #include <algorithm>
@@ -15,8 +17,10 @@ namespace sems {
 
 struct track_classifier::impl {
     std::unique_ptr<bundle_decoder> frames;
-    nn::temporal_model model{ nullptr };
-    // The model's weights as Eigen arrays: one streamed step is a few matrix-vector products
+    std::unique_ptr<temporal::track_evidence> evidence; // what a frame tells the model (on `frames`)
+    std::shared_ptr<nn::track_model_module> model;
+    std::unique_ptr<nn::tcn_stepper> tcn; // acf_tcn: its streamed step; gru_fusion: the arrays below
+    // gru_fusion: the model's weights as Eigen arrays: one streamed step is a few matrix-vector products
     // (3H x E, 3H x H, C x H), far below what building LibTorch tensors for it would cost
     // per frame, and vectorised.
     using matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -111,6 +115,7 @@ track_classifier::track_classifier(std::unique_ptr<bundle_decoder> frames) : d_i
     const auto& temporal = r.require("temporal");
     json_read::object_reader rt(temporal, path, "track.temporal");
     const auto kind = rt.string("kind");
+    nn::temporal_settings::from_json({ { "kind", kind } }, path + ": track.temporal"); // an unknown kind, by name
     const auto* settings = rt.find("settings");
     rt.finish();
     auto s = nn::temporal_settings::from_json(settings ? *settings : nlohmann::json::object(),
@@ -125,13 +130,17 @@ track_classifier::track_classifier(std::unique_ptr<bundle_decoder> frames) : d_i
     r.allow("metrics");  // what it measured (a record)
     r.finish();
     const int c = static_cast<int>(bundle.class_names.size());
-    d_impl->model = nn::temporal_model(d_impl->frames->evidence_size(s.doppler_profile), c, s);
-    nn::load_module(d_impl->model.ptr(), bundle.directory + "/" + weights);
+    d_impl->evidence = std::make_unique<temporal::track_evidence>(*d_impl->frames, s);
+    d_impl->model = nn::make_temporal_model(d_impl->evidence->size(), c, s);
+    nn::load_module(d_impl->model, bundle.directory + "/" + weights);
     d_impl->model->eval();
     d_impl->e = d_impl->model->evidence_size();
     d_impl->c = c;
     d_impl->h = d_impl->model->hidden_size();
-    d_impl->copy_weights();
+    if (const auto tcn = std::dynamic_pointer_cast<nn::tcn_model_module>(d_impl->model))
+        d_impl->tcn = std::make_unique<nn::tcn_stepper>(*tcn);
+    else
+        d_impl->copy_weights();
     d_impl->fusion_frames = s.fusion_frames;
 }
 
@@ -146,14 +155,14 @@ const nn::temporal_settings& track_classifier::settings() const { return d_impl-
 track_classifier::state track_classifier::begin() const
 {
     state s;
-    s.hidden.assign(static_cast<size_t>(d_impl->model->hidden_size()), 0.0f);
+    s.hidden.assign(static_cast<size_t>(d_impl->model->hidden_size()), 0.0f); // zeros: a new track, either kind
     s.fused.assign(static_cast<size_t>(n_classes()), 0.0f);
     return s;
 }
 
 std::vector<float> track_classifier::evidence(const gr_complex* obs, int batch, const int* sets) const
 {
-    return d_impl->frames->evidence(obs, batch, d_impl->model->settings().doppler_profile, sets);
+    return (*d_impl->evidence)(obs, batch, sets);
 }
 
 int track_classifier::super_frames() const { return d_impl->frames->super_frames(); }
@@ -165,7 +174,12 @@ void track_classifier::step(state& s, const float* evidence, float* probs, float
         throw std::invalid_argument("track_classifier::step: a state of another model (begin() makes one)");
     thread_local std::vector<float> logits;
     logits.resize(static_cast<size_t>(m.c));
-    m.step(evidence, s.hidden.data(), s.fused.data(), logits.data());
+    if (m.tcn) {
+        m.tcn->step(s.hidden.data(), evidence, logits.data());
+        Eigen::Map<impl::vector>(s.fused.data(), m.c) += Eigen::Map<const impl::vector>(evidence + m.e - m.c, m.c);
+    } else {
+        m.step(evidence, s.hidden.data(), s.fused.data(), logits.data());
+    }
     ++s.frames;
     // The first fusion_frames frames of a track: the fusion decides (temporal_settings).
     if (s.frames <= static_cast<uint64_t>(m.fusion_frames))

@@ -3,6 +3,7 @@
 #include <gnuradio/sems/learning/temporal/track_trainer.h>
 #include "learning/networks/task_decoder.h"
 #include "learning/temporal/temporal_model.h"
+#include "learning/temporal/track_evidence.h"
 #include "learning/temporal/super_frame_learner.h"
 #include "learning/temporal/track_data.h"
 #include <gnuradio/sems/core/common/limits.h>
@@ -55,15 +56,14 @@ scene track_scene(const track_training_settings& s, const model_bundle& frame)
     return scene::random(r, sc.clutter(), sc.fading(), sc.library_ptr());
 }
 
-// The frame decoder's evidence of every frame of `obs` (count x K x N_p x 2) inside its track
-// (`length`), as count x K x E (zero past a track's end).
-torch::Tensor evidence_of(const bundle_decoder& frames,
+// The temporal model's evidence of every frame of `obs` (count x K x N_p x 2) inside its
+// track (`length`), as count x K x E (zero past a track's end).
+torch::Tensor evidence_of(const temporal::track_evidence& evidence,
                           const torch::Tensor& obs,
                           const torch::Tensor& length,
-                          const torch::Tensor& set,
-                          int64_t e,
-                          bool profile)
+                          const torch::Tensor& set)
 {
+    const int64_t e = evidence.size();
     const int64_t count = obs.size(0), k = obs.size(1), np = obs.size(2);
     auto valid = (torch::arange(k, torch::kLong).view({ 1, k }) < length.view({ count, 1 })).flatten();
     auto rows = valid.nonzero().flatten();
@@ -77,7 +77,7 @@ torch::Tensor evidence_of(const bundle_decoder& frames,
     auto part = torch::empty({ 0 });
     for (int64_t a = 0; a < rows.size(0); a += step) {
         const int64_t b = std::min(rows.size(0), a + step);
-        ev = frames.evidence(p + a * np, static_cast<int>(b - a), profile, ps + a);
+        ev = evidence(p + a * np, static_cast<int>(b - a), ps + a);
         out.index_copy_(0, rows.slice(0, a, b), torch::from_blob(ev.data(), { b - a, e }, torch::kFloat).clone());
     }
     return out.view({ count, k, e });
@@ -140,6 +140,10 @@ void track_training_settings::validate() const
         bad("batch", "must be >= 1");
     if (!(lr > 0.0 && std::isfinite(lr)))
         bad("lr", "must be a finite number > 0");
+    if (!(acf_tcn_lr > 0.0 && std::isfinite(acf_tcn_lr)))
+        bad("acf_tcn_lr", "must be a finite number > 0");
+    if (!(loss_ramp >= 0.0 && loss_ramp <= 16.0))
+        bad("loss_ramp", "must be in [0, 16], got " + std::to_string(loss_ramp));
     if (!(weight_decay >= 0.0 && std::isfinite(weight_decay)))
         bad("weight_decay", "must be a finite number >= 0");
     if (!(temporal.dropout >= 0.0 && temporal.dropout < 1.0))
@@ -155,6 +159,7 @@ void track_training_settings::validate() const
                                    std::to_string(track_frames) + "]");
     if (temporal.hidden < 1)
         bad("temporal.hidden", "must be >= 1");
+    temporal.validate("track training: temporal");
     if (super_frames < 1 || super_frames > limits::max_super_frames)
         bad("super_frames", "must be in [1, " + std::to_string(limits::max_super_frames) + "], got " +
                                 std::to_string(super_frames));
@@ -178,29 +183,36 @@ void track_training_settings::validate() const
 
 nlohmann::json track_training_settings::to_json() const
 {
-    return { { "frame_bundle", frame_bundle },
-             { "scene_source", scene_source },
-             { "track_frames", track_frames },
-             { "tracks", tracks },
-             { "split", "8:1:1" },
-             { "snr_min_db", snr_min_db },
-             { "snr_max_db", snr_max_db },
-             { "epochs", epochs },
-             { "batch", batch },
-             { "lr", lr },
-             { "weight_decay", weight_decay },
-             { "patience", patience },
-             { "seed", seed },
-             { "threads", threads },
-             { "eval_snr_db", eval_snr_db },
-             { "eval_frames", eval_frames },
-             { "super_frames", super_frames },
-             { "mask_epochs", mask_epochs },
-             { "mask_tracks", mask_tracks },
-             { "mask_lr", mask_lr },
-             { "mask_encoder_lr", mask_encoder_lr },
-             { "mask_start", mask_start },
-             { "command_line", command_line } };
+    nlohmann::json j = { { "frame_bundle", frame_bundle },
+                         { "scene_source", scene_source },
+                         { "track_frames", track_frames },
+                         { "tracks", tracks },
+                         { "split", "8:1:1" },
+                         { "snr_min_db", snr_min_db },
+                         { "snr_max_db", snr_max_db },
+                         { "epochs", epochs },
+                         { "batch", batch },
+                         { "lr", lr },
+                         { "weight_decay", weight_decay },
+                         { "patience", patience },
+                         { "seed", seed },
+                         { "threads", threads },
+                         { "eval_snr_db", eval_snr_db },
+                         { "eval_frames", eval_frames },
+                         { "super_frames", super_frames },
+                         { "mask_epochs", mask_epochs },
+                         { "mask_tracks", mask_tracks },
+                         { "mask_lr", mask_lr },
+                         { "mask_encoder_lr", mask_encoder_lr },
+                         { "mask_start", mask_start },
+                         { "command_line", command_line } };
+    // The keys a gru_fusion run without a ramp always wrote, and the others where they apply
+    // (a record of such a run, and a cache keyed on it, stays as it was).
+    if (temporal.kind == "acf_tcn")
+        j["acf_tcn_lr"] = acf_tcn_lr;
+    if (loss_ramp != 0.0)
+        j["loss_ramp"] = loss_ramp;
+    return j;
 }
 
 track_training_result train_track(const track_training_settings& s, std::ostream* log)
@@ -245,8 +257,9 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         frame.directory = s.out_dir;
     }
     bundle_decoder frames(frame, s.threads);
+    const temporal::track_evidence evidence(frames, s.temporal); // as the track classifier reads it
     const int64_t c = static_cast<int64_t>(frame.class_names.size());
-    const int64_t e = frames.evidence_size(s.temporal.doppler_profile); // features, profile, then C log-probabilities
+    const int64_t e = evidence.size(); // the model's inputs, then C log-probabilities
     const int64_t k = s.track_frames;
     const super_frame_mask masks = frame.super_frame ? *frame.super_frame : super_frame_mask(frame.mask);
 
@@ -260,12 +273,12 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         std::to_string(sp.test) + " test, " + std::to_string(k) + " frames each at most (" +
         std::to_string(std::chrono::duration<double>(clock::now() - td0).count()) + " s to draw)");
 
-    nn::temporal_model model(e, c, s.temporal);
-    torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(s.lr).weight_decay(s.weight_decay));
+    const auto model = nn::make_temporal_model(static_cast<int>(e), static_cast<int>(c), s.temporal);
+    const double lr = s.temporal.kind == "acf_tcn" ? s.acf_tcn_lr : s.lr;
+    torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(lr).weight_decay(s.weight_decay));
     auto gen = at::detail::createCPUGenerator(s.seed ^ 0x747261636b6e6f69ULL);
     const auto val_obs = temporal::observe_tracks(val, masks, s.snr_min_db, s.snr_max_db, gen);
-    const bool profile = s.temporal.doppler_profile;
-    const auto val_ev = evidence_of(frames, val_obs, val.length, val.set, e, profile);
+    const auto val_ev = evidence_of(evidence, val_obs, val.length, val.set);
     const auto val_valid = valid_frames(val.length, k);
 
     // Mean accuracy of the decision after every frame of every track (the validation score).
@@ -277,6 +290,8 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         return ok.sum().item<double>() / valid.sum().item<double>();
     };
 
+    // The loss's weight of the decision after t = 1..K frames (loss_ramp > 0 only).
+    const auto ramp = torch::pow(torch::arange(1, k + 1, torch::kFloat) / double(k), s.loss_ramp).view({ 1, k });
     track_training_result result;
     result.history = nlohmann::json::array();
     double best = -1.0;
@@ -286,7 +301,7 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         const auto te = clock::now();
         // New noise each epoch, then the frame decoder once over every training frame.
         const auto obs = temporal::observe_tracks(train, masks, s.snr_min_db, s.snr_max_db, gen);
-        const auto ev = evidence_of(frames, obs, train.length, train.set, e, profile);
+        const auto ev = evidence_of(evidence, obs, train.length, train.set);
         const auto valid = valid_frames(train.length, k);
         model->train();
         auto order = torch::randperm(sp.train, gen, torch::kLong);
@@ -298,8 +313,17 @@ track_training_result train_track(const track_training_settings& s, std::ostream
             auto v = valid.index_select(0, idx).flatten();
             auto lbl = train.label.index_select(0, idx).view({ -1, 1 }).expand({ idx.size(0), k }).flatten();
             auto rows = v.nonzero().flatten();
-            auto loss = torch::nn::functional::cross_entropy(logits.reshape({ -1, c }).index_select(0, rows),
-                                                              lbl.index_select(0, rows));
+            torch::Tensor loss;
+            if (s.loss_ramp == 0.0) {
+                loss = torch::nn::functional::cross_entropy(logits.reshape({ -1, c }).index_select(0, rows),
+                                                            lbl.index_select(0, rows));
+            } else { // the decision after t frames weighs (t/K)^ramp
+                auto ce = torch::nn::functional::cross_entropy(
+                    logits.reshape({ -1, c }).index_select(0, rows), lbl.index_select(0, rows),
+                    torch::nn::functional::CrossEntropyFuncOptions().reduction(torch::kNone));
+                auto w = ramp.expand({ idx.size(0), k }).flatten().index_select(0, rows);
+                loss = (ce * w).sum() / w.sum();
+            }
             opt.zero_grad();
             loss.backward();
             opt.step();
@@ -337,18 +361,19 @@ track_training_result train_track(const track_training_settings& s, std::ostream
     // left to it (temporal_settings::fusion_frames).
     {
         torch::NoGradGuard ng;
-        auto gru = model->forward(val_ev).argmax(-1);
+        auto learned = model->forward(val_ev).argmax(-1);
         auto fused = val_ev.slice(2, e - c, e).cumsum(1).argmax(-1);
         auto truth = val.label.view({ -1, 1 });
         auto n = val_valid.sum(0).to(torch::kDouble).clamp_min(1.0);
-        auto gru_acc = ((gru == truth) & val_valid).sum(0).to(torch::kDouble) / n;
+        auto learned_acc = ((learned == truth) & val_valid).sum(0).to(torch::kDouble) / n;
         auto fused_acc = ((fused == truth) & val_valid).sum(0).to(torch::kDouble) / n;
         int lead = 0;
-        while (lead < k && gru_acc[lead].item<double>() < fused_acc[lead].item<double>())
+        while (lead < k && learned_acc[lead].item<double>() < fused_acc[lead].item<double>())
             ++lead;
         model->set_fusion_frames(lead);
         say("the fusion decides the first " + std::to_string(lead) +
-            " frame(s) of a track (better than the GRU there on the validation tracks)");
+            " frame(s) of a track (better than the " + (s.temporal.kind == "gru_fusion" ? "GRU" : "convolutions") +
+            " there on the validation tracks)");
     }
 
     // The test tracks at each SNR: the decision after t frames, and the fusion of independent
@@ -358,7 +383,7 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         const double snr = s.eval_snr_db[i];
         auto g = at::detail::createCPUGenerator(s.seed * 1000003ULL + 17 + i);
         const auto obs = temporal::observe_tracks(test, masks, snr, snr, g);
-        const auto ev = evidence_of(frames, obs, test.length, test.set, e, profile);
+        const auto ev = evidence_of(evidence, obs, test.length, test.set);
         torch::Tensor pred, fused;
         {
             torch::NoGradGuard ng;
@@ -424,7 +449,7 @@ track_training_result train_track(const track_training_settings& s, std::ostream
                             fsys::copy_options::overwrite_existing, ec);
         if (ec)
             bad("out_dir", "cannot copy " + frame.weights_path() + " into " + s.out_dir + " (" + ec.message() + ")");
-        nn::save_module(model.ptr(), (fsys::path(s.out_dir) / track_classifier::weights_file).string());
+        nn::save_module(model, (fsys::path(s.out_dir) / track_classifier::weights_file).string());
         result.bundle.directory = s.out_dir;
         say("wrote " + s.out_dir);
     }

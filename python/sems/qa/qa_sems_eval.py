@@ -1143,6 +1143,43 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("is not a track bundle", r.stderr)
 
+    def test_015_a_pairs_track_bundles_with_an_array(self):
+        """eval_adult_child.sh --size test: three acf_tcn track bundles of the adult/child pair,
+        experiment 9's tracks part on each drawing the pair's tracks alone (the classes their track
+        record was trained on, not the frame bundle's six), the table from the three runs; the
+        table refuses runs of other test tracks and a missing file, naming them."""
+        env = dict(os.environ, SEMS_EVAL=EVAL, SEMS_TRAIN=os.path.join(BUILD, "apps", "sems_train"))
+        script = os.path.join(SOURCE, "scripts", "evaluation", "eval_adult_child.sh")
+        with tempfile.TemporaryDirectory() as d:
+            out, res = os.path.join(d, "out"), os.path.join(d, "results")
+            r = subprocess.run(["bash", script, "--size", "test", "--out", out, "--results", res],
+                               capture_output=True, text=True, timeout=600, env=env)
+            self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr)
+            for s in (2026, 2027, 2028):
+                with open(os.path.join(out, "bundle_s%d" % s, "bundle.json")) as f:
+                    self.assertEqual(json.load(f)["track"]["temporal"]["kind"], "acf_tcn")
+                with open(os.path.join(res, "adult_child_track", "s%d" % s, "exp9_tracks_truth.csv")) as f:
+                    self.assertEqual({x["class"] for x in csv.DictReader(f)}, {"adult", "child"})
+            with open(os.path.join(res, "adult_child_track.md")) as f:
+                page = f.read()
+            self.assertIn("3 track bundles", page)
+            self.assertIn('family "more elements against fewer, every SNR": 9 tests', page)
+            runs = [os.path.join(res, "adult_child_track", "s%d" % s) for s in (2026, 2027)]
+            with open(os.path.join(runs[1], "exp9_tracks_truth.csv")) as f:
+                lines = f.read().splitlines()
+            track, class_id, name, frames = lines[1].split(",")  # the first track of another class
+            lines[1] = ",".join((track, str(int(class_id) + 1), name, frames))
+            with open(os.path.join(runs[1], "exp9_tracks_truth.csv"), "w") as f:
+                f.write("\n".join(lines) + "\n")
+            tab = os.path.join(SOURCE, "apps", "figures", "pair_tracks.py")
+            r = subprocess.run(["/usr/bin/python3", tab] + runs, capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("%s holds other test tracks than %s" % (runs[1], runs[0]), r.stderr)
+            os.remove(os.path.join(runs[0], "exp9_tracks_predictions.csv"))
+            r = subprocess.run(["/usr/bin/python3", tab] + runs, capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn(os.path.join(runs[0], "exp9_tracks_predictions.csv") + " is missing", r.stderr)
+
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside
         the radar equation's values for the class's RCS interval and the bin's ranges (the

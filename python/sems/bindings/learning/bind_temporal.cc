@@ -35,6 +35,8 @@ void bind_temporal(py::module& m)
         .def_readwrite("epochs", &track_training_settings::epochs, D(track_training_settings, epochs))
         .def_readwrite("batch", &track_training_settings::batch, D(track_training_settings, batch))
         .def_readwrite("lr", &track_training_settings::lr, D(track_training_settings, lr))
+        .def_readwrite("acf_tcn_lr", &track_training_settings::acf_tcn_lr, D(track_training_settings, acf_tcn_lr))
+        .def_readwrite("loss_ramp", &track_training_settings::loss_ramp, D(track_training_settings, loss_ramp))
         .def_readwrite("weight_decay", &track_training_settings::weight_decay, D(track_training_settings, weight_decay))
         .def_readwrite("patience", &track_training_settings::patience, D(track_training_settings, patience))
         .def_readwrite("seed", &track_training_settings::seed, D(track_training_settings, seed))
@@ -46,7 +48,8 @@ void bind_temporal(py::module& m)
             [](track_training_settings& s, const std::string& t) {
                 s.temporal = nn::temporal_settings::from_json(nlohmann::json::parse(t), "temporal_json");
             },
-            "the temporal model's settings as JSON text (keys as in bundle.json's track.temporal.settings)")
+            "the temporal model's settings as JSON text (keys as in bundle.json's track.temporal.settings: kind "
+            "gru_fusion or acf_tcn, and that kind's own keys)")
         .def_readwrite("super_frames", &track_training_settings::super_frames, D(track_training_settings, super_frames))
         .def_readwrite("mask_epochs", &track_training_settings::mask_epochs, D(track_training_settings, mask_epochs))
         .def_readwrite("mask_tracks", &track_training_settings::mask_tracks, D(track_training_settings, mask_tracks))

@@ -26,8 +26,10 @@ namespace sems {
  * \details A track bundle is a classifier bundle (its mask, frame decoder and weights) with a
  * `track` record in bundle.json: the temporal model (temporal_settings), its weights file and
  * how it was trained. Per frame, evidence() runs the frame decoder (batched over frames of any
- * tracks), and step() folds one frame's evidence into its track's state and answers: one GRU
- * step, never a pass over the track again. The state is the caller's, one per track, so a
+ * tracks; for kind acf_tcn also the autocorrelation of the frame's pilots), and step() folds
+ * one frame's evidence into its track's state and answers: one GRU step (gru_fusion) or the
+ * newest output of the causal convolutions from the frames of their receptive field (acf_tcn),
+ * never a pass over the track again. The state is the caller's, one per track, so a
  * caller can keep many tracks apart (classifier_sink follows one at a time). LibTorch stays behind this header.
  *
  * Beside the learned decision, step() gives the classical fusion of independent frames, the
@@ -39,7 +41,12 @@ class SEMS_LEARNING_API track_classifier
 public:
     /*! \brief One track's state: what its frames so far left. */
     struct state {
-        std::vector<float> hidden; ///< the GRU's state (temporal_settings::hidden values)
+        /*!
+         * \brief The model's state: the GRU's (temporal_settings::hidden values) for
+         *        gru_fusion; for acf_tcn the inputs of the last receptive_field() frames, the
+         *        running sum and maximum of the top layer (2 x channels) and the count.
+         */
+        std::vector<float> hidden;
         std::vector<float> fused;  ///< Σ log p(c | frame) over its frames (C values)
         uint64_t frames = 0;       ///< frames seen: the evidence time
     };
@@ -49,7 +56,8 @@ public:
      * \param bundle a classifier bundle with a `track` record (model_bundle::track).
      * \param threads LibTorch intra-op threads, as bundle_decoder's.
      * \throws std::invalid_argument naming bundle.json or the weights file and the problem
-     *         (a bundle without `track` included).
+     *         (a bundle without `track`, or of an unknown temporal model kind, included), or,
+     *         for kind acf_tcn, the mask file when no subcarrier of the mask holds two pilots.
      */
     explicit track_classifier(const model_bundle& bundle, int threads = 1);
     /*!
@@ -73,7 +81,13 @@ public:
     int super_frames() const;
     /*! \brief C. \return the classes. */
     int n_classes() const;
-    /*! \brief The evidence one frame gives. \return its values per frame (features, the log Doppler profile when the settings' doppler_profile is on, and C). */
+    /*!
+     * \brief The evidence one frame gives.
+     * \return its values per frame: for gru_fusion the features, the log Doppler profile when
+     *         the settings' doppler_profile is on, and C; for acf_tcn the 2·(N−1) values of the
+     *         pilots' autocorrelation and C (temporal_settings). The last C are the frame's
+     *         class log-probabilities either way.
+     */
     int evidence_size() const;
     /*! \brief The temporal model's settings. \return the settings. */
     const nn::temporal_settings& settings() const;

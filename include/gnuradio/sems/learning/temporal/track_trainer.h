@@ -13,7 +13,7 @@
  * the track's pilots only (N_p values per frame, never the whole frames). Each epoch draws
  * new noise (a track keeps one SNR, uniform in [snr_min_db, snr_max_db]) and runs the frame
  * decoder once over every frame; the temporal model trains on the cross-entropy of its
- * decision after every frame. The best validation epoch is kept. With super_frames F > 1 the
+ * decision after every frame (weighted towards a track's end with loss_ramp > 0). The best validation epoch is kept. With super_frames F > 1 the
  * pilots come first: F sets learned with the frame decoder (super_frame_learner), frame t of
  * track j read at set (j + t) mod F. The test tracks are scored at
  * each eval SNR after each number of frames in eval_frames, for the temporal model and for
@@ -47,7 +47,8 @@ struct SEMS_LEARNING_API track_training_settings {
     double snr_max_db = 30.0;        ///< its upper end
     int epochs = 12;                 ///< epochs of the temporal model
     int batch = 64;                  ///< tracks per step
-    double lr = 3e-3;                ///< AdamW
+    double lr = 3e-3;                ///< AdamW's rate for kind gru_fusion
+    double acf_tcn_lr = 1e-3;        ///< AdamW's rate for kind acf_tcn (lr is gru_fusion's)
     double weight_decay = 1e-3;      ///< AdamW's decoupled weight decay (0 = none)
     int patience = 4;                ///< early stop after this many epochs without a better validation
     uint64_t seed = 1;               ///< seed of the tracks, the noise and the weights
@@ -55,6 +56,12 @@ struct SEMS_LEARNING_API track_training_settings {
     std::vector<double> eval_snr_db{ -10.0, 0.0, 10.0, 20.0, 30.0 }; ///< test SNR points in dB
     std::vector<int> eval_frames{ 1, 2, 4, 8, 16, 32 };             ///< observation times scored, in frames
     nn::temporal_settings temporal;  ///< the temporal model
+    /*!
+     * \brief How the loss weighs the decision after t frames of a track of K: by (t/K)^loss_ramp
+     *        (0: every decision alike, the plain mean; 1: in proportion to the frames seen, so
+     *        the decisions a long track makes count more than its first guesses).
+     */
+    double loss_ramp = 0.0;
     /*!
      * \brief F, the frames of a super-frame mask: 1 keeps the frame bundle's mask and decoder;
      *        F > 1 first learns F sets of the frame bundle's N_p pilots, one per frame of the
