@@ -15,7 +15,7 @@
 # bundles and runs go to DIR (default out/eval_adult_child), the runs' CSVs to
 # RESULTS/adult_child_track/s<seed>/, the record to RESULTS/eval_adult_child.log and the
 # trainings' and runs' logs beside the CSVs. The programs are $SEMS_TRAIN and $SEMS_EVAL (default
-# build/apps/sems_train and build/apps/sems_eval) and /usr/bin/python3. About 75 min on 2 cores.
+# build/apps/sems_train and build/apps/sems_eval) and /usr/bin/python3. About an hour on 2 cores.
 # --size test runs the same plumbing in a minute or two (numbers meaningless).
 set -euo pipefail
 script=eval_adult_child.sh
@@ -42,7 +42,7 @@ train_one() { # seed
   fi
 }
 
-stamp "3 track bundles (acf_tcn) of the adult/child pair, two at a time, logs in $out/train_s*.log"
+stamp "3 track bundles (acf_tcn) of the adult/child pair, two at a time, logs in ${out#"$root"/}/train_s*.log"
 train_one "${seeds[0]}" & a=$!
 train_one "${seeds[1]}" & b=$!
 wait "$a" && wait "$b" || { stamp "a training failed"; exit 1; }
@@ -65,5 +65,5 @@ for s in "${seeds[@]}"; do
   runs+=("$d")
 done
 /usr/bin/python3 "$root/apps/figures/pair_tracks.py" "${runs[@]}" --out "$results/adult_child_track.md" \
-  --command "bash scripts/evaluation/eval_adult_child.sh"
+  --command "bash scripts/evaluation/eval_adult_child.sh" | sed "s#$root/##"
 stamp "done in $(( $(date +%s) - start )) s"
