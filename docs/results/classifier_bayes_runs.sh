@@ -66,8 +66,8 @@ bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --
   --prior 120000 --csv "$kcsv" > "$logs/kinematic_doppler.log"
 bayes --scene models/scenes/kinematic_any.json --mask doppler:128 --label doppler_128 --snr=$snrs --frames 3000 \
   --prior 20000 --csv "$kcsv" > "$logs/kinematic_doppler_128.log"
-# the same classifier as a decoder that knows only 30 000 draws (5 000 per class: as many as a
-# network's training set in experiment 7) and 300 000: how much of the gap to the bound is the
+# the same classifier as a decoder that knows only 30 000 draws (5 000 per class: as many frames as a
+# network's whole budget in experiment 7, 24 000 of them for training) and 300 000: how much of the gap to the bound is the
 # number of draws (rows "Bayes classifier from N prior draws (a decoder)")
 for per_class in 5000 50000; do
   bayes --scene models/scenes/kinematic_any.json --mask doppler --label doppler --snr=$snrs --frames 3000 \
