@@ -450,6 +450,9 @@ def main(argv):
     if page7:
         with open(out7, "w") as f:
             f.write(page7)
+    elif os.path.exists(out7):  # a page of an earlier run's experiment 7, whose predictions are gone
+        os.remove(out7)
+        print("claims.py: removed %s (no experiment 7 predictions in %s)" % (out7, a.results))
     print("claims.py: wrote %s%s (%d families tested%s)" % (
         out, " and " + out7 if page7 else "", tested, ", %d kept files missing" % len(missing) if missing else ""))
     return 0 if tested else 1
