@@ -43,15 +43,21 @@ train_one() { # seed
 }
 
 stamp "3 track bundles (acf_tcn) of the adult/child pair, two at a time, logs in ${out#"$root"/}/train_s*.log"
+# Every background job is waited for, failed or not, before the script ends: none is left
+# writing into DIR after a failure.
+status=0
 train_one "${seeds[0]}" & a=$!
 train_one "${seeds[1]}" & b=$!
-wait "$a" && wait "$b" || { stamp "a training failed"; exit 1; }
+wait "$a" || status=1
+wait "$b" || status=1
+[ "$status" = 0 ] || { stamp "a training failed"; exit 1; }
 train_one "${seeds[2]}" & a=$!
 for s in "${seeds[0]}" "${seeds[1]}"; do
   run_part "tracks_s$s" --experiments 9 --exp9-parts tracks --exp9-track-bundle "$out/bundle_s$s" \
-    --exp9-track-count "$count" --exp9-track-frames "$frames" --snrs 10,20,30
+    --exp9-track-count "$count" --exp9-track-frames "$frames" --snrs 10,20,30 || { status=1; break; }
 done
-wait "$a" || { stamp "a training failed"; exit 1; }
+wait "$a" || status=1
+[ "$status" = 0 ] || { stamp "a part failed"; exit 1; }
 run_part "tracks_s${seeds[2]}" --experiments 9 --exp9-parts tracks --exp9-track-bundle "$out/bundle_s${seeds[2]}" \
   --exp9-track-count "$count" --exp9-track-frames "$frames" --snrs 10,20,30
 runs=()

@@ -101,6 +101,25 @@ scene adults_children()
                             "qa_track_tcn scene");
 }
 
+// Tiny seeded acf_tcn settings on the shipped kinematic frame bundle (seconds of training).
+track_training_settings tiny_settings(const std::string& dir, const scene& sc, int frames, int tracks, int channels)
+{
+    track_training_settings s;
+    s.frame_bundle = qa::models_dir() + "classifier_kinematic";
+    s.scene_spec = sc;
+    s.scene_source = "qa_track_tcn scene";
+    s.track_frames = frames;
+    s.tracks = tracks;
+    s.snr_min_db = s.snr_max_db = 20.0;
+    s.threads = 1;
+    s.eval_snr_db = { 20.0 };
+    s.temporal = tcn_settings();
+    s.temporal.channels = channels;
+    s.out_dir = dir;
+    s.verbose = false;
+    return s;
+}
+
 struct tcn_run {
     std::string dir;
     track_training_result result;
@@ -112,25 +131,13 @@ const tcn_run& shared_tcn_run()
     if (!r) {
         r = std::make_unique<tcn_run>();
         r->dir = qa::temp_dir("track_tcn", "bundle");
-        track_training_settings s;
-        s.frame_bundle = qa::models_dir() + "classifier_kinematic";
-        s.scene_spec = adults_children();
-        s.scene_source = "qa_track_tcn scene";
-        s.track_frames = 8;
-        s.tracks = 60;
-        s.snr_min_db = s.snr_max_db = 20.0;
+        auto s = tiny_settings(r->dir, adults_children(), 8, 60, 16);
         s.epochs = 2;
         s.batch = 16;
         s.seed = 23;
-        s.threads = 1;
-        s.eval_snr_db = { 20.0 };
         s.eval_frames = { 1, 8 };
-        s.temporal = tcn_settings();
-        s.temporal.channels = 16;
         s.temporal.head = 8;
         s.loss_ramp = 1.0;
-        s.out_dir = r->dir;
-        s.verbose = false;
         r->result = train_track(s, nullptr);
     }
     return *r;
@@ -150,6 +157,7 @@ class qa_track_tcn : public CppUnit::TestFixture
     CPPUNIT_TEST(forward_is_causal);
     CPPUNIT_TEST(trained_bundle_streams_the_trainer_answers);
     CPPUNIT_TEST(bad_tcn_bundles_are_refused);
+    CPPUNIT_TEST(steep_ramp_on_short_tracks_trains_finite_weights);
     CPPUNIT_TEST_SUITE_END();
 
 public:
@@ -316,6 +324,40 @@ public:
     // The written bundle loads with track_classifier, whose evidence is the pilots'
     // autocorrelation and the frame decoder's log-probabilities, and whose steps give the
     // trained model's forward frame by frame; the fusion beside it is that of the frames.
+    // Tracks of one frame, K = 1024 and a ramp of 16: every weight (t/K)^16 = 2^-160 is 0 in a
+    // float, so a loss of Σ ce·w / Σ w would be 0/0 and train NaN weights; the ramp's weights are
+    // taken relative to a batch's largest, and the trained bundle decides finitely.
+    void steep_ramp_on_short_tracks_trains_finite_weights()
+    {
+        const std::string dir = qa::temp_dir("track_tcn", "steep_ramp");
+        const auto one_frame = scene::from_json(nlohmann::json::parse(R"({"format": "sems.scene", "version": 1,
+            "classes": "kinematic", "random": {"classes": ["adult", "child"], "tracks": {"frames": 1}}})"),
+                                                "qa_track_tcn one-frame scene");
+        auto s = tiny_settings(dir, one_frame, 1024, 20, 8);
+        s.epochs = 1;
+        s.batch = 8;
+        s.seed = 29;
+        s.eval_frames = { 1 };
+        s.temporal.head = 4;
+        s.loss_ramp = 16.0;
+        const auto r = train_track(s, nullptr);
+        CPPUNIT_ASSERT(std::isfinite(r.history.at(0).at("loss").get<double>()));
+        const track_classifier tc(model_bundle::load(dir), 1);
+        const auto tracks = temporal::draw_tracks(tc.bundle().frame, *s.scene_spec, tc.bundle().mask, 3, 0, 2, 1,
+                                                  tc.bundle().class_names);
+        auto gen = at::detail::createCPUGenerator(7);
+        const auto obs = temporal::observe_tracks(tracks, tc.bundle().mask, 20.0, 20.0, gen).contiguous();
+        for (int64_t i = 0; i < 2; ++i) {
+            auto fr = obs[i].slice(0, 0, 1).contiguous();
+            const auto ev = tc.evidence(reinterpret_cast<const gr_complex*>(fr.data_ptr<float>()), 1);
+            auto st = tc.begin();
+            std::vector<float> p(size_t(tc.n_classes()));
+            tc.step(st, ev.data(), p.data());
+            for (float x : p)
+                CPPUNIT_ASSERT(std::isfinite(x));
+        }
+    }
+
     void trained_bundle_streams_the_trainer_answers()
     {
         const auto& run = shared_tcn_run();

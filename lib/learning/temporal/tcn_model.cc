@@ -126,21 +126,29 @@ tcn_stepper::impl::impl(const tcn_model_module& m)
     d_head2_b = Eigen::Map<const Eigen::VectorXf>(h2b.data_ptr<float>(), h2b.numel());
 }
 
+namespace {
+constexpr float max_count = 16777216.0f; // 2^24: the last count a float holds exactly, with its successor
+} // namespace
+
 void tcn_stepper::impl::step(float* state, const float* evidence, float* logits) const
 {
     using vector = Eigen::VectorXf;
-    // The state: the last R frames' inputs (the newest last), the running sum and maximum of
+    // The state: the last R frames' inputs (the newest last), the running mean and maximum of
     // the top layer, and the count of frames.
     float* window = state;
-    Eigen::Map<vector> sum(state + size_t(d_r) * d_e, d_ch), peak(state + size_t(d_r) * d_e + d_ch, d_ch);
+    Eigen::Map<vector> mean(state + size_t(d_r) * d_e, d_ch), peak(state + size_t(d_r) * d_e + d_ch, d_ch);
     float& count = state[d_state - 1];
     std::memmove(window, window + d_e, sizeof(float) * size_t(d_r - 1) * d_e);
     float* newest = window + size_t(d_r - 1) * d_e;
     std::copy(evidence, evidence + d_e, newest);
     for (int i = d_e - d_c; i < d_e; ++i)
         newest[i] = std::exp(newest[i]); // as tcn_model_module::inputs()
-    count += 1.0f;
-    const long long t = static_cast<long long>(count); // frames of the track so far
+    // A float counts exactly to 2^24 frames (6 days of 32 ms frames); past that the count stays
+    // there and the running mean weighs each new frame by 2^-24 (a moving average that long),
+    // where a float sum would stop taking small values in.
+    if (count < max_count)
+        count += 1.0f;
+    const long long t = static_cast<long long>(count); // frames of the track so far (capped)
     // Each layer's needed outputs, bottom up; an offset at or before the track's start is
     // the convolution's zero padding.
     Eigen::MatrixXf below; // the previous layer's outputs, one column per needed offset
@@ -168,10 +176,10 @@ void tcn_stepper::impl::step(float* state, const float* evidence, float* logits)
         below_column = &y.column;
     }
     const vector top = below.col(0);
-    sum += top;
-    peak = peak.cwiseMax(top); // ReLU outputs: a new track's zeros are below any of them
+    mean += (top - mean) / count; // the mean of frames 1..t, as forward()'s cumsum / t
+    peak = peak.cwiseMax(top);    // ReLU outputs: a new track's zeros are below any of them
     vector pooled(2 * d_ch);
-    pooled << sum / count, peak;
+    pooled << mean, peak;
     const vector hidden = (d_head1 * pooled + d_head1_b).cwiseMax(0.0f);
     Eigen::Map<vector>(logits, d_c) = d_head2 * hidden + d_head2_b;
 }

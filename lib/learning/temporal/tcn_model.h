@@ -26,7 +26,7 @@ public:
     tcn_model_module(int evidence_size, int n_classes, temporal_settings s);
 
     torch::Tensor forward(const torch::Tensor& evidence) override;
-    // R·E inputs of the receptive field, the running sum and maximum (2 x channels) and the count.
+    // R·E inputs of the receptive field, the running mean and maximum (2 x channels) and the count.
     int hidden_size() const override;
     // What the convolutions read of evidence (... x E): the same with its last C values, the
     // log-probabilities, turned into probabilities (on the autocorrelation's scale).

@@ -290,8 +290,12 @@ track_training_result train_track(const track_training_settings& s, std::ostream
         return ok.sum().item<double>() / valid.sum().item<double>();
     };
 
-    // The loss's weight of the decision after t = 1..K frames (loss_ramp > 0 only).
-    const auto ramp = torch::pow(torch::arange(1, k + 1, torch::kFloat) / double(k), s.loss_ramp).view({ 1, k });
+    // The log of the loss's weight of the decision after t = 1..K frames, γ·log(t/K) (loss_ramp
+    // > 0 only): a batch's weights are taken relative to its largest, so tracks far shorter than
+    // K with a steep ramp cannot underflow every weight to 0 (and the loss to 0/0).
+    const auto log_ramp = (s.loss_ramp * torch::log(torch::arange(1, k + 1, torch::kDouble) / double(k)))
+                              .to(torch::kFloat)
+                              .view({ 1, k });
     track_training_result result;
     result.history = nlohmann::json::array();
     double best = -1.0;
@@ -321,7 +325,8 @@ track_training_result train_track(const track_training_settings& s, std::ostream
                 auto ce = torch::nn::functional::cross_entropy(
                     logits.reshape({ -1, c }).index_select(0, rows), lbl.index_select(0, rows),
                     torch::nn::functional::CrossEntropyFuncOptions().reduction(torch::kNone));
-                auto w = ramp.expand({ idx.size(0), k }).flatten().index_select(0, rows);
+                auto lw = log_ramp.expand({ idx.size(0), k }).flatten().index_select(0, rows);
+                auto w = (lw - lw.max()).exp(); // the largest is 1
                 loss = (ce * w).sum() / w.sum();
             }
             opt.zero_grad();

@@ -54,7 +54,7 @@ namespace nn {
  *     logits_t = V₂ · ReLU(V₁ · [ (1/t) Σ_{i≤t} aᴸ_i ; max_{i≤t} aᴸ_i ] + c₁) + c₂
  *
  * A streamed step keeps the last R = 1 + (kernel − 1)·Σ dˡ frames' inputs (the receptive
- * field), the running sum and maximum and the count, and computes only the newest aᴸ_t.
+ * field), the running mean and maximum and the count (capped at 2^24 frames), and computes only the newest aᴸ_t.
  */
 struct SEMS_LEARNING_API temporal_settings {
     /*! \brief The model: "gru_fusion" (the default) or "acf_tcn" (see the details). */

@@ -44,7 +44,7 @@ public:
         /*!
          * \brief The model's state: the GRU's (temporal_settings::hidden values) for
          *        gru_fusion; for acf_tcn the inputs of the last receptive_field() frames, the
-         *        running sum and maximum of the top layer (2 x channels) and the count.
+         *        running mean and maximum of the top layer (2 x channels) and the count.
          */
         std::vector<float> hidden;
         std::vector<float> fused;  ///< Σ log p(c | frame) over its frames (C values)
