@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace gr {
 namespace sems {
@@ -28,7 +29,8 @@ void check_mimo_counts(const char* who, const array_geometry& a, const mimo_mask
 
 // Per receive element k and pilot i: s0 = g Σ_j amp(i,j) exp(j2π f_i u·(p_k + q_j)/c), f_i = f_c + m_i Δf
 // the pilot's own frequency (the emulator's exact element delay: the carrier phase
-// exp(j2π u·o/λ) and the delay −u·o/c on subcarrier m), and, when ds is given, its derivative in
+// exp(j2π u·o/λ) and the delay −u·o/c on subcarrier m make the steering phasor at the
+// subcarrier's own wavelength c/f_i), and, when ds is given, its derivative in
 // φ (the pattern's slope included, as angle_crb_rad2 keeps it).
 void mimo_model(const array_geometry& a, const mimo_mask& m, const frame_settings& fs, double az, double el,
                 std::vector<cd>& s0, std::vector<cd>* ds)
@@ -50,7 +52,7 @@ void mimo_model(const array_geometry& a, const mimo_mask& m, const frame_setting
                 continue;
             for (int k = 0; k < nr; ++k) {
                 const auto& o = off[size_t(k) * nt + j];
-                const cd p = cis_cycles(f * projection_m(u, o) / speed_of_light_mps);
+                const cd p = element_phasor(u, o, speed_of_light_mps / f);
                 s0[size_t(k) * np + i] += w * g * p;
                 if (ds)
                     (*ds)[size_t(k) * np + i] +=
@@ -110,6 +112,7 @@ struct mimo_ml_angle_estimator::tables {
     Eigen::MatrixXcd steer;  // q x (N_r·N_p): conj(s0)/‖s0‖ per grid azimuth
     Eigen::MatrixXcd phasor; // N_p x (nd·nv): exp(j2π m τ/M) exp(−j2π n ν/N)
     std::vector<double> az, tau, nu;
+    bool spans_subcarriers = false, spans_symbols = false; // the pilots see τ, ν
 };
 
 mimo_ml_angle_estimator::mimo_ml_angle_estimator(const array_geometry& a, const mimo_mask& m, const frame_settings& fs,
@@ -144,6 +147,10 @@ mimo_ml_angle_estimator::mimo_ml_angle_estimator(const array_geometry& a, const 
         t->tau.push_back(double(d) / oversample);
     for (int v = 0; v < t->nv; ++v)
         t->nu.push_back(-0.5 * big_n + double(v) / oversample);
+    for (const auto& p : m.mask().positions()) {
+        t->spans_subcarriers |= p.m != m.mask().positions().front().m;
+        t->spans_symbols |= p.n != m.mask().positions().front().n;
+    }
     t->phasor.resize(np, Eigen::Index(t->nd) * t->nv);
     for (int i = 0; i < np; ++i) {
         const auto& p = m.mask().positions()[size_t(i)];
@@ -205,50 +212,62 @@ mimo_ml_estimate mimo_ml_angle_estimator::estimate(const gr_complex* y) const
     e.azimuth_rad = t.az[size_t(bq)];
     e.delay_index = t.tau[size_t(bc % t.nd)];
     e.doppler_bins = t.nu[size_t(bc / t.nd)];
-    // Polish: Nelder–Mead over (φ, τ, ν) from a simplex of one grid step per coordinate. The
-    // three are coupled (time division ties φ to ν, frequency division to τ), so a search along
-    // one coordinate at a time would crawl along the ridge.
+    // Polish: Nelder–Mead over (φ, τ, ν) together from a simplex of half a grid step per
+    // coordinate: they are coupled (time division ties φ to ν, frequency division to τ), so a
+    // search along one coordinate at a time would crawl along the ridge. A coordinate the pilots
+    // cannot see (τ with every pilot on one subcarrier, ν on one symbol) is left out: the
+    // likelihood is flat along it, and a simplex stretched along a flat direction stalls.
     const double steps[3] = { (d_search.max_rad - d_search.min_rad) / (t.q - 1), 1.0 / d_over, 1.0 / d_over };
+    std::vector<int> dims{ 0 };
+    if (t.spans_subcarriers)
+        dims.push_back(1);
+    if (t.spans_symbols)
+        dims.push_back(2);
+    const size_t nd = dims.size(), nv = nd + 1;
     using point = std::array<double, 3>;
     auto value = [&](const point& x) {
         if (x[0] < d_search.min_rad || x[0] > d_search.max_rad)
             return -1.0;
         return likelihood(y, x[0], x[1], x[2]);
     };
-    std::array<point, 4> v;
-    std::array<double, 4> fv;
+    std::vector<point> v(nv);
+    std::vector<double> fv(nv);
     v[0] = { e.azimuth_rad, e.delay_index, e.doppler_bins };
-    for (int c = 0; c < 3; ++c) {
-        v[size_t(c) + 1] = v[0];
-        v[size_t(c) + 1][size_t(c)] += 0.5 * steps[c];
+    for (size_t i = 0; i < nd; ++i) {
+        v[i + 1] = v[0];
+        v[i + 1][size_t(dims[i])] += 0.5 * steps[dims[i]];
     }
-    for (int i = 0; i < 4; ++i)
-        fv[size_t(i)] = value(v[size_t(i)]);
-    for (int it = 0; it < 400; ++it) {
-        std::array<int, 4> o{ 0, 1, 2, 3 };
-        std::sort(o.begin(), o.end(), [&](int a, int b) { return fv[size_t(a)] > fv[size_t(b)]; });
-        std::array<point, 4> sv;
-        std::array<double, 4> sf;
-        for (int i = 0; i < 4; ++i) {
-            sv[size_t(i)] = v[size_t(o[size_t(i)])];
-            sf[size_t(i)] = fv[size_t(o[size_t(i)])];
+    for (size_t i = 0; i < nv; ++i)
+        fv[i] = value(v[i]);
+    for (int it = 0; it < 600; ++it) {
+        std::vector<size_t> o(nv);
+        for (size_t i = 0; i < nv; ++i)
+            o[i] = i;
+        std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return fv[a] > fv[b]; });
+        std::vector<point> sv(nv);
+        std::vector<double> sf(nv);
+        for (size_t i = 0; i < nv; ++i) {
+            sv[i] = v[o[i]];
+            sf[i] = fv[o[i]];
         }
         v = sv;
         fv = sf;
         double spread = 0.0;
-        for (int i = 1; i < 4; ++i)
-            for (int c = 0; c < 3; ++c)
-                spread = std::max(spread, std::fabs(v[size_t(i)][size_t(c)] - v[0][size_t(c)]) / steps[c]);
+        for (size_t i = 1; i < nv; ++i)
+            for (int c : dims)
+                spread = std::max(spread, std::fabs(v[i][size_t(c)] - v[0][size_t(c)]) / steps[c]);
         if (spread < 1e-9)
             break;
-        point centroid{ 0.0, 0.0, 0.0 };
-        for (int i = 0; i < 3; ++i)
-            for (int c = 0; c < 3; ++c)
-                centroid[size_t(c)] += v[size_t(i)][size_t(c)] / 3.0;
+        point centroid = v[0];
+        for (int c : dims) {
+            centroid[size_t(c)] = 0.0;
+            for (size_t i = 0; i < nd; ++i)
+                centroid[size_t(c)] += v[i][size_t(c)] / double(nd);
+        }
         auto along = [&](double f) {
-            point x;
-            for (int c = 0; c < 3; ++c)
-                x[size_t(c)] = centroid[size_t(c)] + f * (v[3][size_t(c)] - centroid[size_t(c)]);
+            point x = centroid;
+            for (int c : dims)
+                x[size_t(c)] = centroid[size_t(c)] + f * (v[nd][size_t(c)] - centroid[size_t(c)]);
             return x;
         };
         const point r = along(-1.0);
@@ -256,22 +275,22 @@ mimo_ml_estimate mimo_ml_angle_estimator::estimate(const gr_complex* y) const
         if (fr > fv[0]) {
             const point x = along(-2.0);
             const double fx = value(x);
-            v[3] = fx > fr ? x : r;
-            fv[3] = std::max(fx, fr);
-        } else if (fr > fv[2]) {
-            v[3] = r;
-            fv[3] = fr;
+            v[nd] = fx > fr ? x : r;
+            fv[nd] = std::max(fx, fr);
+        } else if (fr > fv[nd - 1]) {
+            v[nd] = r;
+            fv[nd] = fr;
         } else {
-            const point x = along(fr > fv[3] ? -0.5 : 0.5);
+            const point x = along(fr > fv[nd] ? -0.5 : 0.5);
             const double fx = value(x);
-            if (fx > std::max(fr, fv[3])) {
-                v[3] = x;
-                fv[3] = fx;
+            if (fx > std::max(fr, fv[nd])) {
+                v[nd] = x;
+                fv[nd] = fx;
             } else {
-                for (int i = 1; i < 4; ++i) {
-                    for (int c = 0; c < 3; ++c)
-                        v[size_t(i)][size_t(c)] = 0.5 * (v[size_t(i)][size_t(c)] + v[0][size_t(c)]);
-                    fv[size_t(i)] = value(v[size_t(i)]);
+                for (size_t i = 1; i < nv; ++i) {
+                    for (int c : dims)
+                        v[i][size_t(c)] = 0.5 * (v[i][size_t(c)] + v[0][size_t(c)]);
+                    fv[i] = value(v[i]);
                 }
             }
         }

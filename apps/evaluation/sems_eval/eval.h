@@ -91,6 +91,12 @@ struct config {
     std::string exp9_track_bundle = "classifier_kinematic_track"; // experiment 9, tracks: the track bundle
     int exp9_track_count = 12;                                // experiment 9, tracks: test tracks
     int exp9_track_frames = 8;                                // experiment 9, tracks: planned frames of a track
+    std::string exp9_mimo_array = "mimo2x4_3g";               // experiment 9, mimo: the MIMO array
+    int exp9_mimo_seeds = 3;                                  // experiment 9, mimo: learned masks (seeds)
+    int exp9_mimo_epochs = 2;                                 // experiment 9, mimo: the learner's epochs (full 40)
+    int exp9_mimo_steps = 2;                                  // experiment 9, mimo: its steps per epoch (full 25)
+    int exp9_mimo_draws = 8;                                  // experiment 9, mimo: its azimuths per step (full 64)
+    int exp9_mimo_azimuths = 161;                             // experiment 9, mimo: the bound's azimuth grid
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -249,6 +255,7 @@ void run_tracks(const config& c, std::ostream& log);        // 8
 void run_angle(const config& c, std::ostream& log);         // 9 (angle part)
 void run_array_classes(const config& c, std::ostream& log); // 9 (classes part)
 void run_array_tracks(const config& c, std::ostream& log);  // 9 (tracks part)
+void run_array_mimo(const config& c, std::ostream& log);    // 9 (mimo part)
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 void run_model_cards(const config& c, std::ostream& log);     // --model-card
 

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/*!
+ * \file
+ * \brief Learning a MIMO mask (core/array/mimo_mask.h): which N_p resource elements carry
+ *        pilots and which transmit element sends each, for a target's azimuth
+ *        (docs/reference/arrays.md, "MIMO masks").
+ *
+ * \details Torch-free header (the app and the evaluation call it). The objective is the
+ * azimuth's Cramér–Rao bound with the target's delay, Doppler and complex gain unknown
+ * (baselines/mimo_angle.h), averaged over the azimuths the scene draws (uniform on
+ * [azimuth_min_rad, azimuth_max_rad]): the mean squared error an efficient estimator reaches
+ * there, which the maximum-likelihood estimator does at high SNR. Its Fisher information is a
+ * closed form in the mask, so the learner needs no frames and no decoder: it is the bound
+ * itself that is minimised, over
+ *  - the resource elements: the semantic encoder's Gumbel top-k (exactly N_p distinct
+ *    resource elements forward, relaxed gradient; the frame's guards excluded);
+ *  - each element's transmit element: one logit per transmit element and resource element,
+ *    a straight-through Gumbel-softmax (one element forward, relaxed gradient).
+ * Each step draws `draws` azimuths from the scene's interval and minimises log(mean CRB); the
+ * temperature is annealed per epoch; the kept mask is the epoch's final (greedy) mask with the
+ * lowest objective on a fixed grid of azimuths. Every pilot is sent by one element at full
+ * energy (the hand form "same pilots", every element at 1/sqrt(N_t), is a reference it is
+ * compared against, not a choice it makes).
+ */
+#ifndef INCLUDED_SEMS_LEARNING_MIMO_MASK_LEARNER_H
+#define INCLUDED_SEMS_LEARNING_MIMO_MASK_LEARNER_H
+
+#include <gnuradio/sems/core/array/array_geometry.h>
+#include <gnuradio/sems/core/array/mimo_mask.h>
+#include <gnuradio/sems/core/frame/frame_settings.h>
+#include <gnuradio/sems/learning/api.h>
+#include <gnuradio/sems/learning/networks/network_settings.h>
+#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace sems {
+
+/*! \brief Everything learn_mimo_mask() needs. */
+struct SEMS_LEARNING_API mimo_mask_settings {
+    std::string array = "mimo2x4_3g"; ///< the array: a preset's name or an array file (N_t ≥ 2)
+    frame_settings frame;             ///< the frame
+    int n_pilots = 32;                ///< N_p
+    double azimuth_min_rad = -0.8;    ///< the scene's azimuths: lower end
+    double azimuth_max_rad = 0.8;     ///< upper end
+    double elevation_rad = 0.0;       ///< the targets' elevation
+    int epochs = 40;                  ///< epochs
+    int steps = 25;                   ///< steps per epoch
+    int draws = 64;                   ///< azimuths per step
+    int eval_azimuths = 161;          ///< the fixed grid the kept mask is chosen on
+    double lr = 0.01;                 ///< Adam's learning rate (the encoder's is lr · encoder.lr_scale)
+    nn::encoder_settings encoder;     ///< the resource elements' selector and its temperature schedule
+    uint64_t seed = 1;                ///< seed of the draws and the initial scores
+    int threads = 0;                  ///< <= 0: leave LibTorch's default
+    std::string command_line;         ///< recorded in the mask's origin
+    bool verbose = true;              ///< per-epoch progress on the log
+
+    /*! \brief Checks every setting. \throws std::invalid_argument naming the setting. */
+    void validate() const;
+};
+
+/*! \brief What learn_mimo_mask() returns. */
+struct SEMS_LEARNING_API mimo_mask_result {
+    mimo_mask mask;            ///< the kept mask
+    nlohmann::json history;    ///< one object per epoch
+    double mean_crb_rad2 = 0;  ///< its objective: the mean CRB over eval_azimuths at an SNR of 1 per pilot
+    double seconds = 0.0;      ///< wall time
+};
+
+/*!
+ * \brief The objective: the mean of mimo_angle_crb_rad2 at an SNR of 1 (0 dB) per pilot and
+ *        receive element over `count` azimuths at the midpoints of equal cells of [lo, hi].
+ * \details At SNR s the mean bound is this over s. +inf when the mask cannot tell the angle at
+ * one of them.
+ * \param a the array. \param m the mask. \param fs the frame. \param lo first azimuth. \param hi last.
+ * \param count azimuths (≥ 1). \param elevation_rad θ.
+ * \return the mean in rad².
+ */
+SEMS_LEARNING_API double mimo_mean_crb_rad2(const array_geometry& a, const mimo_mask& m, const frame_settings& fs,
+                                            double lo, double hi, int count, double elevation_rad = 0.0);
+
+/*!
+ * \brief Learns a MIMO mask (the file comment).
+ * \param s the settings (validated first).
+ * \param log where progress goes (nullptr: silent).
+ * \return the mask, its history and objective.
+ * \throws std::invalid_argument naming a bad setting or file.
+ */
+SEMS_LEARNING_API mimo_mask_result learn_mimo_mask(const mimo_mask_settings& s, std::ostream* log);
+
+} // namespace sems
+} // namespace gr
+
+#endif /* INCLUDED_SEMS_LEARNING_MIMO_MASK_LEARNER_H */
