@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: pilot_mapper implementation (see pilot_mapper.h). */
 #include "blocks/common/block_mask.h"
+#include "blocks/common/data_tags.h"
 #include "blocks/pilot_mapper_impl.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/common/tags.h>
@@ -179,10 +180,9 @@ int pilot_mapper_impl::general_work(int noutput_items,
 
         // Tags of the data symbols just used go onto this OFDM symbol.
         const uint64_t used_end = nread + static_cast<uint64_t>(consumed + need);
-        for (; next_tag < d_tags.size() && d_tags[next_tag].offset < used_end; ++next_tag)
-            if (!pmt::eqv(d_tags[next_tag].key, d_frame_key))
-                add_item_tag(0, nwritten + produced, d_tags[next_tag].key, d_tags[next_tag].value,
-                             d_tags[next_tag].srcid);
+        move_data_tags(d_tags, next_tag, used_end, d_frame_key, [&](const gr::tag_t& t) {
+            add_item_tag(0, nwritten + produced, t.key, t.value, t.srcid);
+        });
 
         consumed += need;
         ++produced;

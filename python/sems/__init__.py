@@ -34,12 +34,14 @@ _LAZY_MODULES = {
         "track_training_settings", "track_training_result", "train_track", "track_state", "track_classifier",
         "position_sink", "position_training_settings", "position_training_result", "train_position",
         "position_estimate", "position_estimator",
+        "mimo_mask_settings", "mimo_mask_result", "mimo_mean_crb_rad2", "learn_mimo_mask",
     ),
     "baselines_python": (
         "delay_search", "slow_time_model", "periodogram_delay_estimator",
         "omp_delay_estimator", "music_delay_estimator", "delay_crb", "doppler_features",
         "feature_svm", "random_subcarrier_mask", "nested_subcarrier_mask",
         "angle_search", "angle_crb_rad2", "array_beamformer", "beamform_pilots", "beamforming_angle_estimator", "capon_angle_estimator", "music_angle_estimator",
+        "mimo_angle_crb_rad2", "mimo_ml_estimate", "mimo_ml_angle_estimator",
     ),
 }
 _LAZY_NAMES = {name: module for module, names in _LAZY_MODULES.items() for name in names}

@@ -30,6 +30,7 @@
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/baselines/mimo_angle.h>
 #include <gnuradio/sems/core/array/mimo_mask.h>
+#include <gnuradio/sems/core/channel/mimo_pilots.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/learning/array/mimo_mask_learner.h>
 #include <ATen/Parallel.h>

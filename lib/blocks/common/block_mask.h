@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: how the mapper and the extractor turn their block parameters into a
  * super_frame_mask (internal to the library). One place, so both ends of the chain read
- * the same parameters the same way: a mask file (one frame's mask, or a super-frame of F
- * sets) OR explicit flat positions n·M+m (one frame's).
+ * the same parameters the same way: a mask file (one frame's mask, a super-frame of F
+ * sets, or a MIMO mask's pilots) OR explicit flat positions n·M+m (one frame's).
  */
 #ifndef INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 #define INCLUDED_SEMS_LIB_BLOCKS_BLOCK_MASK_H
 
 #include "core/common/checks.h"
+#include "core/common/json_read.h"
+#include <gnuradio/sems/core/array/mimo_mask.h>
 #include <gnuradio/sems/core/frame/frame_settings.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <gnuradio/sems/core/frame/super_frame_mask.h>
@@ -53,6 +55,11 @@ inline super_frame_mask block_mask(const std::string& who,
     if (!mask_file.empty()) {
         super_frame_mask mask = [&] {
             try {
+                // A MIMO mask file's pilots are its `mask` (every transmit element's together):
+                // what the receiving end reads (mimo_pilot_mapper places them per element).
+                const auto j = json_read::parse_file(mask_file);
+                if (j.is_object() && j.value("format", "") == mimo_mask::format_name)
+                    return super_frame_mask(mimo_mask::from_json(j, mask_file).mask());
                 return super_frame_mask::load(mask_file);
             } catch (const std::invalid_argument& e) { // the reader names the file and the problem
                 throw std::invalid_argument(who + ": mask_file: " + e.what());

@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-/* gr-sems: MIMO pilot masks (see mimo_mask.h): the hand forms, the file format and what a
- * receiver observes. */
+/* gr-sems: MIMO pilot masks (see mimo_mask.h): the hand forms and the file format. */
 #include "core/common/json_object.h"
 #include <gnuradio/sems/core/array/mimo_mask.h>
-#include <gnuradio/sems/core/channel/channel_model.h>
 #include <gnuradio/sems/core/common/limits.h>
 #include <algorithm>
 #include <cmath>
@@ -114,14 +112,32 @@ mimo_mask mimo_mask::from_json(const nlohmann::json& j, const std::string& sourc
     const auto& t = r.require("transmit");
     if (!t.is_array())
         fail(source, "transmit", "expected a list of transmit elements, one per pilot in mask order");
-    std::vector<int> tx;
+    std::vector<int> given;
     for (size_t i = 0; i < t.size(); ++i)
-        tx.push_back(int_in(t[i], "transmit[" + std::to_string(i) + "]", source, every_element, n_t - 1));
+        given.push_back(int_in(t[i], "transmit[" + std::to_string(i) + "]", source, every_element, n_t - 1));
     r.finish();
+    if (given.size() != size_t(mask.size()))
+        fail(source, "transmit",
+             "has " + std::to_string(given.size()) + " entries for the mask's " + std::to_string(mask.size()) +
+                 " pilots (one per pilot, in the order of mask.pilots)");
+    // transmit[i] belongs to mask.pilots[i] as the file lists them; the mask keeps its pilots
+    // sorted, so the list follows them there.
+    const auto& listed = r.require("mask")["pilots"];
+    std::map<std::pair<int, int>, int> of_position;
+    for (size_t i = 0; i < listed.size(); ++i)
+        of_position[{ listed[i][0].get<int>(), listed[i][1].get<int>() }] = given[i];
+    std::vector<int> tx;
+    for (const auto& p : mask.positions())
+        tx.push_back(of_position.at({ p.n, p.m }));
     return mimo_mask(mask, n_t, std::move(tx), source);
 }
 
 mimo_mask mimo_mask::load(const std::string& path) { return from_json(json_read::parse_file(path), path); }
+
+mimo_mask mimo_mask::parse(const std::string& json_text, const std::string& source)
+{
+    return from_json(json_read::parse_text(json_text, source), source);
+}
 
 nlohmann::json mimo_mask::to_json() const
 {
@@ -133,29 +149,6 @@ nlohmann::json mimo_mask::to_json() const
 }
 
 void mimo_mask::save(const std::string& path) const { json_read::write_file(path, to_json()); }
-
-std::vector<gr_complex>
-mimo_pilots(const channel_model& cm, const frame_realization& r, uint64_t first_symbol, const mimo_mask& m)
-{
-    const int n_t = cm.scene_spec().array() ? cm.scene_spec().array()->n_transmit() : 1;
-    if (n_t != m.n_transmit())
-        throw std::invalid_argument("mimo_pilots: the scene's array has " + std::to_string(n_t) +
-                                    " transmit elements and the MIMO mask " + std::to_string(m.n_transmit()));
-    const int n_r = cm.n_elements() / n_t, np = m.mask().size();
-    const auto flat = m.mask().flat_indices();
-    std::vector<gr_complex> y(size_t(n_r) * size_t(np), gr_complex(0.0f, 0.0f));
-    std::vector<gr_complex> h(size_t(m.mask().n_symbols()) * size_t(m.mask().n_subcarriers()));
-    for (int k = 0; k < n_r; ++k)
-        for (int j = 0; j < n_t; ++j) {
-            cm.factors(r, first_symbol, k * n_t + j).fill(h.data());
-            for (int i = 0; i < np; ++i) {
-                const double a = m.amplitude(i, j);
-                if (a != 0.0)
-                    y[size_t(k) * np + size_t(i)] += float(a) * h[size_t(flat[size_t(i)])];
-            }
-        }
-    return y;
-}
 
 } // namespace sems
 } // namespace gr

@@ -2,6 +2,7 @@
 /* gr-sems: MIMO masks — the hand forms' assignments, the file's round trip and its refusals,
  * and what a receiver observes against the plane wave's closed form. */
 #include <gnuradio/sems/core/array/mimo_mask.h>
+#include <gnuradio/sems/core/channel/mimo_pilots.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
 #include "qa/qa_assert.h"
@@ -19,16 +20,9 @@ using gr::sems::qa::assert_error;
 
 namespace {
 
-// 4 receive elements λ/2 apart and 2 transmit elements 2λ apart: an 8-element virtual ULA.
-array_geometry mimo2x4(double lambda)
-{
-    std::vector<position3> rx, tx;
-    for (int k = 0; k < 4; ++k)
-        rx.push_back({ 0.0, (k - 1.5) * 0.5 * lambda, 0.0 });
-    for (int j = 0; j < 2; ++j)
-        tx.push_back({ 0.0, (j - 0.5) * 2.0 * lambda, 0.0 });
-    return array_geometry::from_positions(rx, tx);
-}
+// The preset mimo2x4_3g: 4 receive elements 5 cm (λ/2 at 3 GHz) apart and 2 transmit elements
+// 20 cm apart: an 8-element virtual ULA.
+array_geometry mimo2x4() { return array_geometry::find("mimo2x4_3g"); }
 
 } // namespace
 
@@ -99,6 +93,12 @@ public:
         std::filesystem::remove(path);
         CPPUNIT_ASSERT(back == m);
         CPPUNIT_ASSERT_EQUAL(std::string(mimo_mask::format_name), m.to_json()["format"].get<std::string>());
+        // A file may list its pilots in any order: transmit[i] is the element of pilots[i] as listed.
+        const auto listed = mimo_mask::parse(R"({"format": "sems.mimo_mask", "version": 1, "n_transmit": 2,
+            "transmit": [1, 0, -1],
+            "mask": {"format": "sems.pilot_mask", "version": 1, "n_symbols": 4, "n_subcarriers": 4,
+                     "pilots": [[3, 0], [0, 2], [1, 1]]}})");
+        CPPUNIT_ASSERT((listed.transmit() == std::vector<int>{ 0, -1, 1 })); // (0,2) (1,1) (3,0)
     }
 
     void bad_masks_are_refused_by_name()
@@ -119,19 +119,21 @@ public:
         assert_error([&] { mimo_mask::from_json(j, "f.json"); }, "transmitt", "unknown");
         // The scene's array and the mask must agree on N_t.
         frame_settings fs;
-        const auto a = mimo2x4(fs.wavelength_m());
+        const auto a = mimo2x4();
         target_spec t;
         t.cls = target_class::car;
         t.range_m = 60.0;
         channel_model cm(fs, scene::fixed({ t }, std::nullopt, 0, fading_kind::none).with_array(a), 1);
         const auto three = mimo_mask::same_pilots(pilot_mask::from_pattern("uniform", fs.n_symbols, fs.n_subcarriers, 8), 3);
         assert_error([&] { mimo_pilots(cm, cm.draw(0), 0, three); }, "2 transmit elements", "the MIMO mask 3");
+        const auto small = mimo_mask::same_pilots(pilot_mask::from_pattern("uniform", 8, 16, 8), 2);
+        assert_error([&] { mimo_pilots(cm, cm.draw(0), 0, small); }, "mimo_pilots", "8");
     }
 
     void observations_follow_the_plane_wave_closed_form()
     {
         frame_settings fs;
-        const auto a = mimo2x4(fs.wavelength_m());
+        const auto a = mimo2x4();
         const double az = 0.4;
         target_spec t;
         t.cls = target_class::car;

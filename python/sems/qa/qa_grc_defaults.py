@@ -141,6 +141,9 @@ def cxx_defaults():
         "sems_radio_front_end": front_end,
         "sems_target_channel": channel,
         "sems_pilot_mapper": mapper_d,
+        # mimo_pilot_mapper: its powers' getters; its outputs come from the MIMO mask file.
+        "sems_mimo_pilot_mapper": {"pilot_power": bound_default(sems.mimo_pilot_mapper, "pilot_power"),
+                                   "data_power": bound_default(sems.mimo_pilot_mapper, "data_power"), "frame": fs},
         "sems_pilot_extractor": extractor_d,
         "sems_classifier_sink": dict(sink, **{name: bound_default(sems.classifier_sink, name)
                                               for name in ("track_idle_s", "super_frames", "n_elements", "array")}),
@@ -177,7 +180,7 @@ def bound_default(cls, name):
 # sample rate: they record or drive any stream, not only a frame's samples.
 TIME_DOMAIN = ("sems_ofdm_tx", "sems_ofdm_rx", "sems_target_channel_td", "sems_frame_sync",
                "sems_radio_front_end", "sems_cfo_corrector")
-FRAME_BLOCKS = TIME_DOMAIN + ("sems_pilot_mapper", "sems_pilot_extractor", "sems_target_channel",
+FRAME_BLOCKS = TIME_DOMAIN + ("sems_pilot_mapper", "sems_mimo_pilot_mapper", "sems_pilot_extractor", "sems_target_channel",
                               "sems_range_doppler_map", "sems_range_angle_map", "sems_classifier_sink",
                               "sems_delay_estimator_sink", "sems_position_sink")
 
@@ -190,6 +193,8 @@ GRC_ONLY = {
     ("sems_pilot_mapper", "mask_source"): "GRC chooser between a mask file and positions",
     ("sems_pilot_mapper", "mask_file"): "required in C++ (one of mask_file / positions)",
     ("sems_pilot_mapper", "pilot_positions"): "required in C++ (one of mask_file / positions)",
+    ("sems_mimo_pilot_mapper", "mimo_mask_file"): "required in C++",
+    ("sems_mimo_pilot_mapper", "n_transmit"): "required in C++ (must be the file's)",
     ("sems_pilot_extractor", "mask_source"): "GRC chooser between a mask file and positions",
     ("sems_pilot_extractor", "mask_file"): "required in C++ (one of mask_file / positions)",
     ("sems_pilot_extractor", "pilot_positions"): "required in C++ (one of mask_file / positions)",

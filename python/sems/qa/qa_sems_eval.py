@@ -1104,7 +1104,8 @@ class qa_sems_eval(gr_unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
             for name in ("exp9_angle.md", "exp9_angle.png", "exp9_angle_predictions.npz", "exp9_classes.md",
                          "exp9_classes.png", "exp9_classes_predictions.npz", "exp9_truth.npz", "exp9_tracks.csv",
-                         "exp9_tracks_predictions.csv", "exp9_tracks_truth.csv", "eval_arrays.log"):
+                         "exp9_tracks_predictions.csv", "exp9_tracks_truth.csv", "exp9_mimo.md", "exp9_mimo.png",
+                         "exp9_mimo_predictions.npz", "eval_arrays.log"):
                 self.assertTrue(os.path.exists(os.path.join(res, name)), name)
 
     def test_014_experiment_9_tracks(self):
@@ -1179,6 +1180,54 @@ class qa_sems_eval(gr_unittest.TestCase):
             r = subprocess.run(["/usr/bin/python3", tab] + runs, capture_output=True, text=True, timeout=60)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn(os.path.join(runs[0], "exp9_tracks_predictions.csv") + " is missing", r.stderr)
+
+    def test_016_experiment_9_mimo(self):
+        """Experiment 9's MIMO part: every mask at every SNR; each learned mask's bound at or
+        above the virtual array's floor and within a few per cent of it, the same pilots' above
+        time division's (the transmit beam's nulls, and no virtual aperture); the
+        maximum-likelihood estimate near each mask's bound at 30 dB; the table and figure written
+        from the packed predictions; the array refused by name when it has one transmit element."""
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "mimo", "--out", out],
+                               capture_output=True, text=True, timeout=300)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            with open(os.path.join(out, "exp9_mimo_masks.csv")) as f:
+                masks = list(csv.DictReader(f))
+            floor = [float(x["mean_crb_0db_rad2"]) for x in masks if x["form"] == "virtual array floor"][0]
+            kept = {x["form"]: float(x["mean_crb_0db_rad2"]) for x in masks if x["chosen"] == "1" and x["form"] != "learned"}
+            learned = [float(x["mean_crb_0db_rad2"]) for x in masks if x["form"] == "learned"]
+            self.assertEqual(sorted(kept), ["frequency division", "same pilots", "time division"])
+            self.assertEqual(len(learned), 3)
+            for v in learned + [kept["time division"], kept["frequency division"]]:
+                # The pilots' frequencies sit up to 1 % above the carrier: 2 % of slack in λ².
+                self.assertGreaterEqual(v, 0.98 * floor)
+            for v in learned:
+                self.assertLess(v, 1.2 * floor)
+            self.assertGreater(kept["same pilots"], 2.0 * kept["time division"])
+            for x in masks:  # each form's kept pattern is its lowest bound
+                if x["form"] in kept:
+                    self.assertLessEqual(kept[x["form"]], float(x["mean_crb_0db_rad2"]))
+            with open(os.path.join(out, "exp9_mimo.csv")) as f:
+                rows = list(csv.DictReader(f))
+            snrs = sorted({float(x["snr_db"]) for x in rows})
+            self.assertEqual(len(rows), 6 * len(snrs))
+            for x in rows:
+                if float(x["snr_db"]) == 30.0 and x["method"] != "same pilots":
+                    # 40 frames measure an RMSE within about 11 %: 1.5 is over four standard errors.
+                    self.assertLess(float(x["rmse_over_crb"]), 1.5, x)
+            self.assertEqual(len(os.listdir(os.path.join(out, "masks_mimo"))), 6)
+            os.makedirs(os.path.join(out, "results"))
+            for name in ("exp9_mimo.csv", "exp9_mimo_masks.csv", "exp9_mimo_predictions.csv"):
+                shutil.copy(os.path.join(out, name), os.path.join(out, "results", name))
+            r = subprocess.run(["/usr/bin/python3", os.path.join(FIGURES, "plot_mimo.py"), os.path.join(out, "results")],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("exp9_mimo.md", "exp9_mimo.png", "exp9_mimo_predictions.npz"):
+                self.assertTrue(os.path.exists(os.path.join(out, "results", name)), name)
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "mimo",
+                                "--exp9-mimo-array", "ula8_3g", "--out", out], capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("--exp9-mimo-array: ula8_3g has 1 transmit element", r.stderr)
 
     def test_011_experiment_7_range_under_a_link_budget(self):
         """The range part: every frame in a range bin of its class, each bin's mean SNR inside

@@ -57,7 +57,8 @@ public:
 
     /*!
      * \brief Makes a pilot extractor.
-     * \param mask_file        pilot mask JSON; "" to use pilot_positions
+     * \param mask_file        pilot mask JSON (a MIMO mask file gives its pilots, every transmit
+     *                         element's together: mimo_pilot_mapper's); "" to use pilot_positions
      * \param pilot_positions  flat pilot positions n·M+m; empty to use mask_file
      * \param n_symbols        N
      * \param n_subcarriers    M (input vector length)

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: Python bindings of the classical baselines (delay estimators, CRB,
- * Doppler features, feature SVM, MUSIC pilot patterns). Observations are 1-D
- * complex64 numpy arrays of length N_p in mask order. */
+ * Doppler features, feature SVM, MUSIC pilot patterns, angle estimators, the MIMO mask's
+ * azimuth bound and estimator). Observations are 1-D complex64 numpy arrays of length N_p
+ * in mask order (a MIMO mask's: N_r·N_p, receive-element-major as mimo_pilots gives them). */
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/baselines/array_beamformer.h>
 #include <gnuradio/sems/baselines/subcarrier_masks.h>
@@ -12,6 +13,7 @@
 #include <gnuradio/sems/baselines/delay_search.h>
 #include <gnuradio/sems/baselines/doppler_features.h>
 #include <gnuradio/sems/baselines/feature_svm.h>
+#include <gnuradio/sems/baselines/mimo_angle.h>
 
 #include "sems_pydoc.h" // D(...): docstrings from the headers' Doxygen (docs/doxygen_pydoc.py)
 #include <pybind11/numpy.h>
@@ -42,6 +44,26 @@ const gr_complex* obs_ptr(const carray& a, int n_pilots, const char* who)
     if (a.ndim() != 1 || a.shape(0) != n_pilots)
         throw std::invalid_argument(std::string(who) + ": expected a 1-D array of " + std::to_string(n_pilots) +
                                     " observations");
+    return a.data();
+}
+
+// mimo_ml_angle_estimator with the length of its observations (N_r·N_p), which the class does
+// not expose: estimate() and likelihood() read that many values from the pointer they get.
+struct mimo_ml_checked {
+    mimo_ml_angle_estimator estimator;
+    int n_receive;
+    int n_pilots;
+};
+
+const gr_complex* mimo_obs_ptr(const mimo_ml_checked& e, const carray& a, const char* who)
+{
+    const py::ssize_t want = py::ssize_t(e.n_receive) * e.n_pilots;
+    if (a.ndim() != 1 || a.shape(0) != want)
+        throw std::invalid_argument(std::string(who) + ": expected a 1-D array of N_r·N_p = " +
+                                    std::to_string(e.n_receive) + "·" + std::to_string(e.n_pilots) + " = " +
+                                    std::to_string(want) +
+                                    " observations (receive-element-major, as mimo_pilots gives them), got a " +
+                                    std::to_string(a.ndim()) + "-D array of " + std::to_string(a.size()) + " values");
     return a.data();
 }
 
@@ -207,6 +229,37 @@ void bind_baselines(py::module& m)
                  return e.estimate(p, l);
              },
              D(music_angle_estimator, estimate), py::arg("y"));
+
+    m.def("mimo_angle_crb_rad2", &mimo_angle_crb_rad2, D(mimo_angle_crb_rad2), py::arg("array"), py::arg("mask"),
+          py::arg("fs"), py::arg("azimuth_rad"), py::arg("elevation_rad"), py::arg("snr"));
+    py::class_<mimo_ml_estimate>(m, "mimo_ml_estimate", D(mimo_ml_estimate))
+        .def_readonly("azimuth_rad", &mimo_ml_estimate::azimuth_rad, D(mimo_ml_estimate, azimuth_rad))
+        .def_readonly("delay_index", &mimo_ml_estimate::delay_index, D(mimo_ml_estimate, delay_index))
+        .def_readonly("doppler_bins", &mimo_ml_estimate::doppler_bins, D(mimo_ml_estimate, doppler_bins));
+    py::class_<mimo_ml_checked>(m, "mimo_ml_angle_estimator", D(mimo_ml_angle_estimator))
+        .def(py::init([](const array_geometry& a, const mimo_mask& mk, const frame_settings& fs, double elevation_rad,
+                         angle_search search, int oversample) {
+                 return mimo_ml_checked{ mimo_ml_angle_estimator(a, mk, fs, elevation_rad, search, oversample),
+                                         a.n_receive(), mk.mask().size() };
+             }),
+             D(mimo_ml_angle_estimator, mimo_ml_angle_estimator), py::arg("array"), py::arg("mask"), py::arg("fs"),
+             py::arg("elevation_rad"), py::arg("search") = angle_search{}, py::arg("oversample") = 2)
+        .def(
+            "estimate",
+            [](const mimo_ml_checked& e, const carray& y) {
+                const gr_complex* p = mimo_obs_ptr(e, y, "mimo_ml_angle_estimator.estimate");
+                py::gil_scoped_release nogil;
+                return e.estimator.estimate(p);
+            },
+            D(mimo_ml_angle_estimator, estimate), py::arg("y"))
+        .def(
+            "likelihood",
+            [](const mimo_ml_checked& e, const carray& y, double azimuth_rad, double delay_index, double doppler_bins) {
+                return e.estimator.likelihood(mimo_obs_ptr(e, y, "mimo_ml_angle_estimator.likelihood"), azimuth_rad,
+                                              delay_index, doppler_bins);
+            },
+            D(mimo_ml_angle_estimator, likelihood), py::arg("y"), py::arg("azimuth_rad"), py::arg("delay_index"),
+            py::arg("doppler_bins"));
 
     m.def("random_subcarrier_mask", &random_subcarrier_mask, D(random_subcarrier_mask), py::arg("n_symbols"), py::arg("n_subcarriers"),
           py::arg("count"), py::arg("seed"), "RP-MUSIC pattern: the uniform lattice's symbols, random subcarriers");

@@ -9,7 +9,9 @@ namespace py = pybind11;
 
 void bind_core(py::module& m);
 void bind_array(py::module& m);
+void bind_mimo_mask(py::module& m);
 void bind_pilot_mapper(py::module& m);
+void bind_mimo_pilot_mapper(py::module& m);
 void bind_target_channel(py::module& m);
 void bind_target_channel_td(py::module& m);
 void bind_frame_sync(py::module& m);
@@ -28,7 +30,9 @@ PYBIND11_MODULE(core_python, m)
 
     bind_array(m); // before the scenes, which take an array
     bind_core(m);
+    bind_mimo_mask(m); // after bind_core: its signatures name the core types
     bind_pilot_mapper(m);
+    bind_mimo_pilot_mapper(m); // after bind_array: its mask() is a mimo_mask
     bind_target_channel(m);
     bind_target_channel_td(m);
     bind_frame_sync(m);

@@ -11,6 +11,7 @@ void bind_learning(py::module& m);
 void bind_sinks(py::module& m);
 void bind_temporal(py::module& m);
 void bind_position(py::module& m);
+void bind_mimo(py::module& m);
 
 PYBIND11_MODULE(learning_python, m)
 {
@@ -23,4 +24,5 @@ PYBIND11_MODULE(learning_python, m)
     bind_sinks(m);
     bind_temporal(m);
     bind_position(m);
+    bind_mimo(m);
 }

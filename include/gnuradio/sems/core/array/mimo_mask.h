@@ -9,18 +9,18 @@
  * it, or every element at once. Every pilot carries the same total energy, so masks of one
  * N_p compare at equal pilot energy:
  *  - a pilot of one element j: that element sends s_p; receive element k observes
- *    H_{k·N_t+j}[n, m] (stream k·N_t + j of virtual_elements(): the pair alone);
+ *    H_{k·N_t+j}[n, m] (stream k·N_t + j of the channel's virtual elements: the pair alone);
  *  - a pilot of every element: each sends s_p/sqrt(N_t); receive element k observes
  *    Σ_j H_{k·N_t+j}[n, m]/sqrt(N_t), the transmit array's beam towards boresight.
  * The hand forms: the same pilots on every element (same_pilots()), time division (each symbol
  * of the pattern to one element in turn, time_division()) and frequency division (each
  * subcarrier in turn, frequency_division()). A learned mask assigns elements freely
- * (learning/array/mimo_mask_learner.h).
+ * (learning/array/mimo_mask_learner.h). What a receiver observes through the emulator is
+ * core/channel/mimo_pilots.h.
  */
 #ifndef INCLUDED_SEMS_CORE_MIMO_MASK_H
 #define INCLUDED_SEMS_CORE_MIMO_MASK_H
 
-#include <gnuradio/gr_complex.h>
 #include <gnuradio/sems/api.h>
 #include <gnuradio/sems/core/frame/pilot_mask.h>
 #include <nlohmann/json.hpp>
@@ -30,9 +30,6 @@
 
 namespace gr {
 namespace sems {
-
-class channel_model;
-struct frame_realization;
 
 /*! \brief A pilot mask with each pilot's transmit element (the file comment). */
 class SEMS_API mimo_mask
@@ -74,7 +71,14 @@ public:
 
     /*! \brief Reads a MIMO mask file. \param path the file. \return the mask. \throws std::invalid_argument naming the file and the problem. */
     static mimo_mask load(const std::string& path);
-    /*! \brief Reads a MIMO mask from JSON. \param j the object. \param source names it in errors. \return the mask. */
+    /*! \brief Parses a MIMO mask's JSON text. \param json_text the text. \param source names it in errors. \return the mask. \throws std::invalid_argument naming `source` and the problem. */
+    static mimo_mask parse(const std::string& json_text, const std::string& source = "MIMO mask text");
+    /*!
+     * \brief Reads a MIMO mask from JSON: `n_transmit`, `mask` (a pilot mask's object) and
+     *        `transmit`, one entry per pilot in the order `mask.pilots` lists them.
+     * \param j the object. \param source names it in errors. \return the mask.
+     * \throws std::invalid_argument naming `source` and the field.
+     */
     static mimo_mask from_json(const nlohmann::json& j, const std::string& source);
     /*! \brief The file's JSON. \return the object. */
     nlohmann::json to_json() const;
@@ -103,18 +107,6 @@ private:
     int d_n_transmit;
     std::vector<int> d_transmit;
 };
-
-/*!
- * \brief A drawn frame's noiseless pilots as a MIMO mask's receiver observes them:
- *        y[k·N_p + i] = Σ_j amplitude(i, j) · H_{k·N_t+j}[n_i, m_i] (receive-element-major).
- * \param cm the channel model (its scene's array has the mask's N_t transmit elements).
- * \param r the frame. \param first_symbol the absolute slow-time index of row 0.
- * \param m the mask.
- * \return N_r·N_p values.
- * \throws std::invalid_argument naming both counts when the array's transmit elements are not the mask's.
- */
-SEMS_API std::vector<gr_complex>
-mimo_pilots(const channel_model& cm, const frame_realization& r, uint64_t first_symbol, const mimo_mask& m);
 
 } // namespace sems
 } // namespace gr

@@ -5,6 +5,7 @@
 #include <gnuradio/sems/baselines/mimo_angle.h>
 #include <gnuradio/sems/core/array/steering.h>
 #include <gnuradio/sems/core/channel/channel_model.h>
+#include <gnuradio/sems/core/channel/mimo_pilots.h>
 #include "qa/qa_assert.h"
 #include <cppunit/TestAssert.h>
 #include <cppunit/extensions/HelperMacros.h>
@@ -19,16 +20,9 @@ using gr::sems::qa::assert_error;
 
 namespace {
 
-// 4 receive elements d apart and 2 transmit elements 4d apart, centred: an 8-element virtual ULA.
-array_geometry mimo2x4(double d)
-{
-    std::vector<position3> rx, tx;
-    for (int k = 0; k < 4; ++k)
-        rx.push_back({ 0.0, (k - 1.5) * d, 0.0 });
-    for (int j = 0; j < 2; ++j)
-        tx.push_back({ 0.0, (j - 0.5) * 4.0 * d, 0.0 });
-    return array_geometry::from_positions(rx, tx);
-}
+// The preset mimo2x4_3g: 4 receive elements d = 5 cm apart and 2 transmit elements 4d apart,
+// centred: an 8-element virtual ULA.
+array_geometry mimo2x4() { return array_geometry::find("mimo2x4_3g"); }
 
 // Element 0 on (0,0), (2,2), element 1 on (0,2), (2,0): each element's pilots have the same
 // centroid and spread in n and m, so the delay and Doppler take nothing from the angle.
@@ -73,7 +67,7 @@ public:
     {
         const auto fs = narrow_frame(4, 4);
         const double lambda = pilot_wavelength_m(fs, balanced().mask()), d = 0.05;
-        const auto a = mimo2x4(d);
+        const auto a = mimo2x4();
         for (double az : { -0.9, -0.3, 0.0, 0.5, 1.1 }) {
             // Each virtual element sees 2 pilots at SNR 10: E = 20.
             const double crb = mimo_angle_crb_rad2(a, balanced(), fs, az, 0.0, 10.0);
@@ -90,7 +84,7 @@ public:
         // energy of |AF|²/2 per pilot.
         const auto fs = narrow_frame(4, 4);
         const double d = 0.05;
-        const auto a = mimo2x4(d);
+        const auto a = mimo2x4();
         const auto m = mimo_mask::same_pilots(balanced().mask(), 2);
         const double lambda = pilot_wavelength_m(fs, m.mask());
         for (double az : { 0.0, 0.1, -0.2, 0.6 }) {
@@ -106,7 +100,7 @@ public:
         // Doppler ramp, and the bound rises above the interleaved division of the same pilots.
         const auto fs = narrow_frame(8, 16);
         const double d = 0.05;
-        const auto a = mimo2x4(d);
+        const auto a = mimo2x4();
         std::vector<pilot_position> pos;
         for (int n = 0; n < 8; ++n)
             for (int m = 0; m < 4; ++m)
@@ -131,7 +125,7 @@ public:
     void maximum_likelihood_is_exact_noiseless_and_at_its_bound_at_high_snr()
     {
         frame_settings fs;
-        const auto a = mimo2x4(0.5 * fs.wavelength_m());
+        const auto a = mimo2x4();
         const auto mask = mimo_mask::time_division(pilot_mask::from_pattern("staggered", fs.n_symbols, fs.n_subcarriers, 32), 2);
         angle_search search;
         search.min_rad = -1.0;
@@ -175,7 +169,7 @@ public:
     void bad_settings_are_refused_by_name()
     {
         const auto fs = narrow_frame(4, 4);
-        const auto a = mimo2x4(0.05);
+        const auto a = mimo2x4();
         const auto three = mimo_mask::same_pilots(balanced().mask(), 3);
         assert_error([&] { mimo_angle_crb_rad2(a, three, fs, 0.0, 0.0, 1.0); }, "2 transmit elements", "the MIMO mask 3");
         assert_error([&] { mimo_angle_crb_rad2(a, balanced(), fs, 0.0, 0.0, 0.0); }, "snr", "> 0");

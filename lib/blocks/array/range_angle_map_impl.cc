@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /* gr-sems: range_angle_map implementation (see range_angle_map.h). */
 #include "blocks/common/block_mask.h"
-#include "blocks/range_angle_map_impl.h"
+#include "blocks/array/range_angle_map_impl.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/sems/core/array/array_setting.h>
 #include <algorithm>
