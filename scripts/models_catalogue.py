@@ -176,9 +176,16 @@ def catalogue(source):
     masks = []
     for m in sorted(glob.glob(os.path.join(models, "masks", "*.json"))):
         rel = os.path.relpath(m, source)
+        mask = load(m)
+        if mask.get("format") == "sems.mimo_mask":  # a MIMO mask: its pilots and who made it
+            origin = mask["mask"].get("origin", {})
+            masks.append(f"`{os.path.basename(m)}`: {len(mask['transmit'])} pilots over {mask['n_transmit']} transmit "
+                         f"elements of `{origin.get('array', '?')}`, learned on the azimuth's bound "
+                         f"(`{origin.get('command', '?')}`)")
+            continue
         users = [n for n, c in cards.items() if c["pilots"]["mask"] == rel]
-        masks.append(f"`{os.path.basename(m)}`: {load(m)['n_pilots']} pilots, "
-                     f"{load(m).get('origin', {}).get('kind', 'a fixed pattern')}"
+        masks.append(f"`{os.path.basename(m)}`: {mask['n_pilots']} pilots, "
+                     f"{mask.get('origin', {}).get('kind', 'a fixed pattern')}"
                      + (" (the mask of " + ", ".join(f"`{u}`" for u in users) + ")" if users else ""))
     out.append("- `masks/`: " + "; ".join(masks) + ".")
     frames = sorted(load(f)["name"] for f in glob.glob(os.path.join(models, "frames", "*.json")))

@@ -49,6 +49,7 @@
  *                            learned MIMO masks and the hand forms (same pilots, time and
  *                            frequency division), against each mask's bound, with
  *                            exp9_mimo_masks.csv and exp9_mimo_predictions.csv (--exp9-parts mimo)
+ *     exp9_mimo_budget.csv   those masks' bounds at fewer pilots (--exp9-parts mimo_budget)
  * Model cards: sems_eval --model-card models/classifier [more bundles] measures each bundle's
  *   figures per SNR on a fixed test set (--card-frames frames of its own scene, or --card-tracks
  *   tracks, at --card-snrs) and its speed, and writes model_card.json beside its bundle.json
@@ -179,6 +180,7 @@ void apply_size(config& c)
         c.exp9_mimo_epochs = 40;
         c.exp9_mimo_steps = 25;
         c.exp9_mimo_draws = 64;
+        c.exp9_mimo_budget = { 4, 8, 16 };
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
     }
@@ -190,7 +192,7 @@ int main(int argc, char** argv)
 {
     config c;
     std::string experiments = "1,2,3,4,5,6,7", snrs, delay_snrs, np_sweep, exp7_np_sweep, exp7_parts = "main,budget,power,bank,burst",
-                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget", exp9_parts = "angle,classes,tracks,mimo",
+                exp8_frames, exp8_np_sweep, exp8_parts = "main,budget", exp9_parts = "angle,classes,tracks,mimo,mimo_budget",
                 exp9_classifier_bundles = "classifier_kinematic", exp9_class_elements = "1,4,8",
                 delay_scenarios = "single,multipath";
     po::options_description opts("sems_eval: baselines, sweeps and figures data (one CSV per experiment)");
@@ -261,8 +263,9 @@ int main(int argc, char** argv)
         ("exp9-parts", po::value(&exp9_parts)->default_value(exp9_parts),
          "experiment 9: comma-separated subset of angle (azimuth estimates against the CRB), classes (classification "
          "per frame with 1, 4 and 8 elements, beamformed as SemS Classifier Sink does), tracks (a track bundle's "
-         "decisions over tracks crossing the line of sight, with the same arrays) and mimo (learned MIMO masks against "
-         "the hand forms, by the azimuth's bound and its maximum-likelihood estimate)")
+         "decisions over tracks crossing the line of sight, with the same arrays), mimo (learned MIMO masks against "
+         "the hand forms, by the azimuth's bound and its maximum-likelihood estimate) and mimo_budget (their bounds "
+         "at fewer pilots: test 4, 8; full 4, 8, 16)")
         ("exp9-mimo-array", po::value(&c.exp9_mimo_array)->default_value(c.exp9_mimo_array),
          "experiment 9's mimo part: the array (a preset's name or an array file with two or more transmit elements)")
         ("exp9-mimo-seeds", po::value(&c.exp9_mimo_seeds)->default_value(c.exp9_mimo_seeds),
@@ -336,7 +339,7 @@ int main(int argc, char** argv)
         c.delay_scenarios = parse_names(delay_scenarios, { "single", "multipath" }, "--delay-scenarios");
         c.exp7_parts = parse_names(exp7_parts, { "main", "budget", "power", "bank", "burst", "range" }, "--exp7-parts");
         c.exp8_parts = parse_names(exp8_parts, { "main", "budget", "superframe" }, "--exp8-parts");
-        c.exp9_parts = parse_names(exp9_parts, { "angle", "classes", "tracks", "mimo" }, "--exp9-parts");
+        c.exp9_parts = parse_names(exp9_parts, { "angle", "classes", "tracks", "mimo", "mimo_budget" }, "--exp9-parts");
         if (c.exp9_mimo_seeds < 1)
             throw std::invalid_argument("--exp9-mimo-seeds must be >= 1, got " + std::to_string(c.exp9_mimo_seeds));
         if (vm.count("exp9-track-count"))
@@ -537,6 +540,7 @@ int main(int argc, char** argv)
         run_array_classes(c, std::cout);
         run_array_tracks(c, std::cout);
         run_array_mimo(c, std::cout);
+        run_array_mimo_budget(c, std::cout);
         std::cout << "[" << now_utc() << "] done" << std::endl;
         return 0;
     } catch (const po::error& e) {

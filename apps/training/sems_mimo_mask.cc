@@ -88,17 +88,22 @@ int main(int argc, char** argv)
         const auto frame = frame_flags.resolve(vm);
         s.frame = frame.frame;
         s.verbose = !quiet;
+        // The command as typed, the program by its name (not where this machine keeps it).
         std::ostringstream cmd;
-        for (int i = 0; i < argc; ++i)
-            cmd << (i ? " " : "") << argv[i];
+        const std::string program = argv[0];
+        cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
+        for (int i = 1; i < argc; ++i)
+            cmd << " " << argv[i];
         s.command_line = cmd.str();
         std::cout << apps::describe(frame) << std::endl;
         const auto r = learn_mimo_mask(s, &std::cout);
         r.mask.save(out);
         const auto a = array_geometry::find(s.array);
         // The floor of masks whose pilots each come from one element: the virtual array with
-        // N_p/N_t pilots per element and the delay and Doppler known, at the pilots' mean wavelength.
-        const double lambda = pilot_wavelength_m(s.frame, r.mask.mask());
+        // N_p/N_t pilots per element and the delay and Doppler known, at the highest
+        // subcarrier's frequency (the largest electrical aperture any pilot has).
+        const double lambda = speed_of_light_mps /
+                              (s.frame.carrier_hz + (s.frame.n_subcarriers - 1) * s.frame.subcarrier_spacing_hz());
         double floor = 0.0;
         for (int i = 0; i < s.eval_azimuths; ++i)
             floor += angle_crb_rad2(a,

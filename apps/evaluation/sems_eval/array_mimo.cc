@@ -15,7 +15,8 @@
  * CRB with the delay, Doppler and complex gain unknown (baselines/mimo_angle.h), its mean over
  * exp9_mimo_azimuths azimuths on [−0.8, 0.8] rad at 0 dB per pilot; the floor of masks whose
  * pilots each come from one element is the virtual array's own bound with N_p/N_t pilots per
- * virtual element and the delay and Doppler known (angle_crb_rad2).
+ * virtual element, the delay and Doppler known, at the highest subcarrier's frequency
+ * (angle_crb_rad2).
  * Estimates: the maximum-likelihood estimator of (φ, τ, ν) (mimo_ml_angle_estimator) on the
  * emulator's frames: an unfaded point target (a car without micro-Doppler; the deterministic
  * amplitude the bound assumes) at an azimuth uniform on [−0.8, 0.8] rad, seen through each
@@ -25,7 +26,10 @@
  * mean_crb_0db_rad2, chosen, seconds), exp9_mimo.csv (method, train_seed, n_pilots, snr_db,
  * frames, rmse_rad, crb_rad, rmse_over_crb) and exp9_mimo_predictions.csv (every estimate of
  * every frame with its truth and bound: the paired tests of apps/figures/plot_mimo.py); the
- * masks themselves go to <out>/masks_mimo/. */
+ * masks themselves go to <out>/masks_mimo/.
+ * Part mimo_budget: the same bounds (hand forms on their best patterns, learned masks, floor)
+ * for N_p in exp9_mimo_budget, without the estimates: exp9_mimo_budget.csv (the columns of
+ * exp9_mimo_masks.csv). */
 #include "eval.h"
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/baselines/mimo_angle.h>
@@ -38,10 +42,14 @@
 #include <filesystem>
 #include <limits>
 #include <random>
+#include <tuple>
 
 namespace sems_eval {
 
 namespace {
+
+// The scene's azimuths (rad): the interval the bound is averaged over and the targets are drawn from.
+constexpr double azimuth_lo = -0.8, azimuth_hi = 0.8;
 
 struct mimo_method {
     std::string name, pattern;
@@ -58,37 +66,29 @@ std::string counts_text(const mimo_mask& m)
     return out;
 }
 
-} // namespace
-
-void run_array_mimo(const config& c, std::ostream& log)
+std::vector<std::string> mask_columns()
 {
-    if (!c.experiments.count(9) || !c.exp9_parts.count("mimo"))
-        return;
-    const frame_settings& fs = c.fs;
-    const array_geometry a = array_geometry::find(c.exp9_mimo_array);
-    const int nt = a.n_transmit(), nr = a.n_receive(), np = c.exp9_np;
-    if (nt < 2)
-        throw std::invalid_argument("--exp9-mimo-array: " + c.exp9_mimo_array + " has " + std::to_string(nt) +
-                                    " transmit element; the MIMO part compares masks of two or more");
-    const double lo = -0.8, hi = 0.8;
-    const int azimuths = c.exp9_mimo_azimuths;
-    namespace fsys = std::filesystem;
-    const std::string mask_dir = c.out_dir + "/masks_mimo";
-    fsys::create_directories(mask_dir);
-    log << "[" << now_utc() << "] experiment 9 (MIMO): " << c.exp9_mimo_array << " (" << nr << " receive, " << nt
-        << " transmit), N_p " << np << ", " << c.exp9_frames << " frames per point, " << c.exp9_mimo_seeds
-        << " learned masks" << std::endl;
+    return { "form", "pattern", "train_seed", "n_pilots", "pilots_per_element", "mean_crb_0db_rad2", "chosen", "seconds" };
+}
 
-    csv_file masks_csv(c.out_dir + "/exp9_mimo_masks.csv",
-                       { "form", "pattern", "train_seed", "n_pilots", "pilots_per_element", "mean_crb_0db_rad2",
-                         "chosen", "seconds" });
-    // The hand forms, each on every standard pattern; the best pattern is the form's.
+// The masks of N_p pilots compared, with their mean bound at 0 dB over the scene's azimuths:
+// each hand form on its best standard pattern (every pattern tried is a row of `csv`), the
+// learned masks (one per seed, the same budget), and the floor's row. With mask_dir, the
+// compared masks are written there.
+std::vector<mimo_method> mimo_masks(const config& c, const array_geometry& a, int np, int azimuths, csv_file& csv,
+                                    std::ostream& log, const std::string& mask_dir)
+{
+    const frame_settings& fs = c.fs;
+    const int nt = a.n_transmit();
+    const double lo = azimuth_lo, hi = azimuth_hi;
     std::vector<mimo_method> methods;
     using form_fn = mimo_mask (*)(const pilot_mask&, int);
-    const std::vector<std::pair<std::string, form_fn>> forms = { { "same pilots", &mimo_mask::same_pilots },
-                                                                  { "time division", &mimo_mask::time_division },
-                                                                  { "frequency division", &mimo_mask::frequency_division } };
-    for (const auto& [name, form] : forms) {
+    const std::vector<std::tuple<std::string, std::string, form_fn>> forms = {
+        { "same pilots", "same_pilots", &mimo_mask::same_pilots },
+        { "time division", "time_division", &mimo_mask::time_division },
+        { "frequency division", "frequency_division", &mimo_mask::frequency_division }
+    };
+    for (const auto& [name, file, form] : forms) {
         std::vector<mimo_method> tried;
         for (const std::string pattern : { "uniform", "random", "doppler", "staggered", "burst" }) {
             const auto p = pilot_mask::from_pattern(pattern, fs, np, c.seed);
@@ -96,7 +96,8 @@ void run_array_mimo(const config& c, std::ostream& log)
                 const auto m = form(p, nt);
                 tried.push_back({ name, pattern, std::nullopt, m, mimo_mean_crb_rad2(a, m, fs, lo, hi, azimuths) });
             } catch (const std::invalid_argument& e) {
-                log << "  " << name << " on the " << pattern << " pattern: none (" << e.what() << ")" << std::endl;
+                log << "  N_p " << np << ", " << name << " on the " << pattern << " pattern: none (" << e.what() << ")"
+                    << std::endl;
             }
         }
         if (tried.empty())
@@ -107,15 +108,15 @@ void run_array_mimo(const config& c, std::ostream& log)
             if (tried[i].mean_crb < tried[best].mean_crb)
                 best = i;
         for (size_t i = 0; i < tried.size(); ++i) {
-            masks_csv.row({ name, tried[i].pattern, "", std::to_string(np), counts_text(tried[i].mask),
-                            num(tried[i].mean_crb, 8), i == best ? "1" : "0", "" });
-            log << "  " << name << " on the " << tried[i].pattern << " pattern: root mean CRB at 0 dB "
+            csv.row({ name, tried[i].pattern, "", std::to_string(np), counts_text(tried[i].mask), num(tried[i].mean_crb, 8),
+                      i == best ? "1" : "0", "" });
+            log << "  N_p " << np << ", " << name << " on the " << tried[i].pattern << " pattern: root mean CRB at 0 dB "
                 << num(std::sqrt(tried[i].mean_crb), 5) << " rad" << (i == best ? " (kept)" : "") << std::endl;
         }
-        tried[best].mask.save(mask_dir + "/" + (name == "same pilots" ? "same_pilots" : name == "time division" ? "time_division" : "frequency_division") + ".json");
+        if (!mask_dir.empty())
+            tried[best].mask.save(mask_dir + "/" + file + ".json");
         methods.push_back(tried[best]);
     }
-    // The learned masks, one per seed, with the same budget.
     for (int i = 0; i < c.exp9_mimo_seeds; ++i) {
         mimo_mask_settings s;
         s.array = c.exp9_mimo_array;
@@ -129,24 +130,61 @@ void run_array_mimo(const config& c, std::ostream& log)
         s.draws = c.exp9_mimo_draws;
         s.seed = c.seed + uint64_t(i);
         s.threads = c.threads;
-        s.command_line = "sems_eval --experiments 9 --exp9-parts mimo (seed " + std::to_string(s.seed) + ")";
+        s.command_line = "sems_eval --experiments 9 (MIMO, N_p " + std::to_string(np) + ", seed " + std::to_string(s.seed) + ")";
         s.verbose = false;
         const auto r = learn_mimo_mask(s, &log);
-        masks_csv.row({ "learned", "", std::to_string(s.seed), std::to_string(np), counts_text(r.mask),
-                        num(r.mean_crb_rad2, 8), "1", num(r.seconds, 3) });
-        log << "  learned (seed " << s.seed << "): root mean CRB at 0 dB " << num(std::sqrt(r.mean_crb_rad2), 5)
-            << " rad, pilots per element " << counts_text(r.mask) << ", " << num(r.seconds, 3) << " s" << std::endl;
-        r.mask.save(mask_dir + "/learned_s" + std::to_string(s.seed) + ".json");
+        csv.row({ "learned", "", std::to_string(s.seed), std::to_string(np), counts_text(r.mask), num(r.mean_crb_rad2, 8),
+                  "1", num(r.seconds, 3) });
+        log << "  N_p " << np << ", learned (seed " << s.seed << "): root mean CRB at 0 dB "
+            << num(std::sqrt(r.mean_crb_rad2), 5) << " rad, pilots per element " << counts_text(r.mask) << ", "
+            << num(r.seconds, 3) << " s" << std::endl;
+        if (!mask_dir.empty())
+            r.mask.save(mask_dir + "/learned_s" + std::to_string(s.seed) + ".json");
         methods.push_back({ "learned", "", s.seed, r.mask, r.mean_crb_rad2 });
     }
-    // The floor: the virtual array's bound, N_p/N_t pilots per virtual element, delay and Doppler known.
+    // The floor of masks whose pilots each come from one element: the virtual array's bound
+    // with N_p/N_t pilots per virtual element (balanced: the largest spread of the transmit
+    // positions), the delay and Doppler known, at the highest subcarrier's frequency (the
+    // shortest wavelength: the largest electrical aperture any pilot has).
     double floor = 0.0;
-    const double lambda = speed_of_light_mps / (fs.carrier_hz + 0.5 * (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz());
+    const double lambda_min = speed_of_light_mps / (fs.carrier_hz + (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz());
     for (int i = 0; i < azimuths; ++i)
-        floor += angle_crb_rad2(a, lo + (hi - lo) * (i + 0.5) / azimuths, 0.0, lambda, double(np) / nt) / azimuths;
-    masks_csv.row({ "virtual array floor", "", "", std::to_string(np), "", num(floor, 8), "", "" });
-    log << "  virtual array floor: root mean CRB at 0 dB " << num(std::sqrt(floor), 5) << " rad" << std::endl;
+        floor += angle_crb_rad2(a, lo + (hi - lo) * (i + 0.5) / azimuths, 0.0, lambda_min, double(np) / nt) / azimuths;
+    csv.row({ "virtual array floor", "", "", std::to_string(np), "", num(floor, 8), "", "" });
+    log << "  N_p " << np << ", virtual array floor: root mean CRB at 0 dB " << num(std::sqrt(floor), 5) << " rad"
+        << std::endl;
+    return methods;
+}
 
+array_geometry mimo_array(const config& c)
+{
+    const array_geometry a = array_geometry::find(c.exp9_mimo_array);
+    if (a.n_transmit() < 2)
+        throw std::invalid_argument("--exp9-mimo-array: " + c.exp9_mimo_array + " has " + std::to_string(a.n_transmit()) +
+                                    " transmit element; the MIMO part compares masks of two or more");
+    return a;
+}
+
+} // namespace
+
+void run_array_mimo(const config& c, std::ostream& log)
+{
+    if (!c.experiments.count(9) || !c.exp9_parts.count("mimo"))
+        return;
+    const frame_settings& fs = c.fs;
+    const array_geometry a = mimo_array(c);
+    const int nt = a.n_transmit(), nr = a.n_receive(), np = c.exp9_np;
+    const double lo = azimuth_lo, hi = azimuth_hi;
+    const int azimuths = c.exp9_mimo_azimuths;
+    namespace fsys = std::filesystem;
+    const std::string mask_dir = c.out_dir + "/masks_mimo";
+    fsys::create_directories(mask_dir);
+    log << "[" << now_utc() << "] experiment 9 (MIMO): " << c.exp9_mimo_array << " (" << nr << " receive, " << nt
+        << " transmit), N_p " << np << ", " << c.exp9_frames << " frames per point, " << c.exp9_mimo_seeds
+        << " learned masks" << std::endl;
+
+    csv_file masks_csv(c.out_dir + "/exp9_mimo_masks.csv", mask_columns());
+    auto methods = mimo_masks(c, a, np, azimuths, masks_csv, log, mask_dir);
     // The test frames: one unfaded point target, the same for every mask.
     random_spec rs;
     rs.classes = { target_class::car };
@@ -210,6 +248,20 @@ void run_array_mimo(const config& c, std::ostream& log)
                 << std::endl;
         }
     }
+}
+
+void run_array_mimo_budget(const config& c, std::ostream& log)
+{
+    if (!c.experiments.count(9) || !c.exp9_parts.count("mimo_budget"))
+        return;
+    const array_geometry a = mimo_array(c);
+    log << "[" << now_utc() << "] experiment 9 (MIMO, pilot budget): " << c.exp9_mimo_array << ", N_p";
+    for (int np : c.exp9_mimo_budget)
+        log << " " << np;
+    log << ", " << c.exp9_mimo_seeds << " learned masks each" << std::endl;
+    csv_file csv(c.out_dir + "/exp9_mimo_budget.csv", mask_columns());
+    for (int np : c.exp9_mimo_budget)
+        mimo_masks(c, a, np, c.exp9_mimo_azimuths, csv, log, "");
 }
 
 } // namespace sems_eval

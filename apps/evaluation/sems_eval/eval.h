@@ -97,6 +97,7 @@ struct config {
     int exp9_mimo_steps = 2;                                  // experiment 9, mimo: its steps per epoch (full 25)
     int exp9_mimo_draws = 8;                                  // experiment 9, mimo: its azimuths per step (full 64)
     int exp9_mimo_azimuths = 161;                             // experiment 9, mimo: the bound's azimuth grid
+    std::vector<int> exp9_mimo_budget{ 4, 8 };                // experiment 9, mimo_budget: pilot counts (full 4, 8, 16)
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };
     std::string shipped_classifier, shipped_delay_single, shipped_delay_multi;
@@ -256,6 +257,7 @@ void run_angle(const config& c, std::ostream& log);         // 9 (angle part)
 void run_array_classes(const config& c, std::ostream& log); // 9 (classes part)
 void run_array_tracks(const config& c, std::ostream& log);  // 9 (tracks part)
 void run_array_mimo(const config& c, std::ostream& log);    // 9 (mimo part)
+void run_array_mimo_budget(const config& c, std::ostream& log); // 9 (mimo_budget part)
 void run_kinematic_range(const config& c, std::ostream& log); // 7, range part
 void run_model_cards(const config& c, std::ostream& log);     // --model-card
 
