@@ -15,8 +15,9 @@ Reads from RESULTS:
     or .npz                  exp9_mimo_predictions.npz, which everything is then read from (the
                              CSV may go afterwards)
   masks_mimo/*.json          the kept masks (optional: only a run's own folder has them)
+  exp9_mimo_budget.csv       the same bounds at fewer pilots (optional: --exp9-parts mimo_budget)
 Writes to RESULTS:
-  exp9_mimo.md               the bound table, the RMSE table and the paired tests: the learned
+  exp9_mimo.md               the bound table (and the pilot budget's), the RMSE table and the paired tests: the learned
                              masks' squared errors against each hand form's on the same frames and
                              noise, at every SNR (paired_stats.two_level: training seeds and
                              frames resampled; a hand form pairs with every seed), one family with
@@ -46,6 +47,7 @@ import paired_stats as ps  # noqa: E402
 PROG = "plot_mimo.py"
 FORMS = ("same pilots", "time division", "frequency division")
 LEARNED = "learned"
+POLISHED = "random, polished"  # the learner's polish alone from a random mask (bound only)
 FLOOR = "virtual array floor"
 MASK_FILES = {"same pilots": "same_pilots", "time division": "time_division",
               "frequency division": "frequency_division"}
@@ -185,7 +187,7 @@ def bound_lines(masks):
              "that mean (mrad) and its ratio to the root of the virtual array floor (%.3f mrad: the bound no mask "
              "whose pilots each come from one element can beat). Each hand form on the standard pattern with the "
              "lowest bound; its other patterns beside it." % (n_p, 1e3 * root_floor), "",
-             "| mask | pattern | pilots per element | root mean CRB at 0 dB (mrad) | × floor | other patterns (× floor) |",
+             "| mask | pattern | pilots per element | root mean CRB at 0 dB (mrad) | × floor | other patterns, or the learned mask before its polish (× floor) |",
              "|---|---|---|---:|---:|---|"]
     for form in FORMS:
         tried = [r for r in masks if r["form"] == form]
@@ -198,12 +200,53 @@ def bound_lines(masks):
                          float(kept[0]["mean_crb_0db_rad2"]), others))
     learned = [r for r in masks if r["form"] == LEARNED]
     for r in learned:
+        before = r.get("before_polish_rad2", "")
         lines.append(row("learned, seed %s" % r["train_seed"], "learned", per_element(r["pilots_per_element"]),
-                         float(r["mean_crb_0db_rad2"])))
+                         float(r["mean_crb_0db_rad2"]),
+                         "before the polish %.3f" % (math.sqrt(float(before)) / root_floor) if before else ""))
     if len(learned) > 1:  # the mean of the seeds' mean CRB (rad²), then its root
         lines.append(row("learned, mean of %d seeds" % len(learned), "", "",
                          float(np.mean([float(r["mean_crb_0db_rad2"]) for r in learned]))))
+    for r in [r for r in masks if r["form"] == POLISHED]:
+        before = r.get("before_polish_rad2", "")
+        lines.append(row("random, polished, seed %s" % r["train_seed"], "random", per_element(r["pilots_per_element"]),
+                         float(r["mean_crb_0db_rad2"]),
+                         "before the polish %.3f" % (math.sqrt(float(before)) / root_floor) if before else ""))
     return lines, floor
+
+
+def budget_lines(rows):
+    """Per pilot count: each hand form's best bound, the learned masks' (mean over seeds of the mean
+    CRB, its root; the seeds' range; before the polish), the floor, all × the floor."""
+    if not rows:
+        return []
+    lines = ["", "**The pilot budget** (exp9_mimo_budget.csv): the same bounds with fewer pilots, each as its root "
+             "mean CRB at 0 dB over the floor's (× floor; the floor itself in mrad); learned: the mean over its "
+             "training seeds, the seeds' range, and the same before the polish; random, polished: the learner's "
+             "polish alone from a random mask of each seed (mean over seeds).", "",
+             "| N_p | floor (mrad) | " + " | ".join(FORMS) + " | learned | learned, seeds | learned before the polish "
+             "| random, polished |",
+             "|---:|---:|" + "---:|" * (len(FORMS) + 2) + "---|---:|"]
+    for n_p in sorted({int(r["n_pilots"]) for r in rows}):
+        at = [r for r in rows if int(r["n_pilots"]) == n_p]
+        floor = [float(r["mean_crb_0db_rad2"]) for r in at if r["form"] == FLOOR]
+        if not floor:
+            continue
+        root_floor = math.sqrt(floor[0])
+        cells = []
+        for form in FORMS:
+            kept = [float(r["mean_crb_0db_rad2"]) for r in at if r["form"] == form and r["chosen"] == "1"]
+            cells.append("%.3f" % (math.sqrt(kept[0]) / root_floor) if kept else "")
+        learned = [float(r["mean_crb_0db_rad2"]) for r in at if r["form"] == LEARNED]
+        before = [float(r["before_polish_rad2"]) for r in at if r["form"] == LEARNED and r.get("before_polish_rad2")]
+        ratios = [math.sqrt(v) / root_floor for v in learned]
+        cells.append("%.3f" % (math.sqrt(np.mean(learned)) / root_floor) if learned else "")
+        cells.append("%.3f–%.3f" % (min(ratios), max(ratios)) if ratios else "")
+        cells.append("%.3f" % (math.sqrt(np.mean(before)) / root_floor) if before else "")
+        polished = [float(r["mean_crb_0db_rad2"]) for r in at if r["form"] == POLISHED]
+        cells.append("%.3f" % (math.sqrt(np.mean(polished)) / root_floor) if polished else "")
+        lines.append("| %d | %.3f | %s |" % (n_p, 1e3 * root_floor, " | ".join(cells)))
+    return lines
 
 
 def method_rows(rows):
@@ -362,7 +405,9 @@ def main():
              "", "Experiment 9 (MIMO): the pilots each transmit element sends, for a target's azimuth — the hand "
              "forms (same pilots, time division, frequency division) and the learned masks, scored by their "
              "Cramér–Rao bound and by the maximum-likelihood estimator on the same frames and noise."]
-    lines += bounds + rmse_lines(rows, floor) + paired_lines(predictions(a.results))
+    budget = os.path.join(a.results, "exp9_mimo_budget.csv")
+    lines += bounds + (budget_lines(read(budget)) if os.path.exists(budget) else []) + rmse_lines(rows, floor) + \
+        paired_lines(predictions(a.results))
     md = os.path.join(a.results, "exp9_mimo.md")
     with open(md, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -11,7 +11,9 @@
  * each on its best standard pattern (uniform, random, doppler, staggered, burst: the one with
  * the lowest mean bound over the scene's azimuths, all listed in exp9_mimo_masks.csv), and
  *   "learned"              learn_mimo_mask, one per seed (exp9_mimo_seeds seeds from --seed),
- * every learner with the same budget (epochs, steps, azimuth draws). Their bound: the azimuth's
+ * every learner with the same budget (epochs, steps, azimuth draws); beside each, bound only,
+ *   "random, polished"     the learner's polish alone (polish_mimo_mask) from a random mask of
+ *                          the seed: what the gradient phase adds. Their bound: the azimuth's
  * CRB with the delay, Doppler and complex gain unknown (baselines/mimo_angle.h), its mean over
  * exp9_mimo_azimuths azimuths on [−0.8, 0.8] rad at 0 dB per pilot; the floor of masks whose
  * pilots each come from one element is the virtual array's own bound with N_p/N_t pilots per
@@ -23,7 +25,8 @@
  * mask (mimo_pilots: the same frames and the same unit-variance noise, scaled per SNR, for
  * every mask); each frame's bound at its own gain beside it.
  * Output: exp9_mimo_masks.csv (form, pattern, train_seed, n_pilots, pilots per element,
- * mean_crb_0db_rad2, chosen, seconds), exp9_mimo.csv (method, train_seed, n_pilots, snr_db,
+ * mean_crb_0db_rad2, chosen, seconds, before_polish_rad2: a learned mask's bound before its
+ * polish), exp9_mimo.csv (method, train_seed, n_pilots, snr_db,
  * frames, rmse_rad, crb_rad, rmse_over_crb) and exp9_mimo_predictions.csv (every estimate of
  * every frame with its truth and bound: the paired tests of apps/figures/plot_mimo.py); the
  * masks themselves go to <out>/masks_mimo/.
@@ -68,7 +71,8 @@ std::string counts_text(const mimo_mask& m)
 
 std::vector<std::string> mask_columns()
 {
-    return { "form", "pattern", "train_seed", "n_pilots", "pilots_per_element", "mean_crb_0db_rad2", "chosen", "seconds" };
+    return { "form",    "pattern", "train_seed", "n_pilots", "pilots_per_element", "mean_crb_0db_rad2",
+             "chosen",  "seconds", "before_polish_rad2" };
 }
 
 // The masks of N_p pilots compared, with their mean bound at 0 dB over the scene's azimuths:
@@ -109,7 +113,7 @@ std::vector<mimo_method> mimo_masks(const config& c, const array_geometry& a, in
                 best = i;
         for (size_t i = 0; i < tried.size(); ++i) {
             csv.row({ name, tried[i].pattern, "", std::to_string(np), counts_text(tried[i].mask), num(tried[i].mean_crb, 8),
-                      i == best ? "1" : "0", "" });
+                      i == best ? "1" : "0", "", "" });
             log << "  N_p " << np << ", " << name << " on the " << tried[i].pattern << " pattern: root mean CRB at 0 dB "
                 << num(std::sqrt(tried[i].mean_crb), 5) << " rad" << (i == best ? " (kept)" : "") << std::endl;
         }
@@ -134,13 +138,31 @@ std::vector<mimo_method> mimo_masks(const config& c, const array_geometry& a, in
         s.verbose = false;
         const auto r = learn_mimo_mask(s, &log);
         csv.row({ "learned", "", std::to_string(s.seed), std::to_string(np), counts_text(r.mask), num(r.mean_crb_rad2, 8),
-                  "1", num(r.seconds, 3) });
+                  "1", num(r.seconds, 3), num(r.mean_crb_learned_rad2, 8) });
         log << "  N_p " << np << ", learned (seed " << s.seed << "): root mean CRB at 0 dB "
-            << num(std::sqrt(r.mean_crb_rad2), 5) << " rad, pilots per element " << counts_text(r.mask) << ", "
+            << num(std::sqrt(r.mean_crb_rad2), 5) << " rad (" << num(std::sqrt(r.mean_crb_learned_rad2), 5)
+            << " before " << r.polish_changes << " single changes), pilots per element " << counts_text(r.mask) << ", "
             << num(r.seconds, 3) << " s" << std::endl;
         if (!mask_dir.empty())
             r.mask.save(mask_dir + "/learned_s" + std::to_string(s.seed) + ".json");
         methods.push_back({ "learned", "", s.seed, r.mask, r.mean_crb_rad2 });
+        // The same polish from a random mask of the seed (random resource elements, each to a
+        // random element): what the gradient phase adds over the polish alone. Bound only.
+        std::mt19937_64 g(s.seed + 77);
+        std::uniform_int_distribution<int> element(0, nt - 1);
+        std::vector<int> tx;
+        const auto p = pilot_mask::from_pattern("random", fs, np, s.seed);
+        for (int k = 0; k < np; ++k)
+            tx.push_back(element(g));
+        const mimo_mask start(p, nt, tx, "random start");
+        const double before = mimo_mean_crb_rad2(a, start, fs, lo, hi, azimuths);
+        double v = 0.0;
+        int changes = 0;
+        const auto polished = polish_mimo_mask(start, s, &v, &changes);
+        csv.row({ "random, polished", "random", std::to_string(s.seed), std::to_string(np), counts_text(polished),
+                  num(v, 8), "", "", num(before, 8) });
+        log << "  N_p " << np << ", random (seed " << s.seed << "), polished: root mean CRB at 0 dB " << num(std::sqrt(v), 5)
+            << " rad (" << num(std::sqrt(before), 5) << " before " << changes << " single changes)" << std::endl;
     }
     // The floor of masks whose pilots each come from one element: the virtual array's bound
     // with N_p/N_t pilots per virtual element (balanced: the largest spread of the transmit
@@ -150,7 +172,7 @@ std::vector<mimo_method> mimo_masks(const config& c, const array_geometry& a, in
     const double lambda_min = speed_of_light_mps / (fs.carrier_hz + (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz());
     for (int i = 0; i < azimuths; ++i)
         floor += angle_crb_rad2(a, lo + (hi - lo) * (i + 0.5) / azimuths, 0.0, lambda_min, double(np) / nt) / azimuths;
-    csv.row({ "virtual array floor", "", "", std::to_string(np), "", num(floor, 8), "", "" });
+    csv.row({ "virtual array floor", "", "", std::to_string(np), "", num(floor, 8), "", "", "" });
     log << "  N_p " << np << ", virtual array floor: root mean CRB at 0 dB " << num(std::sqrt(floor), 5) << " rad"
         << std::endl;
     return methods;

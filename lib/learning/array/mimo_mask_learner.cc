@@ -7,6 +7,7 @@
 #include <gnuradio/sems/baselines/mimo_angle.h>
 #include <ATen/Parallel.h>
 #include <algorithm>
+#include <utility>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -34,6 +35,73 @@ std::vector<double> uniform_draws(std::mt19937_64& g, double lo, double hi, int 
     for (auto& x : out)
         x = u(g);
     return out;
+}
+
+// A mask of the given pilots and elements, pilot k at pos[k] sent by tx[k] (any order).
+mimo_mask mask_of(const mimo_mask& like, std::vector<std::pair<pilot_position, int>> pilots)
+{
+    std::sort(pilots.begin(), pilots.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<pilot_position> pos;
+    std::vector<int> tx;
+    for (const auto& [p, t] : pilots) {
+        pos.push_back(p);
+        tx.push_back(t);
+    }
+    const pilot_mask& m = like.mask();
+    return mimo_mask(pilot_mask(m.n_symbols(), m.n_subcarriers(), pos, m.pilot_symbol(), m.origin(), "learned MIMO mask"),
+                     like.n_transmit(), tx, "learned MIMO mask");
+}
+
+// The polish after the gradient phase: single changes of one pilot (its element, or a move to
+// a free neighbouring resource element off the guards), each kept when it lowers the
+// objective, until none does. Gumbel relaxations settle on balanced masks slowly when every
+// element's share is a handful of pilots; one flip is what they leave.
+mimo_mask polish(const array_geometry& a, mimo_mask m, const mimo_mask_settings& s, double& objective, int& changes)
+{
+    if (m.n_transmit() != a.n_transmit())
+        mimo_refuse("mask", "has " + std::to_string(m.n_transmit()) + " transmit elements and the array " + s.array + " " +
+                                std::to_string(a.n_transmit()));
+    m.mask().check_frame(s.frame, "MIMO mask polish");
+    auto value = [&](const mimo_mask& x) {
+        return mimo_mean_crb_rad2(a, x, s.frame, s.azimuth_min_rad, s.azimuth_max_rad, s.eval_azimuths, s.elevation_rad);
+    };
+    const int n = s.frame.n_symbols, mm = s.frame.n_subcarriers;
+    changes = 0;
+    for (bool improved = true; improved;) {
+        improved = false;
+        for (int k = 0; k < m.mask().size(); ++k) {
+            std::vector<std::pair<pilot_position, int>> pilots;
+            std::vector<char> used(size_t(n) * mm, 0);
+            for (int i = 0; i < m.mask().size(); ++i) {
+                pilots.emplace_back(m.mask().positions()[size_t(i)], m.transmit()[size_t(i)]);
+                used[size_t(pilots.back().first.n) * mm + pilots.back().first.m] = 1;
+            }
+            const auto [here, element] = pilots[size_t(k)];
+            std::vector<std::pair<pilot_position, int>> options;
+            for (int j = 0; j < m.n_transmit(); ++j)
+                if (j != element)
+                    options.emplace_back(here, j);
+            for (const auto& [dn, dm] : { std::pair<int, int>{ -1, 0 }, { 1, 0 }, { 0, -1 }, { 0, 1 } }) {
+                const pilot_position q{ here.n + dn, here.m + dm };
+                if (q.n >= 0 && q.n < n && q.m >= 0 && q.m < mm && !used[size_t(q.n) * mm + q.m] && !s.frame.is_guard(q.m))
+                    options.emplace_back(q, element);
+            }
+            for (const auto& option : options) {
+                auto changed = pilots;
+                changed[size_t(k)] = option;
+                const auto candidate = mask_of(m, changed);
+                const double v = value(candidate);
+                if (v < objective * (1.0 - 1e-12)) {
+                    m = candidate;
+                    objective = v;
+                    ++changes;
+                    improved = true;
+                    break; // pilot k's position and index may have changed: the next pilot
+                }
+            }
+        }
+    }
+    return m;
 }
 
 } // namespace
@@ -72,6 +140,20 @@ double mimo_mean_crb_rad2(const array_geometry& a, const mimo_mask& m, const fra
     for (int i = 0; i < count; ++i)
         sum += mimo_angle_crb_rad2(a, m, fs, lo + (hi - lo) * (i + 0.5) / count, elevation_rad, 1.0);
     return sum / count;
+}
+
+mimo_mask polish_mimo_mask(const mimo_mask& m, const mimo_mask_settings& s, double* objective, int* changes)
+{
+    s.validate();
+    const array_geometry a = array_geometry::find(s.array);
+    double v = mimo_mean_crb_rad2(a, m, s.frame, s.azimuth_min_rad, s.azimuth_max_rad, s.eval_azimuths, s.elevation_rad);
+    int n = 0;
+    auto out = polish(a, m, s, v, n);
+    if (objective)
+        *objective = v;
+    if (changes)
+        *changes = n;
+    return out;
 }
 
 mimo_mask_result learn_mimo_mask(const mimo_mask_settings& s, std::ostream* log)
@@ -165,9 +247,12 @@ mimo_mask_result learn_mimo_mask(const mimo_mask_settings& s, std::ostream* log)
         }
         tau = std::max(s.encoder.temperature_floor, tau * s.encoder.temperature_decay);
     }
+    out.mean_crb_learned_rad2 = out.mean_crb_rad2;
+    out.mask = polish(a, out.mask, s, out.mean_crb_rad2, out.polish_changes);
     out.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     std::ostringstream done;
-    done << "kept root mean CRB at 0 dB " << std::setprecision(5) << std::sqrt(out.mean_crb_rad2) << " rad ("
+    done << "kept root mean CRB at 0 dB " << std::setprecision(5) << std::sqrt(out.mean_crb_learned_rad2)
+         << " rad; after " << out.polish_changes << " single changes " << std::sqrt(out.mean_crb_rad2) << " rad ("
          << std::setprecision(3) << out.seconds << " s)";
     say(done.str());
     return out;

@@ -18,7 +18,10 @@
  *    a straight-through Gumbel-softmax (one element forward, relaxed gradient).
  * Each step draws `draws` azimuths from the scene's interval and minimises log(mean CRB); the
  * temperature is annealed per epoch; the kept mask is the epoch's final (greedy) mask with the
- * lowest objective on a fixed grid of azimuths. Every pilot is sent by one element at full
+ * lowest objective on a fixed grid of azimuths. A polish ends it: single changes of one pilot
+ * (its transmit element, or a move to a free neighbouring resource element), each kept when it
+ * lowers that objective, until none does (the relaxation settles on balanced shares slowly when
+ * each element has a handful of pilots). Every pilot is sent by one element at full
  * energy (the hand form "same pilots", every element at 1/sqrt(N_t), is a reference it is
  * compared against, not a choice it makes).
  */
@@ -64,9 +67,11 @@ struct SEMS_LEARNING_API mimo_mask_settings {
 
 /*! \brief What learn_mimo_mask() returns. */
 struct SEMS_LEARNING_API mimo_mask_result {
-    mimo_mask mask;            ///< the kept mask
+    mimo_mask mask;            ///< the kept mask, polished
     nlohmann::json history;    ///< one object per epoch
     double mean_crb_rad2 = 0;  ///< its objective: the mean CRB over eval_azimuths at an SNR of 1 per pilot
+    double mean_crb_learned_rad2 = 0; ///< the objective of the gradient phase's mask, before the polish
+    int polish_changes = 0;    ///< the single changes the polish kept
     double seconds = 0.0;      ///< wall time
 };
 
@@ -81,6 +86,23 @@ struct SEMS_LEARNING_API mimo_mask_result {
  */
 SEMS_LEARNING_API double mimo_mean_crb_rad2(const array_geometry& a, const mimo_mask& m, const frame_settings& fs,
                                             double lo, double hi, int count, double elevation_rad = 0.0);
+
+/*!
+ * \brief The learner's polish alone, from any mask: single changes of one pilot (its transmit
+ *        element, or a move to a free neighbouring resource element), each kept when it lowers
+ *        the objective (mimo_mean_crb_rad2 over the settings' azimuths), until none does.
+ * \details The reference that tells what the gradient phase adds: the same polish from a
+ * random mask.
+ * \param m the start (the settings' frame and array's N_t). \param s the settings (array, frame,
+ *        azimuths). \param objective out (may be null): the polished mask's mean bound.
+ * \param changes out (may be null): the changes kept.
+ * \return the polished mask.
+ * \throws std::invalid_argument naming a bad setting, or the mask's N_t or grid when they are not the settings'.
+ */
+SEMS_LEARNING_API mimo_mask polish_mimo_mask(const mimo_mask& m,
+                                             const mimo_mask_settings& s,
+                                             double* objective = nullptr,
+                                             int* changes = nullptr);
 
 /*!
  * \brief Learns a MIMO mask (the file comment).
