@@ -73,7 +73,7 @@ public:
      * \brief An estimator for a mask on an array.
      * \param a the array. \param m the mask (its N_t the array's). \param fs the frame.
      * \param elevation_rad θ, known. \param search the azimuth grid. \param oversample grid points per
-     *        delay index and per Doppler bin (≥ 1).
+     *        delay index and per Doppler bin, 1 to 16.
      * \throws std::invalid_argument naming a bad setting or both element counts.
      */
     mimo_ml_angle_estimator(const array_geometry& a, const mimo_mask& m, const frame_settings& fs, double elevation_rad,

@@ -22,14 +22,14 @@ namespace sems {
  *
  * \details
  * \verbatim
-   X_j[n,m] = a_kj · sqrt(E_p) · s_p · exp(jφ_k)   at pilot k of the mask (a_kj = mimo_mask::amplitude(k, j):
+   X_j[n,m] = a_ij · sqrt(E_p) · s_p · exp(jφ_i)   at pilot i of the mask (a_ij = mimo_mask::amplitude(i, j):
                                                    1 on its element, 1/sqrt(N_t) on each when every element sends it)
             = sqrt(E_d / N_t) · data              elsewhere, the same data on every element, row-major
    \endverbatim
  * so every pilot and every data symbol carries the energy one element would send alone. Output
  * j goes to the emulator's transmit input j (target_channel, target_channel_td with n_transmit =
  * N_t); SemS Pilot Extractor on the receive streams takes the same file and gives receive
- * element k's observation of pilot k as Σ_j a_kj H_{k·N_t+j} (mimo_pilots()).
+ * element k's observation of pilot i as Σ_j a_ij H_{k·N_t+j}[n_i, m_i] (mimo_pilots()).
  *
  * Input: data symbols (gr_complex stream), N·(M − G) − N_p per frame (G guard subcarriers, zero
  * in every symbol); with N_p = N·(M − G) none, and the input may stay unconnected. Outputs:

@@ -54,7 +54,7 @@ struct SEMS_LEARNING_API mimo_mask_settings {
     int steps = 25;                   ///< steps per epoch
     int draws = 64;                   ///< azimuths per step
     int eval_azimuths = 161;          ///< the fixed grid the kept mask is chosen on
-    double lr = 0.01;                 ///< Adam's learning rate (the encoder's is lr · encoder.lr_scale)
+    double lr = 0.01;                 ///< base learning rate: Adam's is lr · encoder.lr_scale, for the resource elements' and the transmit elements' scores alike
     nn::encoder_settings encoder;     ///< the resource elements' selector and its temperature schedule
     uint64_t seed = 1;                ///< seed of the draws and the initial scores
     int threads = 0;                  ///< <= 0: leave LibTorch's default
@@ -80,7 +80,7 @@ struct SEMS_LEARNING_API mimo_mask_result {
  *        receive element over `count` azimuths at the midpoints of equal cells of [lo, hi].
  * \details At SNR s the mean bound is this over s. +inf when the mask cannot tell the angle at
  * one of them.
- * \param a the array. \param m the mask. \param fs the frame. \param lo first azimuth. \param hi last.
+ * \param a the array. \param m the mask. \param fs the frame. \param lo the interval's lower end. \param hi its upper end.
  * \param count azimuths (≥ 1). \param elevation_rad θ.
  * \return the mean in rad².
  */
