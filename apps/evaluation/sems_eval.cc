@@ -181,6 +181,7 @@ void apply_size(config& c)
         c.exp9_mimo_steps = 25;
         c.exp9_mimo_draws = 64;
         c.exp9_mimo_budget = { 4, 8, 16 };
+        c.exp9_mimo_azimuths = 161;
     } else {
         throw std::invalid_argument("--size must be test or full, got \"" + c.size + "\"");
     }

@@ -96,7 +96,7 @@ struct config {
     int exp9_mimo_epochs = 2;                                 // experiment 9, mimo: the learner's epochs (full 40)
     int exp9_mimo_steps = 2;                                  // experiment 9, mimo: its steps per epoch (full 25)
     int exp9_mimo_draws = 8;                                  // experiment 9, mimo: its azimuths per step (full 64)
-    int exp9_mimo_azimuths = 161;                             // experiment 9, mimo: the bound's azimuth grid
+    int exp9_mimo_azimuths = 41;                              // experiment 9, mimo: the bound's azimuth grid (full 161)
     std::vector<int> exp9_mimo_budget{ 4, 8 };                // experiment 9, mimo_budget: pilot counts (full 4, 8, 16)
     int classic_oversample = 16;
     std::set<int> experiments{ 1, 2, 3, 4, 5, 6 };

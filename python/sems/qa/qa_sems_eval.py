@@ -961,7 +961,7 @@ class qa_sems_eval(gr_unittest.TestCase):
         falling 10 dB per 10 dB of SNR in variance), beamforming near it at 30 dB, and the plot
         and table written."""
         with tempfile.TemporaryDirectory() as out:
-            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--out", out],
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "angle", "--out", out],
                                capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stderr[-2000:])
             with open(os.path.join(out, "exp9_angle.csv")) as f:
@@ -988,8 +988,8 @@ class qa_sems_eval(gr_unittest.TestCase):
         # references on the same frames, and the paired table from the packed predictions.
         with tempfile.TemporaryDirectory() as out:
             bundle = os.path.join(SOURCE, "models", "position_ula8")
-            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-position-bundle", bundle,
-                                "--out", out], capture_output=True, text=True, timeout=300)
+            r = subprocess.run([EVAL, "--size", "test", "--experiments", "9", "--exp9-parts", "angle",
+                                "--exp9-position-bundle", bundle, "--out", out], capture_output=True, text=True, timeout=300)
             self.assertEqual(r.returncode, 0, r.stderr[-2000:])
             self.assertIn("the mask and array of", r.stdout)
             with open(os.path.join(out, "exp9_angle.csv")) as f:
