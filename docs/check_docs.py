@@ -122,6 +122,7 @@ GENERATED = {
     "docs/results/exp8_nr/track_tables.md",  # apps/figures/plot_tracks.py (scripts/evaluation/eval_tracks_nr.sh)
     "docs/results/exp9_angle.md",         # apps/figures/plot_angle.py (scripts/evaluation/eval_arrays.sh)
     "docs/results/exp9_classes.md",       # apps/figures/plot_array_classes.py (scripts/evaluation/eval_arrays.sh)
+    "docs/results/exp9_mimo.md",          # apps/figures/plot_mimo.py (scripts/evaluation/eval_arrays.sh)
     "docs/results/adult_child_track.md",  # apps/figures/pair_tracks.py (scripts/evaluation/eval_adult_child.sh)
     "docs/pareto/pareto.md",              # apps/evaluation/sems_pareto.py
     "models/README.md",                   # scripts/models_catalogue.py (the bundles' model_card.json)
