@@ -26,7 +26,7 @@ pilot_extractor::sptr pilot_extractor::make(const std::string& mask_file,
         throw std::invalid_argument(std::string(who) + ": n_elements must be in [1, " +
                                     std::to_string(limits::max_array_elements) +
                                     "] (one input per receive element), got " + std::to_string(n_elements));
-    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol);
+    auto mask = block_mask(who, n_symbols, n_subcarriers, mask_file, pilot_positions, pilot_symbol, true);
     return gnuradio::make_block_sptr<pilot_extractor_impl>(mask, n_elements);
 }
 

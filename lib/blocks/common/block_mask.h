@@ -31,6 +31,8 @@ inline std::string complex_text(gr_complex z)
 }
 
 // `who` names the block in errors. Throws std::invalid_argument naming the parameter.
+// `accept_mimo`: a MIMO mask file gives its pilots (the receiving end: pilot_extractor); else it
+// is refused, so that a transmitter or a template never drops the file's transmit elements.
 // `pilot_symbol`: the block's own, which a mask file's must equal; none for a block that reads
 // pilots already divided by the symbol (the maps): then a mask file keeps its own, and explicit
 // positions get 1.
@@ -39,7 +41,8 @@ inline super_frame_mask block_mask(const std::string& who,
                              int n_subcarriers,
                              const std::string& mask_file,
                              const std::vector<int>& pilot_positions,
-                             std::optional<gr_complex> pilot_symbol)
+                             std::optional<gr_complex> pilot_symbol,
+                             bool accept_mimo = false)
 {
     frame_settings fs;
     fs.n_symbols = n_symbols;
@@ -58,8 +61,16 @@ inline super_frame_mask block_mask(const std::string& who,
                 // A MIMO mask file's pilots are its `mask` (every transmit element's together):
                 // what the receiving end reads (mimo_pilot_mapper places them per element).
                 const auto j = json_read::parse_file(mask_file);
-                if (j.is_object() && j.value("format", "") == mimo_mask::format_name)
-                    return super_frame_mask(mimo_mask::from_json(j, mask_file).mask());
+                const auto format = j.is_object() ? j.find("format") : j.end();
+                if (format != j.end() && format->is_string() && format->get<std::string>() == mimo_mask::format_name) {
+                    const auto m = mimo_mask::from_json(j, mask_file);
+                    if (!accept_mimo)
+                        throw std::invalid_argument(
+                            "'" + mask_file + "' is a MIMO mask (sems.mimo_mask, n_transmit = " +
+                            std::to_string(m.n_transmit()) + "); this block takes one pilot mask: a MIMO mask is "
+                            "sent by mimo_pilot_mapper and read by pilot_extractor");
+                    return super_frame_mask(m.mask());
+                }
                 return super_frame_mask::load(mask_file);
             } catch (const std::invalid_argument& e) { // the reader names the file and the problem
                 throw std::invalid_argument(who + ": mask_file: " + e.what());

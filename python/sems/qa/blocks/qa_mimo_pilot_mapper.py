@@ -117,6 +117,18 @@ class qa_mimo_pilot_mapper(gr_unittest.TestCase):
         mp = sems.mimo_pilot_mapper(path, 2)
         with self.assertRaisesRegex(ValueError, "data_power"):
             mp.set_data_power(math.nan)
+        # The one-output mapper refuses a MIMO mask (it would drop the transmit elements); the
+        # extractor reads it; a mask whose format is not a string is refused by field.
+        with self.assertRaisesRegex(ValueError, "pilot_mapper: mask_file: .*is a MIMO mask .*n_transmit = 2"):
+            sems.pilot_mapper(mask_file=path)
+        self.assertEqual(sems.pilot_extractor(mask_file=path, n_elements=4).n_pilots(), 32)
+        bad = os.path.join(self.dir.name, "bad.json")
+        with open(bad, "w") as f:
+            json.dump({"format": 1, "version": 1, "n_symbols": 4, "n_subcarriers": 4, "pilots": [[0, 0]]}, f)
+        for block in (lambda: sems.pilot_extractor(mask_file=bad, n_symbols=4, n_subcarriers=4),
+                      lambda: sems.pilot_mapper(mask_file=bad, n_symbols=4, n_subcarriers=4)):
+            with self.assertRaisesRegex(ValueError, "mask_file: .*bad.json: format"):
+                block()
 
 
 if __name__ == "__main__":
