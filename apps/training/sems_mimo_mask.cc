@@ -9,6 +9,7 @@
  * frequency division, each on its best standard pattern) and the virtual array's floor, all as
  * the root mean CRB of the azimuth at 0 dB per pilot over the scene's azimuths.
  */
+#include "command_line.h"
 #include "frame_options.h"
 #include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/core/array/steering.h>
@@ -88,28 +89,13 @@ int main(int argc, char** argv)
         const auto frame = frame_flags.resolve(vm);
         s.frame = frame.frame;
         s.verbose = !quiet;
-        // The command as typed, the program by its name (not where this machine keeps it).
-        std::ostringstream cmd;
-        const std::string program = argv[0];
-        cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
-        for (int i = 1; i < argc; ++i)
-            cmd << " " << argv[i];
-        s.command_line = cmd.str();
+        s.command_line = apps::command_of(argc, argv);
         std::cout << apps::describe(frame) << std::endl;
         const auto r = learn_mimo_mask(s, &std::cout);
         r.mask.save(out);
         const auto a = array_geometry::find(s.array);
-        // The floor of masks whose pilots each come from one element: the virtual array with
-        // N_p/N_t pilots per element and the delay and Doppler known, at the highest
-        // subcarrier's frequency (the largest electrical aperture any pilot has).
-        const double lambda = speed_of_light_mps /
-                              (s.frame.carrier_hz + (s.frame.n_subcarriers - 1) * s.frame.subcarrier_spacing_hz());
-        double floor = 0.0;
-        for (int i = 0; i < s.eval_azimuths; ++i)
-            floor += angle_crb_rad2(a,
-                                    s.azimuth_min_rad + (s.azimuth_max_rad - s.azimuth_min_rad) * (i + 0.5) / s.eval_azimuths,
-                                    s.elevation_rad, lambda, double(s.n_pilots) / a.n_transmit()) /
-                     s.eval_azimuths;
+        const double floor = mimo_floor_crb_rad2(a, s.frame, s.n_pilots, s.azimuth_min_rad, s.azimuth_max_rad,
+                                                 s.eval_azimuths, s.elevation_rad);
         std::cout << "wrote " << out << "\nroot mean CRB of the azimuth at 0 dB per pilot over [" << s.azimuth_min_rad
                   << ", " << s.azimuth_max_rad << "] rad:\n"
                   << std::setprecision(4) << "  learned                " << 1e3 * std::sqrt(r.mean_crb_rad2) << " mrad\n";

@@ -18,6 +18,7 @@
  * See include/gnuradio/sems/learning/training/trainer.h for what the phases do and
  * docs/reference/distributed_training.md for several processes and machines.
  */
+#include "command_line.h"
 #include "frame_options.h"
 #include "model_card_speed.h"
 #include <gnuradio/sems/core/radio/front_end.h>
@@ -61,17 +62,6 @@ double parse_snr(const std::string& s)
     if (used != s.size())
         throw std::invalid_argument("not a number: " + s);
     return v;
-}
-
-// The command as typed, the program by its name (not where this machine keeps it).
-std::string command_of(int argc, char** argv)
-{
-    std::ostringstream cmd;
-    const std::string program = argv[0];
-    cmd << program.substr(program.rfind('/') == std::string::npos ? 0 : program.rfind('/') + 1);
-    for (int i = 1; i < argc; ++i)
-        cmd << " " << argv[i];
-    return cmd.str();
 }
 
 // The model card's SNR to cite: 10 dB when measured, else the measured SNR closest to it.
@@ -477,9 +467,9 @@ int main(int argc, char** argv)
         po::notify(vm);
         s.verbose = !vm.count("quiet");
         if (vm.count("frame-bundle"))
-            return train_tracks(vm, command_of(argc, argv));
+            return train_tracks(vm, apps::command_of(argc, argv));
         if (vm.count("delay-bundle"))
-            return train_positions(vm, command_of(argc, argv));
+            return train_positions(vm, apps::command_of(argc, argv));
         frame_file frame; // the frame trained on, printed before training
         if (!from.empty()) {
             // The bundle's own settings; only sizes, output and where it runs may change.
@@ -607,7 +597,7 @@ int main(int argc, char** argv)
                 s.scene_source = src.str();
             }
         }
-        s.command_line = command_of(argc, argv);
+        s.command_line = apps::command_of(argc, argv);
 
         if (vm.count("dry-run")) {
             s.validate();

@@ -168,10 +168,7 @@ std::vector<mimo_method> mimo_masks(const config& c, const array_geometry& a, in
     // with N_p/N_t pilots per virtual element (balanced: the largest spread of the transmit
     // positions), the delay and Doppler known, at the highest subcarrier's frequency (the
     // shortest wavelength: the largest electrical aperture any pilot has).
-    double floor = 0.0;
-    const double lambda_min = speed_of_light_mps / (fs.carrier_hz + (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz());
-    for (int i = 0; i < azimuths; ++i)
-        floor += angle_crb_rad2(a, lo + (hi - lo) * (i + 0.5) / azimuths, 0.0, lambda_min, double(np) / nt) / azimuths;
+    const double floor = mimo_floor_crb_rad2(a, fs, np, lo, hi, azimuths);
     csv.row({ "virtual array floor", "", "", std::to_string(np), "", num(floor, 8), "", "", "" });
     log << "  N_p " << np << ", virtual array floor: root mean CRB at 0 dB " << num(std::sqrt(floor), 5) << " rad"
         << std::endl;

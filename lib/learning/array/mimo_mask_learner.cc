@@ -4,7 +4,9 @@
 #include <gnuradio/sems/learning/array/mimo_mask_learner.h>
 #include "learning/array/mimo_bound.h"
 #include "learning/training/semantic_encoder.h"
+#include <gnuradio/sems/baselines/angle_estimators.h>
 #include <gnuradio/sems/baselines/mimo_angle.h>
+#include <gnuradio/sems/core/array/steering.h>
 #include <ATen/Parallel.h>
 #include <algorithm>
 #include <utility>
@@ -139,6 +141,19 @@ double mimo_mean_crb_rad2(const array_geometry& a, const mimo_mask& m, const fra
     double sum = 0.0;
     for (int i = 0; i < count; ++i)
         sum += mimo_angle_crb_rad2(a, m, fs, lo + (hi - lo) * (i + 0.5) / count, elevation_rad, 1.0);
+    return sum / count;
+}
+
+double mimo_floor_crb_rad2(const array_geometry& a, const frame_settings& fs, int n_pilots, double lo, double hi,
+                           int count, double elevation_rad)
+{
+    if (count < 1 || n_pilots < 1)
+        throw std::invalid_argument("mimo_floor_crb_rad2: count and n_pilots must be >= 1");
+    const double lambda_min = speed_of_light_mps / (fs.carrier_hz + (fs.n_subcarriers - 1) * fs.subcarrier_spacing_hz());
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i)
+        sum += angle_crb_rad2(a, lo + (hi - lo) * (i + 0.5) / count, elevation_rad, lambda_min,
+                              double(n_pilots) / a.n_transmit());
     return sum / count;
 }
 

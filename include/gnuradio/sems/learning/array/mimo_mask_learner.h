@@ -88,6 +88,18 @@ SEMS_LEARNING_API double mimo_mean_crb_rad2(const array_geometry& a, const mimo_
                                             double lo, double hi, int count, double elevation_rad = 0.0);
 
 /*!
+ * \brief The floor of mimo_mean_crb_rad2 for masks whose pilots each come from one element: the
+ *        virtual array's bound (angle_crb_rad2) with N_p/N_t pilots per virtual element, the delay
+ *        and Doppler known, at the highest subcarrier's wavelength (the largest electrical
+ *        aperture any pilot has), averaged over the same azimuths.
+ * \param a the array. \param fs the frame. \param n_pilots N_p. \param lo the interval's lower end.
+ * \param hi its upper end. \param count azimuths (≥ 1). \param elevation_rad θ.
+ * \return the mean in rad² at 0 dB per pilot.
+ */
+SEMS_LEARNING_API double mimo_floor_crb_rad2(const array_geometry& a, const frame_settings& fs, int n_pilots,
+                                             double lo, double hi, int count, double elevation_rad = 0.0);
+
+/*!
  * \brief The learner's polish alone, from any mask: single changes of one pilot (its transmit
  *        element, or a move to a free neighbouring resource element), each kept when it lowers
  *        the objective (mimo_mean_crb_rad2 over the settings' azimuths), until none does.
